@@ -1,0 +1,28 @@
+// canonform: best rigid (optionally similarity) alignment of two point sets in correspondence.
+//
+// Reference: W. Kabsch, "A solution for the best rotation to relate two sets of vectors", Acta
+// Cryst. A32, 1976; S. Umeyama, "Least-squares estimation of transformation parameters between two
+// point patterns", IEEE TPAMI 13(4), 1991 (scale). Reflections are excluded (det R = +1).
+// Used to compare canonical forms, which SMACOF determines only up to a rigid motion.
+#pragma once
+
+#include <Eigen/Core>
+
+namespace canonform {
+
+/// Result of align_rigid(): dst ~ s * src * R^T + t (rows are points).
+struct RigidAlignment {
+    Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
+    Eigen::RowVector3d t = Eigen::RowVector3d::Zero();
+    double scale = 1.0;
+    double rms = 0.0;  ///< root-mean-square distance after alignment
+};
+
+/// Best rotation + translation (+ uniform scale if `with_scale`) mapping src onto dst
+/// (both #P x 3, row k of one corresponds to row k of the other).
+RigidAlignment align_rigid(const Eigen::MatrixXd& src, const Eigen::MatrixXd& dst, bool with_scale = false);
+
+/// src mapped by the alignment (#P x 3).
+Eigen::MatrixXd apply(const RigidAlignment& a, const Eigen::MatrixXd& src);
+
+}  // namespace canonform

@@ -1,0 +1,132 @@
+#include "core/smacof.h"
+
+#include "core/mesh_topology.h"
+
+#include <cmath>
+#include <sstream>
+
+namespace canonform {
+
+SmacofSolver::SmacofSolver(int num_points, StressPairs pairs) : n_(num_points), pairs_(std::move(pairs)) {
+    if (n_ < 2) throw InputError("SMACOF needs at least two points");
+    const size_t m = pairs_.size();
+    Eigen::MatrixXi E(static_cast<Eigen::Index>(m), 2);
+    std::vector<Eigen::Triplet<double>> t;
+    t.reserve(4 * m);
+    for (size_t k = 0; k < m; ++k) {
+        const int a = pairs_.i[k], b = pairs_.j[k];
+        const double w = pairs_.w[k], d = pairs_.delta[k];
+        if (a < 0 || b < 0 || a >= n_ || b >= n_ || a == b)
+            throw InputError("SMACOF: a pair has an index out of range or joins a point to itself");
+        if (!(w > 0) || !std::isfinite(w) || !(d >= 0) || !std::isfinite(d))
+            throw InputError("SMACOF: weights must be positive and targets non-negative and finite");
+        E(static_cast<Eigen::Index>(k), 0) = a;
+        E(static_cast<Eigen::Index>(k), 1) = b;
+        // Pinned vertex 0: its row and column are dropped (indices shift by one).
+        if (a > 0) t.emplace_back(a - 1, a - 1, w);
+        if (b > 0) t.emplace_back(b - 1, b - 1, w);
+        if (a > 0 && b > 0) {
+            t.emplace_back(a - 1, b - 1, -w);
+            t.emplace_back(b - 1, a - 1, -w);
+        }
+    }
+    int components = 0;
+    connected_components(n_, E, &components);
+    if (components != 1) {
+        std::ostringstream msg;
+        msg << "SMACOF: the weighted pairs split the points into " << components
+            << " groups; the configuration would not be determined";
+        throw InputError(msg.str());
+    }
+    Eigen::SparseMatrix<double> Vr(n_ - 1, n_ - 1);
+    Vr.setFromTriplets(t.begin(), t.end());
+    factor_.compute(Vr);
+    if (factor_.info() != Eigen::Success)
+        throw NumericalError("SMACOF: the Cholesky factorisation of V failed");
+}
+
+double SmacofSolver::stress(const Eigen::MatrixXd& X) const {
+    double s = 0;
+    guttman_rhs(X, nullptr, &s);
+    return s;
+}
+
+void SmacofSolver::guttman_rhs(const Eigen::MatrixXd& X, Eigen::MatrixXd* BX, double* stress_of_X) const {
+    // Column-major X: coordinate c of point i is x[c * n + i]. Plain loops, no temporaries: this
+    // is the O(#pairs) half of every iteration.
+    const Eigen::Index n = X.rows(), dim = X.cols();
+    const double* x = X.data();
+    double* b = nullptr;
+    if (BX) {
+        BX->setZero(n, dim);
+        b = BX->data();
+    }
+    double s = 0;
+    double diff[8];
+    const bool small = dim <= 8;
+    for (size_t k = 0; k < pairs_.size(); ++k) {
+        const Eigen::Index a = pairs_.i[k], c = pairs_.j[k];
+        double d2 = 0;
+        for (Eigen::Index q = 0; q < dim; ++q) {
+            const double t = x[q * n + a] - x[q * n + c];
+            if (small) diff[q] = t;
+            d2 += t * t;
+        }
+        const double d = std::sqrt(d2);
+        const double r = pairs_.delta[k] - d;
+        s += pairs_.w[k] * r * r;
+        if (b && d > 0) {
+            const double f = pairs_.w[k] * pairs_.delta[k] / d;  // -b_ac of eq. (3)
+            for (Eigen::Index q = 0; q < dim; ++q) {
+                const double t = small ? diff[q] : x[q * n + a] - x[q * n + c];
+                b[q * n + a] += f * t;
+                b[q * n + c] -= f * t;
+            }
+        }
+    }
+    if (stress_of_X) *stress_of_X = s;
+}
+
+Eigen::MatrixXd SmacofSolver::guttman(const Eigen::MatrixXd& X, double* stress_of_X) const {
+    Eigen::MatrixXd BX;
+    guttman_rhs(X, &BX, stress_of_X);
+    Eigen::MatrixXd Y(n_, X.cols());
+    Y.row(0).setZero();
+    Y.bottomRows(n_ - 1) = factor_.solve(BX.bottomRows(n_ - 1));
+    Y.rowwise() -= Y.colwise().mean();
+    return Y;
+}
+
+SmacofResult SmacofSolver::solve(const Eigen::MatrixXd& X0, const SmacofOptions& options) const {
+    if (X0.rows() != n_ || X0.cols() < 1) throw InputError("SMACOF: the start has the wrong shape");
+    if (!X0.allFinite()) throw InputError("SMACOF: the start has non-finite coordinates");
+    SmacofResult r;
+    Eigen::MatrixXd X = X0.rowwise() - X0.colwise().mean();
+    double s_prev = 0;
+    Eigen::MatrixXd Y = guttman(X, &s_prev);
+    r.initial_stress = s_prev;
+    if (options.record_history) r.stress_history.push_back(s_prev);
+    for (int k = 1;; ++k) {
+        X.swap(Y);
+        r.iterations = k;
+        double s = 0;
+        Y = guttman(X, &s);  // S(X_k) comes with the next step's B(X_k) X_k
+        if (!std::isfinite(s) || !Y.allFinite())
+            throw NumericalError("SMACOF: non-finite stress or coordinates after a Guttman step");
+        if (options.record_history) r.stress_history.push_back(s);
+        r.final_stress = s;
+        const bool converged = s_prev <= 0 || (s_prev - s) < options.tolerance * s_prev;
+        if (converged || k >= options.max_iterations) {
+            r.converged = converged;
+            break;
+        }
+        s_prev = s;
+        if (k % 10 == 0)
+            report_progress(options.progress, static_cast<double>(k) / options.max_iterations,
+                            "SMACOF iterations");
+    }
+    r.X = X;  // Y (one step further) is discarded so that final_stress is exactly S(r.X)
+    return r;
+}
+
+}  // namespace canonform

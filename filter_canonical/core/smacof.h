@@ -1,0 +1,94 @@
+// canonform: weighted SMACOF (stress majorisation) on a sparse set of pairs.
+//
+// Reference: Pickup et al., Pattern Recognition 2015, eqs. (1)-(6); J. de Leeuw, "Applications of
+// convex analysis to multidimensional scaling", 1977; A. Elad and R. Kimmel, "On bending invariant
+// signatures for surfaces", IEEE TPAMI 2003.
+//
+//   (1) S(X) = sum_{i<j} w_ij (delta_ij - d_ij(X))^2          (only the given pairs: w = 0 elsewhere)
+//   (2) X_k = V^+ B(X_{k-1}) X_{k-1}                           (the Guttman transform)
+//   (3) b_ij = -w_ij delta_ij / d_ij(X) for d_ij != 0, else 0
+//   (4) b_ii = -sum_{j != i} b_ij
+//   (5,6) V = sum_{i<j} w_ij (e_i - e_j)(e_i - e_j)^T         (a weighted graph Laplacian)
+//
+// Departures from the paper, and why:
+// - Eq. (4) is printed as b_ii = +sum_{j != i} b_ij; the majorisation needs the minus sign
+//   (rows of B sum to zero, as in de Leeuw and Elad-Kimmel). We use the minus sign.
+// - V^+ is never formed: V is constant, so we factor it once (sparse Cholesky, Eigen's
+//   SimplicialLDLT with AMD ordering) after pinning one vertex (dropping its row and column, which
+//   makes V positive definite when the pair graph is connected), solve, and re-centre. Because
+//   1^T B X = 0 this equals V^+ B X exactly. B(X) X is accumulated pair by pair, O(#pairs).
+// - The stopping rule is relative: stop when (S_{k-1} - S_k) / S_{k-1} < tolerance, or after
+//   max_iterations; the paper's absolute rule S_{k-1} - S_k < e depends on the mesh's scale.
+// Stress never increases across a Guttman step (tested).
+#pragma once
+
+#include "core/errors.h"
+
+#include <Eigen/Core>
+#include <Eigen/SparseCholesky>
+
+#include <vector>
+
+namespace canonform {
+
+/// The pairs (i, j) of eq. (1) with their target distance delta and weight w (> 0).
+struct StressPairs {
+    std::vector<int> i, j;
+    std::vector<double> delta, w;
+    void add(int a, int b, double target, double weight) {
+        i.push_back(a);
+        j.push_back(b);
+        delta.push_back(target);
+        w.push_back(weight);
+    }
+    size_t size() const { return i.size(); }
+};
+
+/// Options of SmacofSolver::solve().
+struct SmacofOptions {
+    double tolerance = 1e-5;      ///< relative stress decrease below which iteration stops
+    int max_iterations = 1000;    ///< iteration cap
+    bool record_history = false;  ///< keep S(X_k) for every k in SmacofResult::stress_history
+    ProgressFn progress;          ///< called every few iterations (fraction of max_iterations)
+};
+
+/// Result of SmacofSolver::solve().
+struct SmacofResult {
+    Eigen::MatrixXd X;                  ///< final configuration, #V x dim, centred at the origin
+    int iterations = 0;                 ///< Guttman steps taken
+    double initial_stress = 0;          ///< S(X_0)
+    double final_stress = 0;            ///< S(X_final)
+    bool converged = false;             ///< stopped by the tolerance, not by the cap
+    std::vector<double> stress_history; ///< S(X_0), S(X_1), ... if requested
+};
+
+/// Weighted SMACOF for a fixed set of pairs: builds and factors V once, then iterates Guttman
+/// transforms from any start. Throws InputError if the pair graph does not connect all vertices
+/// or a weight/target is negative or non-finite, NumericalError if the factorisation fails.
+class SmacofSolver {
+public:
+    SmacofSolver(int num_points, StressPairs pairs);
+
+    /// Runs SMACOF from X0 (#points x dim, any dim >= 1).
+    SmacofResult solve(const Eigen::MatrixXd& X0, const SmacofOptions& options = {}) const;
+
+    /// S(X) of eq. (1).
+    double stress(const Eigen::MatrixXd& X) const;
+
+    /// One Guttman transform X -> V^+ B(X) X (eq. 2), re-centred at the origin. If `stress_of_X`
+    /// is given, S(X) is returned in it (computed in the same pass).
+    Eigen::MatrixXd guttman(const Eigen::MatrixXd& X, double* stress_of_X = nullptr) const;
+
+    int num_points() const { return n_; }
+    const StressPairs& pairs() const { return pairs_; }
+
+private:
+    /// B(X) X (#points x dim, if BX is given) and S(X) (if stress_of_X is given), in one pass.
+    void guttman_rhs(const Eigen::MatrixXd& X, Eigen::MatrixXd* BX, double* stress_of_X) const;
+
+    int n_;
+    StressPairs pairs_;
+    Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> factor_;  // V with vertex 0 pinned
+};
+
+}  // namespace canonform

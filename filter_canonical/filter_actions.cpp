@@ -1,0 +1,161 @@
+#include "filter_actions.h"
+
+#include "core/conformal_factor.h"
+#include "core/euclidean_canonical_form.h"
+#include "core/feature_points.h"
+#include "core/mesh_topology.h"
+#include "vcg_bridge.h"
+
+#include <common/meshmodel.h>
+#include <vcg/complex/algorithms/update/bounding.h>
+#include <vcg/complex/algorithms/update/color.h>
+#include <vcg/complex/algorithms/update/normal.h>
+#include <vcg/complex/algorithms/update/selection.h>
+#include <vcg/complex/append.h>
+
+#include <sstream>
+
+namespace canonform::plugin {
+
+double ParamValues::get(const char* name) const {
+    const auto it = values.find(name);
+    if (it == values.end()) throw InputError(std::string("missing filter parameter '") + name + "'");
+    return it->second;
+}
+
+namespace {
+
+MeshModel& current_mesh(MeshDocument& md) {
+    if (md.mm() == nullptr) throw InputError("there is no current mesh");
+    return *md.mm();
+}
+
+void check_ring(int ring) {
+    if (ring < 1 || ring > 10) throw InputError("the ring size must be between 1 and 10");
+}
+
+ActionOutputs conformal_factor_action(MeshDocument& md, const ParamValues& p, const ActionContext& ctx) {
+    MeshModel& mm = current_mesh(md);
+    const auto b = to_eigen(mm.cm);
+    ConformalFactorOptions opt;
+    opt.progress = ctx.progress;
+    const ConformalFactorResult cf = conformal_factor(b.V, b.F, opt);
+    const bool normalized = p.get_bool(param::normalize);
+    mm.updateDataMask(MeshModel::MM_VERTQUALITY);
+    write_quality(b, normalized ? cf.normalized : cf.raw);
+    if (p.get_bool(param::colorize)) {
+        mm.updateDataMask(MeshModel::MM_VERTCOLOR);
+        vcg::tri::UpdateColor<CMeshO>::PerVertexQualityRamp(mm.cm);
+    }
+    std::ostringstream log;
+    log << "Conformal factor of '" << mm.label().toStdString() << "' (" << b.V.rows() << " vertices): raw range ["
+        << cf.raw.minCoeff() << ", " << cf.raw.maxCoeff() << "], relative residual " << cf.residual << "; stored "
+        << (normalized ? "normalised to [0, 1]" : "raw") << " in the vertex quality";
+    ctx.log(log.str());
+    return {{"vertices", double(b.V.rows())}, {"min", cf.raw.minCoeff()}, {"max", cf.raw.maxCoeff()},
+            {"residual", cf.residual}};
+}
+
+ActionOutputs feature_points_action(MeshDocument& md, const ParamValues& p, const ActionContext& ctx) {
+    MeshModel& mm = current_mesh(md);
+    const int ring = p.get_int(param::ring);
+    check_ring(ring);
+    const auto b = to_eigen(mm.cm);
+    ConformalFactorOptions cf_opt;
+    cf_opt.progress = ctx.progress;
+    const ConformalFactorResult cf = conformal_factor(b.V, b.F, cf_opt);
+    FeaturePointOptions opt;
+    opt.ring = ring;
+    opt.fill = p.get_int(param::fill) == 1 ? FeatureFill::Random : FeatureFill::None;
+    opt.seed = static_cast<std::uint64_t>(p.get_int(param::seed));
+    const FeaturePoints fp = feature_points(b.F, cf.normalized, opt);
+
+    // Everything computed: now change the document.
+    vcg::tri::UpdateSelection<CMeshO>::VertexClear(mm.cm);
+    for (int v : fp.indices) b.vertices[static_cast<size_t>(v)]->SetS();
+    mm.updateDataMask(MeshModel::MM_VERTQUALITY);
+    write_quality(b, cf.normalized);
+    if (p.get_bool(param::add_layer)) {
+        MeshModel* layer = md.addNewMesh("", mm.label() + " feature points", false);
+        layer->updateDataMask(MeshModel::MM_VERTQUALITY);
+        auto vi = vcg::tri::Allocator<CMeshO>::AddVertices(layer->cm, fp.indices.size());
+        for (int v : fp.indices) {
+            vi->P() = b.vertices[static_cast<size_t>(v)]->P();
+            vi->Q() = static_cast<CMeshO::VertexType::QualityType>(cf.normalized(v));
+            ++vi;
+        }
+        vcg::tri::UpdateBounding<CMeshO>::Box(layer->cm);
+    }
+    std::ostringstream log;
+    log << "Feature points of '" << mm.label().toStdString() << "': " << fp.indices.size() << " selected ("
+        << fp.num_maxima << " local maxima over the " << ring << "-ring of " << fp.total_maxima << " found, "
+        << fp.num_random << " random; target ceil(sqrt(" << b.V.rows() << ")) = " << sqrt_count(int(b.V.rows()))
+        << ")";
+    ctx.log(log.str());
+    return {{"selected", double(fp.indices.size())}, {"maxima", double(fp.num_maxima)},
+            {"random", double(fp.num_random)}};
+}
+
+ActionOutputs canonical_form_action(MeshDocument& md, const ParamValues& p, const ActionContext& ctx) {
+    MeshModel& mm = current_mesh(md);
+    EuclideanCanonicalFormOptions opt;
+    opt.variant = p.get_int(param::variant) == 1 ? CanonicalVariant::N : CanonicalVariant::A;
+    opt.alpha = p.get(param::alpha);
+    opt.beta = p.get(param::beta);
+    opt.ring = p.get_int(param::ring);
+    check_ring(opt.ring);
+    opt.seed = static_cast<std::uint64_t>(p.get_int(param::seed));
+    opt.tolerance = p.get(param::tolerance);
+    opt.max_iterations = p.get_int(param::max_iterations);
+    opt.progress = ctx.progress;
+    if (p.get(param::beta) < 0) throw InputError("beta must be positive (or 0 for the variant's default)");
+
+    const auto b = to_eigen(mm.cm);
+    const EuclideanCanonicalFormResult r = euclidean_canonical_form(b.V, b.F, opt);
+
+    // Everything computed: now change the document.
+    MeshModel* target = &mm;
+    if (p.get_bool(param::new_layer)) {
+        target = md.addNewMesh("", mm.label() + " canonical form", false);
+        target->updateDataMask(&mm);
+        vcg::tri::Append<CMeshO, CMeshO>::MeshCopy(target->cm, mm.cm);
+    }
+    const auto out = to_eigen(target->cm);
+    if (out.V.rows() != b.V.rows())
+        throw NumericalError("internal error: the new layer does not have the source's vertices");
+    write_positions(out, r.V);
+    target->updateDataMask(MeshModel::MM_VERTQUALITY);
+    write_quality(out, r.phi);
+    vcg::tri::UpdateSelection<CMeshO>::VertexClear(target->cm);
+    for (int v : r.features) out.vertices[static_cast<size_t>(v)]->SetS();
+    vcg::tri::UpdateNormal<CMeshO>::PerVertexNormalizedPerFaceNormalized(target->cm);
+    vcg::tri::UpdateBounding<CMeshO>::Box(target->cm);
+
+    std::ostringstream log;
+    log << "Euclidean canonical form of '" << mm.label().toStdString() << "' (variant "
+        << (opt.variant == CanonicalVariant::A ? "A" : "N") << ", alpha " << opt.alpha << ", beta " << r.beta
+        << "): " << b.V.rows() << " vertices, " << r.features.size() << " feature points (" << r.num_maxima
+        << " maxima, " << r.num_random << " random), " << r.iterations << " SMACOF iterations"
+        << (r.converged ? "" : " (iteration cap reached)") << ", stress " << r.initial_stress << " -> "
+        << r.final_stress << ", mean relative edge-length change " << r.mean_relative_edge_change << ", "
+        << r.seconds << " s";
+    ctx.log(log.str());
+    return {{"iterations", double(r.iterations)}, {"initial_stress", r.initial_stress},
+            {"final_stress", r.final_stress}, {"mean_relative_edge_change", r.mean_relative_edge_change},
+            {"feature_points", double(r.features.size())}, {"seconds", r.seconds},
+            {"converged", r.converged ? 1.0 : 0.0}};
+}
+
+}  // namespace
+
+ActionOutputs apply_filter_action(FilterId id, MeshDocument& md, const ParamValues& params,
+                                  const ActionContext& context) {
+    switch (id) {
+    case FilterId::ConformalFactor: return conformal_factor_action(md, params, context);
+    case FilterId::FeaturePoints: return feature_points_action(md, params, context);
+    case FilterId::EuclideanCanonicalForm: return canonical_form_action(md, params, context);
+    }
+    throw InputError("unknown filter");
+}
+
+}  // namespace canonform::plugin

@@ -1,0 +1,40 @@
+// Test helper: prints facts about a mesh file as JSON for the end-to-end tests:
+//   canonform_plycheck FILE [REFERENCE]
+// vertices, faces, quality range, and with REFERENCE: the largest quality and position
+// differences, vertex by vertex, and the RMS position difference after the best rigid alignment.
+#include "core/rigid_alignment.h"
+#include "mesh_io.h"
+
+#include <cstdio>
+#include <exception>
+
+int main(int argc, char** argv) {
+    if (argc < 2 || argc > 3) {
+        std::fprintf(stderr, "usage: canonform_plycheck FILE [REFERENCE]\n");
+        return 2;
+    }
+    try {
+        const auto m = canonform::io::read_mesh(argv[1]);
+        const Eigen::VectorXd q = canonform::io::read_ply_quality(argv[1]);
+        std::printf("{\"vertices\": %ld, \"faces\": %ld, \"has_quality\": %d", long(m.V.rows()), long(m.F.rows()),
+                    q.size() ? 1 : 0);
+        if (q.size()) std::printf(", \"quality_min\": %.9g, \"quality_max\": %.9g", q.minCoeff(), q.maxCoeff());
+        if (argc == 3) {
+            const auto r = canonform::io::read_mesh(argv[2]);
+            const Eigen::VectorXd rq = canonform::io::read_ply_quality(argv[2]);
+            const bool same = r.V.rows() == m.V.rows();
+            std::printf(", \"same_vertex_count\": %d", same ? 1 : 0);
+            if (same) {
+                std::printf(", \"max_position_diff\": %.9g", (r.V - m.V).cwiseAbs().maxCoeff());
+                std::printf(", \"aligned_rms\": %.9g", canonform::align_rigid(m.V, r.V).rms);
+                if (q.size() && rq.size() == q.size())
+                    std::printf(", \"max_quality_diff\": %.9g", (rq - q).cwiseAbs().maxCoeff());
+            }
+        }
+        std::printf("}\n");
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "canonform_plycheck: %s\n", e.what());
+        return 1;
+    }
+    return 0;
+}

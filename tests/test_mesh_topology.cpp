@@ -1,0 +1,101 @@
+#include "core/errors.h"
+#include "core/mesh_topology.h"
+#include "core/procedural_meshes.h"
+
+#include <gtest/gtest.h>
+
+using namespace canonform;
+
+namespace {
+
+/// The InputError message of validate_mesh, or "" if it passes.
+std::string problem(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F) {
+    try {
+        validate_mesh(V, F);
+        return "";
+    } catch (const InputError& e) {
+        return e.what();
+    }
+}
+
+bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
+
+}  // namespace
+
+TEST(MeshTopology, EdgesAdjacencyAndComponents) {
+    Eigen::MatrixXi F(2, 3);
+    F << 0, 1, 2, 2, 1, 3;
+    const Eigen::MatrixXi E = unique_edges(F);
+    ASSERT_EQ(E.rows(), 5);
+    const VertexAdjacency adj = vertex_adjacency(4, E);
+    EXPECT_EQ(std::vector<int>(adj.neighbors.begin() + adj.offsets[1], adj.neighbors.begin() + adj.offsets[2]),
+              (std::vector<int>{0, 2, 3}));
+    const auto bnd = boundary_vertices(4, F);
+    EXPECT_TRUE(bnd[0] && bnd[1] && bnd[2] && bnd[3]);
+    int count = 0;
+    Eigen::MatrixXi E2(2, 2);
+    E2 << 0, 1, 2, 3;
+    const auto label = connected_components(5, E2, &count);
+    EXPECT_EQ(count, 3);
+    EXPECT_EQ(label, (std::vector<int>{0, 0, 1, 1, 2}));
+}
+
+TEST(MeshTopology, ValidMeshesPassAndAreReported) {
+    const TriMesh s = make_icosphere(2);
+    const MeshReport r = validate_mesh(s.V, s.F);
+    EXPECT_EQ(r.euler_characteristic, 2);
+    EXPECT_EQ(r.components, 1);
+    EXPECT_EQ(r.boundary_edges, 0);
+    const TriMesh d = make_disc(300);
+    EXPECT_EQ(problem(d.V, d.F), "") << "boundaries are allowed";
+    EXPECT_EQ(validate_mesh(d.V, d.F).euler_characteristic, 1);
+}
+
+TEST(MeshTopology, EveryKindOfBadInputIsNamed) {
+    const TriMesh s = make_icosphere(1);  // 42 vertices
+    EXPECT_TRUE(contains(problem(Eigen::MatrixXd(0, 3), Eigen::MatrixXi(0, 3)), "no vertices"));
+    EXPECT_TRUE(contains(problem(s.V, Eigen::MatrixXi(0, 3)), "point cloud"));
+
+    Eigen::MatrixXd V = s.V;
+    V(7, 0) = std::numeric_limits<double>::infinity();
+    EXPECT_TRUE(contains(problem(V, s.F), "NaN or infinite"));
+
+    const TriMesh tiny = make_icosphere(0);  // 12 vertices
+    ValidationOptions strict;
+    strict.min_vertices = 20;
+    try {
+        validate_mesh(tiny.V, tiny.F, strict);
+        FAIL();
+    } catch (const InputError& e) {
+        EXPECT_TRUE(contains(e.what(), "only 12 vertices"));
+    }
+    Eigen::MatrixXi F = s.F;
+    F(0, 2) = F(0, 1);  // repeated vertex
+    EXPECT_TRUE(contains(problem(s.V, F), "degenerate"));
+    V = s.V;
+    V.row(s.F(0, 2)) = 0.5 * (V.row(s.F(0, 0)) + V.row(s.F(0, 1)));  // zero area
+    EXPECT_TRUE(contains(problem(V, s.F), "degenerate"));
+
+    // A third face on an existing edge: non-manifold.
+    Eigen::MatrixXd V3(s.V.rows() + 1, 3);
+    V3 << s.V, Eigen::RowVector3d(3, 3, 3);
+    Eigen::MatrixXi F3(s.F.rows() + 1, 3);
+    F3 << s.F, Eigen::RowVector3i(s.F(0, 0), s.F(0, 1), static_cast<int>(s.V.rows()));
+    EXPECT_TRUE(contains(problem(V3, F3), "non-manifold"));
+
+    // Two spheres: two components.
+    Eigen::MatrixXd V2(2 * s.V.rows(), 3);
+    V2 << s.V, (s.V.array() + 5.0).matrix();
+    Eigen::MatrixXi F2(2 * s.F.rows(), 3);
+    F2 << s.F, (s.F.array() + static_cast<int>(s.V.rows())).matrix();
+    EXPECT_TRUE(contains(problem(V2, F2), "2 connected components"));
+
+    // An extra vertex no face uses.
+    Eigen::MatrixXd V4(s.V.rows() + 1, 3);
+    V4 << s.V, Eigen::RowVector3d(0, 0, 0);
+    EXPECT_TRUE(contains(problem(V4, s.F), "belong to no face"));
+
+    F = s.F;
+    F(2, 1) = 1000;
+    EXPECT_TRUE(contains(problem(s.V, F), "out of range"));
+}

@@ -1,0 +1,114 @@
+#include "core/procedural_meshes.h"
+#include "core/rigid_alignment.h"
+#include "core/smacof.h"
+#include "test_util.h"
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+using namespace canonform;
+
+namespace {
+
+Eigen::MatrixXd random_points(int n, unsigned seed) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> u(-1, 1);
+    Eigen::MatrixXd X(n, 3);
+    for (int i = 0; i < n; ++i)
+        for (int c = 0; c < 3; ++c) X(i, c) = u(rng);
+    return X;
+}
+
+StressPairs all_pairs(const Eigen::MatrixXd& X) {
+    StressPairs p;
+    for (int i = 0; i < X.rows(); ++i)
+        for (int j = i + 1; j < X.rows(); ++j) p.add(i, j, (X.row(i) - X.row(j)).norm(), 1.0);
+    return p;
+}
+
+}  // namespace
+
+TEST(Smacof, FullWeightRecoversAKnownPointSet) {
+    const Eigen::MatrixXd X = random_points(30, 1);
+    const SmacofSolver solver(30, all_pairs(X));
+    SmacofOptions opt;
+    opt.tolerance = 1e-12;
+    opt.max_iterations = 5000;
+    const SmacofResult r = solver.solve(random_points(30, 2), opt);
+    // Distances recovered, and the configuration equals X up to a rigid motion.
+    double worst = 0;
+    for (int i = 0; i < 30; ++i)
+        for (int j = i + 1; j < 30; ++j)
+            worst = std::max(worst, std::abs((r.X.row(i) - r.X.row(j)).norm() - (X.row(i) - X.row(j)).norm()));
+    EXPECT_LT(worst, 1e-4);
+    EXPECT_LT(align_rigid(r.X, X).rms, 1e-4);
+    EXPECT_LT(r.final_stress, 1e-8 * r.initial_stress);
+}
+
+TEST(Smacof, StressNeverIncreases) {
+    // Sparse weighted pairs: a mesh's edges with distorted targets plus a few long-range pairs.
+    const TriMesh s = make_icosphere(3);
+    StressPairs p;
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<double> u(0.5, 2.0);
+    for (Eigen::Index f = 0; f < s.F.rows(); ++f)
+        for (int c = 0; c < 3; ++c) {
+            const int a = s.F(f, c), b = s.F(f, (c + 1) % 3);
+            if (a < b) p.add(a, b, u(rng) * (s.V.row(a) - s.V.row(b)).norm(), u(rng));
+        }
+    for (int k = 0; k < 40; ++k) p.add(k, 300 + k, 3.0, 0.5);
+    const SmacofSolver solver(static_cast<int>(s.V.rows()), p);
+    SmacofOptions opt;
+    opt.tolerance = 0;
+    opt.max_iterations = 200;
+    opt.record_history = true;
+    const SmacofResult r = solver.solve(s.V, opt);
+    ASSERT_EQ(r.stress_history.size(), 201u);
+    for (size_t k = 1; k < r.stress_history.size(); ++k)
+        EXPECT_LE(r.stress_history[k], r.stress_history[k - 1] * (1 + 1e-12)) << "iteration " << k;
+    EXPECT_LT(r.stress_history.back(), 0.5 * r.stress_history.front());
+    EXPECT_NEAR(solver.stress(r.X), r.final_stress, 1e-9 * r.final_stress);
+    EXPECT_FALSE(r.converged);
+    EXPECT_EQ(r.iterations, 200);
+}
+
+TEST(Smacof, GuttmanTransformEqualsPseudoInverseSolution) {
+    // Compare with a dense V^+ B(X) X on a small problem.
+    const Eigen::MatrixXd X = random_points(12, 4);
+    StressPairs p;
+    for (int i = 0; i < 12; ++i) p.add(i, (i + 1) % 12, 1.0 + 0.1 * i, 1.0 + i);
+    for (int i = 0; i < 6; ++i) p.add(i, i + 6, 2.5, 0.3);
+    const SmacofSolver solver(12, p);
+    Eigen::MatrixXd Vd = Eigen::MatrixXd::Zero(12, 12), B = Eigen::MatrixXd::Zero(12, 12);
+    for (size_t k = 0; k < p.size(); ++k) {
+        const int a = p.i[k], b = p.j[k];
+        Vd(a, a) += p.w[k];
+        Vd(b, b) += p.w[k];
+        Vd(a, b) -= p.w[k];
+        Vd(b, a) -= p.w[k];
+        const double d = (X.row(a) - X.row(b)).norm();
+        const double bij = -p.w[k] * p.delta[k] / d;  // eq. (3)
+        B(a, b) += bij;
+        B(b, a) += bij;
+        B(a, a) -= bij;  // eq. (4) with the sign that makes rows sum to zero
+        B(b, b) -= bij;
+    }
+    const Eigen::MatrixXd Vplus = Vd.completeOrthogonalDecomposition().pseudoInverse();
+    Eigen::MatrixXd expected = Vplus * B * X;
+    expected.rowwise() -= expected.colwise().mean();
+    EXPECT_LT((solver.guttman(X) - expected).cwiseAbs().maxCoeff(), 1e-10);
+}
+
+TEST(Smacof, RejectsADisconnectedPairGraphAndBadWeights) {
+    StressPairs p;
+    p.add(0, 1, 1.0, 1.0);
+    p.add(2, 3, 1.0, 1.0);
+    EXPECT_THROW(SmacofSolver(4, p), InputError);
+    StressPairs q;
+    q.add(0, 1, 1.0, -1.0);
+    EXPECT_THROW(SmacofSolver(2, q), InputError);
+    StressPairs r;
+    r.add(0, 1, std::nan(""), 1.0);
+    EXPECT_THROW(SmacofSolver(2, r), InputError);
+}

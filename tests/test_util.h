@@ -1,0 +1,45 @@
+// Shared helpers of the core tests: small hand-made meshes and comparisons.
+#pragma once
+
+#include "core/procedural_meshes.h"
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include <random>
+
+namespace canonform::test {
+
+/// A random rotation (uniform from a seeded quaternion).
+inline Eigen::Matrix3d random_rotation(unsigned seed) {
+    std::mt19937 rng(seed);
+    std::normal_distribution<double> g;
+    Eigen::Quaterniond q(g(rng), g(rng), g(rng), g(rng));
+    q.normalize();
+    return q.toRotationMatrix();
+}
+
+/// The rows of V permuted by a seeded random permutation; perm[k] = old index of new row k.
+inline Eigen::VectorXi random_permutation(Eigen::Index n, unsigned seed) {
+    Eigen::VectorXi p = Eigen::VectorXi::LinSpaced(n, 0, static_cast<int>(n) - 1);
+    std::mt19937 rng(seed);
+    std::shuffle(p.data(), p.data() + n, rng);
+    return p;
+}
+
+/// Applies a vertex permutation to (V, F): new vertex k is old vertex perm[k].
+inline void permute_mesh(const Eigen::VectorXi& perm, Eigen::MatrixXd& V, Eigen::MatrixXi& F) {
+    Eigen::VectorXi inv(perm.size());
+    for (Eigen::Index k = 0; k < perm.size(); ++k) inv(perm(k)) = static_cast<int>(k);
+    Eigen::MatrixXd V2(V.rows(), 3);
+    for (Eigen::Index k = 0; k < perm.size(); ++k) V2.row(k) = V.row(perm(k));
+    for (Eigen::Index f = 0; f < F.rows(); ++f)
+        for (int c = 0; c < 3; ++c) F(f, c) = inv(F(f, c));
+    V = V2;
+}
+
+/// RMS distance between two configurations after the best rigid alignment, relative to the
+/// RMS radius of `b`.
+double aligned_rms(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b);
+
+}  // namespace canonform::test

@@ -1,0 +1,281 @@
+// canonform: command-line tool on the same core as the MeshLab plugins, for batch work.
+//
+//   canonform conformal IN OUT [--raw] [--json]
+//   canonform features  IN OUT [--ring K] [--fill none|random] [--seed S] [--json]
+//   canonform canonical IN OUT [--variant A|N] [--alpha A] [--beta B] [--ring K] [--seed S]
+//                              [--tol T] [--max-iter M] [--quiet] [--json]
+//   canonform generate  OUT [--vertices N] [--pose P]
+//   canonform picture   OUT.png MESH [--points PTS] [--canonical CANON] [--size PX]
+//
+// IN: OFF, PLY, OBJ or STL. OUT: PLY (binary) with the conformal factor as vertex quality
+// (features: a point cloud of the feature points). Exit status: 0 ok, 1 bad input or failure
+// (message on stderr naming the problem), 2 usage error. Outputs are written atomically.
+#include "core/conformal_factor.h"
+#include "core/euclidean_canonical_form.h"
+#include "core/feature_points.h"
+#include "core/mesh_topology.h"
+#include "core/procedural_meshes.h"
+#include "mesh_io.h"
+#include "picture.h"
+
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <iostream>
+#include <map>
+#include <sstream>
+#include <string>
+#include <unistd.h>
+#include <vector>
+
+namespace {
+
+using namespace canonform;
+
+const char* kUsage =
+    "usage:\n"
+    "  canonform conformal IN OUT [--raw] [--json]\n"
+    "  canonform features  IN OUT [--ring K] [--fill none|random] [--seed S] [--json]\n"
+    "  canonform canonical IN OUT [--variant A|N] [--alpha A] [--beta B] [--ring K] [--seed S]\n"
+    "                             [--tol T] [--max-iter M] [--quiet] [--json]\n"
+    "  canonform generate  OUT [--vertices N] [--pose P]\n"
+    "  canonform picture   OUT.png MESH [--points PTS] [--canonical CANON] [--size PX]\n"
+    "IN: OFF, PLY, OBJ or STL; OUT: PLY with the conformal factor as vertex quality.\n";
+
+struct UsageError : std::runtime_error {
+    using std::runtime_error::runtime_error;
+};
+
+/// Positional arguments and --options (flags have no value).
+struct Args {
+    std::vector<std::string> positional;
+    std::map<std::string, std::string> options;
+
+    Args(int argc, char** argv, int first, const std::vector<std::string>& flags) {
+        for (int k = first; k < argc; ++k) {
+            std::string a = argv[k];
+            if (a.rfind("--", 0) == 0) {
+                const auto eq = a.find('=');
+                if (eq != std::string::npos) {
+                    options[a.substr(2, eq - 2)] = a.substr(eq + 1);
+                } else if (std::find(flags.begin(), flags.end(), a.substr(2)) != flags.end()) {
+                    options[a.substr(2)] = "1";
+                } else {
+                    if (k + 1 >= argc) throw UsageError("option " + a + " needs a value");
+                    options[a.substr(2)] = argv[++k];
+                }
+            } else {
+                positional.push_back(a);
+            }
+        }
+    }
+    void allow(const std::vector<std::string>& names) const {
+        for (const auto& [k, v] : options)
+            if (std::find(names.begin(), names.end(), k) == names.end()) throw UsageError("unknown option --" + k);
+    }
+    bool flag(const std::string& n) const { return options.count(n) > 0; }
+    std::string str(const std::string& n, const std::string& def) const {
+        auto it = options.find(n);
+        return it == options.end() ? def : it->second;
+    }
+    double num(const std::string& n, double def) const {
+        auto it = options.find(n);
+        if (it == options.end()) return def;
+        char* end = nullptr;
+        const double v = std::strtod(it->second.c_str(), &end);
+        if (end == it->second.c_str() || *end != '\0') throw UsageError("--" + n + " needs a number, got '" + it->second + "'");
+        return v;
+    }
+    int integer(const std::string& n, int def) const {
+        const double v = num(n, def);
+        if (v != static_cast<int>(v)) throw UsageError("--" + n + " needs an integer");
+        return static_cast<int>(v);
+    }
+    void need(size_t count) const {
+        if (positional.size() != count) throw UsageError("wrong number of arguments");
+    }
+};
+
+/// A minimal JSON object writer for the --json summaries.
+struct Json {
+    std::ostringstream o;
+    bool first = true;
+    Json() { o << "{"; }
+    Json& kv(const std::string& k, double v) {
+        o << (first ? "" : ", ") << "\"" << k << "\": " << v;
+        first = false;
+        return *this;
+    }
+    Json& kv(const std::string& k, const std::string& v) {
+        o << (first ? "" : ", ") << "\"" << k << "\": \"" << v << "\"";
+        first = false;
+        return *this;
+    }
+    Json& kv(const std::string& k, const std::vector<int>& v) {
+        o << (first ? "" : ", ") << "\"" << k << "\": [";
+        for (size_t i = 0; i < v.size(); ++i) o << (i ? ", " : "") << v[i];
+        o << "]";
+        first = false;
+        return *this;
+    }
+    std::string str() { return o.str() + "}"; }
+};
+
+/// Runs fn(); an InputError it throws is re-thrown with the input's path in front.
+template <class Fn>
+auto on_input(const std::string& path, Fn fn) -> decltype(fn()) {
+    try {
+        return fn();
+    } catch (const InputError& e) {
+        const std::string what = e.what();
+        if (what.find(path) != std::string::npos) throw;
+        throw InputError("'" + path + "': " + what);
+    }
+}
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+/// A terminal progress line on stderr (only when stderr is a terminal).
+ProgressFn terminal_progress(bool quiet) {
+    if (quiet || !isatty(2)) return {};
+    return [](double f, const char* stage) {
+        std::fprintf(stderr, "\r%3d%%  %-40s", static_cast<int>(100 * f), stage);
+        if (f >= 1) std::fprintf(stderr, "\n");
+        return true;
+    };
+}
+
+int cmd_conformal(const Args& a) {
+    a.need(2);
+    a.allow({"raw", "json"});
+    const auto t0 = std::chrono::steady_clock::now();
+    const io::MeshData m = io::read_mesh(a.positional[0]);
+    const ConformalFactorResult cf = on_input(a.positional[0], [&] { return conformal_factor(m.V, m.F); });
+    const Eigen::VectorXd& q = a.flag("raw") ? cf.raw : cf.normalized;
+    io::write_ply(a.positional[1], m.V, m.F, q);
+    if (a.flag("json"))
+        std::cout << Json().kv("vertices", double(m.V.rows())).kv("faces", double(m.F.rows()))
+                         .kv("min", cf.raw.minCoeff()).kv("max", cf.raw.maxCoeff()).kv("residual", cf.residual)
+                         .kv("seconds", seconds_since(t0)).str() << "\n";
+    return 0;
+}
+
+int cmd_features(const Args& a) {
+    a.need(2);
+    a.allow({"ring", "fill", "seed", "json"});
+    const auto t0 = std::chrono::steady_clock::now();
+    const io::MeshData m = io::read_mesh(a.positional[0]);
+    FeaturePointOptions opt;
+    opt.ring = a.integer("ring", 2);
+    if (opt.ring < 1 || opt.ring > 10) throw UsageError("--ring must be between 1 and 10");
+    const std::string fill = a.str("fill", "none");
+    if (fill != "none" && fill != "random") throw UsageError("--fill must be none or random");
+    opt.fill = fill == "random" ? FeatureFill::Random : FeatureFill::None;
+    opt.seed = static_cast<std::uint64_t>(a.integer("seed", 0));
+    const ConformalFactorResult cf = on_input(a.positional[0], [&] { return conformal_factor(m.V, m.F); });
+    const FeaturePoints fp = feature_points(m.F, cf.normalized, opt);
+    Eigen::MatrixXd P(static_cast<Eigen::Index>(fp.indices.size()), 3);
+    Eigen::VectorXd q(P.rows());
+    for (size_t k = 0; k < fp.indices.size(); ++k) {
+        P.row(static_cast<Eigen::Index>(k)) = m.V.row(fp.indices[k]);
+        q(static_cast<Eigen::Index>(k)) = cf.normalized(fp.indices[k]);
+    }
+    io::write_ply(a.positional[1], P, Eigen::MatrixXi(0, 3), q);
+    if (a.flag("json"))
+        std::cout << Json().kv("vertices", double(m.V.rows())).kv("feature_points", double(fp.indices.size()))
+                         .kv("maxima", double(fp.num_maxima)).kv("random", double(fp.num_random))
+                         .kv("indices", fp.indices).kv("seconds", seconds_since(t0)).str() << "\n";
+    return 0;
+}
+
+int cmd_canonical(const Args& a) {
+    a.need(2);
+    a.allow({"variant", "alpha", "beta", "ring", "seed", "tol", "max-iter", "quiet", "json"});
+    const auto t0 = std::chrono::steady_clock::now();
+    EuclideanCanonicalFormOptions opt;
+    const std::string variant = a.str("variant", "N");
+    if (variant != "A" && variant != "N") throw UsageError("--variant must be A or N");
+    opt.variant = variant == "A" ? CanonicalVariant::A : CanonicalVariant::N;
+    opt.alpha = a.num("alpha", opt.alpha);
+    opt.beta = a.num("beta", opt.beta);
+    opt.ring = a.integer("ring", opt.ring);
+    if (opt.ring < 1 || opt.ring > 10) throw UsageError("--ring must be between 1 and 10");
+    opt.seed = static_cast<std::uint64_t>(a.integer("seed", 0));
+    opt.tolerance = a.num("tol", opt.tolerance);
+    opt.max_iterations = a.integer("max-iter", opt.max_iterations);
+    opt.progress = terminal_progress(a.flag("quiet") || a.flag("json"));
+    const io::MeshData m = io::read_mesh(a.positional[0]);
+    const double read_seconds = seconds_since(t0);
+    const EuclideanCanonicalFormResult r =
+        on_input(a.positional[0], [&] { return euclidean_canonical_form(m.V, m.F, opt); });
+    io::write_ply(a.positional[1], r.V, m.F, r.phi);
+    if (a.flag("json")) {
+        std::cout << Json().kv("vertices", double(m.V.rows())).kv("faces", double(m.F.rows()))
+                         .kv("variant", variant).kv("alpha", opt.alpha).kv("beta", r.beta)
+                         .kv("feature_points", double(r.features.size())).kv("maxima", double(r.num_maxima))
+                         .kv("random", double(r.num_random)).kv("iterations", double(r.iterations))
+                         .kv("converged", r.converged ? 1.0 : 0.0).kv("initial_stress", r.initial_stress)
+                         .kv("final_stress", r.final_stress)
+                         .kv("mean_relative_edge_change", r.mean_relative_edge_change)
+                         .kv("seconds", r.seconds).kv("read_seconds", read_seconds)
+                         .kv("total_seconds", seconds_since(t0)).str() << "\n";
+    } else if (!a.flag("quiet")) {
+        std::cerr << "canonical form: " << m.V.rows() << " vertices, " << r.features.size() << " feature points, "
+                  << r.iterations << " iterations, stress " << r.initial_stress << " -> " << r.final_stress
+                  << ", " << r.seconds << " s\n";
+    }
+    return 0;
+}
+
+int cmd_generate(const Args& a) {
+    a.need(1);
+    a.allow({"vertices", "pose"});
+    const int n = a.integer("vertices", 5000);
+    if (n < 500 || n > 2000000) throw UsageError("--vertices must be between 500 and 2000000");
+    const Figure fig = make_figure(n, figure_pose(a.integer("pose", 0)));
+    // Rounded to float, the precision MeshLab 2020.09 works in, so that the tool and MeshLab
+    // compute on exactly the same coordinates.
+    io::write_ply(a.positional[0], fig.mesh.V.cast<float>().cast<double>(), fig.mesh.F);
+    return 0;
+}
+
+int cmd_picture(const Args& a, int argc, char** argv) {
+    a.need(2);
+    a.allow({"points", "canonical", "size"});
+    PictureInputs in;
+    in.mesh = io::read_mesh(a.positional[1]);
+    in.mesh_quality = io::read_ply_quality(a.positional[1]);
+    if (a.flag("points")) in.points = io::read_mesh(a.str("points", "")).V;
+    if (a.flag("canonical")) {
+        in.canonical = io::read_mesh(a.str("canonical", ""));
+        in.canonical_quality = io::read_ply_quality(a.str("canonical", ""));
+    }
+    write_picture(a.positional[0], in, a.integer("size", 420), argc, argv);
+    return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    if (argc < 2 || std::string(argv[1]) == "--help" || std::string(argv[1]) == "-h") {
+        std::cout << kUsage;
+        return argc < 2 ? 2 : 0;
+    }
+    const std::string cmd = argv[1];
+    try {
+        if (cmd == "conformal") return cmd_conformal(Args(argc, argv, 2, {"raw", "json"}));
+        if (cmd == "features") return cmd_features(Args(argc, argv, 2, {"json"}));
+        if (cmd == "canonical") return cmd_canonical(Args(argc, argv, 2, {"json", "quiet"}));
+        if (cmd == "generate") return cmd_generate(Args(argc, argv, 2, {}));
+        if (cmd == "picture") return cmd_picture(Args(argc, argv, 2, {}), argc, argv);
+        throw UsageError("unknown command '" + cmd + "'");
+    } catch (const UsageError& e) {
+        std::cerr << "canonform: " << e.what() << "\n" << kUsage;
+        return 2;
+    } catch (const std::exception& e) {
+        std::cerr << "canonform " << cmd << ": error: " << e.what() << "\n";
+        return 1;
+    }
+}

@@ -1,0 +1,106 @@
+#include "picture.h"
+
+#include "render.h"
+
+#include <QFont>
+#include <QGuiApplication>
+#include <QImage>
+#include <QPainter>
+
+#include <cstdlib>
+#include <map>
+#include <stdexcept>
+#include <tuple>
+
+namespace canonform {
+
+namespace {
+
+Eigen::MatrixXd colours_from(const Eigen::VectorXd& q, Eigen::Index n) {
+    Eigen::MatrixXd C(n, 3);
+    if (q.size() != n) {
+        C.rowwise() = Eigen::RowVector3d(0.8, 0.8, 0.8);
+        return C;
+    }
+    const double lo = q.minCoeff(), hi = q.maxCoeff();
+    for (Eigen::Index k = 0; k < n; ++k)
+        C.row(k) = render::ramp(hi > lo ? (q(k) - lo) / (hi - lo) : 0.5).transpose();
+    return C;
+}
+
+QImage panel_image(const io::MeshData& m, const Eigen::MatrixXd& C, const Eigen::MatrixXd& points, int size) {
+    render::Image img(size, size);
+    const render::View view = render::fit_view(m.V, size, size, 16);
+    render::draw_mesh(img, view, m.V, m.F, C);
+    if (points.rows()) {
+        const double diag = (m.V.colwise().maxCoeff() - m.V.colwise().minCoeff()).norm();
+        render::draw_points(img, view, points, Eigen::Vector3d(0.95, 0.1, 0.1), std::max(3, size / 90), 0.01 * diag);
+    }
+    QImage q(img.rgb.data(), size, size, 3 * size, QImage::Format_RGB888);
+    return q.copy();  // own the pixels
+}
+
+/// Positions of the canonical form at the vertices of `mesh` that coincide with `points`.
+Eigen::MatrixXd map_points(const io::MeshData& mesh, const Eigen::MatrixXd& points, const Eigen::MatrixXd& target) {
+    std::map<std::tuple<double, double, double>, Eigen::Index> where;
+    for (Eigen::Index k = 0; k < mesh.V.rows(); ++k) where[{mesh.V(k, 0), mesh.V(k, 1), mesh.V(k, 2)}] = k;
+    Eigen::MatrixXd out(points.rows(), 3);
+    Eigen::Index n = 0;
+    for (Eigen::Index k = 0; k < points.rows(); ++k) {
+        const auto it = where.find({points(k, 0), points(k, 1), points(k, 2)});
+        if (it != where.end() && it->second < target.rows()) out.row(n++) = target.row(it->second);
+    }
+    return out.topRows(n);
+}
+
+}  // namespace
+
+void write_picture(const std::string& path, const PictureInputs& in, int panel, int argc, char** argv) {
+    if (panel < 64 || panel > 4096) throw std::runtime_error("the panel size must be between 64 and 4096 pixels");
+    if (!std::getenv("QT_QPA_PLATFORM")) setenv("QT_QPA_PLATFORM", "offscreen", 1);
+    QGuiApplication app(argc, argv);
+
+    struct Panel {
+        QImage image;
+        QString label;
+    };
+    std::vector<Panel> panels;
+    const Eigen::MatrixXd C = colours_from(in.mesh_quality, in.mesh.V.rows());
+    panels.push_back({panel_image(in.mesh, C, Eigen::MatrixXd(), panel),
+                      in.mesh_quality.size() ? "mesh: conformal factor" : "mesh"});
+    if (in.points.rows()) {
+        const Eigen::MatrixXd grey = colours_from(Eigen::VectorXd(), in.mesh.V.rows());
+        panels.push_back({panel_image(in.mesh, grey, in.points, panel),
+                          QString("feature points (%1)").arg(in.points.rows())});
+    }
+    if (in.canonical.V.rows()) {
+        if (in.canonical.V.rows() != in.mesh.V.rows())
+            throw std::runtime_error("the canonical form and the mesh have different vertex counts");
+        const Eigen::MatrixXd Cc = colours_from(in.canonical_quality, in.canonical.V.rows());
+        const Eigen::MatrixXd P = in.points.rows() ? map_points(in.mesh, in.points, in.canonical.V) : Eigen::MatrixXd();
+        panels.push_back({panel_image(in.canonical, Cc, P, panel), "canonical form"});
+    }
+    const int label_h = 28;
+    QImage out(static_cast<int>(panels.size()) * panel, panel + label_h, QImage::Format_RGB888);
+    out.fill(Qt::white);
+    QPainter p(&out);
+    QFont font = p.font();
+    font.setPixelSize(16);
+    p.setFont(font);
+    p.setPen(Qt::black);
+    for (size_t k = 0; k < panels.size(); ++k) {
+        const int x = static_cast<int>(k) * panel;
+        p.drawImage(x, label_h, panels[k].image);
+        p.drawText(QRect(x, 0, panel, label_h), Qt::AlignCenter, panels[k].label);
+        if (k > 0) p.drawLine(x, label_h, x, panel + label_h);
+    }
+    p.end();
+    const std::string tmp = io::temporary_path_for(path);
+    if (!out.save(QString::fromStdString(tmp), "PNG")) {
+        std::remove(tmp.c_str());
+        throw std::runtime_error("cannot write '" + path + "'");
+    }
+    io::commit_file(tmp, path);
+}
+
+}  // namespace canonform

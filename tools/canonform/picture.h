@@ -1,0 +1,26 @@
+// canonform tool: the side-by-side picture of a mesh, its feature points and its canonical form.
+#pragma once
+
+#include "mesh_io.h"
+
+#include <Eigen/Core>
+
+#include <string>
+
+namespace canonform {
+
+/// What the picture shows; empty members are left out.
+struct PictureInputs {
+    io::MeshData mesh;                 ///< the input mesh
+    Eigen::VectorXd mesh_quality;      ///< colour of the mesh (e.g. conformal factor), or empty
+    Eigen::MatrixXd points;            ///< feature points (#P x 3), or empty
+    io::MeshData canonical;            ///< canonical form (same vertex order as mesh), or empty
+    Eigen::VectorXd canonical_quality; ///< colour of the canonical form, or empty
+};
+
+/// Renders up to three labelled panels of `panel` x `panel` pixels (mesh coloured by quality;
+/// mesh with the feature points; canonical form with the feature points) into a PNG at `path`,
+/// written atomically. Needs no X server (Qt's offscreen platform is used for the labels).
+void write_picture(const std::string& path, const PictureInputs& in, int panel, int argc, char** argv);
+
+}  // namespace canonform

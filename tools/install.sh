@@ -1,0 +1,39 @@
+#!/usr/bin/env bash
+# Installs the built plugins and the canonform tool.
+#   tools/install.sh [--build-dir DIR]                 as root: plugins into MeshLab's plugin folder
+#                                                      (/usr/lib/x86_64-linux-gnu/meshlab/plugins),
+#                                                      canonform into /usr/local/bin
+#   tools/install.sh --prefix DIR [--build-dir DIR]    without root: a private MeshLab prefix in DIR
+#                                                      (DIR/bin/meshlab, DIR/bin/meshlabserver,
+#                                                      DIR/bin/canonform)
+set -euo pipefail
+here=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+build="$here/build"
+prefix=""
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --build-dir) build=$2; shift 2 ;;
+    --prefix) prefix=$2; shift 2 ;;
+    *) echo "usage: $0 [--prefix DIR] [--build-dir DIR]" >&2; exit 2 ;;
+  esac
+done
+plugins=("$build"/meshlab/plugins/*.so)
+[ -f "${plugins[0]}" ] || { echo "$0: no plugins in $build/meshlab/plugins: build first (tools/build.sh)" >&2; exit 1; }
+if [ -z "$prefix" ]; then
+  if [ "$(id -u)" -ne 0 ]; then
+    echo "$0: installing into MeshLab's plugin folder needs root; use --prefix DIR for a private install" >&2
+    exit 1
+  fi
+  dest=/usr/lib/x86_64-linux-gnu/meshlab/plugins
+  for p in "${plugins[@]}"; do
+    install -m 0644 "$p" "$dest/"
+    scripts="$build/meshlab/plugins/$(basename "$p" .so | sed 's/^lib//')"
+    if [ -d "$scripts" ]; then install -d "$dest/$(basename "$scripts")"; install -m 0644 "$scripts"/*.mlx "$dest/$(basename "$scripts")/"; fi
+  done
+  install -m 0755 "$build/tools/canonform" /usr/local/bin/canonform
+  echo "installed: ${plugins[*]##*/} into $dest; canonform into /usr/local/bin"
+else
+  "$here/tools/meshlab_prefix.sh" "$prefix" "${plugins[@]}"
+  install -m 0755 "$build/tools/canonform" "$prefix/bin/canonform"
+  echo "installed: canonform into $prefix/bin"
+fi
