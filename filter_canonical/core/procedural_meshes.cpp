@@ -20,6 +20,7 @@
 #include <random>
 #include <stdexcept>
 #include <string>
+#include <thread>
 #include <unordered_map>
 #include <utility>
 #include <vector>
@@ -48,6 +49,24 @@ TriMesh to_trimesh(const std::vector<Vector3d>& V, const std::vector<Face>& F) {
 std::uint64_t edge_key(int a, int b) {
     return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) |
            static_cast<std::uint32_t>(b);
+}
+
+/// Runs fn(begin, end) on contiguous chunks of [0, n) in parallel (at most 8 threads, none for
+/// small n). fn must only write to per-index outputs, so results do not depend on the threading.
+template <class Fn>
+void parallel_for(size_t n, const Fn& fn) {
+    const size_t hw = std::max(1u, std::thread::hardware_concurrency());
+    const size_t threads = std::min<size_t>({hw, size_t{8}, n / 4096 + 1});
+    if (threads <= 1) {
+        fn(size_t{0}, n);
+        return;
+    }
+    std::vector<std::thread> pool;
+    pool.reserve(threads - 1);
+    for (size_t t = 1; t < threads; ++t)
+        pool.emplace_back([&fn, n, t, threads] { fn(n * t / threads, n * (t + 1) / threads); });
+    fn(size_t{0}, n / threads);
+    for (std::thread& th : pool) th.join();
 }
 
 }  // namespace
@@ -234,6 +253,8 @@ double capsule_normalized_distance(const Capsule& c, const Vector3d& p) {
 /// A body part: hard union (min) of capsules (the segments of one limb share radii at the joints).
 struct Chain {
     std::vector<Capsule> caps;
+    Vector3d centre = Vector3d::Zero();  ///< bounding sphere of the solid
+    double radius = 0.0;
 };
 
 struct Bone {
@@ -310,6 +331,14 @@ Body build_body() {
               t3 + 0.040 * tail_dir};
     b.tip_radius = {0.14, r_wr, r_wr, r_an, r_an, 0.040};
 
+    for (Chain& ch : b.chains) {
+        Eigen::AlignedBox3d bb;
+        for (const Capsule& c : ch.caps) bb.extend(c.a).extend(c.b);
+        ch.centre = bb.center();
+        for (const Capsule& c : ch.caps)
+            ch.radius = std::max({ch.radius, (c.a - ch.centre).norm() + c.ra,
+                                  (c.b - ch.centre).norm() + c.rb});
+    }
     b.box.setEmpty();
     b.min_radius = std::numeric_limits<double>::infinity();
     for (const Chain& ch : b.chains) {
@@ -359,21 +388,36 @@ public:
     }
 
     /// Smooth union of the chains ids[0..n) at p (and its gradient if grad != nullptr).
+    /// Chains are visited by increasing bounding-sphere lower bound and skipped once that bound is
+    /// k above the smallest value found: such chains are no-ops in the fold (exact).
     double eval(const Vector3d& p, const int* ids, int n, Vector3d* grad) const {
+        if (n <= 0) return std::numeric_limits<double>::infinity();
+        double lower[kMaxChains] = {};
+        int visit[kMaxChains] = {};
+        for (int i = 0; i < n; ++i) {
+            const Chain& ch = body_.chains[static_cast<size_t>(ids[i])];
+            lower[i] = (p - ch.centre).norm() - ch.radius;
+            visit[i] = i;
+            for (int j = i; j > 0 && lower[visit[j]] < lower[visit[j - 1]]; --j)
+                std::swap(visit[j], visit[j - 1]);
+        }
         double val[kMaxChains] = {};
         Vector3d gr[kMaxChains];
         int order[kMaxChains] = {};
-        if (n <= 0) return std::numeric_limits<double>::infinity();
+        int m = 0;
         for (int i = 0; i < n; ++i) {
-            val[i] = chain_value(ids[i], p, grad ? &gr[i] : nullptr);
-            order[i] = i;
-            for (int j = i; j > 0 && val[order[j]] < val[order[j - 1]]; --j)
+            const int c = visit[i];
+            if (m > 0 && lower[c] >= val[order[0]] + k_) break;
+            val[m] = chain_value(ids[c], p, grad ? &gr[m] : nullptr);
+            order[m] = m;
+            for (int j = m; j > 0 && val[order[j]] < val[order[j - 1]]; --j)
                 std::swap(order[j], order[j - 1]);
+            ++m;
         }
         double r = val[order[0]];
         Vector3d g = Vector3d::Zero();
         if (grad) g = gr[order[0]];
-        for (int j = 1; j < n; ++j) {
+        for (int j = 1; j < m; ++j) {
             const double diff = val[order[j]] - r;  // >= 0: r <= every value so far
             if (diff >= k_) break;                  // sorted: all later parts are no-ops too
             const double h = (k_ - diff) / k_;
@@ -425,6 +469,7 @@ constexpr double kLipschitz = 1.1;  // bound on |grad sdf| (tapers are slight; s
 
 struct Block {
     int b[3];
+    std::vector<int> ids;     // chains that can matter in this block
     std::vector<double> val;  // (B+1)^3 grid-point values
     std::vector<int> vid;     // B^3 cell vertex ids (-1: none)
 };
@@ -475,21 +520,28 @@ bool surface_nets(const BodySdf& sdf, const Eigen::AlignedBox3d& box, double h, 
                 blk.b[0] = bx;
                 blk.b[1] = by;
                 blk.b[2] = bz;
-                blk.val.resize((kBlock + 1) * (kBlock + 1) * (kBlock + 1));
-                for (int z = 0; z <= kBlock; ++z)
-                    for (int y = 0; y <= kBlock; ++y)
-                        for (int x = 0; x <= kBlock; ++x) {
-                            const Vector3d p = origin + h * Vector3d(bx * kBlock + x, by * kBlock + y,
-                                                                     bz * kBlock + z);
-                            blk.val[static_cast<size_t>(point_index(x, y, z))] =
-                                sdf.eval(p, ids, n_ids, nullptr);
-                        }
+                blk.ids.assign(ids, ids + n_ids);
                 slot[static_cast<size_t>((static_cast<long>(bz) * nb[1] + by) * nb[0] + bx)] =
                     static_cast<int>(blocks.size());
                 blocks.push_back(std::move(blk));
             }
         }
     }
+    parallel_for(blocks.size(), [&](size_t begin, size_t end) {
+        for (size_t i = begin; i < end; ++i) {
+            Block& blk = blocks[i];
+            blk.val.resize((kBlock + 1) * (kBlock + 1) * (kBlock + 1));
+            for (int z = 0; z <= kBlock; ++z)
+                for (int y = 0; y <= kBlock; ++y)
+                    for (int x = 0; x <= kBlock; ++x) {
+                        const Vector3d p = origin + h * Vector3d(blk.b[0] * kBlock + x,
+                                                                 blk.b[1] * kBlock + y,
+                                                                 blk.b[2] * kBlock + z);
+                        blk.val[static_cast<size_t>(point_index(x, y, z))] =
+                            sdf.eval(p, blk.ids.data(), static_cast<int>(blk.ids.size()), nullptr);
+                    }
+        }
+    });
 
     // One vertex per cell with a sign change, at the mean of the edge crossings.
     static const int kCubeEdges[12][2] = {{0, 1}, {2, 3}, {4, 5}, {6, 7}, {0, 2}, {1, 3},
@@ -724,21 +776,26 @@ double triangle_min_angle(const Vector3d& a, const Vector3d& b, const Vector3d& 
 /// the SDF gradient (no fold-overs).
 bool check_quality(const BodySdf& sdf, const std::vector<Vector3d>& V, const std::vector<Face>& F,
                    double min_angle, std::string* why) {
-    for (const Face& f : F) {
-        const Vector3d& a = V[static_cast<size_t>(f[0])];
-        const Vector3d& b = V[static_cast<size_t>(f[1])];
-        const Vector3d& c = V[static_cast<size_t>(f[2])];
-        if (triangle_min_angle(a, b, c) < min_angle) {
-            *why = "thin triangle";
+    std::vector<char> bad(F.size(), 0);  // 1: thin, 2: facing inwards
+    parallel_for(F.size(), [&](size_t begin, size_t end) {
+        for (size_t i = begin; i < end; ++i) {
+            const Face& f = F[i];
+            const Vector3d& a = V[static_cast<size_t>(f[0])];
+            const Vector3d& b = V[static_cast<size_t>(f[1])];
+            const Vector3d& c = V[static_cast<size_t>(f[2])];
+            Vector3d g;
+            sdf.eval((a + b + c) / 3.0, &g);
+            if (triangle_min_angle(a, b, c) < min_angle)
+                bad[i] = 1;
+            else if ((b - a).cross(c - a).dot(g) <= 0.0)
+                bad[i] = 2;
+        }
+    });
+    for (const char b : bad)
+        if (b) {
+            *why = b == 1 ? "thin triangle" : "triangle facing inwards";
             return false;
         }
-        Vector3d g;
-        sdf.eval((a + b + c) / 3.0, &g);
-        if ((b - a).cross(c - a).dot(g) <= 0.0) {
-            *why = "triangle facing inwards";
-            return false;
-        }
-    }
     return true;
 }
 
@@ -752,7 +809,8 @@ void relax(const BodySdf& sdf, std::vector<Vector3d>* V, const std::vector<Face>
     vertex_neighbours(nv, F, &off, &nb);
     std::vector<Vector3d> next(V->size());
     for (int it = 0; it < iterations; ++it) {
-        for (int v = 0; v < nv; ++v) {
+        parallel_for(static_cast<size_t>(nv), [&](size_t begin, size_t end) {
+        for (int v = static_cast<int>(begin); v < static_cast<int>(end); ++v) {
             const Vector3d& p = (*V)[static_cast<size_t>(v)];
             const int b = off[static_cast<size_t>(v)], e = off[static_cast<size_t>(v) + 1];
             Vector3d c = Vector3d::Zero();
@@ -766,8 +824,9 @@ void relax(const BodySdf& sdf, std::vector<Vector3d>* V, const std::vector<Face>
                 const Vector3d n = g / gn;
                 d -= n.dot(d) * n;
             }
-            next[static_cast<size_t>(v)] = sdf.project(p + lambda * d, 3, max_step);
+            next[static_cast<size_t>(v)] = sdf.project(p + lambda * d, 2, max_step);
         }
+        });
         V->swap(next);
     }
 }
@@ -1052,7 +1111,9 @@ if (static_cast<int>(V.size()) < target) {
         }
         if (!check_closed_sphere(static_cast<int>(V.size()), F, &why)) continue;
         tick("check1");
-for (Vector3d& p : V) p = sdf.project(p, 3, h);
+parallel_for(V.size(), [&](size_t begin, size_t end) {
+            for (size_t i = begin; i < end; ++i) V[i] = sdf.project(V[i], 3, h);
+        });
         tick("proj");
 relax(sdf, &V, F, 2, 0.6, h);
         tick("relax2");
@@ -1077,7 +1138,10 @@ auto rest = std::make_shared<RestFigure>();
         const size_t n = rest->V.size();
         rest->bone.resize(n);
         rest->weight.resize(n);
-        for (size_t i = 0; i < n; ++i) skin_weights(body, rest->V[i], &rest->bone[i], &rest->weight[i]);
+        parallel_for(n, [&](size_t begin, size_t end) {
+            for (size_t i = begin; i < end; ++i)
+                skin_weights(body, rest->V[i], &rest->bone[i], &rest->weight[i]);
+        });
         tick("weights");
 const size_t nt = body.tips.size();
         rest->tip_bone.resize(nt);

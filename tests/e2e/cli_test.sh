@@ -1,0 +1,72 @@
+#!/usr/bin/env bash
+# End-to-end tests of the canonform tool: the three commands on a generated figure, --json
+# summaries, and every kind of bad input (clear message, exit 1, no output file left behind).
+#   cli_test.sh CANONFORM PLYCHECK WORKDIR
+set -u
+cf=$(realpath "$1"); plycheck=$(realpath "$2"); work=$3
+. "$(dirname "$0")/lib.sh"
+rm -rf "$work"; mkdir -p "$work"; cd "$work" || exit 1
+
+echo "canonform tool, end to end"
+check "generate a figure" "$cf" generate fig.ply --vertices 3000 --pose 2
+"$plycheck" fig.ply > fig.json
+check "figure has ~3000 vertices and faces" json fig.json "2200 < j['vertices'] < 3800 and j['faces'] > 4000"
+
+"$cf" conformal fig.ply cf.ply --json > cf_out.json
+check "conformal --json" json cf_out.json "j['vertices'] > 2000 and j['residual'] < 1e-8"
+"$plycheck" cf.ply > cf.json
+check "conformal factor stored as quality in [0, 1]" json cf.json "j['has_quality'] and j['quality_min'] == 0 and abs(j['quality_max'] - 1) < 1e-6"
+
+"$cf" features fig.ply fp.ply --json > fp_out.json
+check "features --json" json fp_out.json "j['feature_points'] == j['maxima'] and 6 <= j['maxima'] <= 55 and len(j['indices']) == j['feature_points']"
+"$plycheck" fp.ply > fp.json
+check "feature points written as a point cloud" json fp.json "j['faces'] == 0 and j['vertices'] >= 6"
+"$cf" features fig.ply fpr.ply --fill random --seed 3 --json > fpr_out.json
+check "features --fill random gives exactly ceil(sqrt(N))" json fpr_out.json "j['feature_points'] == __import__('math').isqrt(j['vertices'] - 1) + 1"
+
+"$cf" canonical fig.ply canon.ply --json > canon_out.json
+check "canonical --json summary" json canon_out.json "j['iterations'] > 0 and j['final_stress'] < j['initial_stress'] and j['variant'] == 'N' and j['beta'] == 130 and j['seconds'] > 0"
+"$plycheck" canon.ply fig.ply > canon.json
+check "canonical form keeps vertices, faces and quality" json canon.json "j['same_vertex_count'] and j['faces'] > 4000 and j['has_quality']"
+check "canonical form differs from the input pose" json canon.json "j['aligned_rms'] > 0.01"
+"$cf" canonical fig.ply canonA.ply --variant A --alpha 8 --beta 12 --seed 5 --tol 1e-4 --max-iter 50 --json > canonA.json
+check "canonical variant A with every option" json canonA.json "j['variant'] == 'A' and j['beta'] == 12 and j['alpha'] == 8 and j['iterations'] <= 50 and j['random'] > 0"
+
+"$cf" picture pic.png cf.ply --points fp.ply --canonical canon.ply --size 200 2>/dev/null
+check "picture is a PNG" bash -c "head -c 8 pic.png | od -An -c | grep -q 'P   N   G'"
+
+# --- bad input: exit 1, message naming the problem, no output left ---------------------------
+expect_error() {  # DESCRIPTION PATTERN FILE
+  local out="out_$RANDOM.ply"
+  "$cf" canonical "$3" "$out" > err.txt 2>&1
+  local rc=$?
+  if [ $rc -eq 1 ] && grep -qi -- "$2" err.txt && [ ! -e "$out" ] && ! ls .out_* >/dev/null 2>&1; then
+    pass "$1 -> $(head -c 160 err.txt | tr '\n' ' ')"
+  else
+    fail "$1 (exit $rc, output: $(cat err.txt))"
+  fi
+}
+expect_error "missing file" "no such file" nothing.ply
+: > empty.off
+expect_error "empty file" "empty" empty.off
+printf 'this is not a mesh\n' > garbage.off
+expect_error "unreadable file" "cannot read" garbage.off
+expect_error "point cloud" "point cloud" fp.ply
+printf 'OFF\n4 2 0\n0 0 0\n1 0 0\n0 1 0\n1 1 nan\n3 0 1 2\n3 1 3 2\n' > nan.off
+expect_error "NaN coordinates" "NaN" nan.off
+printf 'OFF\n4 2 0\n0 0 0\n1 0 0\n0 1 0\n1 1 0\n3 0 1 2\n3 1 3 2\n' > tiny.off
+expect_error "fewer than 10 vertices" "only 4 vertices" tiny.off
+{ echo OFF; echo "12 12 0"  # three separate tetrahedra
+  for o in 0 3 6; do echo "$o 0 0"; echo "$((o + 1)) 0 0"; echo "$o 1 0"; echo "$o 0 1"; done
+  for b in 0 4 8; do echo "3 $b $((b + 2)) $((b + 1))"; echo "3 $b $((b + 1)) $((b + 3))"
+                     echo "3 $b $((b + 3)) $((b + 2))"; echo "3 $((b + 1)) $((b + 2)) $((b + 3))"; done; } > comps.off
+expect_error "several components" "3 connected components" comps.off
+{ echo OFF; echo "12 3 0"; for k in 0 1 2 3 4 5 6 7 8 9 10 11; do echo "$k $((k * k % 7)) $((k % 4))"; done
+  echo "3 0 1 2"; echo "3 0 1 3"; echo "3 0 1 4"; } > nonmanifold.off
+expect_error "non-manifold edge" "non-manifold" nonmanifold.off
+{ echo OFF; echo "12 2 0"; for k in 0 1 2 3 4 5 6 7 8 9 10 11; do echo "$k 0 0"; done
+  echo "3 0 1 2"; echo "3 3 4 5"; } > degenerate.off
+expect_error "degenerate faces" "degenerate" degenerate.off
+"$cf" canonical fig.ply x.ply --variant Q > err.txt 2>&1
+check "usage error exits 2" test $? -eq 2
+finish

@@ -1,0 +1,92 @@
+#!/usr/bin/env bash
+# End-to-end tests of the filter_canonical plugin in the real meshlabserver (MeshLab 2020.09,
+# under xvfb-run), through a private prefix made by tools/install.sh --prefix (the documented
+# install without root). Each shipped script is run; the saved quality values and layers are
+# compared with the canonform tool's results on the same file; bad input must fail with the
+# reason in meshlabserver's output and leave no output file.
+#   meshlabserver_test.sh SOURCE_DIR BUILD_DIR CANONFORM PLYCHECK WORKDIR
+set -u
+src=$(realpath "$1"); build=$(realpath "$2"); cf=$(realpath "$3"); plycheck=$(realpath "$4"); work=$5
+. "$(dirname "$0")/lib.sh"
+rm -rf "$work"; mkdir -p "$work"; cd "$work" || exit 1
+work=$(pwd)
+
+echo "filter_canonical in meshlabserver, end to end"
+"$src/tools/install.sh" --prefix "$work/prefix" --build-dir "$build" > install.log 2>&1
+check "private install (tools/install.sh --prefix)" test -x "$work/prefix/bin/meshlabserver"
+scripts="$work/prefix/lib/x86_64-linux-gnu/meshlab/plugins/filter_canonical"
+check "scripts shipped in the plugin folder" test -f "$scripts/euclidean_canonical_form.mlx"
+
+mls() {  # meshlabserver with a virtual X server; output in $log
+  log=$1; shift
+  xvfb-run -a -s "-screen 0 1280x1024x24" "$work/prefix/bin/meshlabserver" "$@" > "$log" 2>&1
+}
+
+"$cf" generate fig.ply --vertices 2500 --pose 4
+
+# Conformal factor ------------------------------------------------------------------------------
+mls cf.log -i fig.ply -o ml_cf.ply -m vq vc -s "$scripts/conformal_factor.mlx"
+check "Conformal factor: meshlabserver succeeds" test $? -eq 0
+check "Conformal factor: plugin loaded and logged" grep -q "Conformal factor of 'fig.ply'" cf.log
+"$cf" conformal fig.ply ref_cf.ply
+"$plycheck" ml_cf.ply ref_cf.ply > cf.json
+check "Conformal factor: saved quality equals the tool's (float precision)" \
+  json cf.json "j['same_vertex_count'] and j['max_quality_diff'] < 1e-4 and j['quality_min'] == 0 and abs(j['quality_max'] - 1) < 1e-6"
+
+# Feature points, with the point-cloud layer ---------------------------------------------------
+sed 's/name="add_layer" type="RichBool" value="false"/name="add_layer" type="RichBool" value="true"/' \
+  "$scripts/feature_points.mlx" > fp_layer.mlx
+mls fp.log -i fig.ply -o ml_fp_mesh.ply -l 0 -m vq -o ml_fp_points.ply -l 1 -m vq -s fp_layer.mlx
+check "Feature points: meshlabserver succeeds" test $? -eq 0
+"$cf" features fig.ply ref_fp.ply --json > ref_fp.json
+"$plycheck" ml_fp_points.ply ref_fp.ply > fp.json
+check "Feature points: layer 1 holds the same points as the tool's" \
+  json fp.json "j['faces'] == 0 and j['same_vertex_count'] and j['max_position_diff'] < 1e-5 and j['max_quality_diff'] < 1e-4"
+n=$(/usr/bin/python3 -c "import json; print(json.load(open('ref_fp.json'))['feature_points'])")
+check "Feature points: the log names the count" grep -q "Feature points of 'fig.ply': $n selected" fp.log
+
+# Euclidean canonical form, in a new layer ------------------------------------------------------
+mls ecf.log -i fig.ply -o ml_canon.ply -l 1 -m vq -s "$scripts/euclidean_canonical_form.mlx"
+check "Euclidean canonical form: meshlabserver succeeds" test $? -eq 0
+check "Euclidean canonical form: SMACOF reported in the log" grep -q "SMACOF iterations" ecf.log
+"$cf" canonical fig.ply ref_canon.ply --quiet
+"$plycheck" ml_canon.ply ref_canon.ply > ecf.json
+"$plycheck" ml_canon.ply fig.ply > ecf_vs_input.json
+check "Euclidean canonical form: layer 1 matches the tool's result (float precision)" \
+  json ecf.json "j['same_vertex_count'] and j['faces'] > 4000 and j['aligned_rms'] < 1e-3 and j['max_quality_diff'] < 1e-4"
+check "Euclidean canonical form: layer 1 is not the input pose" json ecf_vs_input.json "j['aligned_rms'] > 0.01"
+
+# In place (new_layer = false): the current mesh itself changes --------------------------------
+sed 's/name="new_layer" type="RichBool" value="true"/name="new_layer" type="RichBool" value="false"/' \
+  "$scripts/euclidean_canonical_form.mlx" > ecf_inplace.mlx
+mls inplace.log -i fig.ply -o ml_inplace.ply -m vq -s ecf_inplace.mlx
+"$plycheck" ml_inplace.ply ref_canon.ply > inplace.json
+check "Euclidean canonical form in place: same result" json inplace.json "j['same_vertex_count'] and j['aligned_rms'] < 1e-3"
+
+# All three in one script (the README example's pipeline) --------------------------------------
+{ echo '<!DOCTYPE FilterScript>'; echo '<FilterScript>'
+  for s in conformal_factor feature_points euclidean_canonical_form; do
+    sed -n '/<filter/,/<\/filter>/p' "$scripts/$s.mlx"; done
+  echo '</FilterScript>'; } > all.mlx
+mls all.log -i fig.ply -o all_canon.ply -l 1 -m vq -s all.mlx
+check "three filters in one script" test $? -eq 0
+
+# Bad input: non-zero exit, the reason in the output, no output file ---------------------------
+"$cf" features fig.ply cloud.ply
+mls cloud.log -i cloud.ply -o bad_cloud.ply -m vq -s "$scripts/euclidean_canonical_form.mlx"
+rc=$?
+check "point cloud: non-zero exit ($rc) with the reason" bash -c "[ $rc -ne 0 ] && grep -q 'point cloud' cloud.log"
+check "point cloud: no output file" test ! -e bad_cloud.ply
+printf 'OFF\n3 1 0\n0 0 0\n1 0\n' > broken.off
+mls broken.log -i broken.off -o bad_broken.ply -m vq -s "$scripts/conformal_factor.mlx"
+rc=$?
+check "broken file: non-zero exit ($rc) with the reason" bash -c "[ $rc -ne 0 ] && grep -q 'Failed loading' broken.log"
+check "broken file: no output file" test ! -e bad_broken.ply
+{ echo OFF; echo "12 12 0"
+  for o in 0 3 6; do echo "$o 0 0"; echo "$((o + 1)) 0 0"; echo "$o 1 0"; echo "$o 0 1"; done
+  for b in 0 4 8; do echo "3 $b $((b + 2)) $((b + 1))"; echo "3 $b $((b + 1)) $((b + 3))"
+                     echo "3 $b $((b + 3)) $((b + 2))"; echo "3 $((b + 1)) $((b + 2)) $((b + 3))"; done; } > comps.off
+mls comps.log -i comps.off -o bad_comps.ply -m vq -s "$scripts/feature_points.mlx"
+rc=$?
+check "several components: non-zero exit ($rc) with the reason" bash -c "[ $rc -ne 0 ] && grep -q 'connected components' comps.log"
+finish
