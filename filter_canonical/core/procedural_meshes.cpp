@@ -263,6 +263,7 @@ struct Bone {
 };
 
 constexpr int kMaxChains = 16;
+constexpr int kMaxCapsules = 32;
 
 struct Body {
     std::vector<Chain> chains;    ///< smooth-unioned parts
@@ -366,6 +367,9 @@ const Body& the_body() {
 /// polynomial smooth min, folded in increasing order of their values, which makes the result a
 /// symmetric function of the part values in which every part farther than k from the nearest one
 /// is an exact no-op (so evaluating only the parts that can be within k gives identical values).
+/// Bound on |grad| of a chain's value (tapered capsules: sqrt(1 + taper^2) < 1.01).
+constexpr double kLipschitzChain = 1.1;
+
 class BodySdf {
 public:
     explicit BodySdf(const Body& body) : body_(body), k_(body.blend) {}
@@ -403,6 +407,7 @@ public:
         }
         double val[kMaxChains] = {};
         Vector3d gr[kMaxChains];
+        for (Vector3d& x : gr) x.setZero();
         int order[kMaxChains] = {};
         int m = 0;
         for (int i = 0; i < n; ++i) {
@@ -432,11 +437,34 @@ public:
         return eval(p, all_ids(), num_chains(), grad);
     }
 
+    /// The chains that can matter anywhere within distance rho of p: evaluating only them there
+    /// gives exactly eval(). Writes their ids (ascending) and returns their number.
+    int relevant_chains(const Vector3d& p, double rho, int* ids) const {
+        const int n = num_chains();
+        double v[kMaxChains];
+        double vmin = std::numeric_limits<double>::infinity();
+        for (int c = 0; c < n; ++c) {
+            const Chain& ch = body_.chains[static_cast<size_t>(c)];
+            const double lower = (p - ch.centre).norm() - ch.radius;
+            // A chain whose lower bound is already far above the best value cannot matter.
+            v[c] = (lower - kLipschitzChain * rho > vmin + kLipschitzChain * rho + k_)
+                       ? std::numeric_limits<double>::infinity()
+                       : chain_value(c, p, nullptr);
+            vmin = std::min(vmin, v[c]);
+        }
+        int m = 0;
+        for (int c = 0; c < n; ++c)
+            if (v[c] - kLipschitzChain * rho <= vmin + kLipschitzChain * rho + k_) ids[m++] = c;
+        return m;
+    }
+
     /// Moves p onto the zero set by Newton steps along the gradient (each step at most max_step).
-    Vector3d project(Vector3d p, int steps, double max_step) const {
+    /// With ids, only those chains are evaluated (see relevant_chains()).
+    Vector3d project(Vector3d p, int steps, double max_step, const int* ids = nullptr,
+                     int n_ids = 0) const {
         for (int s = 0; s < steps; ++s) {
             Vector3d g;
-            const double f = eval(p, &g);
+            const double f = ids ? eval(p, ids, n_ids, &g) : eval(p, &g);
             const double gg = g.squaredNorm();
             if (gg < 1e-12) break;
             Vector3d step = (f / gg) * g;
@@ -465,7 +493,7 @@ private:
 // ------------------------------------------------------------------------------ surface nets
 
 constexpr int kBlock = 8;          // cells per block edge
-constexpr double kLipschitz = 1.1;  // bound on |grad sdf| (tapers are slight; smooth min is 1-Lip.)
+constexpr double kLipschitz = kLipschitzChain;  // the smooth min of the chains is as Lipschitz
 
 struct Block {
     int b[3];
@@ -476,6 +504,124 @@ struct Block {
 
 inline int point_index(int x, int y, int z) { return x + (kBlock + 1) * (y + (kBlock + 1) * z); }
 inline int cell_index(int x, int y, int z) { return x + kBlock * (y + kBlock * z); }
+
+/// For each of the 256 inside/outside patterns of a cell's corners (bit m = corner m inside;
+/// corner m is at (m & 1, (m >> 1) & 1, (m >> 2) & 1)): true if surface nets would not produce a
+/// single disc around the cell's vertex, i.e. a face has a checkerboard pattern (its dual edge
+/// would get four quads) or the inside or the outside corners are not connected by cube edges.
+const std::array<bool, 256>& ambiguous_cells() {
+    static const std::array<bool, 256> table = [] {
+        std::array<bool, 256> t{};
+        auto components = [](int set) {
+            int seen = 0, count = 0;
+            for (int s = 0; s < 8; ++s) {
+                if (!(set >> s & 1) || (seen >> s & 1)) continue;
+                ++count;
+                int stack[8], top = 0;
+                stack[top++] = s;
+                seen |= 1 << s;
+                while (top > 0) {
+                    const int m = stack[--top];
+                    for (int bit = 0; bit < 3; ++bit) {
+                        const int n = m ^ (1 << bit);
+                        if ((set >> n & 1) && !(seen >> n & 1)) {
+                            seen |= 1 << n;
+                            stack[top++] = n;
+                        }
+                    }
+                }
+            }
+            return count;
+        };
+        for (int mask = 0; mask < 256; ++mask) {
+            bool bad = components(mask) > 1 || components(~mask & 255) > 1;
+            for (int a = 0; a < 3 && !bad; ++a) {
+                const int b = 1 << ((a + 1) % 3), c = 1 << ((a + 2) % 3);
+                for (int side = 0; side < 2 && !bad; ++side) {
+                    const int o = side << a;
+                    const bool c00 = mask >> o & 1, c10 = mask >> (o | b) & 1;
+                    const bool c11 = mask >> (o | b | c) & 1, c01 = mask >> (o | c) & 1;
+                    bad = c00 == c11 && c10 == c01 && c00 != c10;
+                }
+            }
+            t[static_cast<size_t>(mask)] = bad;
+        }
+        return t;
+    }();
+    return table;
+}
+
+/// Removes the sign patterns that would make surface nets non-manifold (thin slivers where a
+/// grid plane grazes the surface) by moving the sign of the offending grid value nearest to zero
+/// (|value| < 1.5 h, so the surface moves by less than a cell) to the other side, repeating until
+/// no cell is ambiguous. Values shared by neighbouring blocks are changed in all of them.
+bool repair_ambiguities(std::vector<Block>* blocks, const std::vector<int>& slot, const int nb[3],
+                        double h, std::string* why) {
+    const std::array<bool, 256>& ambiguous = ambiguous_cells();
+    const double limit = 1.5 * h, tiny = 1e-9 * h;
+    auto set_point = [&](const int g[3], double v) {
+        int cand[3][2], n_cand[3];
+        for (int a = 0; a < 3; ++a) {
+            n_cand[a] = 0;
+            const int b = g[a] / kBlock;
+            if (b < nb[a]) cand[a][n_cand[a]++] = b;
+            if (g[a] % kBlock == 0 && b > 0) cand[a][n_cand[a]++] = b - 1;
+        }
+        for (int i = 0; i < n_cand[0]; ++i)
+            for (int j = 0; j < n_cand[1]; ++j)
+                for (int k = 0; k < n_cand[2]; ++k) {
+                    const int bx = cand[0][i], by = cand[1][j], bz = cand[2][k];
+                    const int s = slot[static_cast<size_t>((static_cast<long>(bz) * nb[1] + by) * nb[0] + bx)];
+                    if (s < 0) continue;
+                    Block& blk = (*blocks)[static_cast<size_t>(s)];
+                    blk.val[static_cast<size_t>(point_index(g[0] - bx * kBlock, g[1] - by * kBlock,
+                                                            g[2] - bz * kBlock))] = v;
+                }
+    };
+    for (int pass = 0; pass < 10; ++pass) {
+        int flips = 0;
+        for (Block& blk : *blocks) {
+            for (int z = 0; z < kBlock; ++z)
+                for (int y = 0; y < kBlock; ++y)
+                    for (int x = 0; x < kBlock; ++x) {
+                        double c[8];
+                        int mask = 0;
+                        for (int m = 0; m < 8; ++m) {
+                            c[m] = blk.val[static_cast<size_t>(
+                                point_index(x + (m & 1), y + ((m >> 1) & 1), z + ((m >> 2) & 1)))];
+                            if (c[m] < 0.0) mask |= 1 << m;
+                        }
+                        if (!ambiguous[static_cast<size_t>(mask)]) continue;
+                        // Corners by increasing |value|; flip the first that resolves the cell,
+                        // else the one nearest to zero.
+                        int order[8];
+                        for (int m = 0; m < 8; ++m) order[m] = m;
+                        std::sort(order, order + 8, [&](int a, int b) {
+                            return std::abs(c[a]) < std::abs(c[b]) ||
+                                   (std::abs(c[a]) == std::abs(c[b]) && a < b);
+                        });
+                        int flip = order[0];
+                        for (const int m : order)
+                            if (!ambiguous[static_cast<size_t>(mask ^ (1 << m))]) {
+                                flip = m;
+                                break;
+                            }
+                        if (std::abs(c[flip]) >= limit) {
+                            *why = "surface nets: ambiguous cell far from the surface";
+                            return false;
+                        }
+                        const int g[3] = {blk.b[0] * kBlock + x + (flip & 1),
+                                          blk.b[1] * kBlock + y + ((flip >> 1) & 1),
+                                          blk.b[2] * kBlock + z + ((flip >> 2) & 1)};
+                        set_point(g, c[flip] < 0.0 ? tiny : -tiny);
+                        ++flips;
+                    }
+        }
+        if (flips == 0) return true;
+    }
+    *why = "surface nets: could not resolve ambiguous cells";
+    return false;
+}
 
 /// Naive surface nets on a sparse block grid of spacing h whose origin is shifted by
 /// shift * h (shift in [0,1)^3). If count_only, only counts the cells with a sign change.
@@ -495,7 +641,9 @@ bool surface_nets(const BodySdf& sdf, const Eigen::AlignedBox3d& box, double h, 
     std::vector<Block> blocks;
 
     const double block_radius = 0.5 * std::sqrt(3.0) * kBlock * h;
-    const double margin = kLipschitz * block_radius;
+    // Blocks farther than this from the surface have no sign change, and all their grid values
+    // are at least 2h away from zero (so the repair below never touches them).
+    const double margin = kLipschitz * block_radius + 2.0 * h;
     const int nc = sdf.num_chains();
     for (int bz = 0; bz < nb[2]; ++bz) {
         for (int by = 0; by < nb[1]; ++by) {
@@ -542,6 +690,8 @@ bool surface_nets(const BodySdf& sdf, const Eigen::AlignedBox3d& box, double h, 
                     }
         }
     });
+
+    if (!count_only && !repair_ambiguities(&blocks, slot, nb, h, why)) return false;
 
     // One vertex per cell with a sign change, at the mean of the edge crossings.
     static const int kCubeEdges[12][2] = {{0, 1}, {2, 3}, {4, 5}, {6, 7}, {0, 2}, {1, 3},
@@ -773,7 +923,7 @@ double triangle_min_angle(const Vector3d& a, const Vector3d& b, const Vector3d& 
 }
 
 /// Geometric checks: every triangle has a minimum angle >= min_angle and a normal agreeing with
-/// the SDF gradient (no fold-overs).
+/// the SDF gradients at its corners (no fold-overs).
 bool check_quality(const BodySdf& sdf, const std::vector<Vector3d>& V, const std::vector<Face>& F,
                    double min_angle, std::string* why) {
     std::vector<char> bad(F.size(), 0);  // 1: thin, 2: facing inwards
@@ -783,8 +933,12 @@ bool check_quality(const BodySdf& sdf, const std::vector<Vector3d>& V, const std
             const Vector3d& a = V[static_cast<size_t>(f[0])];
             const Vector3d& b = V[static_cast<size_t>(f[1])];
             const Vector3d& c = V[static_cast<size_t>(f[2])];
-            Vector3d g;
-            sdf.eval((a + b + c) / 3.0, &g);
+            // Outward direction: the SDF gradients at the corners (which lie on the surface).
+            Vector3d g = Vector3d::Zero(), gv;
+            for (const Vector3d* q : {&a, &b, &c}) {
+                sdf.eval(*q, &gv);
+                g += gv.normalized();
+            }
             if (triangle_min_angle(a, b, c) < min_angle)
                 bad[i] = 1;
             else if ((b - a).cross(c - a).dot(g) <= 0.0)
@@ -801,13 +955,15 @@ bool check_quality(const BodySdf& sdf, const std::vector<Vector3d>& V, const std
 
 // ------------------------------------------------------------------------------- relaxation
 
-/// Tangential Laplacian smoothing, each step followed by projection onto the zero set.
+/// Tangential Laplacian smoothing, each step followed by projection onto the zero set; moves that
+/// would turn a face over are undone.
 void relax(const BodySdf& sdf, std::vector<Vector3d>* V, const std::vector<Face>& F, int iterations,
            double lambda, double max_step) {
     const int nv = static_cast<int>(V->size());
     std::vector<int> off, nb;
     vertex_neighbours(nv, F, &off, &nb);
     std::vector<Vector3d> next(V->size());
+    const std::vector<Vector3d> start = *V;
     for (int it = 0; it < iterations; ++it) {
         parallel_for(static_cast<size_t>(nv), [&](size_t begin, size_t end) {
         for (int v = static_cast<int>(begin); v < static_cast<int>(end); ++v) {
@@ -816,17 +972,48 @@ void relax(const BodySdf& sdf, std::vector<Vector3d>* V, const std::vector<Face>
             Vector3d c = Vector3d::Zero();
             for (int i = b; i < e; ++i) c += (*V)[static_cast<size_t>(nb[static_cast<size_t>(i)])];
             c /= std::max(1, e - b);
-            Vector3d g;
-            sdf.eval(p, &g);
-            const double gn = g.norm();
             Vector3d d = c - p;
+            // Everything below is evaluated within rho of p.
+            int ids[kMaxChains];
+            const int n_ids = sdf.relevant_chains(p, lambda * d.norm() + 2.0 * max_step, ids);
+            Vector3d g;
+            sdf.eval(p, ids, n_ids, &g);
+            const double gn = g.norm();
             if (gn > 1e-12) {
                 const Vector3d n = g / gn;
                 d -= n.dot(d) * n;
             }
-            next[static_cast<size_t>(v)] = sdf.project(p + lambda * d, 2, max_step);
+            next[static_cast<size_t>(v)] = sdf.project(p + lambda * d, 2, max_step, ids, n_ids);
         }
         });
+        // Undo the moves that turn a face by more than ~80 degrees from where it was before the
+        // first iteration (coarse thin tubes can twist).
+        std::vector<char> turned(F.size());
+        for (bool changed = true; changed;) {
+            changed = false;
+            parallel_for(F.size(), [&](size_t begin, size_t end) {
+                for (size_t i = begin; i < end; ++i) {
+                    const Face& f = F[i];
+                    Vector3d o[3], q[3];
+                    for (int k = 0; k < 3; ++k) {
+                        o[k] = start[static_cast<size_t>(f[static_cast<size_t>(k)])];
+                        q[k] = next[static_cast<size_t>(f[static_cast<size_t>(k)])];
+                    }
+                    const Vector3d n_old = (o[1] - o[0]).cross(o[2] - o[0]);
+                    const Vector3d n_new = (q[1] - q[0]).cross(q[2] - q[0]);
+                    turned[i] = n_new.dot(n_old) <= 0.2 * n_new.norm() * n_old.norm();
+                }
+            });
+            for (size_t i = 0; i < F.size(); ++i) {
+                if (!turned[i]) continue;
+                for (const int v : F[i]) {
+                    if (next[static_cast<size_t>(v)] != (*V)[static_cast<size_t>(v)]) {
+                        next[static_cast<size_t>(v)] = (*V)[static_cast<size_t>(v)];
+                        changed = true;
+                    }
+                }
+            }
+        }
         V->swap(next);
     }
 }
@@ -990,8 +1177,8 @@ int decimate(const BodySdf& sdf, std::vector<Vector3d>* V, std::vector<Face>* F,
 
 // ------------------------------------------------------------------------------ rest figure
 
-constexpr int kInfluences = 4;
-static double kWeightPower = getenv("WP") ? atof(getenv("WP")) : 6.0; // XXX
+constexpr int kInfluences = 4;        // bones per vertex
+constexpr double kWeightSmoothing = 0.09;  // radius of the ball the sharp weights are averaged over
 
 struct RestFigure {
     std::vector<Vector3d> V;
@@ -1003,63 +1190,59 @@ struct RestFigure {
     std::vector<int> tip_vertex;
 };
 
-/// Skinning weights at rest position p: w_b ~ dn_b^-6 with dn_b the smallest normalized distance
-/// (distance to the axis / local radius) over bone b's capsules; the 4 largest, normalized.
-/// Sharp bone weights at p: w_b ~ dn_b^-P, dn_b = smallest normalized distance over b's capsules.
-void sharp_weights(const Body& body, const Vector3d& p, double* w) {
-    double dn[kNumBones];
-    for (double& d : dn) d = std::numeric_limits<double>::infinity();
-    for (const Capsule& c : body.caps)
-        dn[c.bone] = std::min(dn[c.bone], capsule_normalized_distance(c, p));
-    double sum = 0.0;
-    for (int b = 0; b < kNumBones; ++b) {
-        const double d2 = std::max(dn[b], 1e-3) * std::max(dn[b], 1e-3);
-        const double d4 = d2 * d2;
-        w[b] = 1.0 / (d4 * d4 * d4);  // dn^-12
-        sum += w[b];
-    }
-    for (int b = 0; b < kNumBones; ++b) w[b] /= sum;
-}
-
-static double kSmoothR = getenv("SR") ? atof(getenv("SR")) : 0.0; // XXX
-
+/// Skinning weights at rest position p. Sharp weights w_b ~ dn_b^-12, where dn_b is the smallest
+/// normalized distance (distance to the axis / local radius, 1 on the capsule surface) over bone
+/// b's capsules, are averaged over a ball of radius kWeightSmoothing around p (19 fixed samples),
+/// which widens the transitions at the joints to about the ball's diameter (sharper transitions
+/// fold the skin at large joint angles; weights decaying slowly everywhere bend the limbs). The
+/// kInfluences largest weights are kept and normalized.
 void skin_weights(const Body& body, const Vector3d& p, std::array<int, kInfluences>* bones,
                   std::array<double, kInfluences>* weights) {
     static const std::vector<Vector3d> offsets = [] {
         std::vector<Vector3d> o;
-        for (int i = -2; i <= 2; ++i)
-            for (int j = -2; j <= 2; ++j)
-                for (int k = -2; k <= 2; ++k)
-                    if (i * i + j * j + k * k <= 4) o.emplace_back(0.5 * i, 0.5 * j, 0.5 * k);
+        for (int i = -1; i <= 1; ++i)
+            for (int j = -1; j <= 1; ++j)
+                for (int k = -1; k <= 1; ++k)
+                    if (i * i + j * j + k * k <= 2)
+                        o.emplace_back(Vector3d(i, j, k) * (std::sqrt(0.5) * kWeightSmoothing));
         return o;
     }();
-    double acc[kNumBones] = {};
-    double ws[kNumBones];
-    // Bounds of each bone's normalized distance over the ball: skip the averaging where one bone
-    // dominates everywhere in it (all others >= 4x farther: their weights are < 4^-12 ~ 6e-8).
+    // Bounds of each bone's normalized distance over the ball. Bones 4x farther than the best
+    // bound everywhere in the ball would get relative weights < 4^-12 ~ 6e-8: they are left out.
     double lo[kNumBones], hi[kNumBones];
-    for (int b = 0; b < kNumBones; ++b) lo[b] = hi[b] = std::numeric_limits<double>::infinity();
+    std::fill(lo, lo + kNumBones, std::numeric_limits<double>::infinity());
+    std::fill(hi, hi + kNumBones, std::numeric_limits<double>::infinity());
     for (const Capsule& c : body.caps) {
         const Vector3d ab = c.b - c.a;
         const double t = std::clamp((p - c.a).dot(ab) / ab.squaredNorm(), 0.0, 1.0);
         const double d = (p - (c.a + t * ab)).norm();
         const double r_lo = std::min(c.ra, c.rb), r_hi = std::max(c.ra, c.rb);
-        lo[c.bone] = std::min(lo[c.bone], std::max(0.0, d - kSmoothR * 1.001) / r_hi);
-        hi[c.bone] = std::min(hi[c.bone], (d + kSmoothR * 1.001) / r_lo);
+        lo[c.bone] = std::min(lo[c.bone], std::max(0.0, d - kWeightSmoothing) / r_hi);
+        hi[c.bone] = std::min(hi[c.bone], (d + kWeightSmoothing) / r_lo);
     }
-    const int best = static_cast<int>(std::min_element(hi, hi + kNumBones) - hi);
-    bool dominated = true;
-    for (int b = 0; b < kNumBones && dominated; ++b)
-        if (b != best && lo[b] < 4.0 * hi[best]) dominated = false;
-    if (dominated) {
-        acc[best] = 1.0;
-    } else if (kSmoothR > 0) {
-        for (const Vector3d& o : offsets) {
-            sharp_weights(body, p + kSmoothR * o, ws);
-            for (int b = 0; b < kNumBones; ++b) acc[b] += ws[b];
+    const double cutoff = 4.0 * *std::min_element(hi, hi + kNumBones);
+    const Capsule* caps[kMaxCapsules];
+    int n_caps = 0;
+    for (const Capsule& c : body.caps)
+        if (lo[c.bone] < cutoff) caps[n_caps++] = &c;
+
+    double acc[kNumBones] = {};
+    for (const Vector3d& o : offsets) {
+        const Vector3d q = p + o;
+        double dn[kNumBones];
+        std::fill(dn, dn + kNumBones, std::numeric_limits<double>::infinity());
+        for (int i = 0; i < n_caps; ++i)
+            dn[caps[i]->bone] = std::min(dn[caps[i]->bone], capsule_normalized_distance(*caps[i], q));
+        double w[kNumBones] = {};
+        double sum = 0.0;
+        for (int b = 0; b < kNumBones; ++b) {
+            if (!(dn[b] < std::numeric_limits<double>::infinity())) continue;
+            const double d2 = std::max(dn[b], 1e-3) * std::max(dn[b], 1e-3);
+            const double d4 = d2 * d2;
+            w[b] = 1.0 / (d4 * d4 * d4);
+            sum += w[b];
         }
-    } else {
-        sharp_weights(body, p, acc);
+        for (int b = 0; b < kNumBones; ++b) acc[b] += w[b] / sum;
     }
     std::array<std::pair<double, int>, kNumBones> w;
     for (int b = 0; b < kNumBones; ++b) w[static_cast<size_t>(b)] = {acc[b], b};
@@ -1100,6 +1283,7 @@ const double c_cal = static_cast<double>(n_cal) * h_cal * h_cal;
 
     std::string why;
     for (int attempt = 0; attempt < 12; ++attempt) {
+        if (attempt > 0 && getenv("TT")) fprintf(stderr, "retry %d: %s\n", attempt, why.c_str());
         std::vector<Vector3d> V;
         std::vector<Face> F;
         if (!surface_nets(sdf, body.box, h, grid_shift(attempt), false, nullptr, &V, &F, &why)) continue;
@@ -1107,6 +1291,7 @@ const double c_cal = static_cast<double>(n_cal) * h_cal * h_cal;
 if (static_cast<int>(V.size()) < target) {
             // Spacing too coarse (calibration is approximate): refine and retry.
             h *= std::sqrt(static_cast<double>(V.size()) / (1.08 * target));
+            why = "too few vertices (" + std::to_string(V.size()) + ")";
             continue;
         }
         if (!check_closed_sphere(static_cast<int>(V.size()), F, &why)) continue;

@@ -1,0 +1,24 @@
+#!/usr/bin/env bash
+# Benchmark of the Euclidean canonical form at about 2k, 10k, 50k and 200k vertices (procedural
+# figures, pose 1), both variants, single-threaded, medians of several runs measured in one run.
+# Writes bench/results/canonical_form.{csv,md,png}.
+#   bench/run_bench.sh [--quick]        (--quick: 2k and 10k only, 3 repeats)
+set -euo pipefail
+here=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+build=${CANONFORM_BUILD_DIR:-$here/build}
+[ -x "$build/bench/canonform_bench_canonical" ] || CANONFORM_BUILD_DIR=$build "$here/tools/build.sh"
+out="$here/bench/results"; cache="$build/bench_meshes"
+mkdir -p "$out" "$cache"
+sizes=(2000 10000 50000 200000); repeats=(7 5 5 3)
+if [ "${1:-}" = "--quick" ]; then sizes=(2000 10000); repeats=(3 3); fi
+export OMP_NUM_THREADS=1
+raw="$out/canonical_form.jsonl"; : > "$raw"
+for k in "${!sizes[@]}"; do
+  n=${sizes[$k]}
+  mesh="$cache/figure_${n}.ply"
+  [ -f "$mesh" ] || "$build/tools/canonform" generate "$mesh" --vertices "$n" --pose 1
+  for v in N A; do
+    taskset -c 0 "$build/bench/canonform_bench_canonical" "$mesh" --variant "$v" --repeats "${repeats[$k]}" | tee -a "$raw"
+  done
+done
+/usr/bin/python3 "$here/bench/report.py" "$raw" "$out/canonical_form"
