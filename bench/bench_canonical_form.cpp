@@ -4,6 +4,7 @@
 // (VmRSS after loading the mesh, peak VmHWM after the runs, both in MiB, from /proc/self/status).
 // Single-threaded. bench/run_bench.sh runs it over meshes of several sizes and writes the tables.
 #include "core/euclidean_canonical_form.h"
+#include "core/sparse_cholesky.h"
 #include "mesh_io.h"
 
 #include <algorithm>
@@ -51,10 +52,10 @@ int main(int argc, char** argv) {
         std::sort(t.begin(), t.end());
         std::printf("{\"vertices\": %ld, \"variant\": \"%c\", \"repeats\": %d, \"median_s\": %.6f, \"min_s\": %.6f, "
                     "\"max_s\": %.6f, \"iterations\": %d, \"feature_points\": %zu, \"rss_loaded_mib\": %.1f, "
-                    "\"peak_mib\": %.1f}\n",
+                    "\"peak_mib\": %.1f, \"solver\": \"%s\"}\n",
                     long(m.V.rows()), opt.variant == canonform::CanonicalVariant::A ? 'A' : 'N', repeats,
                     t[t.size() / 2], t.front(), t.back(), r.iterations, r.features.size(), rss_loaded,
-                    status_mib("VmHWM:"));
+                    status_mib("VmHWM:"), canonform::SparseCholesky::backend());
     } catch (const std::exception& e) {
         std::fprintf(stderr, "canonform_bench_canonical: %s\n", e.what());
         return 1;

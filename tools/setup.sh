@@ -15,7 +15,7 @@ SRC_DIR="$here/external/meshlab-2020.09"
 PACKAGES=(
   meshlab qtbase5-dev libqt5opengl5-dev libglew-dev libeigen3-dev
   cmake g++ make dpkg-dev pkg-config
-  libopencv-dev libgtest-dev googletest
+  libsuitesparse-dev libopencv-dev libgtest-dev googletest
   xvfb xauth x11-utils xdotool imagemagick
   python3-matplotlib python3-numpy
 )

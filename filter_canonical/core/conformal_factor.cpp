@@ -5,7 +5,7 @@
 #include "core/mesh_topology.h"
 #include "core/vertex_areas.h"
 
-#include <Eigen/SparseCholesky>
+#include "core/sparse_cholesky.h"
 
 #include <sstream>
 
@@ -39,15 +39,15 @@ ConformalFactorResult conformal_factor(const Eigen::MatrixXd& V0, const Eigen::M
     const Eigen::SparseMatrix<double> L = cotan_laplacian(V, F);
     // Pin vertex 0: drop its row and column.
     const Eigen::SparseMatrix<double> Lr = L.bottomRightCorner(n - 1, n - 1);
-    Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(Lr);
-    if (solver.info() != Eigen::Success)
+    SparseCholesky solver;
+    if (!solver.compute(Lr))
         throw NumericalError("conformal factor: the Cholesky factorisation of the cotangent Laplacian "
                              "failed (is the mesh connected and free of degenerate triangles?)");
     report_progress(options.progress, 0.7, "conformal factor: solving");
     Eigen::VectorXd phi(n);
     phi(0) = 0;
-    phi.tail(n - 1) = solver.solve(rhs.tail(n - 1));
-    if (solver.info() != Eigen::Success || !phi.allFinite())
+    phi.tail(n - 1) = solver.solve(Eigen::MatrixXd(rhs.tail(n - 1)));
+    if (!solver.ok() || !phi.allFinite())
         throw NumericalError("conformal factor: the linear solve failed or produced non-finite values");
 
     const double scale = rhs.lpNorm<Eigen::Infinity>();

@@ -15,8 +15,7 @@
 // selection needs; the opposite sign would put the maxima on the body.
 //
 // The system is singular (constants are in the kernel) and consistent (sum K^0 = sum K^T): we pin
-// vertex 0, factor the reduced matrix once by sparse Cholesky (Eigen's SimplicialLDLT, AMD
-// ordering), then shift phi to area-weighted mean zero. The mesh is first scaled so that the
+// vertex 0, factor the reduced matrix once by sparse Cholesky (sparse_cholesky.h), then shift phi to area-weighted mean zero. The mesh is first scaled so that the
 // largest vertex distance to the centroid is 1, as in the paper (phi itself is scale invariant).
 // The factorisation status and the relative residual are checked (NumericalError otherwise).
 #pragma once

@@ -8,8 +8,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
-#include <chrono>
-#include <cstdio>
+#include <exception>
 #include <functional>
 #include <iterator>
 #include <limits>
@@ -34,7 +33,9 @@ using Face = std::array<int, 3>;
 
 constexpr double kPi = 3.14159265358979323846;
 
-double deg(double d) { return d * kPi / 180.0; }
+double deg(double d) {
+    return d * kPi / 180.0;
+}
 
 TriMesh to_trimesh(const std::vector<Vector3d>& V, const std::vector<Face>& F) {
     TriMesh m;
@@ -42,7 +43,8 @@ TriMesh to_trimesh(const std::vector<Vector3d>& V, const std::vector<Face>& F) {
     for (size_t i = 0; i < V.size(); ++i) m.V.row(static_cast<Eigen::Index>(i)) = V[i].transpose();
     m.F.resize(static_cast<Eigen::Index>(F.size()), 3);
     for (size_t i = 0; i < F.size(); ++i)
-        for (int k = 0; k < 3; ++k) m.F(static_cast<Eigen::Index>(i), k) = F[i][static_cast<size_t>(k)];
+        for (int k = 0; k < 3; ++k)
+            m.F(static_cast<Eigen::Index>(i), k) = F[i][static_cast<size_t>(k)];
     return m;
 }
 
@@ -61,12 +63,21 @@ void parallel_for(size_t n, const Fn& fn) {
         fn(size_t{0}, n);
         return;
     }
+    std::vector<std::exception_ptr> errors(threads);
+    auto run = [&](size_t t) {
+        try {
+            fn(n * t / threads, n * (t + 1) / threads);
+        } catch (...) {
+            errors[t] = std::current_exception();
+        }
+    };
     std::vector<std::thread> pool;
     pool.reserve(threads - 1);
-    for (size_t t = 1; t < threads; ++t)
-        pool.emplace_back([&fn, n, t, threads] { fn(n * t / threads, n * (t + 1) / threads); });
-    fn(size_t{0}, n / threads);
+    for (size_t t = 1; t < threads; ++t) pool.emplace_back(run, t);
+    run(0);
     for (std::thread& th : pool) th.join();
+    for (const std::exception_ptr& e : errors)
+        if (e) std::rethrow_exception(e);
 }
 
 }  // namespace
@@ -102,7 +113,8 @@ TriMesh make_icosphere(int subdivisions, double radius) {
         std::vector<Face> F2;
         F2.reserve(F.size() * 4);
         for (const Face& f : F) {
-            const int ab = midpoint(f[0], f[1]), bc = midpoint(f[1], f[2]), ca = midpoint(f[2], f[0]);
+            const int ab = midpoint(f[0], f[1]), bc = midpoint(f[1], f[2]),
+                      ca = midpoint(f[2], f[0]);
             F2.push_back({f[0], ab, ca});
             F2.push_back({f[1], bc, ab});
             F2.push_back({f[2], ca, bc});
@@ -173,7 +185,8 @@ TriMesh make_disc(int target_vertices, double radius) {
         // Zip ring k-1 (n_in vertices) and ring k (n_out) by angle: advance whichever ring's
         // next vertex comes first. Both rings start at angle 0. Triangles are counter-clockwise.
         const int n_in = 6 * (k - 1), n_out = 6 * k;
-        const int s_in = ring_start[static_cast<size_t>(k - 1)], s_out = ring_start[static_cast<size_t>(k)];
+        const int s_in = ring_start[static_cast<size_t>(k - 1)],
+                  s_out = ring_start[static_cast<size_t>(k)];
         int i = 0, o = 0;
         while (i < n_in || o < n_out) {
             const double next_in = (i < n_in) ? double(i + 1) / n_in : 2.0;
@@ -266,18 +279,20 @@ constexpr int kMaxChains = 16;
 constexpr int kMaxCapsules = 32;
 
 struct Body {
-    std::vector<Chain> chains;    ///< smooth-unioned parts
-    std::vector<Capsule> caps;    ///< all capsules (for skinning weights)
-    std::vector<Bone> bones;      ///< kNumBones, parents before children
-    double blend = 0.07;          ///< smooth-min radius k between parts
-    std::vector<Vector3d> tips;   ///< rest-pose limb tips (on the capsule surface)
+    std::vector<Chain> chains;   ///< smooth-unioned parts
+    std::vector<Capsule> caps;   ///< all capsules (for skinning weights)
+    std::vector<Bone> bones;     ///< kNumBones, parents before children
+    double blend = 0.07;         ///< smooth-min radius k between parts
+    std::vector<Vector3d> tips;  ///< rest-pose limb tips (on the capsule surface)
     std::vector<double> tip_radius;
     std::vector<std::string> tip_names;
-    Eigen::AlignedBox3d box;      ///< contains the surface
+    Eigen::AlignedBox3d box;  ///< contains the surface
     double min_radius = 0.0;
 };
 
-Vector3d mirror_x(const Vector3d& p) { return Vector3d(-p.x(), p.y(), p.z()); }
+Vector3d mirror_x(const Vector3d& p) {
+    return Vector3d(-p.x(), p.y(), p.z());
+}
 
 Body build_body() {
     Body b;
@@ -324,12 +339,9 @@ Body build_body() {
 
     const Vector3d foot_dir = (an - kn).normalized(), tail_dir = (t3 - t2).normalized();
     b.tip_names = {"head", "left_hand", "right_hand", "left_foot", "right_foot", "tail"};
-    b.tips = {Vector3d(0, -0.01, 1.82 + 0.14),
-              wr + r_wr * Vector3d::UnitX(),
-              mirror_x(wr + r_wr * Vector3d::UnitX()),
-              an + r_an * foot_dir,
-              mirror_x(an + r_an * foot_dir),
-              t3 + 0.040 * tail_dir};
+    const Vector3d head_top(0, -0.01, 1.82 + 0.14), hand = wr + r_wr * Vector3d::UnitX(),
+                                                    foot = an + r_an * foot_dir;
+    b.tips = {head_top, hand, mirror_x(hand), foot, mirror_x(foot), t3 + 0.040 * tail_dir};
     b.tip_radius = {0.14, r_wr, r_wr, r_an, r_an, 0.040};
 
     for (Chain& ch : b.chains) {
@@ -337,8 +349,8 @@ Body build_body() {
         for (const Capsule& c : ch.caps) bb.extend(c.a).extend(c.b);
         ch.centre = bb.center();
         for (const Capsule& c : ch.caps)
-            ch.radius = std::max({ch.radius, (c.a - ch.centre).norm() + c.ra,
-                                  (c.b - ch.centre).norm() + c.rb});
+            ch.radius = std::max(
+                {ch.radius, (c.a - ch.centre).norm() + c.ra, (c.b - ch.centre).norm() + c.rb});
     }
     b.box.setEmpty();
     b.min_radius = std::numeric_limits<double>::infinity();
@@ -363,13 +375,14 @@ const Body& the_body() {
     return body;
 }
 
+/// Bound on |grad| of a chain's value (tapered capsules: sqrt(1 + taper^2) < 1.01) and hence of
+/// the smooth union (whose gradient is a convex combination of the chains' gradients).
+constexpr double kLipschitz = 1.1;
+
 /// Signed distance-like function of the rest body: negative inside. Parts are combined by a
 /// polynomial smooth min, folded in increasing order of their values, which makes the result a
 /// symmetric function of the part values in which every part farther than k from the nearest one
 /// is an exact no-op (so evaluating only the parts that can be within k gives identical values).
-/// Bound on |grad| of a chain's value (tapered capsules: sqrt(1 + taper^2) < 1.01).
-constexpr double kLipschitzChain = 1.1;
-
 class BodySdf {
 public:
     explicit BodySdf(const Body& body) : body_(body), k_(body.blend) {}
@@ -447,24 +460,26 @@ public:
             const Chain& ch = body_.chains[static_cast<size_t>(c)];
             const double lower = (p - ch.centre).norm() - ch.radius;
             // A chain whose lower bound is already far above the best value cannot matter.
-            v[c] = (lower - kLipschitzChain * rho > vmin + kLipschitzChain * rho + k_)
+            v[c] = (lower - kLipschitz * rho > vmin + kLipschitz * rho + k_)
                        ? std::numeric_limits<double>::infinity()
                        : chain_value(c, p, nullptr);
             vmin = std::min(vmin, v[c]);
         }
         int m = 0;
         for (int c = 0; c < n; ++c)
-            if (v[c] - kLipschitzChain * rho <= vmin + kLipschitzChain * rho + k_) ids[m++] = c;
+            if (v[c] - kLipschitz * rho <= vmin + kLipschitz * rho + k_) ids[m++] = c;
         return m;
     }
 
     /// Moves p onto the zero set by Newton steps along the gradient (each step at most max_step).
     /// With ids, only those chains are evaluated (see relevant_chains()).
+    /// If last_grad is given, it receives the gradient at the last point evaluated.
     Vector3d project(Vector3d p, int steps, double max_step, const int* ids = nullptr,
-                     int n_ids = 0) const {
+                     int n_ids = 0, Vector3d* last_grad = nullptr) const {
         for (int s = 0; s < steps; ++s) {
             Vector3d g;
             const double f = ids ? eval(p, ids, n_ids, &g) : eval(p, &g);
+            if (last_grad) *last_grad = g;
             const double gg = g.squaredNorm();
             if (gg < 1e-12) break;
             Vector3d step = (f / gg) * g;
@@ -492,8 +507,7 @@ private:
 
 // ------------------------------------------------------------------------------ surface nets
 
-constexpr int kBlock = 8;          // cells per block edge
-constexpr double kLipschitz = kLipschitzChain;  // the smooth min of the chains is as Lipschitz
+constexpr int kBlock = 8;  // cells per block edge
 
 struct Block {
     int b[3];
@@ -502,8 +516,12 @@ struct Block {
     std::vector<int> vid;     // B^3 cell vertex ids (-1: none)
 };
 
-inline int point_index(int x, int y, int z) { return x + (kBlock + 1) * (y + (kBlock + 1) * z); }
-inline int cell_index(int x, int y, int z) { return x + kBlock * (y + kBlock * z); }
+inline int point_index(int x, int y, int z) {
+    return x + (kBlock + 1) * (y + (kBlock + 1) * z);
+}
+inline int cell_index(int x, int y, int z) {
+    return x + kBlock * (y + kBlock * z);
+}
 
 /// For each of the 256 inside/outside patterns of a cell's corners (bit m = corner m inside;
 /// corner m is at (m & 1, (m >> 1) & 1, (m >> 2) & 1)): true if surface nets would not produce a
@@ -571,7 +589,8 @@ bool repair_ambiguities(std::vector<Block>* blocks, const std::vector<int>& slot
             for (int j = 0; j < n_cand[1]; ++j)
                 for (int k = 0; k < n_cand[2]; ++k) {
                     const int bx = cand[0][i], by = cand[1][j], bz = cand[2][k];
-                    const int s = slot[static_cast<size_t>((static_cast<long>(bz) * nb[1] + by) * nb[0] + bx)];
+                    const int s = slot[static_cast<size_t>(
+                        (static_cast<long>(bz) * nb[1] + by) * nb[0] + bx)];
                     if (s < 0) continue;
                     Block& blk = (*blocks)[static_cast<size_t>(s)];
                     blk.val[static_cast<size_t>(point_index(g[0] - bx * kBlock, g[1] - by * kBlock,
@@ -626,9 +645,9 @@ bool repair_ambiguities(std::vector<Block>* blocks, const std::vector<int>& slot
 /// Naive surface nets on a sparse block grid of spacing h whose origin is shifted by
 /// shift * h (shift in [0,1)^3). If count_only, only counts the cells with a sign change.
 /// Returns false (with a reason) if the quads cannot be assembled.
-bool surface_nets(const BodySdf& sdf, const Eigen::AlignedBox3d& box, double h, const Vector3d& shift,
-                  bool count_only, long* cell_count, std::vector<Vector3d>* V, std::vector<Face>* F,
-                  std::string* why) {
+bool surface_nets(const BodySdf& sdf, const Eigen::AlignedBox3d& box, double h,
+                  const Vector3d& shift, bool count_only, long* cell_count,
+                  std::vector<Vector3d>* V, std::vector<Face>* F, std::string* why) {
     const Vector3d origin = box.min() - Vector3d::Constant(3.0 * h) - shift * h;
     const Vector3d extent = box.max() + Vector3d::Constant(3.0 * h) - origin;
     int nb[3];
@@ -648,7 +667,8 @@ bool surface_nets(const BodySdf& sdf, const Eigen::AlignedBox3d& box, double h, 
     for (int bz = 0; bz < nb[2]; ++bz) {
         for (int by = 0; by < nb[1]; ++by) {
             for (int bx = 0; bx < nb[0]; ++bx) {
-                const Vector3d centre = origin + (kBlock * h) * Vector3d(bx + 0.5, by + 0.5, bz + 0.5);
+                const Vector3d centre =
+                    origin + (kBlock * h) * Vector3d(bx + 0.5, by + 0.5, bz + 0.5);
                 double cv[kMaxChains];
                 double vmin = std::numeric_limits<double>::infinity();
                 for (int c = 0; c < nc; ++c) {
@@ -682,9 +702,9 @@ bool surface_nets(const BodySdf& sdf, const Eigen::AlignedBox3d& box, double h, 
             for (int z = 0; z <= kBlock; ++z)
                 for (int y = 0; y <= kBlock; ++y)
                     for (int x = 0; x <= kBlock; ++x) {
-                        const Vector3d p = origin + h * Vector3d(blk.b[0] * kBlock + x,
-                                                                 blk.b[1] * kBlock + y,
-                                                                 blk.b[2] * kBlock + z);
+                        const Vector3d p =
+                            origin + h * Vector3d(blk.b[0] * kBlock + x, blk.b[1] * kBlock + y,
+                                                  blk.b[2] * kBlock + z);
                         blk.val[static_cast<size_t>(point_index(x, y, z))] =
                             sdf.eval(p, blk.ids.data(), static_cast<int>(blk.ids.size()), nullptr);
                     }
@@ -725,9 +745,10 @@ bool surface_nets(const BodySdf& sdf, const Eigen::AlignedBox3d& box, double h, 
                     }
                     const Vector3d local = sum / n;
                     blk.vid[static_cast<size_t>(cell_index(x, y, z))] = static_cast<int>(V->size());
-                    V->push_back(origin + h * (Vector3d(blk.b[0] * kBlock + x, blk.b[1] * kBlock + y,
-                                                        blk.b[2] * kBlock + z) +
-                                               local));
+                    V->push_back(origin +
+                                 h * (Vector3d(blk.b[0] * kBlock + x, blk.b[1] * kBlock + y,
+                                               blk.b[2] * kBlock + z) +
+                                      local));
                 }
     }
     if (cell_count) *cell_count = count;
@@ -739,8 +760,8 @@ bool surface_nets(const BodySdf& sdf, const Eigen::AlignedBox3d& box, double h, 
         if (bx >= nb[0] || by >= nb[1] || bz >= nb[2]) return -1;
         const int s = slot[static_cast<size_t>((static_cast<long>(bz) * nb[1] + by) * nb[0] + bx)];
         if (s < 0) return -1;
-        return blocks[static_cast<size_t>(s)]
-            .vid[static_cast<size_t>(cell_index(gx - bx * kBlock, gy - by * kBlock, gz - bz * kBlock))];
+        return blocks[static_cast<size_t>(s)].vid[static_cast<size_t>(
+            cell_index(gx - bx * kBlock, gy - by * kBlock, gz - bz * kBlock))];
     };
 
     // One quad per grid edge with a sign change, between the four cells around it; split along
@@ -754,7 +775,8 @@ bool surface_nets(const BodySdf& sdf, const Eigen::AlignedBox3d& box, double h, 
                     for (int a = 0; a < 3; ++a) {
                         int l1[3] = {x, y, z};
                         ++l1[a];
-                        const double v1 = blk.val[static_cast<size_t>(point_index(l1[0], l1[1], l1[2]))];
+                        const double v1 =
+                            blk.val[static_cast<size_t>(point_index(l1[0], l1[1], l1[2]))];
                         if ((v0 < 0.0) == (v1 < 0.0)) continue;
                         const int ab = (a + 1) % 3, ac = (a + 2) % 3;  // e_a = e_ab x e_ac
                         int g[3];
@@ -812,7 +834,8 @@ void vertex_neighbours(int nv, const std::vector<Face>& F, std::vector<int>* off
         ++(*offsets)[static_cast<size_t>(e[i] >> 32) + 1];
         (*nbrs)[i] = static_cast<int>(e[i] & 0xffffffffu);
     }
-    for (int v = 0; v < nv; ++v) (*offsets)[static_cast<size_t>(v) + 1] += (*offsets)[static_cast<size_t>(v)];
+    for (int v = 0; v < nv; ++v)
+        (*offsets)[static_cast<size_t>(v) + 1] += (*offsets)[static_cast<size_t>(v)];
 }
 
 /// Checks that F is a closed, oriented 2-manifold with one component and Euler characteristic 2,
@@ -870,7 +893,8 @@ bool check_closed_sphere(int nv, const std::vector<Face>& F, std::string* why) {
         const int start = cur;
         int steps = 0;
         do {
-            const auto it = std::lower_bound(first, last, std::make_pair(cur, std::numeric_limits<int>::min()));
+            const auto it =
+                std::lower_bound(first, last, std::make_pair(cur, std::numeric_limits<int>::min()));
             if (it == last || it->first != cur) {
                 *why = "vertex fan is not closed";
                 return false;
@@ -888,7 +912,8 @@ bool check_closed_sphere(int nv, const std::vector<Face>& F, std::string* why) {
     for (int v = 0; v < nv; ++v) parent[static_cast<size_t>(v)] = v;
     auto find = [&](int x) {
         while (parent[static_cast<size_t>(x)] != x) {
-            parent[static_cast<size_t>(x)] = parent[static_cast<size_t>(parent[static_cast<size_t>(x)])];
+            parent[static_cast<size_t>(x)] =
+                parent[static_cast<size_t>(parent[static_cast<size_t>(x)])];
             x = parent[static_cast<size_t>(x)];
         }
         return x;
@@ -896,7 +921,8 @@ bool check_closed_sphere(int nv, const std::vector<Face>& F, std::string* why) {
     int components = nv;
     for (const Face& f : F)
         for (int k = 0; k < 3; ++k) {
-            const int a = find(f[static_cast<size_t>(k)]), b = find(f[static_cast<size_t>((k + 1) % 3)]);
+            const int a = find(f[static_cast<size_t>(k)]),
+                      b = find(f[static_cast<size_t>((k + 1) % 3)]);
             if (a != b) {
                 parent[static_cast<size_t>(a)] = b;
                 --components;
@@ -906,7 +932,8 @@ bool check_closed_sphere(int nv, const std::vector<Face>& F, std::string* why) {
         *why = "mesh has " + std::to_string(components) + " connected components";
         return false;
     }
-    const long euler = static_cast<long>(nv) - static_cast<long>(de.size() / 2) + static_cast<long>(F.size());
+    const long euler =
+        static_cast<long>(nv) - static_cast<long>(de.size() / 2) + static_cast<long>(F.size());
     if (euler != 2) {
         *why = "Euler characteristic " + std::to_string(euler) + " (expected 2: genus 0)";
         return false;
@@ -926,6 +953,14 @@ double triangle_min_angle(const Vector3d& a, const Vector3d& b, const Vector3d& 
 /// the SDF gradients at its corners (no fold-overs).
 bool check_quality(const BodySdf& sdf, const std::vector<Vector3d>& V, const std::vector<Face>& F,
                    double min_angle, std::string* why) {
+    // Outward direction: the SDF gradients at the corners (which lie on the surface).
+    std::vector<Vector3d> normal(V.size());
+    parallel_for(V.size(), [&](size_t begin, size_t end) {
+        for (size_t i = begin; i < end; ++i) {
+            sdf.eval(V[i], &normal[i]);
+            normal[i].normalize();
+        }
+    });
     std::vector<char> bad(F.size(), 0);  // 1: thin, 2: facing inwards
     parallel_for(F.size(), [&](size_t begin, size_t end) {
         for (size_t i = begin; i < end; ++i) {
@@ -933,12 +968,9 @@ bool check_quality(const BodySdf& sdf, const std::vector<Vector3d>& V, const std
             const Vector3d& a = V[static_cast<size_t>(f[0])];
             const Vector3d& b = V[static_cast<size_t>(f[1])];
             const Vector3d& c = V[static_cast<size_t>(f[2])];
-            // Outward direction: the SDF gradients at the corners (which lie on the surface).
-            Vector3d g = Vector3d::Zero(), gv;
-            for (const Vector3d* q : {&a, &b, &c}) {
-                sdf.eval(*q, &gv);
-                g += gv.normalized();
-            }
+            const Vector3d g = normal[static_cast<size_t>(f[0])] +
+                               normal[static_cast<size_t>(f[1])] +
+                               normal[static_cast<size_t>(f[2])];
             if (triangle_min_angle(a, b, c) < min_angle)
                 bad[i] = 1;
             else if ((b - a).cross(c - a).dot(g) <= 0.0)
@@ -955,82 +987,102 @@ bool check_quality(const BodySdf& sdf, const std::vector<Vector3d>& V, const std
 
 // ------------------------------------------------------------------------------- relaxation
 
-/// Tangential Laplacian smoothing, each step followed by projection onto the zero set; moves that
-/// would turn a face over are undone.
-void relax(const BodySdf& sdf, std::vector<Vector3d>* V, const std::vector<Face>& F, int iterations,
-           double lambda, double max_step) {
-    const int nv = static_cast<int>(V->size());
+/// Tangential Laplacian smoothing, each step followed by projection onto the zero set. Moves that
+/// would make a face turn by more than ~80 degrees from where it started, or face away from the
+/// surface normals at its corners, are undone (coarse thin tubes could twist). Pinned vertices
+/// stay.
+void relax(const BodySdf& sdf, std::vector<Vector3d>* V, const std::vector<Face>& F,
+           const std::vector<char>& pinned, int iterations, double lambda, double max_step) {
+    const size_t nv = V->size();
     std::vector<int> off, nb;
-    vertex_neighbours(nv, F, &off, &nb);
-    std::vector<Vector3d> next(V->size());
+    vertex_neighbours(static_cast<int>(nv), F, &off, &nb);
     const std::vector<Vector3d> start = *V;
-    for (int it = 0; it < iterations; ++it) {
-        parallel_for(static_cast<size_t>(nv), [&](size_t begin, size_t end) {
-        for (int v = static_cast<int>(begin); v < static_cast<int>(end); ++v) {
-            const Vector3d& p = (*V)[static_cast<size_t>(v)];
-            const int b = off[static_cast<size_t>(v)], e = off[static_cast<size_t>(v) + 1];
-            Vector3d c = Vector3d::Zero();
-            for (int i = b; i < e; ++i) c += (*V)[static_cast<size_t>(nb[static_cast<size_t>(i)])];
-            c /= std::max(1, e - b);
-            Vector3d d = c - p;
-            // Everything below is evaluated within rho of p.
-            int ids[kMaxChains];
-            const int n_ids = sdf.relevant_chains(p, lambda * d.norm() + 2.0 * max_step, ids);
-            Vector3d g;
-            sdf.eval(p, ids, n_ids, &g);
-            const double gn = g.norm();
-            if (gn > 1e-12) {
-                const Vector3d n = g / gn;
-                d -= n.dot(d) * n;
-            }
-            next[static_cast<size_t>(v)] = sdf.project(p + lambda * d, 2, max_step, ids, n_ids);
+    std::vector<Vector3d> next(nv), normal(nv), next_normal(nv);
+    parallel_for(nv, [&](size_t begin, size_t end) {
+        for (size_t v = begin; v < end; ++v) {
+            sdf.eval((*V)[v], &normal[v]);
+            normal[v].normalize();
         }
+    });
+    std::vector<char> bad(F.size());
+    for (int it = 0; it < iterations; ++it) {
+        parallel_for(nv, [&](size_t begin, size_t end) {
+            for (size_t v = begin; v < end; ++v) {
+                const Vector3d& p = (*V)[v];
+                next[v] = p;
+                next_normal[v] = normal[v];
+                if (pinned[v]) continue;
+                const int b = off[v], e = off[v + 1];
+                Vector3d c = Vector3d::Zero();
+                for (int i = b; i < e; ++i)
+                    c += (*V)[static_cast<size_t>(nb[static_cast<size_t>(i)])];
+                c /= std::max(1, e - b);
+                Vector3d d = c - p;
+                // Everything below is evaluated within rho of p.
+                int ids[kMaxChains];
+                const int n_ids = sdf.relevant_chains(p, lambda * d.norm() + 2.0 * max_step, ids);
+                Vector3d g;
+                sdf.eval(p, ids, n_ids, &g);
+                const double gn = g.norm();
+                if (gn > 1e-12) {
+                    const Vector3d n = g / gn;
+                    d -= n.dot(d) * n;
+                }
+                next[v] = sdf.project(p + lambda * d, 2, max_step, ids, n_ids, &g);
+                if (g.norm() > 1e-12) next_normal[v] = g.normalized();
+            }
         });
-        // Undo the moves that turn a face by more than ~80 degrees from where it was before the
-        // first iteration (coarse thin tubes can twist).
-        std::vector<char> turned(F.size());
         for (bool changed = true; changed;) {
             changed = false;
             parallel_for(F.size(), [&](size_t begin, size_t end) {
                 for (size_t i = begin; i < end; ++i) {
                     const Face& f = F[i];
-                    Vector3d o[3], q[3];
+                    Vector3d o[3], q[3], sn = Vector3d::Zero();
                     for (int k = 0; k < 3; ++k) {
-                        o[k] = start[static_cast<size_t>(f[static_cast<size_t>(k)])];
-                        q[k] = next[static_cast<size_t>(f[static_cast<size_t>(k)])];
+                        const size_t x = static_cast<size_t>(f[static_cast<size_t>(k)]);
+                        o[k] = start[x];
+                        q[k] = next[x];
+                        sn += next_normal[x];
                     }
                     const Vector3d n_old = (o[1] - o[0]).cross(o[2] - o[0]);
                     const Vector3d n_new = (q[1] - q[0]).cross(q[2] - q[0]);
-                    turned[i] = n_new.dot(n_old) <= 0.2 * n_new.norm() * n_old.norm();
+                    const double ln = n_new.norm();
+                    bad[i] = n_new.dot(n_old) <= 0.2 * ln * n_old.norm() ||
+                             n_new.dot(sn) <= 0.2 * ln * sn.norm();
                 }
             });
             for (size_t i = 0; i < F.size(); ++i) {
-                if (!turned[i]) continue;
-                for (const int v : F[i]) {
-                    if (next[static_cast<size_t>(v)] != (*V)[static_cast<size_t>(v)]) {
-                        next[static_cast<size_t>(v)] = (*V)[static_cast<size_t>(v)];
+                if (!bad[i]) continue;
+                for (const int x : F[i]) {
+                    const size_t v = static_cast<size_t>(x);
+                    if (next[v] != (*V)[v]) {
+                        next[v] = (*V)[v];
+                        next_normal[v] = normal[v];
                         changed = true;
                     }
                 }
             }
         }
         V->swap(next);
+        normal.swap(next_normal);
     }
 }
 
 // ------------------------------------------------------------------------------- decimation
 
-/// Shortest-edge-first collapses (to the edge midpoint projected onto the zero set) until `target`
-/// vertices remain. Collapses that would break the manifold (link condition), create a vertex of
-/// valence < 4 or > 10, flip or thin a triangle are skipped. Returns the vertex count reached.
-int decimate(const BodySdf& sdf, std::vector<Vector3d>* V, std::vector<Face>* F, int target,
-             double max_step) {
+/// Shortest-edge-first collapses (to the edge midpoint projected onto the zero set, or onto the
+/// pinned end, which never moves or disappears) until `target` vertices remain. Collapses that
+/// would break the manifold (link condition), create a vertex of valence < 4 or > 10, or turn,
+/// thin or tilt a triangle away from the surface are skipped. Returns the vertex count reached.
+int decimate(const BodySdf& sdf, std::vector<Vector3d>* V, std::vector<Face>* F,
+             std::vector<char>* pinned, int target, double max_step) {
     const int nv = static_cast<int>(V->size());
     std::vector<Vector3d>& P = *V;
     std::vector<Face>& T = *F;
     std::vector<std::vector<int>> vf(static_cast<size_t>(nv));
     for (size_t f = 0; f < T.size(); ++f)
-        for (int k = 0; k < 3; ++k) vf[static_cast<size_t>(T[f][static_cast<size_t>(k)])].push_back(static_cast<int>(f));
+        for (int k = 0; k < 3; ++k)
+            vf[static_cast<size_t>(T[f][static_cast<size_t>(k)])].push_back(static_cast<int>(f));
     std::vector<char> face_alive(T.size(), 1), vert_alive(static_cast<size_t>(nv), 1);
     std::vector<int> version(static_cast<size_t>(nv), 0);
 
@@ -1068,16 +1120,32 @@ int decimate(const BodySdf& sdf, std::vector<Vector3d>* V, std::vector<Face>* F,
         out->erase(std::unique(out->begin(), out->end()), out->end());
     };
 
+    // Unit surface normals (SDF gradients) at the vertices.
+    std::vector<Vector3d> normal(static_cast<size_t>(nv));
+    auto surface_normal = [&](const Vector3d& x) {
+        Vector3d g;
+        sdf.eval(x, &g);
+        return Vector3d(g.normalized());
+    };
+    parallel_for(static_cast<size_t>(nv), [&](size_t begin, size_t end) {
+        for (size_t i = begin; i < end; ++i) normal[i] = surface_normal(P[i]);
+    });
+
     const double min_angle = deg(12.0), min_cos = std::cos(deg(40.0));
+    const double min_cos_surface = std::cos(deg(60.0));
     int alive = nv;
-    std::vector<int> nu, nvv, common;
+    std::vector<int> nu, nvv, no, common;
     while (alive > target && !queue.empty()) {
         const Entry e = queue.top();
         queue.pop();
-        const int u = e.u, v = e.v;
-        if (!vert_alive[static_cast<size_t>(u)] || !vert_alive[static_cast<size_t>(v)] ||
-            version[static_cast<size_t>(u)] != e.vu || version[static_cast<size_t>(v)] != e.vv)
+        if (!vert_alive[static_cast<size_t>(e.u)] || !vert_alive[static_cast<size_t>(e.v)] ||
+            version[static_cast<size_t>(e.u)] != e.vu || version[static_cast<size_t>(e.v)] != e.vv)
             continue;
+        // v is merged into u; a pinned vertex survives in place.
+        const bool pin_u = (*pinned)[static_cast<size_t>(e.u)],
+                   pin_v = (*pinned)[static_cast<size_t>(e.v)];
+        if (pin_u && pin_v) continue;
+        const int u = pin_v ? e.v : e.u, v = pin_v ? e.u : e.v;
         // Shared faces and their opposite vertices.
         int shared[2], opp[2], n_shared = 0;
         for (const int f : vf[static_cast<size_t>(u)]) {
@@ -1096,33 +1164,43 @@ int decimate(const BodySdf& sdf, std::vector<Vector3d>* V, std::vector<Face>* F,
         neighbours(u, &nu);
         neighbours(v, &nvv);
         common.clear();
-        std::set_intersection(nu.begin(), nu.end(), nvv.begin(), nvv.end(), std::back_inserter(common));
+        std::set_intersection(nu.begin(), nu.end(), nvv.begin(), nvv.end(),
+                              std::back_inserter(common));
         if (common.size() != 2) continue;
         // Valences: u gets deg(u) + deg(v) - 4, each opposite vertex loses one.
         const int new_valence = static_cast<int>(nu.size() + nvv.size()) - 4;
         if (new_valence > 10) continue;
         bool ok = true;
         for (int i = 0; i < 2 && ok; ++i) {
-            std::vector<int> no;
             neighbours(opp[i], &no);
             if (static_cast<int>(no.size()) - 1 < 4) ok = false;
         }
         if (!ok) continue;
-        const Vector3d p = sdf.project(0.5 * (P[static_cast<size_t>(u)] + P[static_cast<size_t>(v)]), 4, max_step);
-        // Geometry of the surviving faces around u and v after the move.
+        const Vector3d p =
+            (pin_u || pin_v)
+                ? P[static_cast<size_t>(u)]
+                : sdf.project(0.5 * (P[static_cast<size_t>(u)] + P[static_cast<size_t>(v)]), 4,
+                              max_step);
+        // Geometry of the surviving faces around u and v after the move: no large turn, not
+        // thinner than before (or at least min_angle), and facing about like the surface there
+        // (a coarse thin tube must not get triangles slicing across it).
+        const Vector3d n_p = (pin_u || pin_v) ? normal[static_cast<size_t>(u)] : surface_normal(p);
         for (const int w : {u, v}) {
             for (const int f : vf[static_cast<size_t>(w)]) {
                 if (f == shared[0] || f == shared[1]) continue;
                 const Face& t = T[static_cast<size_t>(f)];
-                Vector3d q[3], o[3];
+                Vector3d q[3], o[3], sn = Vector3d::Zero();
                 for (int k = 0; k < 3; ++k) {
-                    o[k] = P[static_cast<size_t>(t[static_cast<size_t>(k)])];
-                    q[k] = (t[static_cast<size_t>(k)] == w) ? p : o[k];
+                    const int x = t[static_cast<size_t>(k)];
+                    o[k] = P[static_cast<size_t>(x)];
+                    q[k] = (x == w) ? p : o[k];
+                    sn += (x == w) ? n_p : normal[static_cast<size_t>(x)];
                 }
                 const Vector3d n_old = (o[1] - o[0]).cross(o[2] - o[0]);
                 const Vector3d n_new = (q[1] - q[0]).cross(q[2] - q[0]);
                 const double ln = n_new.norm(), lo = n_old.norm();
-                if (ln <= 0.0 || lo <= 0.0 || n_new.dot(n_old) < min_cos * ln * lo) {
+                if (ln <= 0.0 || lo <= 0.0 || n_new.dot(n_old) < min_cos * ln * lo ||
+                    n_new.dot(sn) < min_cos_surface * ln * sn.norm()) {
                     ok = false;
                     break;
                 }
@@ -1151,6 +1229,7 @@ int decimate(const BodySdf& sdf, std::vector<Vector3d>* V, std::vector<Face>* F,
         vf[static_cast<size_t>(v)].clear();
         vert_alive[static_cast<size_t>(v)] = 0;
         P[static_cast<size_t>(u)] = p;
+        normal[static_cast<size_t>(u)] = n_p;
         ++version[static_cast<size_t>(u)];
         --alive;
         push_edges_of(u);
@@ -1158,12 +1237,16 @@ int decimate(const BodySdf& sdf, std::vector<Vector3d>* V, std::vector<Face>* F,
     // Compact.
     std::vector<int> remap(static_cast<size_t>(nv), -1);
     std::vector<Vector3d> P2;
+    std::vector<char> pinned2;
     P2.reserve(static_cast<size_t>(alive));
+    pinned2.reserve(static_cast<size_t>(alive));
     for (int i = 0; i < nv; ++i)
         if (vert_alive[static_cast<size_t>(i)]) {
             remap[static_cast<size_t>(i)] = static_cast<int>(P2.size());
             P2.push_back(P[static_cast<size_t>(i)]);
+            pinned2.push_back((*pinned)[static_cast<size_t>(i)]);
         }
+    pinned->swap(pinned2);
     std::vector<Face> T2;
     T2.reserve(T.size());
     for (size_t f = 0; f < T.size(); ++f)
@@ -1177,7 +1260,7 @@ int decimate(const BodySdf& sdf, std::vector<Vector3d>* V, std::vector<Face>* F,
 
 // ------------------------------------------------------------------------------ rest figure
 
-constexpr int kInfluences = 4;        // bones per vertex
+constexpr int kInfluences = 4;             // bones per vertex
 constexpr double kWeightSmoothing = 0.09;  // radius of the ball the sharp weights are averaged over
 
 struct RestFigure {
@@ -1185,8 +1268,6 @@ struct RestFigure {
     std::vector<Face> F;
     std::vector<std::array<int, kInfluences>> bone;  ///< per vertex: bones, largest weight first
     std::vector<std::array<double, kInfluences>> weight;
-    std::vector<std::array<int, kInfluences>> tip_bone;
-    std::vector<std::array<double, kInfluences>> tip_weight;
     std::vector<int> tip_vertex;
 };
 
@@ -1232,7 +1313,8 @@ void skin_weights(const Body& body, const Vector3d& p, std::array<int, kInfluenc
         double dn[kNumBones];
         std::fill(dn, dn + kNumBones, std::numeric_limits<double>::infinity());
         for (int i = 0; i < n_caps; ++i)
-            dn[caps[i]->bone] = std::min(dn[caps[i]->bone], capsule_normalized_distance(*caps[i], q));
+            dn[caps[i]->bone] =
+                std::min(dn[caps[i]->bone], capsule_normalized_distance(*caps[i], q));
         double w[kNumBones] = {};
         double sum = 0.0;
         for (int b = 0; b < kNumBones; ++b) {
@@ -1246,9 +1328,10 @@ void skin_weights(const Body& body, const Vector3d& p, std::array<int, kInfluenc
     }
     std::array<std::pair<double, int>, kNumBones> w;
     for (int b = 0; b < kNumBones; ++b) w[static_cast<size_t>(b)] = {acc[b], b};
-    std::partial_sort(w.begin(), w.begin() + kInfluences, w.end(), [](const auto& x, const auto& y) {
-        return x.first > y.first || (x.first == y.first && x.second < y.second);
-    });
+    std::partial_sort(w.begin(), w.begin() + kInfluences, w.end(),
+                      [](const auto& x, const auto& y) {
+                          return x.first > y.first || (x.first == y.first && x.second < y.second);
+                      });
     double sum = 0.0;
     for (int i = 0; i < kInfluences; ++i) sum += w[static_cast<size_t>(i)].first;
     for (int i = 0; i < kInfluences; ++i) {
@@ -1264,60 +1347,59 @@ Vector3d grid_shift(int attempt) {
                     std::fmod(0.5 + g3 * attempt, 1.0));
 }
 
-static auto T0 = std::chrono::steady_clock::now();
-static void tick(const char* s) { auto t = std::chrono::steady_clock::now(); if (getenv("TT")) fprintf(stderr, "  %s %.3f\n", s, std::chrono::duration<double>(t - T0).count()); T0 = t; }
 std::shared_ptr<RestFigure> build_rest_figure(int target) {
- tick("start");
     const Body& body = the_body();
     const BodySdf sdf(body);
     // Calibrate: the number of surface cells scales like 1 / h^2.
     const double h_cal = 0.03;
     long n_cal = 0;
     surface_nets(sdf, body.box, h_cal, grid_shift(0), true, &n_cal, nullptr, nullptr, nullptr);
-    tick("cal");
-const double c_cal = static_cast<double>(n_cal) * h_cal * h_cal;
-    // Coarsest spacing at which the thinnest tube (radius ~0.04) is extracted reliably; coarser
-    // targets are reached by decimation.
+    const double c_cal = static_cast<double>(n_cal) * h_cal * h_cal;
+    // Coarsest spacing used for extraction (the thinnest tube, radius 0.04, gets ~4 cells across);
+    // coarser targets are reached by decimation. Aim a little above the target, then decimate.
     const double h_max = 0.55 * body.min_radius;
     double h = std::min(h_max, std::sqrt(c_cal / (1.06 * target)));
+    const size_t n_tips = body.tips.size();
 
     std::string why;
     for (int attempt = 0; attempt < 12; ++attempt) {
-        if (attempt > 0 && getenv("TT")) fprintf(stderr, "retry %d: %s\n", attempt, why.c_str());
         std::vector<Vector3d> V;
         std::vector<Face> F;
-        if (!surface_nets(sdf, body.box, h, grid_shift(attempt), false, nullptr, &V, &F, &why)) continue;
-        tick("nets");
-if (static_cast<int>(V.size()) < target) {
-            // Spacing too coarse (calibration is approximate): refine and retry.
+        if (!surface_nets(sdf, body.box, h, grid_shift(attempt), false, nullptr, &V, &F, &why))
+            continue;
+        if (static_cast<int>(V.size()) < target) {
+            // Spacing too coarse (the calibration is approximate): refine and retry.
             h *= std::sqrt(static_cast<double>(V.size()) / (1.08 * target));
-            why = "too few vertices (" + std::to_string(V.size()) + ")";
+            why = "too few vertices";
             continue;
         }
         if (!check_closed_sphere(static_cast<int>(V.size()), F, &why)) continue;
-        tick("check1");
-parallel_for(V.size(), [&](size_t begin, size_t end) {
+        parallel_for(V.size(), [&](size_t begin, size_t end) {
             for (size_t i = begin; i < end; ++i) V[i] = sdf.project(V[i], 3, h);
         });
-        tick("proj");
-relax(sdf, &V, F, 2, 0.6, h);
-        tick("relax2");
-if (static_cast<int>(V.size()) > target) {
-            const int reached = decimate(sdf, &V, &F, target, h * 4.0);
+        std::vector<char> pinned(V.size(), 0);
+        relax(sdf, &V, F, pinned, 2, 0.6, h);
+        // Put a vertex exactly on every limb tip and keep it there (coarse meshes would otherwise
+        // round the tips off).
+        for (const Vector3d& tip : body.tips) {
+            size_t best = 0;
+            for (size_t i = 1; i < V.size(); ++i)
+                if ((V[i] - tip).squaredNorm() < (V[best] - tip).squaredNorm()) best = i;
+            V[best] = tip;
+            pinned[best] = 1;
+        }
+        if (static_cast<int>(V.size()) > target) {
+            const int reached = decimate(sdf, &V, &F, &pinned, target, 4.0 * h);
             if (reached != target) {
                 why = "decimation stalled at " + std::to_string(reached) + " vertices";
                 continue;
             }
         }
-        tick("decim");
-const double spacing = std::sqrt(c_cal / target);
-        relax(sdf, &V, F, 4, 0.6, spacing);
-        tick("relax4");
-if (!check_closed_sphere(static_cast<int>(V.size()), F, &why)) continue;
-        if (!check_quality(sdf, V, F, deg(2.0), &why)) continue;
+        relax(sdf, &V, F, pinned, 4, 0.6, std::sqrt(c_cal / target));
+        if (!check_closed_sphere(static_cast<int>(V.size()), F, &why)) continue;
+        if (!check_quality(sdf, V, F, deg(10.0), &why)) continue;
 
-        tick("checks");
-auto rest = std::make_shared<RestFigure>();
+        auto rest = std::make_shared<RestFigure>();
         rest->V = std::move(V);
         rest->F = std::move(F);
         const size_t n = rest->V.size();
@@ -1327,24 +1409,16 @@ auto rest = std::make_shared<RestFigure>();
             for (size_t i = begin; i < end; ++i)
                 skin_weights(body, rest->V[i], &rest->bone[i], &rest->weight[i]);
         });
-        tick("weights");
-const size_t nt = body.tips.size();
-        rest->tip_bone.resize(nt);
-        rest->tip_weight.resize(nt);
-        rest->tip_vertex.resize(nt);
-        for (size_t t = 0; t < nt; ++t) {
-            skin_weights(body, body.tips[t], &rest->tip_bone[t], &rest->tip_weight[t]);
-            double best = std::numeric_limits<double>::infinity();
-            for (size_t i = 0; i < n; ++i) {
-                const double d = (rest->V[i] - body.tips[t]).squaredNorm();
-                if (d < best) {
-                    best = d;
+        rest->tip_vertex.assign(n_tips, -1);
+        for (size_t t = 0; t < n_tips; ++t)
+            for (size_t i = 0; i < n; ++i)
+                if (pinned[i] && rest->V[i] == body.tips[t])
                     rest->tip_vertex[t] = static_cast<int>(i);
-                }
-            }
+        if (std::count(rest->tip_vertex.begin(), rest->tip_vertex.end(), -1) != 0) {
+            why = "lost a limb tip vertex";
+            continue;
         }
-        tick("tips");
-return rest;
+        return rest;
     }
     throw std::runtime_error("make_figure: could not extract a valid mesh for " +
                              std::to_string(target) + " vertices (" + why + ")");
@@ -1463,7 +1537,7 @@ FigurePose figure_pose(int pose_id) {
             p.left_leg = {0.0, deg(-6), deg(5)};
             p.right_leg = {0.0, deg(-6), deg(5)};
             p.head_pitch = deg(15);
-            p.tail_curl = deg(-15);
+            p.tail_curl = deg(10);
             break;
         case 2:  // arms up with bent elbows, left knee raised, tail curled up
             p.left_arm = {deg(-40), deg(10), deg(70)};
@@ -1483,12 +1557,12 @@ FigurePose figure_pose(int pose_id) {
             p.tail_curl = deg(20);
             break;
         case 4:  // half crouch reaching forwards, looking up
-            p.left_arm = {deg(30), deg(60), deg(80)};
-            p.right_arm = {deg(30), deg(60), deg(80)};
+            p.left_arm = {deg(35), deg(45), deg(70)};
+            p.right_arm = {deg(35), deg(45), deg(70)};
             p.left_leg = {deg(45), deg(10), deg(70)};
             p.right_leg = {deg(45), deg(10), deg(70)};
             p.head_pitch = deg(-20);
-            p.tail_curl = deg(-20);
+            p.tail_curl = deg(15);
             break;
         case 5:  // legs crossed, left arm up, right forearm across the front
             p.left_arm = {deg(-60), 0.0, deg(30)};
@@ -1527,8 +1601,8 @@ FigurePose figure_pose(int pose_id) {
 }
 
 Figure make_figure(int target_vertices, const FigurePose& pose) {
-    if (target_vertices < 300 || target_vertices > 2000000)
-        throw std::invalid_argument("make_figure: target_vertices must be in [300, 2000000]");
+    if (target_vertices < 300 || target_vertices > 1000000)
+        throw std::invalid_argument("make_figure: target_vertices must be in [300, 1000000]");
     const Body& body = the_body();
     const std::shared_ptr<const RestFigure> rest = rest_figure(target_vertices);
     const std::array<Rigid, kNumBones> G = bone_transforms(body, pose);
@@ -1539,7 +1613,7 @@ Figure make_figure(int target_vertices, const FigurePose& pose) {
         posed[i] = skin(G, rest->V[i], rest->bone[i], rest->weight[i]);
     fig.mesh = to_trimesh(posed, rest->F);
     for (size_t t = 0; t < body.tips.size(); ++t)
-        fig.limb_tips.push_back(skin(G, body.tips[t], rest->tip_bone[t], rest->tip_weight[t]));
+        fig.limb_tips.push_back(posed[static_cast<size_t>(rest->tip_vertex[t])]);
     fig.limb_names = body.tip_names;
     fig.limb_radius = body.tip_radius;
     fig.limb_tip_vertex = rest->tip_vertex;

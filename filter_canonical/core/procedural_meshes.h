@@ -8,12 +8,16 @@
 // - make_figure:    an articulated humanoid with a tail. Its rest pose is the zero set of a signed
 //                   distance function: tapered capsules (hard union within a limb, polynomial
 //                   smooth-min between body parts). The surface is extracted once per vertex
-//                   target with naive surface nets on a sparse block grid, projected onto the zero
-//                   set, coarsened to the exact target by shortest-edge collapses when needed,
-//                   relaxed tangentially and checked (closed, 2-manifold, one component, genus 0,
-//                   no thin triangles; otherwise the grid is shifted and the extraction retried).
-//                   A pose is applied by linear blend skinning on a 13-bone skeleton, so all poses
-//                   at one vertex target share the same faces and vertex order.
+//                   target with naive surface nets on a sparse block grid (sign patterns that
+//                   would be non-manifold are repaired first), projected onto the zero set,
+//                   coarsened to the exact target by shortest-edge collapses (link condition,
+//                   no flips) with one vertex pinned on each limb tip, relaxed tangentially and
+//                   checked (closed, 2-manifold, one component, genus 0, min angle >= 10 degrees;
+//                   otherwise the grid is shifted and the extraction retried). A pose is applied
+//                   by linear blend skinning on a 13-bone skeleton (weights: inverse 12th power of
+//                   the radius-normalised distance to each bone's capsules, averaged over a small
+//                   ball so the joints bend smoothly), so all poses at one vertex target share the
+//                   same faces and vertex order.
 //
 // Conventions: faces are counter-clockwise seen from outside (outward normals). The figure stands
 // on z = 0 with z up, about 1.95 units tall, faces -y, and its left side is +x.
@@ -73,7 +77,8 @@ struct FigurePose {
     ArmPose left_arm, right_arm;
     LegPose left_leg, right_leg;
     double tail_swing = 0.0;  ///< swings the whole tail sideways at its base; > 0 towards +x
-    double tail_curl = 0.0;   ///< bends each of the 3 tail joints upwards (< 0 downwards)
+    double tail_curl = 0.0;   ///< bends the tail upwards (< 0 downwards): this angle at the 2
+                              ///< inner tail joints, half of it at the base
 };
 
 /// Number of named poses of figure_pose() (ids 0 .. kFigureNamedPoses - 1).
@@ -90,15 +95,17 @@ FigurePose figure_pose(int pose_id);
 /// A posed figure.
 struct Figure {
     TriMesh mesh;                            ///< watertight, 2-manifold, one component, genus 0
-    std::vector<Eigen::Vector3d> limb_tips;  ///< posed extremities (on or just inside the surface)
+    std::vector<Eigen::Vector3d> limb_tips;  ///< posed extremities, on the surface: the mesh
+                                             ///< vertices limb_tip_vertex (same positions)
     std::vector<std::string> limb_names;     ///< "head","left_hand","right_hand","left_foot",
                                              ///< "right_foot","tail" (same order as limb_tips)
-    std::vector<double> limb_radius;         ///< tube radius of the limb near its tip
-    std::vector<int> limb_tip_vertex;        ///< mesh vertex nearest each tip in the rest pose
-                                             ///< (same index for every pose)
+    std::vector<double> limb_radius;         ///< tube radius of the limb at its tip (head: the
+                                             ///< head's radius)
+    std::vector<int> limb_tip_vertex;        ///< vertex placed exactly on each tip of the rest
+                                             ///< pose (same index for every pose)
 };
 
-/// Build the figure with `target_vertices` vertices (exactly, for 300 <= target <= 2,000,000;
+/// Build the figure with `target_vertices` vertices (exactly, for 300 <= target <= 1,000,000;
 /// throws std::invalid_argument outside) in the given pose. Faces and vertex order are identical
 /// for all poses at the same target: the rest mesh is built once (and cached for the last few
 /// targets, thread-safe) and deformed by skinning. Throws std::runtime_error if no valid mesh could

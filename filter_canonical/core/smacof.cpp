@@ -40,8 +40,7 @@ SmacofSolver::SmacofSolver(int num_points, StressPairs pairs) : n_(num_points), 
     }
     Eigen::SparseMatrix<double> Vr(n_ - 1, n_ - 1);
     Vr.setFromTriplets(t.begin(), t.end());
-    factor_.compute(Vr);
-    if (factor_.info() != Eigen::Success)
+    if (!factor_.compute(Vr))
         throw NumericalError("SMACOF: the Cholesky factorisation of V failed");
 }
 
@@ -93,6 +92,7 @@ Eigen::MatrixXd SmacofSolver::guttman(const Eigen::MatrixXd& X, double* stress_o
     Eigen::MatrixXd Y(n_, X.cols());
     Y.row(0).setZero();
     Y.bottomRows(n_ - 1) = factor_.solve(BX.bottomRows(n_ - 1));
+    if (!factor_.ok()) throw NumericalError("SMACOF: the solve with the factor of V failed");
     Y.rowwise() -= Y.colwise().mean();
     return Y;
 }

@@ -13,8 +13,8 @@
 // Departures from the paper, and why:
 // - Eq. (4) is printed as b_ii = +sum_{j != i} b_ij; the majorisation needs the minus sign
 //   (rows of B sum to zero, as in de Leeuw and Elad-Kimmel). We use the minus sign.
-// - V^+ is never formed: V is constant, so we factor it once (sparse Cholesky, Eigen's
-//   SimplicialLDLT with AMD ordering) after pinning one vertex (dropping its row and column, which
+// - V^+ is never formed: V is constant, so we factor it once (sparse LDL^T,
+//   sparse_cholesky.h) after pinning one vertex (dropping its row and column, which
 //   makes V positive definite when the pair graph is connected), solve, and re-centre. Because
 //   1^T B X = 0 this equals V^+ B X exactly. B(X) X is accumulated pair by pair, O(#pairs).
 // - The stopping rule is relative: stop when (S_{k-1} - S_k) / S_{k-1} < tolerance, or after
@@ -23,9 +23,9 @@
 #pragma once
 
 #include "core/errors.h"
+#include "core/sparse_cholesky.h"
 
 #include <Eigen/Core>
-#include <Eigen/SparseCholesky>
 
 #include <vector>
 
@@ -88,7 +88,7 @@ private:
 
     int n_;
     StressPairs pairs_;
-    Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> factor_;  // V with vertex 0 pinned
+    SparseCholesky factor_;  // V with vertex 0 pinned
 };
 
 }  // namespace canonform
