@@ -30,6 +30,19 @@ MeshModel& current_mesh(MeshDocument& md) {
     return *md.mm();
 }
 
+/// Validates the mesh (InputError names any problem) and logs what the user should know about
+/// an acceptable one: boundaries are allowed (eq. 8 treats their vertices) but change the result.
+template <class Bridged>
+void validate_and_note(const Bridged& b, const ActionContext& ctx) {
+    const MeshReport r = validate_mesh(b.V, b.F);
+    if (r.boundary_edges > 0) {
+        std::ostringstream m;
+        m << "note: the mesh is open (" << r.boundary_edges << " boundary edges, " << r.boundary_loops_vertices
+          << " boundary vertices); their curvature uses pi instead of 2 pi (eq. 8)";
+        ctx.log(m.str());
+    }
+}
+
 void check_ring(int ring) {
     if (ring < 1 || ring > 10) throw InputError("the ring size must be between 1 and 10");
 }
@@ -37,8 +50,10 @@ void check_ring(int ring) {
 ActionOutputs conformal_factor_action(MeshDocument& md, const ParamValues& p, const ActionContext& ctx) {
     MeshModel& mm = current_mesh(md);
     const auto b = to_eigen(mm.cm);
+    validate_and_note(b, ctx);
     ConformalFactorOptions opt;
     opt.progress = ctx.progress;
+    opt.validate = false;
     const ConformalFactorResult cf = conformal_factor(b.V, b.F, opt);
     const bool normalized = p.get_bool(param::normalize);
     mm.updateDataMask(MeshModel::MM_VERTQUALITY);
@@ -61,8 +76,10 @@ ActionOutputs feature_points_action(MeshDocument& md, const ParamValues& p, cons
     const int ring = p.get_int(param::ring);
     check_ring(ring);
     const auto b = to_eigen(mm.cm);
+    validate_and_note(b, ctx);
     ConformalFactorOptions cf_opt;
     cf_opt.progress = ctx.progress;
+    cf_opt.validate = false;
     const ConformalFactorResult cf = conformal_factor(b.V, b.F, cf_opt);
     FeaturePointOptions opt;
     opt.ring = ring;
@@ -108,9 +125,11 @@ ActionOutputs canonical_form_action(MeshDocument& md, const ParamValues& p, cons
     opt.tolerance = p.get(param::tolerance);
     opt.max_iterations = p.get_int(param::max_iterations);
     opt.progress = ctx.progress;
+    opt.validate = false;  // validate_and_note() below
     if (p.get(param::beta) < 0) throw InputError("beta must be positive (or 0 for the variant's default)");
 
     const auto b = to_eigen(mm.cm);
+    validate_and_note(b, ctx);
     const EuclideanCanonicalFormResult r = euclidean_canonical_form(b.V, b.F, opt);
 
     // Everything computed: now change the document.

@@ -42,7 +42,7 @@ EuclideanCanonicalFormResult euclidean_canonical_form(const Eigen::MatrixXd& V0,
     if (!(options.alpha > 0)) throw InputError("alpha must be positive");
     if (options.max_iterations < 1) throw InputError("the iteration cap must be at least 1");
     if (!(options.tolerance >= 0)) throw InputError("the tolerance must be non-negative");
-    validate_mesh(V0, F);
+    if (options.validate) validate_mesh(V0, F);
     report_progress(options.progress, 0.0, "scaling");
 
     Eigen::RowVector3d centroid;

@@ -54,6 +54,7 @@ struct EuclideanCanonicalFormOptions {
     int max_iterations = 1000;    ///< SMACOF iteration cap
     bool restore_scale = true;    ///< return the result in the input's units and position
     bool record_history = false;  ///< keep the stress of every iteration
+    bool validate = true;         ///< run validate_mesh() first (off only if the caller just did)
     ProgressFn progress;          ///< optional progress callback
 
     /// beta actually used: `beta` if positive, else 10 (A) or 130 (N).

@@ -71,7 +71,27 @@ check "Euclidean canonical form in place: same result" json inplace.json "j['sam
 mls all.log -i fig.ply -o all_canon.ply -l 1 -m vq -s all.mlx
 check "three filters in one script" test $? -eq 0
 
-# Bad input: non-zero exit, the reason in the output, no output file ---------------------------
+# Other formats: meshlabserver converts, the tool reads OBJ, STL and OFF ---------------------
+for ext in obj stl off; do
+  mls conv_$ext.log -i fig.ply -o fig.$ext
+  "$cf" conformal fig.$ext cf_$ext.ply
+  "$plycheck" cf_$ext.ply ref_cf.ply > conv_$ext.json
+  if [ "$ext" = stl ]; then  # STL repeats vertices per face: merged on reading, in another order
+    check "canonform reads STL (vertices merged: same counts)" json conv_$ext.json "j['same_vertex_count'] and j['faces'] == 4996"
+  else                       # MeshLab writes OBJ/OFF coordinates with fewer digits
+    check "canonform reads ${ext^^} (same conformal factor to 1e-3)" json conv_$ext.json "j['same_vertex_count'] and j['max_quality_diff'] < 1e-3"
+  fi
+  check "canonform canonical on ${ext^^}" "$cf" canonical fig.$ext canon_$ext.ply --quiet
+done
+
+# An open mesh (boundary) is accepted, with a note in the log ---------------------------------
+awk 'BEGIN { n = 12; print "OFF"; print n * n, 2 * (n - 1) * (n - 1), 0
+  for (j = 0; j < n; j++) for (i = 0; i < n; i++) print i / n, j / n, 0.2 * sin(i / 2.0) * cos(j / 3.0)
+  for (j = 0; j < n - 1; j++) for (i = 0; i < n - 1; i++) { v = j * n + i
+    print 3, v, v + 1, v + n + 1; print 3, v, v + n + 1, v + n } }' > open.off
+mls open.log -i open.off -o ml_open.ply -m vq -s "$scripts/conformal_factor.mlx"
+check "open mesh: accepted with a note on its boundary" bash -c "[ $? -eq 0 ] && grep -q 'note: the mesh is open' open.log"
+, the reason in the output, no output file ---------------------------
 "$cf" features fig.ply cloud.ply
 mls cloud.log -i cloud.ply -o bad_cloud.ply -m vq -s "$scripts/euclidean_canonical_form.mlx"
 rc=$?

@@ -121,6 +121,19 @@ struct Json {
     std::string str() { return o.str() + "}"; }
 };
 
+/// Validates the mesh (InputError names any problem) and notes an open surface on stderr.
+void validate_and_note(const std::string& path, const io::MeshData& m, bool quiet) {
+    MeshReport r;
+    try {
+        r = validate_mesh(m.V, m.F);
+    } catch (const InputError& e) {
+        throw InputError("'" + path + "': " + e.what());
+    }
+    if (r.boundary_edges > 0 && !quiet)
+        std::cerr << "canonform: note: '" << path << "' is open (" << r.boundary_edges
+                  << " boundary edges); boundary curvature uses pi instead of 2 pi (eq. 8)\n";
+}
+
 /// Runs fn(); an InputError it throws is re-thrown with the input's path in front.
 template <class Fn>
 auto on_input(const std::string& path, Fn fn) -> decltype(fn()) {
@@ -152,7 +165,12 @@ int cmd_conformal(const Args& a) {
     a.allow({"raw", "json"});
     const auto t0 = std::chrono::steady_clock::now();
     const io::MeshData m = io::read_mesh(a.positional[0]);
-    const ConformalFactorResult cf = on_input(a.positional[0], [&] { return conformal_factor(m.V, m.F); });
+    validate_and_note(a.positional[0], m, a.flag("json"));
+    const ConformalFactorResult cf = on_input(a.positional[0], [&] {
+        ConformalFactorOptions o;
+        o.validate = false;  // validate_and_note() above
+        return conformal_factor(m.V, m.F, o);
+    });
     const Eigen::VectorXd& q = a.flag("raw") ? cf.raw : cf.normalized;
     io::write_ply(a.positional[1], m.V, m.F, q);
     if (a.flag("json"))
@@ -174,7 +192,12 @@ int cmd_features(const Args& a) {
     if (fill != "none" && fill != "random") throw UsageError("--fill must be none or random");
     opt.fill = fill == "random" ? FeatureFill::Random : FeatureFill::None;
     opt.seed = static_cast<std::uint64_t>(a.integer("seed", 0));
-    const ConformalFactorResult cf = on_input(a.positional[0], [&] { return conformal_factor(m.V, m.F); });
+    validate_and_note(a.positional[0], m, a.flag("json"));
+    const ConformalFactorResult cf = on_input(a.positional[0], [&] {
+        ConformalFactorOptions o;
+        o.validate = false;  // validate_and_note() above
+        return conformal_factor(m.V, m.F, o);
+    });
     const FeaturePoints fp = feature_points(m.F, cf.normalized, opt);
     Eigen::MatrixXd P(static_cast<Eigen::Index>(fp.indices.size()), 3);
     Eigen::VectorXd q(P.rows());
@@ -208,6 +231,8 @@ int cmd_canonical(const Args& a) {
     opt.progress = terminal_progress(a.flag("quiet") || a.flag("json"));
     const io::MeshData m = io::read_mesh(a.positional[0]);
     const double read_seconds = seconds_since(t0);
+    validate_and_note(a.positional[0], m, a.flag("json") || a.flag("quiet"));
+    opt.validate = false;
     const EuclideanCanonicalFormResult r =
         on_input(a.positional[0], [&] { return euclidean_canonical_form(m.V, m.F, opt); });
     io::write_ply(a.positional[1], r.V, m.F, r.phi);

@@ -12,6 +12,7 @@
 #include <cstdio>
 #include <fstream>
 #include <random>
+#include <sstream>
 #include <sys/stat.h>
 
 namespace canonform::io {
@@ -33,6 +34,56 @@ std::string lower_extension(const std::string& path) {
     return e;
 }
 
+/// Wavefront OBJ: 'v x y z' and 'f a b c ...' lines (a, b, c as i, i/t, i//n or i/t/n, 1-based or
+/// negative), polygons fan-triangulated; everything else ignored. Our own reader because the
+/// OBJ importer of the vcglib in MeshLab 2020.09 drops every face that uses vertex 1.
+MeshData read_obj(const std::string& path) {
+    std::ifstream in(path);
+    if (!in) throw InputError("cannot read '" + path + "': cannot open the file");
+    std::vector<double> v;
+    std::vector<int> f;
+    std::string line;
+    long lineno = 0;
+    while (std::getline(in, line)) {
+        ++lineno;
+        std::istringstream ls(line);
+        std::string tag;
+        ls >> tag;
+        if (tag == "v") {
+            double x, y, z;
+            if (!(ls >> x >> y >> z))
+                throw InputError("cannot read '" + path + "': bad vertex on line " + std::to_string(lineno));
+            v.insert(v.end(), {x, y, z});
+        } else if (tag == "f") {
+            std::vector<int> poly;
+            std::string tok;
+            const long nv = static_cast<long>(v.size() / 3);
+            while (ls >> tok) {
+                long idx = 0;
+                try {
+                    idx = std::stol(tok.substr(0, tok.find('/')));
+                } catch (const std::exception&) {
+                    throw InputError("cannot read '" + path + "': bad face on line " + std::to_string(lineno));
+                }
+                if (idx < 0) idx += nv + 1;
+                if (idx < 1 || idx > nv)
+                    throw InputError("cannot read '" + path + "': face index out of range on line " +
+                                     std::to_string(lineno));
+                poly.push_back(static_cast<int>(idx - 1));
+            }
+            if (poly.size() < 3)
+                throw InputError("cannot read '" + path + "': a face with fewer than 3 vertices on line " +
+                                 std::to_string(lineno));
+            for (size_t k = 1; k + 1 < poly.size(); ++k) f.insert(f.end(), {poly[0], poly[k], poly[k + 1]});
+        }
+    }
+    if (v.empty()) throw InputError("cannot read '" + path + "': no vertices (is it an OBJ file?)");
+    MeshData d;
+    d.V = Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>>(v.data(), long(v.size() / 3), 3);
+    d.F = Eigen::Map<Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor>>(f.data(), long(f.size() / 3), 3);
+    return d;
+}
+
 }  // namespace
 
 MeshData read_mesh(const std::string& path) {
@@ -44,6 +95,7 @@ MeshData read_mesh(const std::string& path) {
     const std::string ext = lower_extension(path);
     if (ext != "ply" && ext != "off" && ext != "obj" && ext != "stl")
         throw InputError("cannot read '" + path + "': unsupported format '" + ext + "' (OFF, PLY, OBJ or STL)");
+    if (ext == "obj") return read_obj(path);
     IoMesh m;
     int mask = 0;
     const int err = vcg::tri::io::Importer<IoMesh>::Open(m, path.c_str(), mask);

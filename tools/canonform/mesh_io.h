@@ -17,7 +17,8 @@ struct MeshData {
     Eigen::MatrixXi F;
 };
 
-/// Reads OFF, PLY, OBJ or STL (by extension). STL's per-face vertices are merged. Throws
+/// Reads OFF, PLY, OBJ or STL (by extension; OFF, PLY and STL through vcglib, OBJ with our own
+/// reader). STL's per-face vertices are merged. Throws
 /// canonform::InputError naming the file and the reason if it cannot be read.
 MeshData read_mesh(const std::string& path);
 
