@@ -32,6 +32,11 @@ check "canonical form differs from the input pose" json canon.json "j['aligned_r
 "$cf" canonical fig.ply canonA.ply --variant A --alpha 8 --beta 12 --seed 5 --tol 1e-4 --max-iter 50 --json > canonA.json
 check "canonical variant A with every option" json canonA.json "j['variant'] == 'A' and j['beta'] == 12 and j['alpha'] == 8 and j['iterations'] <= 50 and j['random'] > 0"
 
+"$cf" simplify fig.ply simple.ply --vertices 1000 2>/dev/null
+"$plycheck" simple.ply > simple.json
+check "simplify to ~1000 vertices (closed mesh kept closed)" json simple.json "900 <= j['vertices'] <= 1100 and abs(j['faces'] - (2 * j['vertices'] - 4)) <= 2"
+check "canonical form of the simplified mesh" "$cf" canonical simple.ply simple_canon.ply --quiet
+
 "$cf" picture pic.png cf.ply --points fp.ply --canonical canon.ply --size 200 2>/dev/null
 check "picture is a PNG" bash -c "head -c 8 pic.png | od -An -c | grep -q 'P   N   G'"
 

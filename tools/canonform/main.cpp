@@ -4,6 +4,7 @@
 //   canonform features  IN OUT [--ring K] [--fill none|random] [--seed S] [--json]
 //   canonform canonical IN OUT [--variant A|N] [--alpha A] [--beta B] [--ring K] [--seed S]
 //                              [--tol T] [--max-iter M] [--quiet] [--json]
+//   canonform simplify  IN OUT --vertices K
 //   canonform generate  OUT [--vertices N] [--pose P]
 //   canonform picture   OUT.png MESH [--points PTS] [--canonical CANON] [--size PX]
 //
@@ -17,6 +18,7 @@
 #include "core/procedural_meshes.h"
 #include "mesh_io.h"
 #include "picture.h"
+#include "simplify.h"
 
 #include <chrono>
 #include <cstdio>
@@ -38,6 +40,7 @@ const char* kUsage =
     "  canonform features  IN OUT [--ring K] [--fill none|random] [--seed S] [--json]\n"
     "  canonform canonical IN OUT [--variant A|N] [--alpha A] [--beta B] [--ring K] [--seed S]\n"
     "                             [--tol T] [--max-iter M] [--quiet] [--json]\n"
+    "  canonform simplify  IN OUT --vertices K   (quadric edge collapse, as MeshLab's)\n"
     "  canonform generate  OUT [--vertices N] [--pose P]\n"
     "  canonform picture   OUT.png MESH [--points PTS] [--canonical CANON] [--size PX]\n"
     "IN: OFF, PLY, OBJ or STL; OUT: PLY with the conformal factor as vertex quality.\n";
@@ -254,6 +257,18 @@ int cmd_canonical(const Args& a) {
     return 0;
 }
 
+int cmd_simplify(const Args& a) {
+    a.need(2);
+    a.allow({"vertices"});
+    if (!a.flag("vertices")) throw UsageError("simplify needs --vertices K");
+    const io::MeshData m = io::read_mesh(a.positional[0]);
+    validate_and_note(a.positional[0], m, false);
+    const io::MeshData s = on_input(a.positional[0], [&] { return io::simplify_mesh(m, a.integer("vertices", 0)); });
+    io::write_ply(a.positional[1], s.V, s.F);
+    std::cerr << "simplified " << m.V.rows() << " -> " << s.V.rows() << " vertices\n";
+    return 0;
+}
+
 int cmd_generate(const Args& a) {
     a.need(1);
     a.allow({"vertices", "pose"});
@@ -293,6 +308,7 @@ int main(int argc, char** argv) {
         if (cmd == "conformal") return cmd_conformal(Args(argc, argv, 2, {"raw", "json"}));
         if (cmd == "features") return cmd_features(Args(argc, argv, 2, {"json"}));
         if (cmd == "canonical") return cmd_canonical(Args(argc, argv, 2, {"json", "quiet"}));
+        if (cmd == "simplify") return cmd_simplify(Args(argc, argv, 2, {}));
         if (cmd == "generate") return cmd_generate(Args(argc, argv, 2, {}));
         if (cmd == "picture") return cmd_picture(Args(argc, argv, 2, {}), argc, argv);
         throw UsageError("unknown command '" + cmd + "'");
