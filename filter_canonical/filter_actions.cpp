@@ -3,6 +3,7 @@
 #include "core/conformal_factor.h"
 #include "core/euclidean_canonical_form.h"
 #include "core/feature_points.h"
+#include "core/geodesic_canonical_form.h"
 #include "core/mesh_topology.h"
 #include "vcg_bridge.h"
 
@@ -113,6 +114,33 @@ ActionOutputs feature_points_action(MeshDocument& md, const ParamValues& p, cons
             {"random", double(fp.num_random)}};
 }
 
+/// Writes a canonical form X (#V x 3, rows as in `b`) into a new layer named after `mm` (or in
+/// place), with the quality and selection given; recomputes normals and bounding box.
+template <class Bridged>
+void write_canonical_form(MeshDocument& md, MeshModel& mm, const Bridged& b, const Eigen::MatrixXd& X,
+                          const Eigen::VectorXd* quality, const std::vector<int>* selected, bool new_layer) {
+    MeshModel* target = &mm;
+    if (new_layer) {
+        target = md.addNewMesh("", mm.label() + " canonical form", false);
+        target->updateDataMask(&mm);
+        vcg::tri::Append<CMeshO, CMeshO>::MeshCopy(target->cm, mm.cm);
+    }
+    const auto out = to_eigen(target->cm);
+    if (out.V.rows() != b.V.rows())
+        throw NumericalError("internal error: the new layer does not have the source's vertices");
+    write_positions(out, X);
+    if (quality) {
+        target->updateDataMask(MeshModel::MM_VERTQUALITY);
+        write_quality(out, *quality);
+    }
+    if (selected) {
+        vcg::tri::UpdateSelection<CMeshO>::VertexClear(target->cm);
+        for (int v : *selected) out.vertices[static_cast<size_t>(v)]->SetS();
+    }
+    vcg::tri::UpdateNormal<CMeshO>::PerVertexNormalizedPerFaceNormalized(target->cm);
+    vcg::tri::UpdateBounding<CMeshO>::Box(target->cm);
+}
+
 ActionOutputs canonical_form_action(MeshDocument& md, const ParamValues& p, const ActionContext& ctx) {
     MeshModel& mm = current_mesh(md);
     EuclideanCanonicalFormOptions opt;
@@ -132,23 +160,7 @@ ActionOutputs canonical_form_action(MeshDocument& md, const ParamValues& p, cons
     validate_and_note(b, ctx);
     const EuclideanCanonicalFormResult r = euclidean_canonical_form(b.V, b.F, opt);
 
-    // Everything computed: now change the document.
-    MeshModel* target = &mm;
-    if (p.get_bool(param::new_layer)) {
-        target = md.addNewMesh("", mm.label() + " canonical form", false);
-        target->updateDataMask(&mm);
-        vcg::tri::Append<CMeshO, CMeshO>::MeshCopy(target->cm, mm.cm);
-    }
-    const auto out = to_eigen(target->cm);
-    if (out.V.rows() != b.V.rows())
-        throw NumericalError("internal error: the new layer does not have the source's vertices");
-    write_positions(out, r.V);
-    target->updateDataMask(MeshModel::MM_VERTQUALITY);
-    write_quality(out, r.phi);
-    vcg::tri::UpdateSelection<CMeshO>::VertexClear(target->cm);
-    for (int v : r.features) out.vertices[static_cast<size_t>(v)]->SetS();
-    vcg::tri::UpdateNormal<CMeshO>::PerVertexNormalizedPerFaceNormalized(target->cm);
-    vcg::tri::UpdateBounding<CMeshO>::Box(target->cm);
+    write_canonical_form(md, mm, b, r.V, &r.phi, &r.features, p.get_bool(param::new_layer));
 
     std::ostringstream log;
     log << "Euclidean canonical form of '" << mm.label().toStdString() << "' (variant "
@@ -165,6 +177,34 @@ ActionOutputs canonical_form_action(MeshDocument& md, const ParamValues& p, cons
             {"converged", r.converged ? 1.0 : 0.0}};
 }
 
+ActionOutputs geodesic_form_action(MeshDocument& md, const ParamValues& p, const ActionContext& ctx) {
+    MeshModel& mm = current_mesh(md);
+    GeodesicCanonicalFormOptions opt;
+    const int method = p.get_int(param::method);
+    opt.method = method == 1 ? GeodesicMds::Classical : method == 2 ? GeodesicMds::Fast : GeodesicMds::LeastSquares;
+    opt.tolerance = p.get(param::tolerance);
+    opt.max_iterations = p.get_int(param::max_iterations);
+    opt.max_memory_gib = p.get(param::max_memory_gib);
+    opt.max_seconds = p.get(param::max_seconds);
+    opt.progress = ctx.progress;
+    const auto b = to_eigen(mm.cm);
+    validate_and_note(b, ctx);
+    const GeodesicCost cost = estimate_geodesic_canonical_form(b.V.rows(), opt.method, opt.threads);
+    ctx.log("Geodesic canonical form of '" + mm.label().toStdString() + "': " + std::to_string(b.V.rows()) +
+            " vertices, estimated " + cost.describe());
+    const GeodesicCanonicalFormResult r = geodesic_canonical_form(b.V, b.F, opt);
+    write_canonical_form(md, mm, b, r.V, nullptr, nullptr, p.get_bool(param::new_layer));
+    std::ostringstream log;
+    log << "Geodesic canonical form of '" << mm.label().toStdString() << "' (" << geodesic_mds_name(opt.method)
+        << "): " << b.V.rows() << " vertices, geodesics " << r.geodesic_seconds << " s, MDS " << r.mds_seconds
+        << " s (" << r.iterations << " iterations, stress " << r.initial_stress << " -> " << r.final_stress
+        << "), mean relative edge-length change " << r.mean_relative_edge_change << ", " << r.seconds << " s";
+    ctx.log(log.str());
+    return {{"iterations", double(r.iterations)}, {"initial_stress", r.initial_stress},
+            {"final_stress", r.final_stress}, {"mean_relative_edge_change", r.mean_relative_edge_change},
+            {"geodesic_seconds", r.geodesic_seconds}, {"mds_seconds", r.mds_seconds}, {"seconds", r.seconds}};
+}
+
 }  // namespace
 
 ActionOutputs apply_filter_action(FilterId id, MeshDocument& md, const ParamValues& params,
@@ -173,6 +213,7 @@ ActionOutputs apply_filter_action(FilterId id, MeshDocument& md, const ParamValu
     case FilterId::ConformalFactor: return conformal_factor_action(md, params, context);
     case FilterId::FeaturePoints: return feature_points_action(md, params, context);
     case FilterId::EuclideanCanonicalForm: return canonical_form_action(md, params, context);
+    case FilterId::GeodesicCanonicalForm: return geodesic_form_action(md, params, context);
     }
     throw InputError("unknown filter");
 }

@@ -45,6 +45,7 @@ int FilterCanonicalPlugin::postCondition(QAction* a) const {
     case FilterId::ConformalFactor: return MeshModel::MM_VERTQUALITY | MeshModel::MM_VERTCOLOR;
     case FilterId::FeaturePoints: return MeshModel::MM_VERTQUALITY | MeshModel::MM_VERTFLAGSELECT;
     case FilterId::EuclideanCanonicalForm:
+    case FilterId::GeodesicCanonicalForm:
         return MeshModel::MM_VERTCOORD | MeshModel::MM_VERTNORMAL | MeshModel::MM_FACENORMAL |
                MeshModel::MM_VERTQUALITY | MeshModel::MM_VERTFLAGSELECT;
     }

@@ -66,6 +66,27 @@ std::vector<FilterSpec> make_table() {
                   {param::new_layer, K::Bool, 1, "Result in a new layer",
                    "Put the canonical form in a new layer named after the source mesh; off: replace the "
                    "vertex positions of the current mesh.", {}}}});
+    t.push_back({FilterId::GeodesicCanonicalForm, "Geodesic canonical form", "generate_geodesic_canonical_form",
+                 "geodesic_canonical_form.mlx", FilterKind::Smoothing,
+                 "Computes the canonical form of Elad and Kimmel (IEEE TPAMI 2003), the baseline of Pickup et "
+                 "al. 2015: all-pairs geodesic distances by fast marching, embedded in 3D by MDS - least "
+                 "squares (SMACOF, all pairs), classical, or fast (landmark) MDS. Its memory grows like N^2 "
+                 "and its time like N^2 log N: the filter estimates both first and refuses, naming them, "
+                 "above the limits below. Same output conventions as 'Euclidean canonical form'.",
+                 {{param::method, K::Enum, 0, "MDS method",
+                   "least squares: SMACOF on all pairs (Elad-Kimmel, the paper's LS); classical: double "
+                   "centring and the top three eigenvectors (C); fast: landmark MDS (F).",
+                   {"least squares", "classical", "fast"}},
+                  {param::tolerance, K::Float, 1e-5, "Tolerance",
+                   "SMACOF stops when the relative stress decrease of an iteration falls below this.", {}},
+                  {param::max_iterations, K::Int, 500, "Maximum iterations", "SMACOF iteration cap.", {}},
+                  {param::max_memory_gib, K::Float, 4, "Memory limit (GiB)",
+                   "Refuse meshes whose estimated memory (an N x N distance matrix) exceeds this.", {}},
+                  {param::max_seconds, K::Float, 600, "Time limit (s)",
+                   "Refuse meshes whose estimated computing time exceeds this.", {}},
+                  {param::new_layer, K::Bool, 1, "Result in a new layer",
+                   "Put the canonical form in a new layer named after the source mesh; off: replace the "
+                   "vertex positions of the current mesh.", {}}}});
     for (auto& f : t) f.info += kCitation;
     return t;
 }

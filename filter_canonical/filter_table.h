@@ -24,6 +24,9 @@ inline constexpr const char* beta = "beta";
 inline constexpr const char* tolerance = "tolerance";
 inline constexpr const char* max_iterations = "max_iterations";
 inline constexpr const char* new_layer = "new_layer";
+inline constexpr const char* method = "method";
+inline constexpr const char* max_memory_gib = "max_memory_gib";
+inline constexpr const char* max_seconds = "max_seconds";
 }  // namespace param
 
 enum class ParamKind { Bool, Int, Float, Enum };
@@ -41,7 +44,12 @@ struct ParamSpec {
 /// MeshLab filter classes used here (values of MeshFilterInterface::FilterClass / FilterPlugin).
 enum class FilterKind { Quality, Selection, Smoothing };
 
-enum class FilterId : int { ConformalFactor = 0, FeaturePoints = 1, EuclideanCanonicalForm = 2 };
+enum class FilterId : int {
+    ConformalFactor = 0,
+    FeaturePoints = 1,
+    EuclideanCanonicalForm = 2,
+    GeodesicCanonicalForm = 3,
+};
 
 /// One filter: menu name (also the .mlx name), Python name, class, description, parameters.
 struct FilterSpec {

@@ -25,7 +25,8 @@ TEST(FilterTable, NamesAreUniqueAndParametersSnakeCase) {
             }
         }
     }
-    EXPECT_EQ(names, (std::set<std::string>{"Conformal factor", "Feature points", "Euclidean canonical form"}));
+    EXPECT_EQ(names, (std::set<std::string>{"Conformal factor", "Feature points", "Euclidean canonical form",
+                                            "Geodesic canonical form"}));
 }
 
 TEST(FilterTable, ShippedScriptsListEveryParameterAtItsDefault) {

@@ -10,4 +10,10 @@ double aligned_rms(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
     return al.rms / radius;
 }
 
+double aligned_rms_or_mirrored(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
+    Eigen::MatrixXd m = a;
+    m.col(0) *= -1;
+    return std::min(aligned_rms(a, b), aligned_rms(m, b));
+}
+
 }  // namespace canonform::test

@@ -42,4 +42,7 @@ inline void permute_mesh(const Eigen::VectorXi& perm, Eigen::MatrixXd& V, Eigen:
 /// RMS radius of `b`.
 double aligned_rms(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b);
 
+/// The same, also allowing a reflection (MDS determines a configuration only up to one).
+double aligned_rms_or_mirrored(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b);
+
 }  // namespace canonform::test

@@ -37,6 +37,15 @@ check "canonical variant A with every option" json canonA.json "j['variant'] == 
 check "simplify to ~1000 vertices (closed mesh kept closed)" json simple.json "900 <= j['vertices'] <= 1100 and abs(j['faces'] - (2 * j['vertices'] - 4)) <= 2"
 check "canonical form of the simplified mesh" "$cf" canonical simple.ply simple_canon.ply --quiet
 
+"$cf" simplify fig.ply fig600.ply --vertices 600 2>/dev/null
+for m in geodesic-ls geodesic-classical geodesic-fast; do
+  "$cf" canonical fig600.ply geo_$m.ply --method $m --json > geo_$m.json
+  check "canonical --method $m" json geo_$m.json "j['method'] == '$m' and j['geodesic_seconds'] > 0 and j['vertices'] < 700"
+done
+"$cf" canonical fig.ply refused.ply --method geodesic-ls --max-memory-gib 0.001 > err.txt 2>&1
+check "geodesic method refused over --max-memory-gib, naming memory and time" \
+  bash -c "[ $? -eq 1 ] && grep -q 'needs about .* GiB and .* s' err.txt && [ ! -e refused.ply ]"
+
 "$cf" picture pic.png cf.ply --points fp.ply --canonical canon.ply --size 200 2>/dev/null
 check "picture is a PNG" bash -c "head -c 8 pic.png | od -An -c | grep -q 'P   N   G'"
 

@@ -63,6 +63,21 @@ mls inplace.log -i fig.ply -o ml_inplace.ply -m vq -s ecf_inplace.mlx
 "$plycheck" ml_inplace.ply ref_canon.ply > inplace.json
 check "Euclidean canonical form in place: same result" json inplace.json "j['same_vertex_count'] and j['aligned_rms'] < 1e-3"
 
+# Geodesic canonical form (least squares), and its refusal of an over-large mesh ---------------
+"$cf" generate fig1k.ply --vertices 800 --pose 4
+mls geo.log -i fig1k.ply -o ml_geo.ply -l 1 -m vq -s "$scripts/geodesic_canonical_form.mlx"
+check "Geodesic canonical form: meshlabserver succeeds" test $? -eq 0
+check "Geodesic canonical form: estimate and timings logged" bash -c "grep -q 'estimated about' geo.log && grep -q 'geodesics .* s, MDS' geo.log"
+"$plycheck" ml_geo.ply fig1k.ply > geo.json
+check "Geodesic canonical form: layer 1 keeps the mesh and changes the pose" json geo.json "j['same_vertex_count'] and j['aligned_rms'] > 0.01"
+sed 's/name="max_memory_gib" type="RichFloat" value="4"/name="max_memory_gib" type="RichFloat" value="0.001"/' \
+  "$scripts/geodesic_canonical_form.mlx" > geo_small_limit.mlx
+mls geo_refused.log -i fig.ply -o bad_geo.ply -l 1 -m vq -s geo_small_limit.mlx
+rc=$?
+check "Geodesic canonical form: refuses over the memory limit, naming memory and time ($rc)" \
+  bash -c "[ $rc -ne 0 ] && grep -q 'needs about .* GiB and .* s' geo_refused.log"
+check "Geodesic canonical form: no output when refused" test ! -e bad_geo.ply
+
 # All three in one script (the README example's pipeline) --------------------------------------
 { echo '<!DOCTYPE FilterScript>'; echo '<FilterScript>'
   for s in conformal_factor feature_points euclidean_canonical_form; do

@@ -2,8 +2,10 @@
 //
 //   canonform conformal IN OUT [--raw] [--json]
 //   canonform features  IN OUT [--ring K] [--fill none|random] [--seed S] [--json]
-//   canonform canonical IN OUT [--variant A|N] [--alpha A] [--beta B] [--ring K] [--seed S]
-//                              [--tol T] [--max-iter M] [--quiet] [--json]
+//   canonform canonical IN OUT [--method euclidean|geodesic-ls|geodesic-classical|geodesic-fast]
+//                              [--variant A|N] [--alpha A] [--beta B] [--ring K] [--seed S]
+//                              [--tol T] [--max-iter M] [--max-memory-gib G] [--max-seconds S]
+//                              [--threads T] [--quiet] [--json]
 //   canonform simplify  IN OUT --vertices K
 //   canonform generate  OUT [--vertices N] [--pose P]
 //   canonform picture   OUT.png MESH [--points PTS] [--canonical CANON] [--size PX]
@@ -14,6 +16,7 @@
 #include "core/conformal_factor.h"
 #include "core/euclidean_canonical_form.h"
 #include "core/feature_points.h"
+#include "core/geodesic_canonical_form.h"
 #include "core/mesh_topology.h"
 #include "core/procedural_meshes.h"
 #include "mesh_io.h"
@@ -38,8 +41,10 @@ const char* kUsage =
     "usage:\n"
     "  canonform conformal IN OUT [--raw] [--json]\n"
     "  canonform features  IN OUT [--ring K] [--fill none|random] [--seed S] [--json]\n"
-    "  canonform canonical IN OUT [--variant A|N] [--alpha A] [--beta B] [--ring K] [--seed S]\n"
-    "                             [--tol T] [--max-iter M] [--quiet] [--json]\n"
+    "  canonform canonical IN OUT [--method euclidean|geodesic-ls|geodesic-classical|geodesic-fast]\n"
+    "                             [--variant A|N] [--alpha A] [--beta B] [--ring K] [--seed S]\n"
+    "                             [--tol T] [--max-iter M] [--max-memory-gib G] [--max-seconds S]\n"
+    "                             [--threads T] [--quiet] [--json]\n"
     "  canonform simplify  IN OUT --vertices K   (quadric edge collapse, as MeshLab's)\n"
     "  canonform generate  OUT [--vertices N] [--pose P]\n"
     "  canonform picture   OUT.png MESH [--points PTS] [--canonical CANON] [--size PX]\n"
@@ -216,9 +221,47 @@ int cmd_features(const Args& a) {
     return 0;
 }
 
+int cmd_geodesic(const Args& a, GeodesicMds method) {
+    a.allow({"method", "tol", "max-iter", "max-memory-gib", "max-seconds", "threads", "quiet", "json"});
+    const auto t0 = std::chrono::steady_clock::now();
+    GeodesicCanonicalFormOptions opt;
+    opt.method = method;
+    opt.tolerance = a.num("tol", opt.tolerance);
+    opt.max_iterations = a.integer("max-iter", opt.max_iterations);
+    opt.max_memory_gib = a.num("max-memory-gib", opt.max_memory_gib);
+    opt.max_seconds = a.num("max-seconds", opt.max_seconds);
+    opt.threads = a.integer("threads", opt.threads);
+    opt.progress = terminal_progress(a.flag("quiet") || a.flag("json"));
+    const io::MeshData m = io::read_mesh(a.positional[0]);
+    validate_and_note(a.positional[0], m, a.flag("json") || a.flag("quiet"));
+    const GeodesicCanonicalFormResult r =
+        on_input(a.positional[0], [&] { return geodesic_canonical_form(m.V, m.F, opt); });
+    io::write_ply(a.positional[1], r.V, m.F);
+    if (a.flag("json")) {
+        std::cout << Json().kv("vertices", double(m.V.rows())).kv("faces", double(m.F.rows()))
+                         .kv("method", geodesic_mds_name(method)).kv("iterations", double(r.iterations))
+                         .kv("initial_stress", r.initial_stress).kv("final_stress", r.final_stress)
+                         .kv("mean_relative_edge_change", r.mean_relative_edge_change)
+                         .kv("geodesic_seconds", r.geodesic_seconds).kv("mds_seconds", r.mds_seconds)
+                         .kv("seconds", r.seconds).kv("estimated_seconds", r.estimate.seconds)
+                         .kv("estimated_bytes", r.estimate.bytes).kv("total_seconds", seconds_since(t0)).str()
+                  << "\n";
+    } else if (!a.flag("quiet")) {
+        std::cerr << "geodesic canonical form (" << geodesic_mds_name(method) << "): " << m.V.rows()
+                  << " vertices, geodesics " << r.geodesic_seconds << " s, MDS " << r.mds_seconds << " s\n";
+    }
+    return 0;
+}
+
 int cmd_canonical(const Args& a) {
     a.need(2);
-    a.allow({"variant", "alpha", "beta", "ring", "seed", "tol", "max-iter", "quiet", "json"});
+    const std::string method = a.str("method", "euclidean");
+    if (method == "geodesic-ls") return cmd_geodesic(a, GeodesicMds::LeastSquares);
+    if (method == "geodesic-classical") return cmd_geodesic(a, GeodesicMds::Classical);
+    if (method == "geodesic-fast") return cmd_geodesic(a, GeodesicMds::Fast);
+    if (method != "euclidean")
+        throw UsageError("--method must be euclidean, geodesic-ls, geodesic-classical or geodesic-fast");
+    a.allow({"method", "variant", "alpha", "beta", "ring", "seed", "tol", "max-iter", "quiet", "json"});
     const auto t0 = std::chrono::steady_clock::now();
     EuclideanCanonicalFormOptions opt;
     const std::string variant = a.str("variant", "N");
@@ -241,7 +284,7 @@ int cmd_canonical(const Args& a) {
     io::write_ply(a.positional[1], r.V, m.F, r.phi);
     if (a.flag("json")) {
         std::cout << Json().kv("vertices", double(m.V.rows())).kv("faces", double(m.F.rows()))
-                         .kv("variant", variant).kv("alpha", opt.alpha).kv("beta", r.beta)
+                         .kv("method", "euclidean").kv("variant", variant).kv("alpha", opt.alpha).kv("beta", r.beta)
                          .kv("feature_points", double(r.features.size())).kv("maxima", double(r.num_maxima))
                          .kv("random", double(r.num_random)).kv("iterations", double(r.iterations))
                          .kv("converged", r.converged ? 1.0 : 0.0).kv("initial_stress", r.initial_stress)
