@@ -14,6 +14,8 @@
 #include <vcg/complex/algorithms/update/selection.h>
 #include <vcg/complex/append.h>
 
+#include <QFileInfo>
+
 #include <sstream>
 
 namespace canonform::plugin {
@@ -42,6 +44,12 @@ void validate_and_note(const Bridged& b, const ActionContext& ctx) {
           << " boundary vertices); their curvature uses pi instead of 2 pi (eq. 8)";
         ctx.log(m.str());
     }
+}
+
+/// Name of a new layer derived from `mm`: its file name without extension plus `suffix` (MeshLab
+/// shows a label up to its first dot, so "fig.ply canonical form" would show as "fig").
+QString layer_name(const MeshModel& mm, const char* suffix) {
+    return QFileInfo(mm.label()).completeBaseName() + suffix;
 }
 
 void check_ring(int ring) {
@@ -94,7 +102,7 @@ ActionOutputs feature_points_action(MeshDocument& md, const ParamValues& p, cons
     mm.updateDataMask(MeshModel::MM_VERTQUALITY);
     write_quality(b, cf.normalized);
     if (p.get_bool(param::add_layer)) {
-        MeshModel* layer = md.addNewMesh("", mm.label() + " feature points", false);
+        MeshModel* layer = md.addNewMesh("", layer_name(mm, " feature points"), false);
         layer->updateDataMask(MeshModel::MM_VERTQUALITY);
         auto vi = vcg::tri::Allocator<CMeshO>::AddVertices(layer->cm, fp.indices.size());
         for (int v : fp.indices) {
@@ -121,7 +129,7 @@ void write_canonical_form(MeshDocument& md, MeshModel& mm, const Bridged& b, con
                           const Eigen::VectorXd* quality, const std::vector<int>* selected, bool new_layer) {
     MeshModel* target = &mm;
     if (new_layer) {
-        target = md.addNewMesh("", mm.label() + " canonical form", false);
+        target = md.addNewMesh("", layer_name(mm, " canonical form"), false);
         target->updateDataMask(&mm);
         vcg::tri::Append<CMeshO, CMeshO>::MeshCopy(target->cm, mm.cm);
     }
