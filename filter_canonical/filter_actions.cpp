@@ -20,12 +20,6 @@
 
 namespace canonform::plugin {
 
-double ParamValues::get(const char* name) const {
-    const auto it = values.find(name);
-    if (it == values.end()) throw InputError(std::string("missing filter parameter '") + name + "'");
-    return it->second;
-}
-
 namespace {
 
 MeshModel& current_mesh(MeshDocument& md) {
@@ -215,9 +209,9 @@ ActionOutputs geodesic_form_action(MeshDocument& md, const ParamValues& p, const
 
 }  // namespace
 
-ActionOutputs apply_filter_action(FilterId id, MeshDocument& md, const ParamValues& params,
+ActionOutputs apply_filter_action(int id, MeshDocument& md, const ParamValues& params,
                                   const ActionContext& context) {
-    switch (id) {
+    switch (static_cast<FilterId>(id)) {
     case FilterId::ConformalFactor: return conformal_factor_action(md, params, context);
     case FilterId::FeaturePoints: return feature_points_action(md, params, context);
     case FilterId::EuclideanCanonicalForm: return canonical_form_action(md, params, context);

@@ -8,35 +8,15 @@
 #include "core/errors.h"
 #include "filter_table.h"
 
-#include <functional>
-#include <map>
-#include <string>
 
 class MeshDocument;
 
 namespace canonform::plugin {
 
-/// Parameter values by name (bool: 0/1, enum: index).
-struct ParamValues {
-    std::map<std::string, double> values;
-    double get(const char* name) const;
-    int get_int(const char* name) const { return static_cast<int>(get(name)); }
-    bool get_bool(const char* name) const { return get(name) != 0; }
-};
-
-/// Where an action reports: a log line, and progress.
-struct ActionContext {
-    std::function<void(const std::string&)> log;
-    ProgressFn progress;
-};
-
-/// Named numeric outputs of an action (iterations, stresses, counts, seconds).
-using ActionOutputs = std::map<std::string, double>;
-
 /// Applies filter `id` to the current mesh of `md`. Throws canonform::InputError,
 /// NumericalError or Cancelled with a message meant for the user; on throw the document is
 /// unchanged.
-ActionOutputs apply_filter_action(FilterId id, MeshDocument& md, const ParamValues& params,
+ActionOutputs apply_filter_action(int id, MeshDocument& md, const ParamValues& params,
                                   const ActionContext& context);
 
 }  // namespace canonform::plugin

@@ -15,7 +15,7 @@ const char* kCitation =
 std::vector<FilterSpec> make_table() {
     using K = ParamKind;
     std::vector<FilterSpec> t;
-    t.push_back({FilterId::ConformalFactor, "Conformal factor", "compute_conformal_factor",
+    t.push_back({int(FilterId::ConformalFactor), "Conformal factor", "compute_conformal_factor",
                  "conformal_factor.mlx", FilterKind::Quality,
                  "Computes the discrete conformal factor of every vertex (Ben-Chen and Gotsman 2008; "
                  "eqs. 7-9 of Pickup et al. 2015): the solution of L phi = K^T - K^0 with the cotangent "
@@ -25,8 +25,9 @@ std::vector<FilterSpec> make_table() {
                  {{param::normalize, K::Bool, 1, "Normalise to [0, 1]",
                    "Store (phi - min) / (max - min) instead of the raw conformal factor (mean zero).", {}},
                   {param::colorize, K::Bool, 1, "Colour vertices",
-                   "Also colour the vertices by the conformal factor (red-green-blue ramp).", {}}}});
-    t.push_back({FilterId::FeaturePoints, "Feature points", "compute_feature_points", "feature_points.mlx",
+                   "Also colour the vertices by the conformal factor (red-green-blue ramp).", {}}},
+                 kVertexQuality | kVertexColor, kVertexQuality | kVertexColor});
+    t.push_back({int(FilterId::FeaturePoints), "Feature points", "compute_feature_points", "feature_points.mlx",
                  FilterKind::Selection,
                  "Selects the feature points of Pickup et al. 2015: the ceil(sqrt(N)) vertices with the "
                  "largest conformal factor among those that are local maxima over their k-ring. "
@@ -41,8 +42,9 @@ std::vector<FilterSpec> make_table() {
                    {"none", "random"}},
                   {param::seed, K::Int, 0, "Random seed", "Seed of the random fill.", {}},
                   {param::add_layer, K::Bool, 0, "Add a point-cloud layer",
-                   "Add a new layer holding the feature points, with the conformal factor as vertex quality.", {}}}});
-    t.push_back({FilterId::EuclideanCanonicalForm, "Euclidean canonical form", "generate_euclidean_canonical_form",
+                   "Add a new layer holding the feature points, with the conformal factor as vertex quality.", {}}},
+                 kVertexQuality, kVertexQuality | kVertexSelection});
+    t.push_back({int(FilterId::EuclideanCanonicalForm), "Euclidean canonical form", "generate_euclidean_canonical_form",
                  "euclidean_canonical_form.mlx", FilterKind::Smoothing,
                  "Computes the pose-invariant canonical form of Pickup et al. 2015: SMACOF keeps the mesh "
                  "edge lengths (weight beta / length^2) while pushing every pair of feature points to "
@@ -65,8 +67,9 @@ std::vector<FilterSpec> make_table() {
                   {param::max_iterations, K::Int, 1000, "Maximum iterations", "SMACOF iteration cap.", {}},
                   {param::new_layer, K::Bool, 1, "Result in a new layer",
                    "Put the canonical form in a new layer named after the source mesh; off: replace the "
-                   "vertex positions of the current mesh.", {}}}});
-    t.push_back({FilterId::GeodesicCanonicalForm, "Geodesic canonical form", "generate_geodesic_canonical_form",
+                   "vertex positions of the current mesh.", {}}},
+                 kVertexQuality, kVertexQuality | kVertexSelection | kVertexCoordinates | kNormals});
+    t.push_back({int(FilterId::GeodesicCanonicalForm), "Geodesic canonical form", "generate_geodesic_canonical_form",
                  "geodesic_canonical_form.mlx", FilterKind::Smoothing,
                  "Computes the canonical form of Elad and Kimmel (IEEE TPAMI 2003), the baseline of Pickup et "
                  "al. 2015: all-pairs geodesic distances by fast marching, embedded in 3D by MDS - least "
@@ -86,7 +89,8 @@ std::vector<FilterSpec> make_table() {
                    "Refuse meshes whose estimated computing time exceeds this.", {}},
                   {param::new_layer, K::Bool, 1, "Result in a new layer",
                    "Put the canonical form in a new layer named after the source mesh; off: replace the "
-                   "vertex positions of the current mesh.", {}}}});
+                   "vertex positions of the current mesh.", {}}},
+                 kNothing, kVertexCoordinates | kNormals});
     for (auto& f : t) f.info += kCitation;
     return t;
 }
@@ -112,10 +116,22 @@ const std::vector<FilterSpec>& filter_table() {
     return table;
 }
 
-const FilterSpec& filter_spec(FilterId id) {
-    for (const auto& f : filter_table())
+const FilterSpec& filter_spec(const std::vector<FilterSpec>& table, int id) {
+    for (const auto& f : table)
         if (f.id == id) return f;
     throw std::logic_error("unknown filter id");
+}
+
+double ParamValues::get(const char* name) const {
+    const auto it = values.find(name);
+    if (it == values.end()) throw std::invalid_argument(std::string("missing filter parameter '") + name + "'");
+    return it->second;
+}
+
+const std::string& ParamValues::get_string(const char* name) const {
+    const auto it = strings.find(name);
+    if (it == strings.end()) throw std::invalid_argument(std::string("missing filter parameter '") + name + "'");
+    return it->second;
 }
 
 std::string default_script(const FilterSpec& spec) {
@@ -132,6 +148,9 @@ std::string default_script(const FilterSpec& spec) {
             o << " type=\"RichFloat\" value=\"" << buf << "\"";
             break;
         }
+        case ParamKind::String:
+            o << " type=\"RichString\" value=\"" << xml_escape(p.default_text) << "\"";
+            break;
         case ParamKind::Enum:
             o << " type=\"RichEnum\" value=\"" << static_cast<long>(p.default_value) << "\" enum_cardinality=\""
               << p.choices.size() << "\"";

@@ -5,6 +5,10 @@
 // next), the shipped .mlx scripts and the tests all read the same facts.
 #pragma once
 
+#include "core/errors.h"
+
+#include <functional>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -29,7 +33,7 @@ inline constexpr const char* max_memory_gib = "max_memory_gib";
 inline constexpr const char* max_seconds = "max_seconds";
 }  // namespace param
 
-enum class ParamKind { Bool, Int, Float, Enum };
+enum class ParamKind { Bool, Int, Float, Enum, String };
 
 /// One filter parameter: its name, kind, default, dialog label and tooltip.
 struct ParamSpec {
@@ -39,10 +43,41 @@ struct ParamSpec {
     const char* label;
     const char* tooltip;
     std::vector<std::string> choices; ///< enum only
+    std::string default_text = {};    ///< string only
+};
+
+/// Where an action reports: a log line, and progress.
+struct ActionContext {
+    std::function<void(const std::string&)> log;
+    ProgressFn progress;
+};
+
+/// Named numeric outputs of an action (iterations, stresses, counts, seconds).
+using ActionOutputs = std::map<std::string, double>;
+
+/// Parameter values by name (bool: 0/1, enum: index; strings apart).
+struct ParamValues {
+    std::map<std::string, double> values;
+    std::map<std::string, std::string> strings;
+    double get(const char* name) const;
+    int get_int(const char* name) const { return static_cast<int>(get(name)); }
+    bool get_bool(const char* name) const { return get(name) != 0; }
+    const std::string& get_string(const char* name) const;
 };
 
 /// MeshLab filter classes used here (values of MeshFilterInterface::FilterClass / FilterPlugin).
-enum class FilterKind { Quality, Selection, Smoothing };
+enum class FilterKind { Quality, Selection, Smoothing, Measure };
+
+/// What a filter needs from and changes in the mesh (bit flags; the API adapter maps them to
+/// MeshLab's MeshModel masks).
+enum MeshData : unsigned {
+    kNothing = 0,
+    kVertexQuality = 1,
+    kVertexColor = 2,
+    kVertexSelection = 4,
+    kVertexCoordinates = 8,
+    kNormals = 16,
+};
 
 enum class FilterId : int {
     ConformalFactor = 0,
@@ -53,20 +88,22 @@ enum class FilterId : int {
 
 /// One filter: menu name (also the .mlx name), Python name, class, description, parameters.
 struct FilterSpec {
-    FilterId id;
+    int id;                   ///< unique within its plugin (FilterId for filter_canonical)
     const char* name;
     const char* python_name;
     const char* script_file;  ///< shipped .mlx file name
     FilterKind kind;
     std::string info;         ///< HTML description shown by MeshLab (with the citation)
     std::vector<ParamSpec> params;
+    unsigned requires = kNothing;  ///< MeshData flags the mesh must have
+    unsigned changes = kNothing;   ///< MeshData flags the filter changes
 };
 
-/// The table of all filters of the plugin, in menu order.
+/// The table of all filters of filter_canonical, in menu order.
 const std::vector<FilterSpec>& filter_table();
 
-/// The spec of one filter.
-const FilterSpec& filter_spec(FilterId id);
+/// The spec of filter `id` in `table`.
+const FilterSpec& filter_spec(const std::vector<FilterSpec>& table, int id);
 
 /// A MeshLab filter script (.mlx) applying `spec` with every parameter at its default.
 std::string default_script(const FilterSpec& spec);
