@@ -1,4 +1,5 @@
 #include "filter_table.h"
+#include "view_filter_table.h"
 
 #include <gtest/gtest.h>
 
@@ -29,9 +30,20 @@ TEST(FilterTable, NamesAreUniqueAndParametersSnakeCase) {
                                             "Geodesic canonical form"}));
 }
 
+TEST(FilterTable, ViewDescriptorTableFollowsTheSameRules) {
+    const std::regex snake("^[a-z][a-z0-9]*(_[a-z0-9]+)*$");
+    ASSERT_EQ(view_filter_table().size(), 1u);
+    EXPECT_STREQ(view_filter_table()[0].name, "Depth view descriptor");
+    for (const auto& p : view_filter_table()[0].params) EXPECT_TRUE(std::regex_match(p.name, snake)) << p.name;
+    for (const auto& f : filter_table()) EXPECT_STRNE(f.name, view_filter_table()[0].name);  // menu names unique
+}
+
 TEST(FilterTable, ShippedScriptsListEveryParameterAtItsDefault) {
-    for (const auto& f : filter_table()) {
-        const std::string path = std::string(CANONFORM_SCRIPTS_DIR) + "/" + f.script_file;
+    std::vector<std::pair<FilterSpec, std::string>> all;
+    for (const auto& f : filter_table()) all.emplace_back(f, CANONFORM_SCRIPTS_DIR);
+    for (const auto& f : view_filter_table()) all.emplace_back(f, CANONFORM_VIEW_SCRIPTS_DIR);
+    for (const auto& [f, dir] : all) {
+        const std::string path = dir + "/" + f.script_file;
         std::ifstream in(path);
         ASSERT_TRUE(in) << path;
         std::stringstream ss;

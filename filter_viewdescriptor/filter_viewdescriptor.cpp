@@ -1,0 +1,9 @@
+#include "filter_viewdescriptor.h"
+
+#include "view_actions.h"
+
+FilterViewDescriptorPlugin::FilterViewDescriptorPlugin()
+    : TableFilterPlugin2020("FilterViewDescriptor", canonform::plugin::view_filter_table(),
+                            &canonform::plugin::apply_view_action) {}
+
+MESHLAB_PLUGIN_NAME_EXPORTER(FilterViewDescriptorPlugin)

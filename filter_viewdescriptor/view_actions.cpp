@@ -1,0 +1,89 @@
+#include "view_actions.h"
+
+#include "core/descriptor_file.h"
+#include "core/view_descriptor.h"
+#include "vcg_bridge.h"
+
+#include <common/meshmodel.h>
+
+#include <QDir>
+#include <QImage>
+
+#include <algorithm>
+#include <numeric>
+#include <sstream>
+
+namespace canonform::plugin {
+
+namespace {
+
+ActionOutputs depth_view_descriptor(MeshDocument& md, const ParamValues& p, const ActionContext& ctx) {
+    if (md.mm() == nullptr) throw InputError("there is no current mesh");
+    MeshModel& mm = *md.mm();
+    const std::string out = p.get_string(param::output_file);
+    if (out.empty()) throw InputError("choose a descriptor file (output_file)");
+    const std::string cb_path = p.get_string(param::codebook_file);
+    const int size = p.get_int(param::image_size);
+    if (size < 32 || size > 2048) throw InputError("the image size must be between 32 and 2048 pixels");
+
+    views::ViewDescriptorOptions opt;
+    opt.image_size = size;
+    opt.pose.seed = static_cast<std::uint64_t>(p.get_int(param::seed));
+    const views::Codebook* codebook = nullptr;
+    views::Codebook cb;
+    if (!cb_path.empty()) {
+        cb = views::Codebook::load(cb_path);
+        codebook = &cb;
+    }
+    report_progress(ctx.progress, 0.05, "pose normalisation and 66 depth views");
+    const auto b = to_eigen(mm.cm);
+    const views::ViewSet vs = views::compute_views(b.V, b.F, opt);
+    report_progress(ctx.progress, 0.8, "writing the descriptor");
+
+    views::ModelDescriptor d;
+    d.source = mm.fullName().toStdString();
+    d.views = static_cast<int>(vs.images.size());
+    d.image_size = size;
+    d.keypoints_per_view = vs.keypoint_counts();
+    if (codebook) {
+        d.codebook_words = codebook->size();
+        d.histograms = views::view_histograms(vs, *codebook);
+    } else {
+        d.raw = vs.features;
+    }
+    const std::string views_dir = p.get_string(param::views_folder);
+    if (!views_dir.empty()) {
+        if (!QDir().mkpath(QString::fromStdString(views_dir)))
+            throw InputError("cannot create the folder '" + views_dir + "'");
+        for (size_t k = 0; k < vs.images.size(); ++k) {
+            const auto g = vs.images[k].gray();
+            QImage img(g.data(), size, size, size, QImage::Format_Grayscale8);
+            const QString f = QString("%1/view_%2.png").arg(QString::fromStdString(views_dir)).arg(k, 2, 10, QChar('0'));
+            if (!img.save(f, "PNG")) throw InputError("cannot write '" + f.toStdString() + "'");
+        }
+    }
+    views::write_descriptor(out, d);
+
+    const auto& n = d.keypoints_per_view;
+    const int total = std::accumulate(n.begin(), n.end(), 0);
+    std::ostringstream log;
+    log << "Depth view descriptor of '" << mm.label().toStdString() << "': " << n.size() << " views of " << size
+        << " px, SIFT keypoints per view min " << *std::min_element(n.begin(), n.end()) << ", mean "
+        << total / static_cast<double>(n.size()) << ", max " << *std::max_element(n.begin(), n.end()) << " ("
+        << total << " in all); " << (codebook ? "histograms over " + std::to_string(codebook->size()) + " words"
+                                              : std::string("raw SIFT features"))
+        << "; pose by " << (vs.pose.used_rectilinearity ? "rectilinearity" : "PCA") << "; written to " << out;
+    ctx.log(log.str());
+    return {{"views", double(n.size())}, {"keypoints", double(total)}};
+}
+
+}  // namespace
+
+ActionOutputs apply_view_action(int id, MeshDocument& md, const ParamValues& params, const ActionContext& context) {
+    switch (static_cast<ViewFilterId>(id)) {
+    case ViewFilterId::DepthViewDescriptor: return depth_view_descriptor(md, params, context);
+    }
+    throw InputError("unknown filter");
+}
+
+}  // namespace canonform::plugin

@@ -1,0 +1,15 @@
+// canonform: what the filter_viewdescriptor filters do to a MeshLab document, independent of the
+// plugin API (see filter_canonical/filter_actions.h).
+#pragma once
+
+#include "view_filter_table.h"
+
+class MeshDocument;
+
+namespace canonform::plugin {
+
+/// Applies filter `id` of view_filter_table() to the current mesh (throws on failure; the
+/// document is never changed, files are written atomically).
+ActionOutputs apply_view_action(int id, MeshDocument& md, const ParamValues& params, const ActionContext& context);
+
+}  // namespace canonform::plugin

@@ -1,0 +1,33 @@
+#include "view_filter_table.h"
+
+namespace canonform::plugin {
+
+const std::vector<FilterSpec>& view_filter_table() {
+    static const std::vector<FilterSpec> table = [] {
+        using K = ParamKind;
+        std::vector<FilterSpec> t;
+        t.push_back({int(ViewFilterId::DepthViewDescriptor), "Depth view descriptor", "compute_depth_view_descriptor",
+                     "depth_view_descriptor.mlx", FilterKind::Measure,
+                     "Computes the view-based shape descriptor of Lian et al. (CM-BOF) that Pickup et al. 2015 "
+                     "plug their canonical forms into: the mesh is pose-normalised (PCA and rectilinearity), "
+                     "rendered as 66 orthographic depth images from the vertices of a twice-subdivided "
+                     "octahedron, and SIFT features are extracted from each view. With a codebook file the "
+                     "descriptor holds one bag-of-features histogram per view, else the raw SIFT features. "
+                     "Compare descriptors with <i>canonform distance</i> (clock matching).<br><br>Z. Lian, A. "
+                     "Godil, X. Sun, J. Xiao, <b>\"CM-BOF: visual similarity-based 3D shape retrieval using "
+                     "Clock Matching and Bag-of-Features\"</b>, Machine Vision and Applications, 2013.",
+                     {{param::output_file, K::String, 0, "Descriptor file",
+                       "Where to write the descriptor (canonform's versioned .cfvd format).", {}, "descriptor.cfvd"},
+                      {param::codebook_file, K::String, 0, "Codebook file (optional)",
+                       "A codebook from 'canonform codebook'; empty: store the raw SIFT features.", {}, ""},
+                      {param::image_size, K::Int, 256, "Image size (pixels)", "Side of each depth image.", {}},
+                      {param::views_folder, K::String, 0, "Write the views to (optional)",
+                       "A folder for the 66 depth images as PNG; empty: do not write them.", {}, ""},
+                      {param::seed, K::Int, 0, "Random seed", "Seed of the rectilinearity restarts.", {}}},
+                     kNothing, kNothing});
+        return t;
+    }();
+    return table;
+}
+
+}  // namespace canonform::plugin

@@ -1,0 +1,515 @@
+// Tests of the CM-BOF view-descriptor core: SIFT on depth images, codebook, bag-of-features
+// distances, clock matching, the descriptor file. Timings are printed (not asserted, except the
+// 600 x 600 distance matrix budget of 60 s).
+#include "core/bag_of_features.h"
+#include "core/codebook.h"
+#include "core/descriptor_file.h"
+#include "core/sift_features.h"
+
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <numeric>
+#include <random>
+#include <string>
+
+using namespace canonform;
+using namespace canonform::views;
+
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+std::string temp_path(const std::string& name) {
+    return (std::filesystem::temp_directory_path() / ("canonform_bof_" + std::to_string(::getpid()) + "_" + name)).string();
+}
+
+// 24 permutations of `views` views closed under inversion: identity, 11 random permutations, their
+// 11 inverses, and the reversal (an involution). Stands in for the cube rotations' view maps.
+std::vector<std::vector<int>> synthetic_maps(int views, std::uint64_t seed = 7) {
+    std::mt19937_64 rng(seed);
+    std::vector<std::vector<int>> maps;
+    std::vector<int> id(views);
+    std::iota(id.begin(), id.end(), 0);
+    maps.push_back(id);
+    for (int k = 0; k < 11; ++k) {
+        std::vector<int> p = id;
+        std::shuffle(p.begin(), p.end(), rng);
+        std::vector<int> inv(views);
+        for (int i = 0; i < views; ++i) inv[p[i]] = i;
+        maps.push_back(p);
+        maps.push_back(inv);
+    }
+    std::vector<int> rev(id.rbegin(), id.rend());
+    maps.push_back(rev);
+    return maps;
+}
+
+Histogram random_histogram(std::mt19937_64& rng, int words, int nnz_min, int nnz_max) {
+    std::uniform_int_distribution<int> nnz_d(nnz_min, nnz_max), word_d(0, words - 1), count_d(1, 3);
+    std::vector<int> w;
+    const int nnz = nnz_d(rng);
+    for (int k = 0; k < nnz; ++k) {
+        const int word = word_d(rng), c = count_d(rng);
+        for (int j = 0; j < c; ++j) w.push_back(word);
+    }
+    return histogram(w);
+}
+
+std::vector<Histogram> random_model(std::mt19937_64& rng, int views, int words, int nnz_min, int nnz_max) {
+    std::vector<Histogram> m;
+    for (int v = 0; v < views; ++v) m.push_back(random_histogram(rng, words, nnz_min, nnz_max));
+    return m;
+}
+
+DescriptorMatrix random_descriptors(std::mt19937_64& rng, int n, int clusters = 0) {
+    // SIFT-like values in [0, 255]; with clusters > 0, points scattered around `clusters` centres.
+    std::uniform_real_distribution<float> u(0.f, 255.f);
+    std::normal_distribution<float> g(0.f, 12.f);
+    DescriptorMatrix centres(std::max(clusters, 1), 128);
+    for (Eigen::Index i = 0; i < centres.size(); ++i) centres.data()[i] = u(rng);
+    DescriptorMatrix X(n, 128);
+    for (int i = 0; i < n; ++i) {
+        if (clusters > 0) {
+            const int c = static_cast<int>(rng() % static_cast<std::uint64_t>(clusters));
+            for (int d = 0; d < 128; ++d) X(i, d) = std::clamp(centres(c, d) + g(rng), 0.f, 255.f);
+        } else {
+            for (int d = 0; d < 128; ++d) X(i, d) = u(rng);
+        }
+    }
+    return X;
+}
+
+// A 256 x 256 8-bit depth image (0 = background, 255 = nearest) of a capsule stick figure, or, with
+// bumps = true, a sphere with nine Gaussian bumps (orthographic height fields, no renderer).
+std::vector<std::uint8_t> synthetic_depth(bool bumps, int n = 256) {
+    std::vector<std::uint8_t> img(static_cast<std::size_t>(n) * n, 0);
+    for (int r = 0; r < n; ++r)
+        for (int c = 0; c < n; ++c) {
+            const double x = (c + 0.5) / n * 2 - 1, y = (r + 0.5) / n * 2 - 1;
+            double z = -2;
+            if (bumps) {
+                const double q = 0.64 - x * x - y * y;
+                if (q > 0) {
+                    z = std::sqrt(q);
+                    for (int k = 0; k < 9; ++k) {
+                        const double bx = -0.45 + 0.45 * (k % 3), by = -0.45 + 0.45 * (k / 3);
+                        z += 0.15 * std::exp(-((x - bx) * (x - bx) + (y - by) * (y - by)) / 0.01);
+                    }
+                }
+            } else {
+                auto cap = [&](double ax, double ay, double bx, double by, double rad, double base) {
+                    const double dx = bx - ax, dy = by - ay;
+                    const double t = std::clamp(((x - ax) * dx + (y - ay) * dy) / (dx * dx + dy * dy), 0.0, 1.0);
+                    const double px = ax + t * dx - x, py = ay + t * dy - y, q = rad * rad - px * px - py * py;
+                    if (q > 0) z = std::max(z, base + std::sqrt(q));
+                };
+                cap(0, -0.35, 0, 0.2, 0.17, 0);
+                cap(0, -0.62, 0, -0.6, 0.12, 0.02);
+                cap(-0.12, -0.3, -0.6, -0.05, 0.06, 0.05);
+                cap(0.12, -0.3, 0.55, -0.55, 0.06, 0.05);
+                cap(-0.08, 0.2, -0.3, 0.9, 0.08, 0);
+                cap(0.08, 0.2, 0.25, 0.9, 0.08, -0.05);
+            }
+            if (z > -1.5)
+                img[static_cast<std::size_t>(r) * n + c] =
+                    static_cast<std::uint8_t>(std::clamp(1.0 + 254.0 * (z + 1) / 2, 1.0, 255.0));
+        }
+    return img;
+}
+
+double distortion(const DescriptorMatrix& X, const Codebook& cb) {
+    const std::vector<int> a = cb.assign(X);
+    double s = 0;
+    for (Eigen::Index i = 0; i < X.rows(); ++i) s += (X.row(i) - cb.words().row(a[i])).squaredNorm();
+    return s;
+}
+
+void write_bytes(const std::string& path, const std::string& bytes) {
+    std::ofstream f(path, std::ios::binary | std::ios::trunc);
+    f.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+}
+
+std::string read_bytes(const std::string& path) {
+    std::ifstream f(path, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>());
+}
+
+}  // namespace
+
+// ---- histograms and the view distance ---------------------------------------------------------------
+
+TEST(BagOfFeatures, HistogramCountsSortedWords) {
+    const Histogram h = histogram({5, 2, 5, 9, 2, 5});
+    const Histogram expected = {{2, 2.f}, {5, 3.f}, {9, 1.f}};
+    EXPECT_EQ(h, expected);
+    EXPECT_TRUE(histogram({}).empty());
+    EXPECT_THROW(histogram({1, -1}), InputError);
+}
+
+TEST(BagOfFeatures, ViewDistanceEqualDisjointEmpty) {
+    const Histogram a = {{1, 2.f}, {4, 1.f}, {7, 3.f}};
+    const Histogram b = {{0, 1.f}, {2, 5.f}};
+    EXPECT_DOUBLE_EQ(view_distance(a, a), 0.0);
+    EXPECT_DOUBLE_EQ(view_distance(a, b), 1.0);
+    EXPECT_DOUBLE_EQ(view_distance({}, {}), 0.0);
+    EXPECT_DOUBLE_EQ(view_distance(a, {}), 1.0);
+    EXPECT_DOUBLE_EQ(view_distance({}, b), 1.0);
+    // Hand value: a = {1:2, 4:1, 7:3} (sum 6), c = {1:1, 7:5} (sum 6): min-sum 1 + 3 = 4 -> 1 - 4/6.
+    const Histogram c = {{1, 1.f}, {7, 5.f}};
+    EXPECT_NEAR(view_distance(a, c), 1.0 - 4.0 / 6.0, 1e-12);
+    // Different totals: max(sum) in the denominator. {1:2} vs {1:2, 3:2}: 1 - 2/4.
+    EXPECT_NEAR(view_distance({{1, 2.f}}, {{1, 2.f}, {3, 2.f}}), 0.5, 1e-12);
+}
+
+TEST(BagOfFeatures, ViewDistanceSymmetricAndBounded) {
+    std::mt19937_64 rng(3);
+    for (int t = 0; t < 500; ++t) {
+        const Histogram a = random_histogram(rng, 40, 0, 20), b = random_histogram(rng, 40, 0, 20);
+        const double d = view_distance(a, b);
+        EXPECT_GE(d, 0.0);
+        EXPECT_LE(d, 1.0);
+        EXPECT_DOUBLE_EQ(d, view_distance(b, a));
+    }
+}
+
+// ---- clock matching -----------------------------------------------------------------------------------
+
+TEST(BagOfFeatures, ClockMatchingRotatedCopyIsZero) {
+    const int V = 66;
+    const auto maps = synthetic_maps(V);
+    std::mt19937_64 rng(11);
+    const auto A = random_model(rng, V, 1500, 30, 100);
+    for (int r : {0, 5, 23}) {
+        std::vector<Histogram> B(V);
+        for (int i = 0; i < V; ++i) B[maps[r][i]] = A[i];  // view i of A is seen as view maps[r][i] of B
+        EXPECT_DOUBLE_EQ(clock_matching_distance(A, B, maps), 0.0) << "rotation " << r;
+        EXPECT_DOUBLE_EQ(clock_matching_distance(B, A, maps), 0.0) << "rotation " << r;
+        if (r != 0) {
+            EXPECT_GT(clock_matching_distance(A, B, {maps[0]}), 1.0);  // without that rotation: not 0
+        }
+    }
+    const auto C = random_model(rng, V, 1500, 30, 100);
+    const double d = clock_matching_distance(A, C, maps);
+    EXPECT_GT(d, 0.0);
+    EXPECT_LE(d, V);
+    EXPECT_DOUBLE_EQ(clock_matching_distance(A, A, maps), 0.0);
+}
+
+TEST(BagOfFeatures, ClockMatchingIsMinimumOverRotations) {
+    const int V = 10;
+    const auto maps = synthetic_maps(V, 99);
+    std::mt19937_64 rng(5);
+    const auto A = random_model(rng, V, 20, 1, 6), B = random_model(rng, V, 20, 1, 6);
+    double best = 1e300;
+    for (const auto& m : maps) {
+        double s = 0;
+        for (int i = 0; i < V; ++i) s += view_distance(A[i], B[m[i]]);
+        best = std::min(best, s);
+    }
+    EXPECT_NEAR(clock_matching_distance(A, B, maps), best, 1e-12);
+}
+
+TEST(BagOfFeatures, ClockMatchingRejectsBadInput) {
+    std::mt19937_64 rng(1);
+    const auto A = random_model(rng, 4, 10, 1, 3), B = random_model(rng, 5, 10, 1, 3);
+    const auto maps = synthetic_maps(4);
+    EXPECT_THROW(clock_matching_distance(A, B, maps), InputError);                 // view counts differ
+    EXPECT_THROW(clock_matching_distance(A, A, {}), InputError);                   // no maps
+    EXPECT_THROW(clock_matching_distance(A, A, {{0, 1, 2}}), InputError);          // short map
+    EXPECT_THROW(clock_matching_distance(A, A, {{0, 1, 2, 4}}), InputError);       // index out of range
+    auto bad = A;
+    bad[2] = {{3, 1.f}, {1, 1.f}};                                                 // unsorted
+    EXPECT_THROW(clock_matching_distance(bad, A, maps), InputError);
+}
+
+TEST(BagOfFeatures, DistanceMatrixMatchesPairwiseAndThreads) {
+    const int V = 66, N = 9;
+    const auto maps = synthetic_maps(V);
+    std::mt19937_64 rng(21);
+    std::vector<std::vector<Histogram>> models;
+    for (int m = 0; m < N; ++m) models.push_back(random_model(rng, V, 300, 0, 40));  // includes empty views
+    models[3] = std::vector<Histogram>(V);                                          // a blank model
+    const Eigen::MatrixXf D1 = distance_matrix(models, maps, 1), D2 = distance_matrix(models, maps, 2);
+    EXPECT_EQ(D1, D2);
+    for (int i = 0; i < N; ++i) {
+        EXPECT_EQ(D1(i, i), 0.f);
+        for (int j = 0; j < N; ++j) {
+            EXPECT_EQ(D1(i, j), D1(j, i));
+            if (i != j) {
+                EXPECT_NEAR(D1(i, j), clock_matching_distance(models[i], models[j], maps), 1e-4);
+            }
+        }
+    }
+    EXPECT_NEAR(D1(3, 0), clock_matching_distance(models[3], models[0], maps), 1e-4);
+}
+
+TEST(BagOfFeatures, DistanceMatrixTiming600) {
+    const int V = 66, N = 600, W = 1500;
+    const auto maps = synthetic_maps(V);
+    std::mt19937_64 rng(42);
+    std::vector<std::vector<Histogram>> models;
+    for (int m = 0; m < N; ++m) models.push_back(random_model(rng, V, W, 30, 100));
+    const auto t0 = std::chrono::steady_clock::now();
+    const Eigen::MatrixXf D = distance_matrix(models, maps, 2);
+    const double s = seconds_since(t0);
+    std::printf("[timing] distance matrix %d x %d, %d views, 30-100 words per view, 24 maps, 2 threads: %.2f s\n",
+                N, N, V, s);
+    EXPECT_LT(s, 60.0);
+    EXPECT_NEAR(D(17, 401), clock_matching_distance(models[17], models[401], maps), 1e-4);
+    EXPECT_EQ(D(401, 17), D(17, 401));
+}
+
+// ---- codebook -----------------------------------------------------------------------------------------
+
+TEST(Codebook, AssignIsNearestWord) {
+    std::mt19937_64 rng(8);
+    const DescriptorMatrix X = random_descriptors(rng, 5000), C = random_descriptors(rng, 300);
+    const Codebook cb = Codebook::from_words(C);
+    const std::vector<int> a = cb.assign(X);
+    ASSERT_EQ(a.size(), 5000u);
+    int exact = 0;
+    for (Eigen::Index i = 0; i < X.rows(); ++i) {
+        double best = 1e300;
+        int arg = -1;
+        for (Eigen::Index j = 0; j < C.rows(); ++j) {
+            const double d = (X.row(i).cast<double>() - C.row(j).cast<double>()).squaredNorm();
+            if (d < best) { best = d; arg = static_cast<int>(j); }
+        }
+        const double chosen = (X.row(i).cast<double>() - C.row(a[i]).cast<double>()).squaredNorm();
+        EXPECT_LE(chosen, best * (1 + 1e-5) + 1e-3) << "descriptor " << i;
+        exact += a[i] == arg;
+    }
+    EXPECT_GE(exact, 4990);  // ties within float rounding are the only allowed differences
+}
+
+TEST(Codebook, KMeansDeterministicAndBetterThanRandom) {
+    std::mt19937_64 rng(9);
+    const DescriptorMatrix X = random_descriptors(rng, 6000, 60);
+    CodebookOptions o;
+    o.words = 60;
+    o.seed = 123;
+    const Codebook a = Codebook::train(X, o), b = Codebook::train(X, o);
+    ASSERT_EQ(a.size(), 60);
+    EXPECT_TRUE(a.words() == b.words());
+    o.seed = 124;
+    const Codebook c = Codebook::train(X, o);
+    EXPECT_FALSE(a.words() == c.words());
+    o.method = CodebookOptions::Method::Random;
+    const Codebook r1 = Codebook::train(X, o), r2 = Codebook::train(X, o);
+    EXPECT_TRUE(r1.words() == r2.words());
+    EXPECT_LT(distortion(X, a), distortion(X, r1));
+}
+
+TEST(Codebook, FewerDescriptorsThanWordsUsesAll) {
+    std::mt19937_64 rng(10);
+    const DescriptorMatrix X = random_descriptors(rng, 37);
+    const Codebook cb = Codebook::train(X, {});
+    EXPECT_EQ(cb.size(), 37);
+    EXPECT_TRUE(cb.words() == X);
+    EXPECT_THROW(Codebook::train(DescriptorMatrix(0, 128), {}), InputError);
+}
+
+TEST(Codebook, SaveLoadBitExactAndRejectsBadFiles) {
+    std::mt19937_64 rng(12);
+    DescriptorMatrix W = random_descriptors(rng, 50);
+    W(3, 7) = 1e-30f;  // a denormal-adjacent value and a negative zero survive bit-exactly
+    W(4, 0) = -0.0f;
+    const Codebook cb = Codebook::from_words(W);
+    const std::string path = temp_path("codebook.cfcb");
+    cb.save(path);
+    const Codebook back = Codebook::load(path);
+    ASSERT_EQ(back.size(), 50);
+    EXPECT_EQ(std::memcmp(back.words().data(), W.data(), sizeof(float) * W.size()), 0);
+    EXPECT_EQ(back.assign(W), cb.assign(W));
+
+    const std::string good = read_bytes(path);
+    EXPECT_EQ(good.size(), 16u + 50u * 128u * 4u);
+    const std::string bad = temp_path("bad.cfcb");
+    write_bytes(bad, good.substr(0, good.size() - 3));  // truncated data
+    EXPECT_THROW(Codebook::load(bad), InputError);
+    write_bytes(bad, good.substr(0, 10));  // truncated header
+    EXPECT_THROW(Codebook::load(bad), InputError);
+    std::string magic = good;
+    magic[0] = 'X';
+    write_bytes(bad, magic);
+    try {
+        Codebook::load(bad);
+        ADD_FAILURE() << "wrong magic accepted";
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("magic"), std::string::npos) << e.what();
+    }
+    std::string version = good;
+    version[4] = 2;
+    write_bytes(bad, version);
+    EXPECT_THROW(Codebook::load(bad), InputError);
+    write_bytes(bad, good + "x");  // trailing byte
+    EXPECT_THROW(Codebook::load(bad), InputError);
+    EXPECT_THROW(Codebook::load(temp_path("does_not_exist.cfcb")), InputError);
+    std::filesystem::remove(path);
+    std::filesystem::remove(bad);
+}
+
+TEST(Codebook, TimingTrainAndAssign) {
+    std::mt19937_64 rng(13);
+    const DescriptorMatrix X = random_descriptors(rng, 100000, 3000);
+    CodebookOptions o;  // 1500 words, k-means, 10 iterations
+    auto t0 = std::chrono::steady_clock::now();
+    const Codebook cb = Codebook::train(X, o);
+    std::printf("[timing] k-means codebook, 1500 words from 100000 descriptors, 10 iterations: %.2f s\n",
+                seconds_since(t0));
+    EXPECT_EQ(cb.size(), 1500);
+    o.method = CodebookOptions::Method::Random;
+    t0 = std::chrono::steady_clock::now();
+    const Codebook rnd = Codebook::train(X, o);
+    std::printf("[timing] random codebook, 1500 words: %.3f s\n", seconds_since(t0));
+    const DescriptorMatrix Q = X.topRows(66 * 100);
+    t0 = std::chrono::steady_clock::now();
+    const std::vector<int> a = cb.assign(Q);
+    std::printf("[timing] assignment of 66 x 100 descriptors to 1500 words: %.4f s\n", seconds_since(t0));
+    EXPECT_EQ(a.size(), 6600u);
+}
+
+// ---- SIFT ---------------------------------------------------------------------------------------------
+
+TEST(Sift, BlankImageHasNoDescriptors) {
+    EXPECT_EQ(sift_descriptors(std::vector<std::uint8_t>(256 * 256, 0), 256).rows(), 0);
+    EXPECT_EQ(sift_descriptors(std::vector<std::uint8_t>(64 * 64, 200), 64).rows(), 0);
+    EXPECT_THROW(sift_descriptors(std::vector<std::uint8_t>(10, 0), 256), InputError);
+    EXPECT_THROW(sift_descriptors({}, 0), InputError);
+}
+
+TEST(Sift, SyntheticDepthKeypointCounts) {
+    const auto figure = synthetic_depth(false), bumpy = synthetic_depth(true);
+    const auto f = sift_descriptors(figure, 256), b = sift_descriptors(bumpy, 256);
+    SiftOptions opencv_default;
+    opencv_default.contrast_threshold = 0.04;
+    const auto b04 = sift_descriptors(bumpy, 256, opencv_default);
+    std::printf("[sift] keypoints (contrast threshold %.4g): stick figure %ld, bumpy sphere %ld; bumpy sphere at "
+                "OpenCV's default 0.04: %ld\n",
+                kDefaultContrastThreshold, static_cast<long>(f.rows()), static_cast<long>(b.rows()),
+                static_cast<long>(b04.rows()));
+    EXPECT_GE(f.rows(), 10);
+    EXPECT_LE(f.rows(), 100);
+    EXPECT_GE(b.rows(), 10);
+    EXPECT_LE(b.rows(), 150);
+    EXPECT_GT(b.rows(), b04.rows());  // the lowered threshold keeps the weak interior extrema
+    EXPECT_TRUE(f.allFinite());
+    EXPECT_GE(f.minCoeff(), 0.f);
+    EXPECT_TRUE(f == sift_descriptors(figure, 256));  // deterministic
+}
+
+// ---- descriptor file ----------------------------------------------------------------------------------
+
+TEST(DescriptorFile, HistogramRoundTrip) {
+    std::mt19937_64 rng(14);
+    ModelDescriptor d;
+    d.source = "meshes/cat0.ply \xc3\xa9";
+    d.codebook_words = 1500;
+    for (int v = 0; v < d.views; ++v) {
+        d.histograms.push_back(v == 5 ? Histogram{} : random_histogram(rng, 1500, 1, 60));
+        double s = 0;
+        for (const auto& e : d.histograms.back()) s += e.second;
+        d.keypoints_per_view.push_back(static_cast<int>(s));
+    }
+    const std::string path = temp_path("model.cfvd");
+    write_descriptor(path, d);
+    const ModelDescriptor r = read_descriptor(path);
+    EXPECT_EQ(r.version, 1);
+    EXPECT_EQ(r.source, d.source);
+    EXPECT_EQ(r.views, 66);
+    EXPECT_EQ(r.image_size, 256);
+    EXPECT_EQ(r.codebook_words, 1500);
+    EXPECT_EQ(r.histograms, d.histograms);
+    EXPECT_EQ(r.keypoints_per_view, d.keypoints_per_view);
+    EXPECT_TRUE(r.raw.empty());
+
+    // Inconsistent input is refused by the writer, and a damaged file by the reader.
+    ModelDescriptor bad = d;
+    bad.keypoints_per_view[0] += 1;
+    EXPECT_THROW(write_descriptor(temp_path("bad.cfvd"), bad), InputError);
+    bad = d;
+    bad.histograms.pop_back();
+    EXPECT_THROW(write_descriptor(temp_path("bad.cfvd"), bad), InputError);
+    bad = d;
+    bad.histograms[1].push_back({1500, 1.f});  // word outside the codebook
+    bad.keypoints_per_view[1] += 1;
+    EXPECT_THROW(write_descriptor(temp_path("bad.cfvd"), bad), InputError);
+
+    const std::string good = read_bytes(path), badpath = temp_path("bad.cfvd");
+    write_bytes(badpath, good.substr(0, good.size() - 1));
+    EXPECT_THROW(read_descriptor(badpath), InputError);
+    std::string m = good;
+    m[3] = 'X';
+    write_bytes(badpath, m);
+    try {
+        read_descriptor(badpath);
+        ADD_FAILURE() << "wrong magic accepted";
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("magic"), std::string::npos) << e.what();
+    }
+    m = good;
+    m[4] = 9;
+    write_bytes(badpath, m);
+    try {
+        read_descriptor(badpath);
+        ADD_FAILURE() << "version 9 accepted";
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("version"), std::string::npos) << e.what();
+    }
+    write_bytes(badpath, good + std::string(4, '\0'));
+    EXPECT_THROW(read_descriptor(badpath), InputError);
+    // The first keypoint count sits at 24 + L; make it disagree with the histogram.
+    m = good;
+    m[24 + d.source.size()] = static_cast<char>(m[24 + d.source.size()] + 1);
+    write_bytes(badpath, m);
+    try {
+        read_descriptor(badpath);
+        ADD_FAILURE() << "inconsistent counts accepted";
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("inconsistent"), std::string::npos) << e.what();
+    }
+    for (std::size_t cut : {std::size_t(0), std::size_t(3), std::size_t(11), std::size_t(30), good.size() / 2}) {
+        write_bytes(badpath, good.substr(0, cut));
+        EXPECT_THROW(read_descriptor(badpath), InputError) << "cut at " << cut;
+    }
+    std::filesystem::remove(path);
+    std::filesystem::remove(badpath);
+}
+
+TEST(DescriptorFile, RawRoundTrip) {
+    std::mt19937_64 rng(15);
+    ModelDescriptor d;
+    d.views = 4;
+    d.image_size = 128;
+    d.source = "x";
+    for (int v = 0; v < d.views; ++v) {
+        d.raw.push_back(random_descriptors(rng, v == 2 ? 0 : 10 + v));
+        d.keypoints_per_view.push_back(static_cast<int>(d.raw.back().rows()));
+    }
+    const std::string path = temp_path("raw.cfvd");
+    write_descriptor(path, d);
+    const ModelDescriptor r = read_descriptor(path);
+    EXPECT_EQ(r.views, 4);
+    EXPECT_EQ(r.image_size, 128);
+    EXPECT_EQ(r.codebook_words, 0);
+    EXPECT_TRUE(r.histograms.empty());
+    ASSERT_EQ(r.raw.size(), 4u);
+    for (int v = 0; v < 4; ++v) EXPECT_TRUE(r.raw[v] == d.raw[v]) << "view " << v;
+    EXPECT_EQ(r.keypoints_per_view, d.keypoints_per_view);
+    ModelDescriptor bad = d;
+    bad.histograms.push_back({{0, 1.f}});  // both kinds of content
+    EXPECT_THROW(write_descriptor(temp_path("bad_raw.cfvd"), bad), InputError);
+    std::filesystem::remove(path);
+}

@@ -1,0 +1,385 @@
+// Tests of the view-descriptor geometry: view directions, cube rotations, depth rendering and pose
+// normalisation (filter_viewdescriptor/core).
+//
+// Include scheme: both -I<root>/filter_canonical and -I<root>/filter_viewdescriptor are on the
+// path; "core/<name>.h" resolves to whichever folder has <name>.h (the file names are distinct).
+#include "core/depth_render.h"
+#include "core/pose_normalization.h"
+#include "core/procedural_meshes.h"
+#include "core/view_directions.h"
+
+#include <Eigen/Dense>
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <random>
+#include <set>
+
+namespace cf = canonform;
+namespace vw = canonform::views;
+
+namespace {
+
+// Axis-aligned square [x0,x1] x [y0,y1] at height z, two triangles, appended to (V, F).
+void add_square(std::vector<Eigen::Vector3d>& P, std::vector<Eigen::Vector3i>& T, double x0, double x1,
+                double y0, double y1, double z) {
+    const int b = static_cast<int>(P.size());
+    P.push_back({x0, y0, z});
+    P.push_back({x1, y0, z});
+    P.push_back({x1, y1, z});
+    P.push_back({x0, y1, z});
+    T.push_back({b, b + 1, b + 2});
+    T.push_back({b, b + 2, b + 3});
+}
+
+cf::TriMesh to_mesh(const std::vector<Eigen::Vector3d>& P, const std::vector<Eigen::Vector3i>& T) {
+    cf::TriMesh m;
+    m.V.resize(static_cast<Eigen::Index>(P.size()), 3);
+    m.F.resize(static_cast<Eigen::Index>(T.size()), 3);
+    for (size_t i = 0; i < P.size(); ++i) m.V.row(static_cast<Eigen::Index>(i)) = P[i].transpose();
+    for (size_t i = 0; i < T.size(); ++i) m.F.row(static_cast<Eigen::Index>(i)) = T[i].transpose();
+    return m;
+}
+
+// Cube [-h, h]^3, 12 outward triangles.
+cf::TriMesh make_cube(double h) {
+    cf::TriMesh m;
+    m.V.resize(8, 3);
+    for (int i = 0; i < 8; ++i)
+        m.V.row(i) << ((i & 1) ? h : -h), ((i & 2) ? h : -h), ((i & 4) ? h : -h);
+    m.F.resize(12, 3);
+    m.F << 0, 2, 1, 1, 2, 3,   // z = -h
+        4, 5, 6, 5, 7, 6,      // z = +h
+        0, 1, 4, 1, 5, 4,      // y = -h
+        2, 6, 3, 3, 6, 7,      // y = +h
+        0, 4, 2, 2, 4, 6,      // x = -h
+        1, 3, 5, 3, 7, 5;      // x = +h
+    return m;
+}
+
+double pixel_x(int col, int size) { return -1.0 + (col + 0.5) * 2.0 / size; }
+double pixel_y(int row, int size) { return 1.0 - (row + 0.5) * 2.0 / size; }
+
+}  // namespace
+
+// ---------------------------------------------------------------- view directions and rotations
+
+TEST(ViewDirections, SixtySixDistinctUnitVectorsInStableOrder) {
+    const auto D = vw::view_directions();
+    ASSERT_EQ(D.size(), 66u);
+    for (const auto& d : D) EXPECT_NEAR(d.norm(), 1.0, 1e-12);
+    double min_sep = 1e9;
+    for (size_t i = 0; i < D.size(); ++i)
+        for (size_t j = i + 1; j < D.size(); ++j) min_sep = std::min(min_sep, (D[i] - D[j]).norm());
+    EXPECT_GT(min_sep, 0.2);  // nearest neighbours on the twice subdivided octahedron: ~0.39
+    // The six axes are included; documented order: lexicographic, (-1,0,0) first, (1,0,0) last.
+    EXPECT_TRUE(D.front().isApprox(Eigen::Vector3d(-1, 0, 0), 1e-12));
+    EXPECT_TRUE(D.back().isApprox(Eigen::Vector3d(1, 0, 0), 1e-12));
+    for (size_t i = 0; i + 1 < D.size(); ++i) {
+        const Eigen::Vector3d& a = D[i];
+        const Eigen::Vector3d& b = D[i + 1];
+        const bool less = a.x() < b.x() - 1e-9 ||
+                          (std::abs(a.x() - b.x()) < 1e-9 &&
+                           (a.y() < b.y() - 1e-9 || (std::abs(a.y() - b.y()) < 1e-9 && a.z() < b.z())));
+        EXPECT_TRUE(less) << i;
+    }
+    // Symmetric under negation (every view has its antipode).
+    for (const auto& d : D) {
+        double best = 1e9;
+        for (const auto& e : D) best = std::min(best, (e + d).norm());
+        EXPECT_LT(best, 1e-12);
+    }
+    // The 18 vertices of the first subdivision are in the set (the 12 edge midpoints).
+    int n_mid = 0;
+    for (const auto& d : D) {
+        const Eigen::Vector3d a = d.cwiseAbs();
+        int nz = 0;
+        for (int k = 0; k < 3; ++k) nz += std::abs(a[k] - std::sqrt(0.5)) < 1e-12;
+        if (nz == 2) ++n_mid;
+    }
+    EXPECT_EQ(n_mid, 12);
+}
+
+TEST(CubeRotations, TwentyFourDistinctProperRotationsIdentityFirst) {
+    const auto R = vw::cube_rotations();
+    ASSERT_EQ(R.size(), 24u);
+    EXPECT_TRUE(R[0].isIdentity(0));
+    for (size_t i = 0; i < R.size(); ++i) {
+        EXPECT_NEAR((R[i] * R[i].transpose() - Eigen::Matrix3d::Identity()).norm(), 0.0, 1e-15);
+        EXPECT_NEAR(R[i].determinant(), 1.0, 1e-15);
+        for (int a = 0; a < 3; ++a)
+            for (int b = 0; b < 3; ++b) EXPECT_TRUE(R[i](a, b) == 0 || std::abs(R[i](a, b)) == 1);
+        for (size_t j = i + 1; j < R.size(); ++j) EXPECT_GT((R[i] - R[j]).norm(), 1.0);
+    }
+    // Closed under composition (a group).
+    for (const auto& A : R)
+        for (const auto& B : R) {
+            bool found = false;
+            for (const auto& C : R) found = found || (A * B - C).norm() < 1e-12;
+            EXPECT_TRUE(found);
+        }
+}
+
+TEST(RotationViewMaps, EveryRotationPermutesTheViews) {
+    const auto D = vw::view_directions();
+    const auto R = vw::cube_rotations();
+    const auto M = vw::rotation_view_maps();
+    ASSERT_EQ(M.size(), 24u);
+    for (size_t r = 0; r < M.size(); ++r) {
+        ASSERT_EQ(M[r].size(), 66u);
+        std::set<int> image(M[r].begin(), M[r].end());
+        EXPECT_EQ(image.size(), 66u) << "rotation " << r << " is not a permutation";
+        for (size_t i = 0; i < 66; ++i) {
+            ASSERT_GE(M[r][i], 0);
+            ASSERT_LT(M[r][i], 66);
+            EXPECT_LT((D[static_cast<size_t>(M[r][i])] - R[r] * D[i]).norm(), 1e-9);
+        }
+    }
+    for (int i = 0; i < 66; ++i) EXPECT_EQ(M[0][static_cast<size_t>(i)], i);
+    // Composition: the map of R_a R_b is map_a after map_b.
+    for (size_t a = 0; a < 24; ++a)
+        for (size_t b = 0; b < 24; ++b) {
+            size_t c = 0;
+            while ((R[a] * R[b] - R[c]).norm() > 1e-12) ++c;
+            for (size_t i = 0; i < 66; ++i)
+                EXPECT_EQ(M[c][i], M[a][static_cast<size_t>(M[b][i])]);
+        }
+}
+
+// ---------------------------------------------------------------- depth rendering
+
+TEST(DepthRender, CameraFrameIsARightHandedRotationWithDocumentedUp) {
+    for (const auto& d : vw::view_directions()) {
+        const Eigen::Matrix3d C = vw::camera_frame(d);
+        EXPECT_NEAR((C * C.transpose() - Eigen::Matrix3d::Identity()).norm(), 0.0, 1e-12);
+        EXPECT_NEAR(C.determinant(), 1.0, 1e-12);
+        EXPECT_TRUE(C.row(2).transpose().isApprox(d, 1e-12));
+    }
+    const Eigen::Matrix3d Cz = vw::camera_frame(Eigen::Vector3d(0, 0, 2));
+    EXPECT_TRUE(Cz.row(1).isApprox(Eigen::RowVector3d(1, 0, 0), 1e-15));   // up = x (tie -> x)
+    EXPECT_TRUE(Cz.row(0).isApprox(Eigen::RowVector3d(0, -1, 0), 1e-15));  // right = up x d
+    const Eigen::Matrix3d Cx = vw::camera_frame(Eigen::Vector3d(1, 0, 0));
+    EXPECT_TRUE(Cx.row(1).isApprox(Eigen::RowVector3d(0, 1, 0), 1e-15));
+}
+
+TEST(DepthRender, SphereMatchesAnalyticDepth) {
+    const cf::TriMesh s = cf::make_icosphere(5, 0.9);
+    const int N = 256;
+    for (const Eigen::Vector3d& dir : {Eigen::Vector3d(0, 0, 1), Eigen::Vector3d(1, 2, -0.5).normalized(),
+                                      vw::view_directions()[17]}) {
+        const vw::DepthImage img = vw::render_depth(s.V, s.F, dir, N);
+        ASSERT_EQ(img.size, N);
+        ASSERT_EQ(img.depth.size(), static_cast<size_t>(N * N));
+        double max_err = 0;
+        int n_inside = 0, n_outside_nonzero = 0;
+        for (int r = 0; r < N; ++r)
+            for (int c = 0; c < N; ++c) {
+                const double x = pixel_x(c, N), y = pixel_y(r, N);
+                const double rho2 = x * x + y * y;
+                const double v = img.at(r, c);
+                if (rho2 < 0.85 * 0.85) {
+                    max_err = std::max(max_err, std::abs(v - 0.5 * (1 + std::sqrt(0.81 - rho2))));
+                    ++n_inside;
+                } else if (rho2 > 0.9 * 0.9) {
+                    n_outside_nonzero += v != 0.0f;
+                }
+            }
+        EXPECT_GT(n_inside, 29000);
+        EXPECT_LT(max_err, 1e-2) << dir.transpose();
+        EXPECT_EQ(n_outside_nonzero, 0);
+        // The centre is the nearest point: 0.95.
+        EXPECT_NEAR(img.at(N / 2, N / 2), 0.95, 2e-3);
+        // gray() = round(255 * depth).
+        const auto g = img.gray();
+        ASSERT_EQ(g.size(), img.depth.size());
+        for (size_t i = 0; i < g.size(); i += 97)
+            EXPECT_EQ(g[i], static_cast<int>(std::lround(255.0 * img.depth[i])));
+    }
+}
+
+TEST(DepthRender, CubeAlongZIsAFlatSquare) {
+    const cf::TriMesh cube = make_cube(0.5);
+    for (int N : {256, 100}) {
+        const vw::DepthImage img = vw::render_depth(cube.V, cube.F, Eigen::Vector3d(0, 0, 1), N);
+        int n_square = 0;
+        for (int r = 0; r < N; ++r)
+            for (int c = 0; c < N; ++c) {
+                const bool in = std::abs(pixel_x(c, N)) < 0.5 && std::abs(pixel_y(r, N)) < 0.5;
+                if (in) {
+                    ++n_square;
+                    EXPECT_NEAR(img.at(r, c), 0.75f, 1e-6) << r << "," << c;
+                } else {
+                    EXPECT_EQ(img.at(r, c), 0.0f) << r << "," << c;
+                }
+            }
+        EXPECT_EQ(n_square, (N / 2) * (N / 2));  // 128 x 128 at 256; 50 x 50 at 100
+    }
+    // From -z the far face of the same cube is hidden, the near one (z = -0.5) is at 0.75 too.
+    const vw::DepthImage back = vw::render_depth(cube.V, cube.F, Eigen::Vector3d(0, 0, -1), 64);
+    EXPECT_NEAR(back.at(32, 32), 0.75f, 1e-6);
+}
+
+TEST(DepthRender, NearerSurfaceOccludesIndependentlyOfOrder) {
+    std::vector<Eigen::Vector3d> P;
+    std::vector<Eigen::Vector3i> T;
+    add_square(P, T, -0.6, 0.6, -0.6, 0.6, 0.0);  // big, behind (from +z)
+    add_square(P, T, -0.2, 0.2, -0.2, 0.2, 0.3);  // small, in front
+    cf::TriMesh m = to_mesh(P, T);
+    cf::TriMesh rev = m;
+    rev.F = m.F.colwise().reverse();  // small square drawn first
+    const int N = 128;
+    for (const cf::TriMesh* mm : {&m, &rev}) {
+        const vw::DepthImage front = vw::render_depth(mm->V, mm->F, Eigen::Vector3d(0, 0, 1), N);
+        const vw::DepthImage back = vw::render_depth(mm->V, mm->F, Eigen::Vector3d(0, 0, -1), N);
+        for (int r = 0; r < N; ++r)
+            for (int c = 0; c < N; ++c) {
+                const double ax = std::abs(pixel_x(c, N)), ay = std::abs(pixel_y(r, N));
+                const bool small = ax < 0.2 && ay < 0.2, big = ax < 0.6 && ay < 0.6;
+                const float want_front = small ? 0.65f : big ? 0.5f : 0.0f;
+                EXPECT_NEAR(front.at(r, c), want_front, 1e-6) << r << "," << c;
+                // From -z the big square (depth 0.5) hides the small one (depth 0.35).
+                EXPECT_NEAR(back.at(r, c), big ? 0.5f : 0.0f, 1e-6) << r << "," << c;
+            }
+    }
+    EXPECT_THROW(vw::render_depth(m.V, m.F, Eigen::Vector3d::Zero()), cf::InputError);
+    EXPECT_THROW(vw::render_depth(m.V, m.F, Eigen::Vector3d(0, 0, 1), 0), cf::InputError);
+}
+
+TEST(DepthRender, SharedEdgesThroughPixelCentresLeaveNoCracks) {
+    // Fans of thin triangles whose shared edges pass (up to rounding) through many pixel centres:
+    // every centre inside the covered region must be drawn (edge functions are evaluated with the
+    // endpoints in a canonical order, so the two triangles of an edge cannot both reject it).
+    for (int N : {100, 97, 256}) {
+        auto px = [&](int c) { return pixel_x(c, N); };
+        auto py = [&](int r) { return pixel_y(r, N); };
+        std::vector<Eigen::Vector3d> P;
+        std::vector<Eigen::Vector3i> T;
+        const int lo = 5, hi = N - 6;  // square of pixel centres [lo, hi]^2
+        const int centre = static_cast<int>(P.size());
+        P.push_back({px(N / 2), py(N / 3), 0.1});
+        std::vector<std::pair<int, int>> ring;  // boundary pixel centres, in order
+        for (int c = lo; c < hi; ++c) ring.push_back({lo, c});
+        for (int r = lo; r < hi; ++r) ring.push_back({r, hi});
+        for (int c = hi; c > lo; --c) ring.push_back({hi, c});
+        for (int r = hi; r > lo; --r) ring.push_back({r, lo});
+        for (const auto& rc : ring) P.push_back({px(rc.second), py(rc.first), 0.1});
+        const int m = static_cast<int>(ring.size());
+        for (int k = 0; k < m; ++k) T.push_back({centre, 1 + k, 1 + (k + 1) % m});
+        const cf::TriMesh fan = to_mesh(P, T);
+        const vw::DepthImage img = vw::render_depth(fan.V, fan.F, Eigen::Vector3d(0, 0, 1), N);
+        int holes = 0;
+        for (int r = lo + 1; r < hi; ++r)
+            for (int c = lo + 1; c < hi; ++c) holes += img.at(r, c) != 0.55f;
+        EXPECT_EQ(holes, 0) << "size " << N;
+    }
+}
+
+TEST(DepthRender, SixtySixRendersOfATenThousandVertexFigureTiming) {
+    const cf::Figure fig = cf::make_figure(10000, cf::figure_pose(3));
+    const vw::PoseNormalization pose = vw::normalize_pose(fig.mesh.V, fig.mesh.F);
+    const Eigen::MatrixXd X = vw::apply_pose(pose, fig.mesh.V);
+    const auto D = vw::view_directions();
+    std::vector<vw::DepthImage> imgs;
+    imgs.reserve(D.size());
+    const auto t0 = std::chrono::steady_clock::now();
+    for (const auto& d : D) imgs.push_back(vw::render_depth(X, fig.mesh.F, d, 256));
+    const double sec = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    std::printf("[ timing   ] 66 depth renders, %d vertices / %d faces, 256x256: %.3f s\n",
+                static_cast<int>(X.rows()), static_cast<int>(fig.mesh.F.rows()), sec);
+    // Every view sees the figure; views d and -d have the same silhouette (orthographic).
+    const auto M = vw::rotation_view_maps();
+    for (size_t i = 0; i < D.size(); ++i) {
+        int covered = 0;
+        for (float v : imgs[i].depth) covered += v > 0;
+        EXPECT_GT(covered, 500) << i;
+    }
+    // Deterministic.
+    const vw::DepthImage again = vw::render_depth(X, fig.mesh.F, D[5], 256);
+    EXPECT_EQ(again.depth, imgs[5].depth);
+#ifdef NDEBUG
+    EXPECT_LT(sec, 0.3);
+#endif
+}
+
+// ---------------------------------------------------------------- pose normalisation
+
+namespace {
+
+void expect_pose_invariant(const cf::TriMesh& mesh, std::uint64_t seed, bool* used_rect) {
+    std::mt19937_64 g(seed);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    const Eigen::Matrix3d Q =
+        Eigen::Quaterniond(Eigen::Vector4d(u(g), u(g), u(g), u(g)).normalized()).toRotationMatrix();
+    const double s = 0.3 + 2.0 * std::abs(u(g));
+    const Eigen::RowVector3d t(5 * u(g), 5 * u(g), 5 * u(g));
+    const Eigen::MatrixXd V2 = ((mesh.V * Q.transpose()) * s).rowwise() + t;
+
+    const vw::PoseNormalization p1 = vw::normalize_pose(mesh.V, mesh.F);
+    const vw::PoseNormalization p2 = vw::normalize_pose(V2, mesh.F);
+    const Eigen::MatrixXd X1 = vw::apply_pose(p1, mesh.V);
+    const Eigen::MatrixXd X2 = vw::apply_pose(p2, V2);
+    EXPECT_EQ(p1.used_rectilinearity, p2.used_rectilinearity);
+    EXPECT_LT((X1 - X2).cwiseAbs().maxCoeff(), 1e-6);
+    EXPECT_NEAR(p1.scale / p2.scale, s, 1e-9);
+    // Normalised: mean at the origin, largest radius 1, proper rotation.
+    EXPECT_LT(X1.colwise().mean().norm(), 1e-12);
+    EXPECT_NEAR(X1.rowwise().norm().maxCoeff(), 1.0, 1e-12);
+    EXPECT_NEAR(p1.R.determinant(), 1.0, 1e-12);
+    EXPECT_NEAR((p1.R * p1.R.transpose() - Eigen::Matrix3d::Identity()).norm(), 0.0, 1e-12);
+    // The rectilinearity pose does not have a larger projected area than the PCA pose, and the
+    // rule is the documented one.
+    EXPECT_LE(p1.rect_projected_area, p1.pca_projected_area + 1e-12);
+    EXPECT_EQ(p1.used_rectilinearity, p1.rect_cost < p1.pca_cost);
+    EXPECT_NEAR(vw::projected_area_ratio(mesh.V, mesh.F, p1.used_rectilinearity ? p1.R : p1.R),
+                p1.used_rectilinearity ? p1.rect_projected_area : p1.pca_projected_area, 1e-9);
+    // Canonical axes: second moments decreasing.
+    const Eigen::RowVector3d m2 = X1.array().square().colwise().mean();
+    EXPECT_GE(m2[0], m2[1]);
+    EXPECT_GE(m2[1], m2[2]);
+    if (used_rect) *used_rect = p1.used_rectilinearity;
+}
+
+}  // namespace
+
+TEST(PoseNormalization, FigureIsInvariantToSimilarityTransforms) {
+    int n_rect = 0, n = 0;
+    for (int pose_id : {0, 2, 3, 4, 5, 11}) {
+        const cf::Figure fig = cf::make_figure(2000, cf::figure_pose(pose_id));
+        bool used_rect = false;
+        SCOPED_TRACE(pose_id);
+        expect_pose_invariant(fig.mesh, 100 + static_cast<std::uint64_t>(pose_id), &used_rect);
+        n_rect += used_rect;
+        ++n;
+    }
+    std::printf("[ info     ] rectilinearity pose chosen for %d of %d figures\n", n_rect, n);
+}
+
+TEST(PoseNormalization, BoxLikeShapeIsAlignedByRectilinearity) {
+    // A rotated cube: PCA is degenerate (isotropic covariance), rectilinearity aligns the faces
+    // with the axes (projected area ratio 1) and wins by bounding-box volume.
+    cf::TriMesh cube = make_cube(1.0);
+    const Eigen::Matrix3d Q = Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
+    cube.V = cube.V * Q.transpose();
+    const vw::PoseNormalization p = vw::normalize_pose(cube.V, cube.F);
+    EXPECT_TRUE(p.used_rectilinearity);
+    EXPECT_NEAR(p.rect_projected_area, 1.0, 1e-9);
+    const Eigen::MatrixXd X = vw::apply_pose(p, cube.V);
+    for (Eigen::Index i = 0; i < X.rows(); ++i)
+        for (int k = 0; k < 3; ++k) EXPECT_NEAR(std::abs(X(i, k)), 1.0 / std::sqrt(3.0), 1e-6);
+}
+
+TEST(PoseNormalization, RejectsBadInput) {
+    const cf::TriMesh s = cf::make_icosphere(1);
+    EXPECT_THROW(vw::normalize_pose(s.V, Eigen::MatrixXi(0, 3)), cf::InputError);
+    Eigen::MatrixXd bad = s.V;
+    bad(3, 1) = std::nan("");
+    EXPECT_THROW(vw::normalize_pose(bad, s.F), cf::InputError);
+    bad(3, 1) = std::numeric_limits<double>::infinity();
+    EXPECT_THROW(vw::normalize_pose(bad, s.F), cf::InputError);
+    EXPECT_THROW(vw::normalize_pose(Eigen::MatrixXd::Zero(s.V.rows(), 3), s.F), cf::InputError);
+    vw::PoseOptions o;
+    o.restarts = 0;
+    EXPECT_THROW(vw::normalize_pose(s.V, s.F, o), cf::InputError);
+}
