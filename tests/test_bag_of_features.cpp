@@ -27,10 +27,6 @@ using namespace canonform::views;
 
 namespace {
 
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-
 std::string temp_path(const std::string& name) {
     return (std::filesystem::temp_directory_path() / ("canonform_bof_" + std::to_string(::getpid()) + "_" + name)).string();
 }
@@ -255,21 +251,6 @@ TEST(BagOfFeatures, DistanceMatrixMatchesPairwiseAndThreads) {
     EXPECT_NEAR(D1(3, 0), clock_matching_distance(models[3], models[0], maps), 1e-4);
 }
 
-TEST(BagOfFeatures, DistanceMatrixTiming600) {
-    const int V = 66, N = 600, W = 1500;
-    const auto maps = synthetic_maps(V);
-    std::mt19937_64 rng(42);
-    std::vector<std::vector<Histogram>> models;
-    for (int m = 0; m < N; ++m) models.push_back(random_model(rng, V, W, 30, 100));
-    const auto t0 = std::chrono::steady_clock::now();
-    const Eigen::MatrixXf D = distance_matrix(models, maps, 2);
-    const double s = seconds_since(t0);
-    std::printf("[timing] distance matrix %d x %d, %d views, 30-100 words per view, 24 maps, 2 threads: %.2f s\n",
-                N, N, V, s);
-    EXPECT_LT(s, 60.0);
-    EXPECT_NEAR(D(17, 401), clock_matching_distance(models[17], models[401], maps), 1e-4);
-    EXPECT_EQ(D(401, 17), D(17, 401));
-}
 
 // ---- codebook -----------------------------------------------------------------------------------------
 
@@ -361,25 +342,6 @@ TEST(Codebook, SaveLoadBitExactAndRejectsBadFiles) {
     std::filesystem::remove(bad);
 }
 
-TEST(Codebook, TimingTrainAndAssign) {
-    std::mt19937_64 rng(13);
-    const DescriptorMatrix X = random_descriptors(rng, 100000, 3000);
-    CodebookOptions o;  // 1500 words, k-means, 10 iterations
-    auto t0 = std::chrono::steady_clock::now();
-    const Codebook cb = Codebook::train(X, o);
-    std::printf("[timing] k-means codebook, 1500 words from 100000 descriptors, 10 iterations: %.2f s\n",
-                seconds_since(t0));
-    EXPECT_EQ(cb.size(), 1500);
-    o.method = CodebookOptions::Method::Random;
-    t0 = std::chrono::steady_clock::now();
-    const Codebook rnd = Codebook::train(X, o);
-    std::printf("[timing] random codebook, 1500 words: %.3f s\n", seconds_since(t0));
-    const DescriptorMatrix Q = X.topRows(66 * 100);
-    t0 = std::chrono::steady_clock::now();
-    const std::vector<int> a = cb.assign(Q);
-    std::printf("[timing] assignment of 66 x 100 descriptors to 1500 words: %.4f s\n", seconds_since(t0));
-    EXPECT_EQ(a.size(), 6600u);
-}
 
 // ---- SIFT ---------------------------------------------------------------------------------------------
 

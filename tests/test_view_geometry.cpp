@@ -14,6 +14,8 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <numeric>
+#include <algorithm>
 #include <random>
 #include <set>
 
@@ -248,32 +250,51 @@ TEST(DepthRender, NearerSurfaceOccludesIndependentlyOfOrder) {
 }
 
 TEST(DepthRender, SharedEdgesThroughPixelCentresLeaveNoCracks) {
-    // Fans of thin triangles whose shared edges pass (up to rounding) through many pixel centres:
-    // every centre inside the covered region must be drawn (edge functions are evaluated with the
-    // endpoints in a canonical order, so the two triangles of an edge cannot both reject it).
-    for (int N : {100, 97, 256}) {
-        auto px = [&](int c) { return pixel_x(c, N); };
-        auto py = [&](int r) { return pixel_y(r, N); };
-        std::vector<Eigen::Vector3d> P;
-        std::vector<Eigen::Vector3i> T;
-        const int lo = 5, hi = N - 6;  // square of pixel centres [lo, hi]^2
-        const int centre = static_cast<int>(P.size());
-        P.push_back({px(N / 2), py(N / 3), 0.1});
-        std::vector<std::pair<int, int>> ring;  // boundary pixel centres, in order
-        for (int c = lo; c < hi; ++c) ring.push_back({lo, c});
-        for (int r = lo; r < hi; ++r) ring.push_back({r, hi});
-        for (int c = hi; c > lo; --c) ring.push_back({hi, c});
-        for (int r = hi; r > lo; --r) ring.push_back({r, lo});
-        for (const auto& rc : ring) P.push_back({px(rc.second), py(rc.first), 0.1});
-        const int m = static_cast<int>(ring.size());
-        for (int k = 0; k < m; ++k) T.push_back({centre, 1 + k, 1 + (k + 1) % m});
-        const cf::TriMesh fan = to_mesh(P, T);
-        const vw::DepthImage img = vw::render_depth(fan.V, fan.F, Eigen::Vector3d(0, 0, 1), N);
-        int holes = 0;
-        for (int r = lo + 1; r < hi; ++r)
-            for (int c = lo + 1; c < hi; ++c) holes += img.at(r, c) != 0.55f;
-        EXPECT_EQ(holes, 0) << "size " << N;
-    }
+    // A fan of triangles around a pixel centre whose shared edges pass, up to rounding, through
+    // many pixel centres (edge directions are small integer vectors; the far ends sit at
+    // non-representable fractions, so the edge functions there are rounding noise of either sign).
+    // Every centre inside the fan must be drawn (catches a strict fill rule or an edge function
+    // whose reversed evaluation is not the exact negation).
+    const auto D = vw::view_directions();
+    for (int N : {128, 97, 256})
+        for (int view : {65, 17, 40}) {
+            const Eigen::Matrix3d C = vw::camera_frame(D[static_cast<size_t>(view)]);
+            auto world = [&](double col, double row) -> Eigen::Vector3d {  // pixel coords -> world
+                const double x = -1.0 + (col + 0.5) * 2.0 / N, y = 1.0 - (row + 0.5) * 2.0 / N;
+                return C.transpose() * Eigen::Vector3d(x, y, 0.1);
+            };
+            std::vector<Eigen::Vector2i> dirs;
+            for (int dx = -4; dx <= 4; ++dx)
+                for (int dy = -4; dy <= 4; ++dy)
+                    if (std::gcd(std::abs(dx), std::abs(dy)) == 1) dirs.push_back({dx, dy});
+            std::sort(dirs.begin(), dirs.end(), [](const Eigen::Vector2i& a, const Eigen::Vector2i& b) {
+                return std::atan2(a.y(), a.x()) < std::atan2(b.y(), b.x());
+            });
+            const int c0 = N / 2, r0 = N / 2;
+            const double reach = 0.4 * N;
+            std::vector<Eigen::Vector3d> P{world(c0, r0)};
+            std::vector<Eigen::Vector3i> T;
+            double inner = 1e9;  // radius of a disc inside the fan polygon
+            for (const auto& d : dirs) {
+                const double t = (reach / d.cast<double>().norm()) / 3.0 * 3.0 + 1.0 / 3.0;
+                P.push_back(world(c0 + t * d.x(), r0 + t * d.y()));
+                inner = std::min(inner, t * d.cast<double>().norm());
+            }
+            const int m = static_cast<int>(dirs.size());
+            for (int k = 0; k < m; ++k) T.push_back({0, 1 + k, 1 + (k + 1) % m});
+            inner *= std::cos(M_PI / 8);  // adjacent directions are less than 45 degrees apart
+            const cf::TriMesh fan = to_mesh(P, T);
+            const vw::DepthImage img = vw::render_depth(fan.V, fan.F, D[static_cast<size_t>(view)], N);
+            int holes = 0, checked = 0;
+            for (int r = 0; r < N; ++r)
+                for (int c = 0; c < N; ++c)
+                    if (std::hypot(c - c0, r - r0) < inner - 1) {
+                        ++checked;
+                        holes += std::abs(img.at(r, c) - 0.55f) > 1e-6f;
+                    }
+            EXPECT_GT(checked, N * N / 4);
+            EXPECT_EQ(holes, 0) << "size " << N << " view " << view;
+        }
 }
 
 TEST(DepthRender, SixtySixRendersOfATenThousandVertexFigureTiming) {

@@ -49,6 +49,29 @@ check "geodesic method refused over --max-memory-gib, naming memory and time" \
 "$cf" picture pic.png cf.ply --points fp.ply --canonical canon.ply --size 200 2>/dev/null
 check "picture is a PNG" bash -c "head -c 8 pic.png | od -An -c | grep -q 'P   N   G'"
 
+# --- view descriptors: views, codebook, descriptor, distance ----------------------------------
+"$cf" views fig.ply views 2>/dev/null
+check "views: 66 PNGs and a contact sheet" bash -c "[ \$(ls views/view_*.png | wc -l) -eq 66 ] && [ -s views/contact_sheet.png ]"
+"$cf" generate fig_b.ply --vertices 3000 --pose 5
+"$cf" codebook cb.bin fig.ply fig_b.ply --words 100 2>/dev/null
+check "codebook written" test -s cb.bin
+for m in fig fig_b canon; do "$cf" descriptor $m.ply $m.cfvd --codebook cb.bin --json > $m.desc.json; done
+check "descriptor --json: 66 views over a 100-word codebook" json fig.desc.json "j['views'] == 66 and j['codebook_words'] == 100 and j['keypoints'] > 100"
+"$cf" descriptor fig.ply fig_raw.cfvd
+check "descriptor without a codebook (raw SIFT)" test -s fig_raw.cfvd
+"$cf" distance dist.bin fig.cfvd fig_b.cfvd canon.cfvd 2>/dev/null
+check "distance: 3 x 3 float32 matrix and CSV" bash -c "[ \$(stat -c %s dist.bin) -eq 36 ] && [ \$(wc -l < dist.bin.csv) -eq 3 ]"
+check "distance: symmetric, zero diagonal, positive off-diagonal" /usr/bin/python3 -c "
+import csv; D = [[float(x) for x in r] for r in csv.reader(open('dist.bin.csv'))]
+assert all(D[i][i] == 0 for i in range(3)) and all(D[i][j] == D[j][i] > 0 for i in range(3) for j in range(3) if i != j)"
+"$cf" distance bad.bin fig_raw.cfvd fig.cfvd > err.txt 2>&1
+check "distance refuses raw descriptors with a reason" bash -c "[ $? -eq 1 ] && grep -q 'raw SIFT' err.txt && [ ! -e bad.bin ]"
+printf 'not a codebook' > badcb.bin
+"$cf" descriptor fig.ply x.cfvd --codebook badcb.bin > err.txt 2>&1
+check "descriptor with a broken codebook fails with a reason" bash -c "[ $? -eq 1 ] && [ ! -e x.cfvd ] && [ -s err.txt ]"
+"$cf" descriptor fp.ply x.cfvd > err.txt 2>&1
+check "descriptor of a point cloud fails with a reason" bash -c "[ $? -eq 1 ] && grep -q 'point cloud' err.txt && [ ! -e x.cfvd ]"
+
 # --- bad input: exit 1, message naming the problem, no output left ---------------------------
 expect_error() {  # DESCRIPTION PATTERN FILE
   local out="out_$RANDOM.ply"

@@ -78,6 +78,24 @@ check "Geodesic canonical form: refuses over the memory limit, naming memory and
   bash -c "[ $rc -ne 0 ] && grep -q 'needs about .* GiB and .* s' geo_refused.log"
 check "Geodesic canonical form: no output when refused" test ! -e bad_geo.ply
 
+# Depth view descriptor (filter_viewdescriptor) --------------------------------------------------
+vscripts="$work/prefix/lib/x86_64-linux-gnu/meshlab/plugins/filter_viewdescriptor"
+"$cf" codebook cb.bin fig.ply --words 100 2>/dev/null
+sed -e "s|name=\"output_file\" type=\"RichString\" value=\"descriptor.cfvd\"|name=\"output_file\" type=\"RichString\" value=\"$work/ml.cfvd\"|" \
+    -e "s|name=\"codebook_file\" type=\"RichString\" value=\"\"|name=\"codebook_file\" type=\"RichString\" value=\"$work/cb.bin\"|" \
+    -e "s|name=\"views_folder\" type=\"RichString\" value=\"\"|name=\"views_folder\" type=\"RichString\" value=\"$work/ml_views\"|" \
+    "$vscripts/depth_view_descriptor.mlx" > dv.mlx
+mls dv.log -i fig.ply -s dv.mlx
+check "Depth view descriptor: meshlabserver succeeds and logs keypoint counts" bash -c "[ $? -eq 0 ] && grep -q 'SIFT keypoints per view' dv.log"
+check "Depth view descriptor: 66 PNG views written" bash -c "[ \$(ls ml_views/view_*.png | wc -l) -eq 66 ]"
+"$cf" descriptor fig.ply cli.cfvd --codebook cb.bin
+"$cf" distance dv.bin ml.cfvd cli.cfvd > dv_dist.log 2>&1
+check "Depth view descriptor: the reader accepts MeshLab's file; distance to the tool's is small" /usr/bin/python3 -c "
+import csv; D = [[float(x) for x in r] for r in csv.reader(open('dv.bin.csv'))]; assert D[0][1] < 5, D"
+"$cf" features fig.ply cloud_dv.ply
+mls dv_bad.log -i cloud_dv.ply -s dv.mlx
+check "Depth view descriptor: a point cloud fails with the reason" bash -c "[ $? -ne 0 ] && grep -q 'point cloud' dv_bad.log"
+
 # All three in one script (the README example's pipeline) --------------------------------------
 { echo '<!DOCTYPE FilterScript>'; echo '<FilterScript>'
   for s in conformal_factor feature_points euclidean_canonical_form; do

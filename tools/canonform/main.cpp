@@ -7,6 +7,10 @@
 //                              [--tol T] [--max-iter M] [--max-memory-gib G] [--max-seconds S]
 //                              [--threads T] [--quiet] [--json]
 //   canonform simplify  IN OUT --vertices K
+//   canonform views      IN DIR [--size PX] [--seed S]
+//   canonform codebook   OUT MESH... [--words W] [--seed S] [--random]
+//   canonform descriptor IN OUT [--codebook CB] [--size PX] [--seed S] [--json]
+//   canonform distance   OUT DESC... [--threads T]
 //   canonform generate  OUT [--vertices N] [--pose P]
 //   canonform picture   OUT.png MESH [--points PTS] [--canonical CANON] [--size PX]
 //
@@ -22,6 +26,7 @@
 #include "mesh_io.h"
 #include "picture.h"
 #include "simplify.h"
+#include "views_commands.h"
 
 #include <chrono>
 #include <cstdio>
@@ -46,6 +51,10 @@ const char* kUsage =
     "                             [--tol T] [--max-iter M] [--max-memory-gib G] [--max-seconds S]\n"
     "                             [--threads T] [--quiet] [--json]\n"
     "  canonform simplify  IN OUT --vertices K   (quadric edge collapse, as MeshLab's)\n"
+    "  canonform views      IN DIR [--size PX] [--seed S]        (66 depth views + contact sheet)\n"
+    "  canonform codebook   OUT MESH... [--words W] [--seed S] [--random]\n"
+    "  canonform descriptor IN OUT [--codebook CB] [--size PX] [--seed S] [--json]\n"
+    "  canonform distance   OUT DESC... [--threads T]           (OUT: float32 row-major, OUT.csv)\n"
     "  canonform generate  OUT [--vertices N] [--pose P]\n"
     "  canonform picture   OUT.png MESH [--points PTS] [--canonical CANON] [--size PX]\n"
     "IN: OFF, PLY, OBJ or STL; OUT: PLY with the conformal factor as vertex quality.\n";
@@ -312,6 +321,19 @@ int cmd_simplify(const Args& a) {
     return 0;
 }
 
+cli::ViewCommandOptions view_options(const Args& a) {
+    cli::ViewCommandOptions o;
+    o.image_size = a.integer("size", o.image_size);
+    o.seed = static_cast<unsigned long long>(a.integer("seed", 0));
+    o.words = a.integer("words", o.words);
+    if (o.words < 1) throw UsageError("--words must be positive");
+    o.random_codebook = a.flag("random");
+    o.codebook = a.str("codebook", "");
+    o.threads = a.integer("threads", 0);
+    o.json = a.flag("json");
+    return o;
+}
+
 int cmd_generate(const Args& a) {
     a.need(1);
     a.allow({"vertices", "pose"});
@@ -351,6 +373,32 @@ int main(int argc, char** argv) {
         if (cmd == "conformal") return cmd_conformal(Args(argc, argv, 2, {"raw", "json"}));
         if (cmd == "features") return cmd_features(Args(argc, argv, 2, {"json"}));
         if (cmd == "canonical") return cmd_canonical(Args(argc, argv, 2, {"json", "quiet"}));
+        if (cmd == "views") {
+            const Args a(argc, argv, 2, {});
+            a.need(2);
+            a.allow({"size", "seed"});
+            return cli::views_command(a.positional[0], a.positional[1], view_options(a), argc, argv);
+        }
+        if (cmd == "codebook") {
+            const Args a(argc, argv, 2, {"random"});
+            a.allow({"words", "seed", "random", "size"});
+            if (a.positional.size() < 2) throw UsageError("codebook needs OUT and at least one mesh");
+            return cli::codebook_command(a.positional[0], {a.positional.begin() + 1, a.positional.end()},
+                                         view_options(a));
+        }
+        if (cmd == "descriptor") {
+            const Args a(argc, argv, 2, {"json"});
+            a.need(2);
+            a.allow({"codebook", "size", "seed", "json"});
+            return cli::descriptor_command(a.positional[0], a.positional[1], view_options(a));
+        }
+        if (cmd == "distance") {
+            const Args a(argc, argv, 2, {});
+            a.allow({"threads"});
+            if (a.positional.size() < 3) throw UsageError("distance needs OUT and at least two descriptors");
+            return cli::distance_command(a.positional[0], {a.positional.begin() + 1, a.positional.end()},
+                                         view_options(a));
+        }
         if (cmd == "simplify") return cmd_simplify(Args(argc, argv, 2, {}));
         if (cmd == "generate") return cmd_generate(Args(argc, argv, 2, {}));
         if (cmd == "picture") return cmd_picture(Args(argc, argv, 2, {}), argc, argv);
