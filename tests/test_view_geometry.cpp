@@ -309,19 +309,25 @@ TEST(DepthRender, SixtySixRendersOfATenThousandVertexFigureTiming) {
     const double sec = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     std::printf("[ timing   ] 66 depth renders, %d vertices / %d faces, 256x256: %.3f s\n",
                 static_cast<int>(X.rows()), static_cast<int>(fig.mesh.F.rows()), sec);
-    // Every view sees the figure; views d and -d have the same silhouette (orthographic).
-    const auto M = vw::rotation_view_maps();
+    // Every view sees the figure; views d and -d (indices i and 65 - i) have mirrored silhouettes
+    // (orthographic; the camera of -d has the same up vector and the opposite right vector).
     for (size_t i = 0; i < D.size(); ++i) {
-        int covered = 0;
-        for (float v : imgs[i].depth) covered += v > 0;
+        int covered = 0, mismatched = 0;
+        const vw::DepthImage& a = imgs[i];
+        const vw::DepthImage& b = imgs[65 - i];
+        ASSERT_LT((D[i] + D[65 - i]).norm(), 1e-12);
+        for (int r = 0; r < 256; ++r)
+            for (int c = 0; c < 256; ++c) {
+                covered += a.at(r, c) > 0;
+                mismatched += (a.at(r, c) > 0) != (b.at(r, 255 - c) > 0);
+            }
         EXPECT_GT(covered, 500) << i;
+        EXPECT_LE(mismatched, covered / 1000 + 2) << i;
     }
     // Deterministic.
     const vw::DepthImage again = vw::render_depth(X, fig.mesh.F, D[5], 256);
     EXPECT_EQ(again.depth, imgs[5].depth);
-#ifdef NDEBUG
-    EXPECT_LT(sec, 0.3);
-#endif
+    // The time is printed, not asserted: speed is checked by bench/ (canonform_bench_views).
 }
 
 // ---------------------------------------------------------------- pose normalisation

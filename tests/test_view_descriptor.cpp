@@ -1,0 +1,64 @@
+#include "core/procedural_meshes.h"
+#include "core/view_descriptor.h"
+#include "core/view_directions.h"
+#include "test_util.h"
+
+#include <gtest/gtest.h>
+
+#include <cstdio>
+
+using namespace canonform;
+using namespace canonform::views;
+
+namespace {
+
+SiftDescriptors stack(const std::vector<const ViewSet*>& sets) {
+    Eigen::Index rows = 0;
+    for (const auto* s : sets)
+        for (const auto& f : s->features) rows += f.rows();
+    SiftDescriptors all(rows, 128);
+    Eigen::Index r = 0;
+    for (const auto* s : sets)
+        for (const auto& f : s->features) {
+            all.middleRows(r, f.rows()) = f;
+            r += f.rows();
+        }
+    return all;
+}
+
+}  // namespace
+
+TEST(ViewDescriptor, SameShapeInAnotherFrameIsNearAndAnotherShapeIsFar) {
+    const Figure fig = make_figure(3000, figure_pose(2));
+    const Eigen::MatrixXd moved =
+        ((2.7 * fig.mesh.V * test::random_rotation(31).transpose()).rowwise() + Eigen::RowVector3d(3, -1, 8));
+    const TriMesh torus = make_torus(60, 24, 1.0, 0.35);
+
+    const ViewSet a = compute_views(fig.mesh.V, fig.mesh.F);
+    const ViewSet b = compute_views(moved, fig.mesh.F);
+    const ViewSet c = compute_views(torus.V, torus.F);
+    ASSERT_EQ(a.images.size(), 66u);
+    CodebookOptions co;
+    co.words = 200;
+    const Codebook cb = Codebook::train(stack({&a, &b, &c}), co);
+    const auto maps = rotation_view_maps();
+    const double same = clock_matching_distance(view_histograms(a, cb), view_histograms(b, cb), maps);
+    const double other = clock_matching_distance(view_histograms(a, cb), view_histograms(c, cb), maps);
+    std::printf("      clock matching: figure vs moved copy %.2f, figure vs torus %.2f (66 views)\n", same, other);
+    EXPECT_LT(same, 0.25 * other);
+    EXPECT_LT(same, 10.0);  // of at most 66
+}
+
+TEST(ViewDescriptor, RejectsBadMeshesAndAcceptsSeveralComponents) {
+    const TriMesh s = make_icosphere(2);
+    EXPECT_THROW(compute_views(s.V, Eigen::MatrixXi(0, 3)), InputError);  // a point cloud
+    Eigen::MatrixXi F = s.F;
+    F(0, 1) = F(0, 0);  // degenerate face
+    EXPECT_THROW(compute_views(s.V, F), InputError);
+    // Two spheres side by side: a valid scene with two components.
+    Eigen::MatrixXd V2(2 * s.V.rows(), 3);
+    V2 << s.V, (s.V.rowwise() + Eigen::RowVector3d(3, 0, 0));
+    Eigen::MatrixXi F2(2 * s.F.rows(), 3);
+    F2 << s.F, (s.F.array() + static_cast<int>(s.V.rows())).matrix();
+    EXPECT_NO_THROW(compute_views(V2, F2));
+}
