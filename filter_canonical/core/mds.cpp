@@ -4,6 +4,8 @@
 
 #include "core/mds.h"
 
+#include "core/smacof.h"
+
 #include <Eigen/Eigenvalues>
 #include <Eigen/QR>
 
@@ -491,39 +493,23 @@ MdsResult least_squares_mds(const MatrixXd& D, const MdsOptions& options, const 
 
     AllPairsPass pass(D, dim, options.threads);
     const double inv_n = 1.0 / static_cast<double>(n);
-    MdsResult r;
-    MatrixXd BX;
-    double s_prev = 0;
-    pass.run(X, &BX, &s_prev);
-    r.initial_stress = r.final_stress = s_prev;
-    if (options.record_history) r.stress_history.push_back(s_prev);
-    if (options.max_iterations <= 0) {
-        r.X = X;
-        return r;
-    }
-    MatrixXd Y = BX * inv_n;  // V^+ B(X) X = B(X) X / N (1^T B = 0, so no re-centring is needed)
-    centre(Y);                // ... but it removes rounding drift
-    for (int k = 1;; ++k) {
-        X.swap(Y);
-        r.iterations = k;
-        double s = 0;
-        pass.run(X, &BX, &s);  // S(X_k) comes with the next step's B(X_k) X_k
-        Y = BX * inv_n;
+    // V^+ B(X) X = B(X) X / N (1^T B = 0, so no re-centring is needed, but it removes rounding drift).
+    const auto step = [&](const MatrixXd& Xk, double* s) {
+        MatrixXd BX;
+        pass.run(Xk, &BX, s);
+        MatrixXd Y = BX * inv_n;
         centre(Y);
-        if (!std::isfinite(s) || !Y.allFinite())
-            throw NumericalError("least-squares MDS: non-finite stress or coordinates after a Guttman step");
-        if (options.record_history) r.stress_history.push_back(s);
-        r.final_stress = s;
-        const bool converged = s_prev <= 0 || (s_prev - s) < options.tolerance * s_prev;
-        if (converged || k >= options.max_iterations) {
-            r.converged = converged;
-            break;
-        }
-        s_prev = s;
-        if (k % 10 == 0)
-            report_progress(options.progress, 0.1 + 0.9 * k / options.max_iterations, "SMACOF iterations");
-    }
-    r.X = X;  // Y (one step further) is discarded so that final_stress is exactly S(r.X)
+        return Y;
+    };
+    GuttmanRun g = run_guttman(step, X, options.tolerance, options.max_iterations, options.record_history,
+                               options.progress, 0.1, "least-squares MDS");
+    MdsResult r;
+    r.X = std::move(g.X);
+    r.iterations = g.iterations;
+    r.converged = g.converged;
+    r.initial_stress = g.initial_stress;
+    r.final_stress = g.final_stress;
+    r.stress_history = std::move(g.history);
     return r;
 }
 

@@ -100,32 +100,16 @@ Eigen::MatrixXd SmacofSolver::guttman(const Eigen::MatrixXd& X, double* stress_o
 SmacofResult SmacofSolver::solve(const Eigen::MatrixXd& X0, const SmacofOptions& options) const {
     if (X0.rows() != n_ || X0.cols() < 1) throw InputError("SMACOF: the start has the wrong shape");
     if (!X0.allFinite()) throw InputError("SMACOF: the start has non-finite coordinates");
+    GuttmanRun g = run_guttman([this](const Eigen::MatrixXd& X, double* s) { return guttman(X, s); },
+                               X0.rowwise() - X0.colwise().mean(), options.tolerance, options.max_iterations,
+                               options.record_history, options.progress, 0.0, "SMACOF");
     SmacofResult r;
-    Eigen::MatrixXd X = X0.rowwise() - X0.colwise().mean();
-    double s_prev = 0;
-    Eigen::MatrixXd Y = guttman(X, &s_prev);
-    r.initial_stress = s_prev;
-    if (options.record_history) r.stress_history.push_back(s_prev);
-    for (int k = 1;; ++k) {
-        X.swap(Y);
-        r.iterations = k;
-        double s = 0;
-        Y = guttman(X, &s);  // S(X_k) comes with the next step's B(X_k) X_k
-        if (!std::isfinite(s) || !Y.allFinite())
-            throw NumericalError("SMACOF: non-finite stress or coordinates after a Guttman step");
-        if (options.record_history) r.stress_history.push_back(s);
-        r.final_stress = s;
-        const bool converged = s_prev <= 0 || (s_prev - s) < options.tolerance * s_prev;
-        if (converged || k >= options.max_iterations) {
-            r.converged = converged;
-            break;
-        }
-        s_prev = s;
-        if (k % 10 == 0)
-            report_progress(options.progress, static_cast<double>(k) / options.max_iterations,
-                            "SMACOF iterations");
-    }
-    r.X = X;  // Y (one step further) is discarded so that final_stress is exactly S(r.X)
+    r.X = std::move(g.X);
+    r.iterations = g.iterations;
+    r.converged = g.converged;
+    r.initial_stress = g.initial_stress;
+    r.final_stress = g.final_stress;
+    r.stress_history = std::move(g.history);
     return r;
 }
 

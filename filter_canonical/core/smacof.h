@@ -27,6 +27,8 @@
 
 #include <Eigen/Core>
 
+#include <cmath>
+#include <string>
 #include <vector>
 
 namespace canonform {
@@ -61,6 +63,47 @@ struct SmacofResult {
     bool converged = false;             ///< stopped by the tolerance, not by the cap
     std::vector<double> stress_history; ///< S(X_0), S(X_1), ... if requested
 };
+
+/// What run_guttman() returns.
+struct GuttmanRun {
+    Eigen::MatrixXd X;                  ///< the last configuration whose stress is final_stress
+    int iterations = 0;
+    bool converged = false;             ///< stopped by the tolerance, not by the cap
+    double initial_stress = 0;
+    double final_stress = 0;
+    std::vector<double> history;        ///< S(X_0), S(X_1), ... if requested
+};
+
+/// The SMACOF iteration shared by SmacofSolver::solve and least_squares_mds (mds.h): from a
+/// centred start X, `step(X, &s)` returns the Guttman transform of X and sets s = S(X). Stops when
+/// S_{k-1} - S_k < tolerance * S_{k-1} or after max_iterations (none if <= 0). Progress goes from
+/// `progress_from` to 1. `what` names the solver in error messages.
+template <class Step>
+GuttmanRun run_guttman(const Step& step, Eigen::MatrixXd X, double tolerance, int max_iterations,
+                       bool record_history, const ProgressFn& progress, double progress_from, const char* what) {
+    GuttmanRun r;
+    double s_prev = 0;
+    Eigen::MatrixXd Y = step(X, &s_prev);
+    r.initial_stress = r.final_stress = s_prev;
+    if (record_history) r.history.push_back(s_prev);
+    for (int k = 1; k <= max_iterations; ++k) {
+        X.swap(Y);
+        r.iterations = k;
+        double s = 0;
+        Y = step(X, &s);  // S(X_k) comes with the next step's B(X_k) X_k
+        if (!std::isfinite(s) || !Y.allFinite())
+            throw NumericalError(std::string(what) + ": non-finite stress or coordinates after a Guttman step");
+        if (record_history) r.history.push_back(s);
+        r.final_stress = s;
+        r.converged = s_prev <= 0 || (s_prev - s) < tolerance * s_prev;
+        if (r.converged) break;
+        s_prev = s;
+        if (k % 10 == 0)
+            report_progress(progress, progress_from + (1 - progress_from) * k / max_iterations, "SMACOF iterations");
+    }
+    r.X = std::move(X);  // Y (one step further) is discarded so that final_stress is exactly S(r.X)
+    return r;
+}
 
 /// Weighted SMACOF for a fixed set of pairs: builds and factors V once, then iterates Guttman
 /// transforms from any start. Throws InputError if the pair graph does not connect all vertices
