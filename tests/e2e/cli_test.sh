@@ -64,6 +64,10 @@ check "distance: 3 x 3 float32 matrix and CSV" bash -c "[ \$(stat -c %s dist.bin
 check "distance: symmetric, zero diagonal, positive off-diagonal" /usr/bin/python3 -c "
 import csv; D = [[float(x) for x in r] for r in csv.reader(open('dist.bin.csv'))]
 assert all(D[i][i] == 0 for i in range(3)) and all(D[i][j] == D[j][i] > 0 for i in range(3) for j in range(3) if i != j)"
+printf 'path,class\nfig.ply,a\nfig_b.ply,a\ncanon.ply,a\n' > labels.csv
+"$cf" evaluate dist.bin --labels labels.csv --json --pr pr.csv > eval.json
+check "evaluate: measures in [0, 1] and 20 precision values" json eval.json "0 <= j['micro']['nn'] <= 1 and len(j['precision']) == 20"
+check "evaluate: precision-recall CSV of 20 points" bash -c "[ \$(wc -l < pr.csv) -eq 21 ]"
 "$cf" distance bad.bin fig_raw.cfvd fig.cfvd > err.txt 2>&1
 check "distance refuses raw descriptors with a reason" bash -c "[ $? -eq 1 ] && grep -q 'raw SIFT' err.txt && [ ! -e bad.bin ]"
 printf 'not a codebook' > badcb.bin

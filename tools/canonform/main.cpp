@@ -11,6 +11,7 @@
 //   canonform codebook   OUT MESH... [--words W] [--seed S] [--random]
 //   canonform descriptor IN OUT [--codebook CB] [--size PX] [--seed S] [--json]
 //   canonform distance   OUT DESC... [--threads T]
+//   canonform evaluate   MATRIX --labels labels.csv [--json] [--pr PR.csv]
 //   canonform generate  OUT [--vertices N] [--pose P]
 //   canonform picture   OUT.png MESH [--points PTS] [--canonical CANON] [--size PX]
 //
@@ -26,6 +27,7 @@
 #include "mesh_io.h"
 #include "picture.h"
 #include "simplify.h"
+#include "evaluate_command.h"
 #include "views_commands.h"
 
 #include <chrono>
@@ -55,6 +57,7 @@ const char* kUsage =
     "  canonform codebook   OUT MESH... [--words W] [--seed S] [--random]\n"
     "  canonform descriptor IN OUT [--codebook CB] [--size PX] [--seed S] [--json]\n"
     "  canonform distance   OUT DESC... [--threads T]           (OUT: float32 row-major, OUT.csv)\n"
+    "  canonform evaluate   MATRIX --labels labels.csv [--json] [--pr PR.csv]  (NN, tiers, E, DCG)\n"
     "  canonform generate  OUT [--vertices N] [--pose P]\n"
     "  canonform picture   OUT.png MESH [--points PTS] [--canonical CANON] [--size PX]\n"
     "IN: OFF, PLY, OBJ or STL; OUT: PLY with the conformal factor as vertex quality.\n";
@@ -398,6 +401,13 @@ int main(int argc, char** argv) {
             if (a.positional.size() < 3) throw UsageError("distance needs OUT and at least two descriptors");
             return cli::distance_command(a.positional[0], {a.positional.begin() + 1, a.positional.end()},
                                          view_options(a));
+        }
+        if (cmd == "evaluate") {
+            const Args a(argc, argv, 2, {"json"});
+            a.need(1);
+            a.allow({"labels", "json", "pr"});
+            if (!a.flag("labels")) throw UsageError("evaluate needs --labels labels.csv");
+            return cli::evaluate_command(a.positional[0], a.str("labels", ""), a.flag("json"), a.str("pr", ""));
         }
         if (cmd == "simplify") return cmd_simplify(Args(argc, argv, 2, {}));
         if (cmd == "generate") return cmd_generate(Args(argc, argv, 2, {}));
