@@ -68,6 +68,22 @@ printf 'path,class\nfig.ply,a\nfig_b.ply,a\ncanon.ply,a\n' > labels.csv
 "$cf" evaluate dist.bin --labels labels.csv --json --pr pr.csv > eval.json
 check "evaluate: measures in [0, 1] and 20 precision values" json eval.json "0 <= j['micro']['nn'] <= 1 and len(j['precision']) == 20"
 check "evaluate: precision-recall CSV of 20 points" bash -c "[ \$(wc -l < pr.csv) -eq 21 ]"
+# --- retrieve: a small labelled collection, the cache ----------------------------------------
+mkdir -p coll
+for p in 0 1 2; do "$cf" generate coll/a$p.ply --vertices 1200 --pose $p; done
+for p in 3 4 5; do "$cf" generate coll/b$p.ply --vertices 600 --pose $p; done
+printf 'path,class\na0.ply,a\na1.ply,a\na2.ply,a\nb3.ply,b\nb4.ply,b\nb5.ply,b\n' > coll/labels.csv
+"$cf" retrieve --dataset coll --out run --method none,euclidean-N --words 50 > run1.out 2> run1.err
+check "retrieve: report, metrics and matrices for both methods" bash -c "[ -s run/report.md ] && [ -s run/none/metrics.json ] && [ \$(stat -c %s run/euclidean-N/distances.bin) -eq 144 ]"
+check "retrieve: first run computes everything" grep -q "6 meshes in .* s (0 from the cache, 0 failed)" run1.err
+"$cf" retrieve --dataset coll --out run --method euclidean-N --words 50 > run2.out 2> run2.err
+check "retrieve: a re-run recomputes nothing" grep -q "(6 from the cache, 0 failed)" run2.err
+"$cf" retrieve --dataset coll --out run --method euclidean-N --words 50 --noise 0.1 > run3.out 2> run3.err
+check "retrieve: a changed parameter (--noise) recomputes" grep -q "(0 from the cache, 0 failed)" run3.err
+printf 'garbage' > coll/bad.off; printf 'bad.off,a\n' >> coll/labels.csv
+"$cf" retrieve --dataset coll --out run_bad --method none --words 50 > run4.out 2> run4.err
+check "retrieve: a failing mesh is named with its reason and left out" bash -c "grep -q 'bad: cannot read' run_bad/none/failures.txt && grep -q '| none | .* | 6 | 1 |' run_bad/report.md"
+
 "$cf" distance bad.bin fig_raw.cfvd fig.cfvd > err.txt 2>&1
 check "distance refuses raw descriptors with a reason" bash -c "[ $? -eq 1 ] && grep -q 'raw SIFT' err.txt && [ ! -e bad.bin ]"
 printf 'not a codebook' > badcb.bin

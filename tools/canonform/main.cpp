@@ -11,6 +11,8 @@
 //   canonform codebook   OUT MESH... [--words W] [--seed S] [--random]
 //   canonform descriptor IN OUT [--codebook CB] [--size PX] [--seed S] [--json]
 //   canonform distance   OUT DESC... [--threads T]
+//   canonform retrieve   --dataset DIR --labels CSV --out RUN --method M[,M...] [--words W]
+//                        [--codebook CB] [--simplify K] [--noise SIGMA] [--seed S] [--threads T]
 //   canonform evaluate   MATRIX --labels labels.csv [--json] [--pr PR.csv]
 //   canonform generate  OUT [--vertices N] [--pose P]
 //   canonform picture   OUT.png MESH [--points PTS] [--canonical CANON] [--size PX]
@@ -28,6 +30,7 @@
 #include "picture.h"
 #include "simplify.h"
 #include "evaluate_command.h"
+#include "retrieve_command.h"
 #include "views_commands.h"
 
 #include <chrono>
@@ -57,6 +60,8 @@ const char* kUsage =
     "  canonform codebook   OUT MESH... [--words W] [--seed S] [--random]\n"
     "  canonform descriptor IN OUT [--codebook CB] [--size PX] [--seed S] [--json]\n"
     "  canonform distance   OUT DESC... [--threads T]           (OUT: float32 row-major, OUT.csv)\n"
+    "  canonform retrieve   --dataset DIR --labels CSV --out RUN --method M[,M...] [--words W]\n"
+    "                       [--codebook CB] [--simplify K] [--noise SIGMA] [--seed S] [--threads T]\n"
     "  canonform evaluate   MATRIX --labels labels.csv [--json] [--pr PR.csv]  (NN, tiers, E, DCG)\n"
     "  canonform generate  OUT [--vertices N] [--pose P]\n"
     "  canonform picture   OUT.png MESH [--points PTS] [--canonical CANON] [--size PX]\n"
@@ -401,6 +406,26 @@ int main(int argc, char** argv) {
             if (a.positional.size() < 3) throw UsageError("distance needs OUT and at least two descriptors");
             return cli::distance_command(a.positional[0], {a.positional.begin() + 1, a.positional.end()},
                                          view_options(a));
+        }
+        if (cmd == "retrieve") {
+            const Args a(argc, argv, 2, {});
+            a.need(0);
+            a.allow({"dataset", "labels", "out", "method", "words", "codebook", "simplify", "noise", "seed", "threads"});
+            cli::RetrieveOptions o;
+            o.dataset = a.str("dataset", "");
+            o.labels = a.str("labels", o.dataset + "/labels.csv");
+            o.out = a.str("out", "");
+            if (o.dataset.empty() || o.out.empty()) throw UsageError("retrieve needs --dataset and --out");
+            std::stringstream ms(a.str("method", "none,euclidean-N"));
+            for (std::string m; std::getline(ms, m, ',');)
+                if (!m.empty()) o.methods.push_back(m);
+            o.words = a.integer("words", o.words);
+            o.codebook = a.str("codebook", "");
+            o.simplify = a.integer("simplify", 0);
+            o.noise = a.num("noise", 0);
+            o.seed = static_cast<unsigned long long>(a.integer("seed", 0));
+            o.threads = a.integer("threads", 0);
+            return cli::retrieve_command(o);
         }
         if (cmd == "evaluate") {
             const Args a(argc, argv, 2, {"json"});

@@ -1,0 +1,314 @@
+#include "retrieve_command.h"
+
+#include "core/descriptor_file.h"
+#include "core/euclidean_canonical_form.h"
+#include "core/geodesic_canonical_form.h"
+#include "core/mesh_topology.h"
+#include "core/retrieval_measures.h"
+#include "core/view_descriptor.h"
+#include "core/view_directions.h"
+#include "mesh_io.h"
+#include "simplify.h"
+
+#include <unistd.h>
+
+#include <atomic>
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <mutex>
+#include <random>
+#include <sstream>
+#include <sys/stat.h>
+#include <thread>
+
+namespace canonform::cli {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+std::uint64_t fnv1a(const std::string& bytes, std::uint64_t h = 1469598103934665603ULL) {
+    for (unsigned char c : bytes) {
+        h ^= c;
+        h *= 1099511628211ULL;
+    }
+    return h;
+}
+
+std::string hex(std::uint64_t v) {
+    char buf[20];
+    std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(v));
+    return buf;
+}
+
+std::string slurp(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw InputError("cannot read '" + path + "'");
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+}
+
+void make_dir(const std::string& d) {
+    std::string partial;
+    std::istringstream parts(d);
+    std::string piece;
+    if (!d.empty() && d[0] == '/') partial = "/";
+    while (std::getline(parts, piece, '/')) {
+        if (piece.empty()) continue;
+        partial += piece + "/";
+        mkdir(partial.c_str(), 0755);
+    }
+    struct stat st {};
+    if (stat(d.c_str(), &st) != 0 || !S_ISDIR(st.st_mode)) throw std::runtime_error("cannot create the folder '" + d + "'");
+}
+
+struct Model {
+    std::string path, label, name;
+    std::uint64_t hash = 0;
+};
+
+struct MeshResult {
+    bool ok = false;
+    bool cached = false;
+    std::string error;
+    std::vector<views::SiftDescriptors> features;
+    std::vector<int> counts;
+};
+
+/// Seeded vertex noise: every coordinate moves by N(0, (sigma * mean edge length)^2).
+void add_noise(io::MeshData& m, double sigma, std::uint64_t seed) {
+    const Eigen::MatrixXi E = unique_edges(m.F);
+    double mean = 0;
+    for (Eigen::Index e = 0; e < E.rows(); ++e) mean += (m.V.row(E(e, 0)) - m.V.row(E(e, 1))).norm();
+    mean /= std::max<Eigen::Index>(1, E.rows());
+    std::mt19937_64 rng(seed);
+    std::normal_distribution<double> g(0.0, sigma * mean);
+    for (Eigen::Index i = 0; i < m.V.rows(); ++i)
+        for (int c = 0; c < 3; ++c) m.V(i, c) += g(rng);
+}
+
+Eigen::MatrixXd canonical(const std::string& method, const io::MeshData& m) {
+    if (method == "none") return m.V;
+    if (method == "euclidean-A" || method == "euclidean-N") {
+        EuclideanCanonicalFormOptions o;
+        o.variant = method == "euclidean-A" ? CanonicalVariant::A : CanonicalVariant::N;
+        return euclidean_canonical_form(m.V, m.F, o).V;
+    }
+    GeodesicCanonicalFormOptions o;
+    o.threads = 1;  // the meshes run in parallel
+    o.method = method == "geodesic-ls" ? GeodesicMds::LeastSquares
+               : method == "geodesic-classical" ? GeodesicMds::Classical
+                                                 : GeodesicMds::Fast;
+    return geodesic_canonical_form(m.V, m.F, o).V;
+}
+
+MeshResult process(const Model& model, const std::string& method, const RetrieveOptions& o, const std::string& dir,
+                   const std::string& cache) {
+    MeshResult r;
+    std::ostringstream params;
+    params << method << "|simplify=" << o.simplify << "|noise=" << o.noise << "|seed=" << o.seed << "|views=v1";
+    const std::string key = cache + "/" + hex(fnv1a(params.str(), model.hash)) + ".cfvd";
+    try {
+        if (access(key.c_str(), R_OK) == 0) {
+            views::ModelDescriptor d = views::read_descriptor(key);
+            r.features = std::move(d.raw);
+            r.counts = d.keypoints_per_view;
+            r.ok = r.cached = true;
+            return r;
+        }
+        io::MeshData m = io::read_mesh(model.path);
+        if (o.simplify > 0 && m.V.rows() > o.simplify) m = io::simplify_mesh(m, o.simplify);
+        if (o.noise > 0) add_noise(m, o.noise, o.seed ^ model.hash);
+        const Eigen::MatrixXd X = canonical(method, m);
+        io::write_ply(dir + "/forms/" + model.name + ".ply", X, m.F);
+        const views::ViewSet vs = views::compute_views(X, m.F);
+        views::ModelDescriptor d;
+        d.source = model.path;
+        d.views = static_cast<int>(vs.features.size());
+        d.keypoints_per_view = vs.keypoint_counts();
+        d.raw = vs.features;
+        views::write_descriptor(key, d);
+        r.features = vs.features;
+        r.counts = d.keypoints_per_view;
+        r.ok = true;
+    } catch (const std::exception& e) {
+        r.error = e.what();
+    }
+    return r;
+}
+
+std::string measures_json(const retrieval::Measures& m) {
+    char buf[220];
+    std::snprintf(buf, sizeof buf,
+                  "{\"nn\": %.6f, \"first_tier\": %.6f, \"second_tier\": %.6f, \"e_measure\": %.6f, \"dcg\": %.6f, "
+                  "\"queries\": %d}",
+                  m.nn, m.first_tier, m.second_tier, m.e_measure, m.dcg, m.queries);
+    return buf;
+}
+
+}  // namespace
+
+int retrieve_command(const RetrieveOptions& o) {
+    if (o.methods.empty()) throw InputError("name at least one --method");
+    for (const auto& m : o.methods)
+        if (m != "none" && m != "euclidean-A" && m != "euclidean-N" && m != "geodesic-ls" &&
+            m != "geodesic-classical" && m != "geodesic-fast")
+            throw InputError("unknown method '" + m + "'");
+    // The collection: labels.csv rows in order, paths relative to the dataset folder.
+    std::vector<Model> models;
+    {
+        std::istringstream in(slurp(o.labels));
+        std::string line;
+        while (std::getline(in, line)) {
+            if (!line.empty() && line.back() == '\r') line.pop_back();
+            const auto comma = line.rfind(',');
+            if (line.empty() || comma == std::string::npos) continue;
+            Model m;
+            m.path = o.dataset + "/" + line.substr(0, comma);
+            m.label = line.substr(comma + 1);
+            if (m.label == "class" && models.empty() && line.substr(0, comma) == "path") continue;  // header
+            const auto slash = m.path.find_last_of('/');
+            const auto dot = m.path.find_last_of('.');
+            m.name = m.path.substr(slash + 1, dot == std::string::npos || dot < slash ? std::string::npos : dot - slash - 1);
+            m.hash = fnv1a(slurp(m.path));
+            models.push_back(m);
+        }
+    }
+    if (models.size() < 3) throw InputError("the collection needs at least three meshes");
+    make_dir(o.out + "/cache");
+    const int threads = o.threads > 0 ? o.threads : std::max(1u, std::thread::hardware_concurrency());
+    const bool tty = isatty(2);
+    std::ostringstream report;
+    report << "# Retrieval run\n\n" << models.size() << " meshes from `" << o.dataset << "`, labels `" << o.labels
+           << "`" << (o.simplify ? ", simplified to " + std::to_string(o.simplify) + " vertices" : std::string())
+           << (o.noise > 0 ? ", noise " + std::to_string(o.noise) + " of the mean edge length" : std::string())
+           << ".\n\n| method | NN | 1-Tier | 2-Tier | E-measure | DCG | meshes | failed | forms+views s | codebook s | "
+              "distances s |\n|---|---|---|---|---|---|---|---|---|---|---|\n";
+
+    for (const std::string& method : o.methods) {
+        const std::string dir = o.out + "/" + method;
+        make_dir(dir + "/forms");
+        make_dir(dir + "/descriptors");
+        // 1. Per mesh, in parallel: canonical form and the SIFT features of its views (cached).
+        auto t0 = Clock::now();
+        std::vector<MeshResult> results(models.size());
+        std::atomic<size_t> next{0}, done{0};
+        std::vector<std::thread> pool;
+        for (int t = 0; t < threads; ++t)
+            pool.emplace_back([&] {
+                for (size_t k; (k = next++) < models.size(); ++done)
+                    results[k] = process(models[k], method, o, dir, o.out + "/cache");
+            });
+        while (done < models.size()) {
+            std::this_thread::sleep_for(std::chrono::milliseconds(tty ? 300 : 2000));
+            const double el = since(t0), rate = done / std::max(el, 1e-9);
+            if (tty)
+                std::fprintf(stderr, "\r[%s] %zu/%zu meshes, %.2f/s, %.0f s left   ", method.c_str(), done.load(),
+                             models.size(), rate, rate > 0 ? (models.size() - done) / rate : 0.0);
+        }
+        for (auto& th : pool) th.join();
+        const double forms_s = since(t0);
+        std::vector<size_t> good;
+        std::ostringstream failures;
+        int cached = 0;
+        for (size_t k = 0; k < models.size(); ++k) {
+            if (results[k].ok) {
+                good.push_back(k);
+                cached += results[k].cached;
+            } else {
+                failures << models[k].name << ": " << results[k].error << "\n";
+            }
+        }
+        io::write_file_atomic(dir + "/failures.txt", failures.str());
+        std::fprintf(stderr, "\r[%s] %zu meshes in %.1f s (%d from the cache, %zu failed)          \n", method.c_str(),
+                     models.size(), forms_s, cached, models.size() - good.size());
+        if (good.size() < 3) throw InputError(method + ": fewer than three meshes succeeded; see " + dir + "/failures.txt");
+
+        // 2. Codebook (given, or trained on this method's features; cached by its inputs).
+        t0 = Clock::now();
+        views::Codebook cb;
+        if (!o.codebook.empty()) {
+            cb = views::Codebook::load(o.codebook);
+        } else {
+            std::uint64_t h = fnv1a(method + "|words=" + std::to_string(o.words) + "|seed=" + std::to_string(o.seed));
+            Eigen::Index rows = 0;
+            for (size_t k : good) {
+                h = fnv1a(hex(models[k].hash), h);
+                for (const auto& f : results[k].features) rows += f.rows();
+            }
+            const std::string cb_path = o.out + "/cache/codebook_" + hex(h) + ".bin";
+            if (access(cb_path.c_str(), R_OK) == 0) {
+                cb = views::Codebook::load(cb_path);
+            } else {
+                views::SiftDescriptors all(rows, 128);
+                Eigen::Index r = 0;
+                for (size_t k : good)
+                    for (const auto& f : results[k].features) {
+                        all.middleRows(r, f.rows()) = f;
+                        r += f.rows();
+                    }
+                views::CodebookOptions co;
+                co.words = o.words;
+                co.seed = o.seed;
+                cb = views::Codebook::train(all, co);
+                cb.save(cb_path);
+            }
+        }
+        const double codebook_s = since(t0);
+
+        // 3. Descriptors, distances, measures.
+        t0 = Clock::now();
+        std::vector<std::vector<views::Histogram>> hist;
+        std::vector<std::string> labels;
+        std::ostringstream order;
+        for (size_t k : good) {
+            views::ModelDescriptor d;
+            d.source = models[k].path;
+            d.keypoints_per_view = results[k].counts;
+            d.codebook_words = cb.size();
+            for (const auto& f : results[k].features) d.histograms.push_back(views::histogram(cb.assign(f)));
+            views::write_descriptor(dir + "/descriptors/" + models[k].name + ".cfvd", d);
+            hist.push_back(std::move(d.histograms));
+            labels.push_back(models[k].label);
+            order << models[k].name << "," << models[k].label << "\n";
+        }
+        const Eigen::MatrixXf D = views::distance_matrix(hist, views::rotation_view_maps(), threads);
+        Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> R = D;
+        io::write_file_atomic(dir + "/distances.bin", std::string(reinterpret_cast<const char*>(R.data()), sizeof(float) * R.size()));
+        std::ostringstream csv;
+        for (Eigen::Index i = 0; i < D.rows(); ++i)
+            for (Eigen::Index j = 0; j < D.cols(); ++j) csv << D(i, j) << (j + 1 < D.cols() ? "," : "\n");
+        io::write_file_atomic(dir + "/distances.csv", csv.str());
+        io::write_file_atomic(dir + "/models.csv", "name,class\n" + order.str());
+        const retrieval::Evaluation e = retrieval::evaluate(D.cast<double>(), labels);
+        const double distances_s = since(t0);
+        std::ostringstream js, pr;
+        js << "{\"method\": \"" << method << "\", \"meshes\": " << good.size() << ", \"failed\": "
+           << models.size() - good.size() << ", \"micro\": " << measures_json(e.micro)
+           << ", \"macro\": " << measures_json(e.macro) << ", \"seconds\": {\"forms_and_views\": " << forms_s
+           << ", \"codebook\": " << codebook_s << ", \"distances_and_measures\": " << distances_s << "}}\n";
+        io::write_file_atomic(dir + "/metrics.json", js.str());
+        pr << "recall,precision\n";
+        for (size_t k = 0; k < e.recall.size(); ++k) pr << e.recall[k] << "," << e.precision[k] << "\n";
+        io::write_file_atomic(dir + "/pr.csv", pr.str());
+        char row[400];
+        std::snprintf(row, sizeof row, "| %s | %.3f | %.3f | %.3f | %.3f | %.3f | %zu | %zu | %.1f | %.1f | %.1f |\n",
+                      method.c_str(), e.micro.nn, e.micro.first_tier, e.micro.second_tier, e.micro.e_measure,
+                      e.micro.dcg, good.size(), models.size() - good.size(), forms_s, codebook_s, distances_s);
+        report << row;
+        std::fprintf(stderr, "[%s] NN %.3f, 1-tier %.3f, 2-tier %.3f, E %.3f, DCG %.3f\n", method.c_str(), e.micro.nn,
+                     e.micro.first_tier, e.micro.second_tier, e.micro.e_measure, e.micro.dcg);
+    }
+    report << "\nMicro averages (psbTable's definitions, normalised by C-1). Per method: `METHOD/metrics.json`, "
+              "`METHOD/pr.csv`, `METHOD/distances.bin` (float32 row-major, rows as `METHOD/models.csv`), "
+              "`METHOD/failures.txt`.\n";
+    io::write_file_atomic(o.out + "/report.md", report.str());
+    std::cout << report.str();
+    return 0;
+}
+
+}  // namespace canonform::cli
