@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <map>
 #include <numeric>
 
@@ -72,6 +73,15 @@ std::vector<double> pr_curve(const std::vector<char>& rel, int relevant) {
 }
 
 }  // namespace
+
+std::string to_json(const Measures& m) {
+    char buf[220];
+    std::snprintf(buf, sizeof buf,
+                  "{\"nn\": %.6f, \"first_tier\": %.6f, \"second_tier\": %.6f, \"e_measure\": %.6f, \"dcg\": %.6f, "
+                  "\"queries\": %d}",
+                  m.nn, m.first_tier, m.second_tier, m.e_measure, m.dcg, m.queries);
+    return buf;
+}
 
 Measures query_measures(const Eigen::VectorXd& d, const std::vector<std::string>& labels, int q) {
     const std::vector<char> rel = ranked_relevance(d, labels, q);

@@ -45,6 +45,9 @@ struct Evaluation {
     std::vector<std::string> skipped_classes;  ///< classes of one or two models (not averaged)
 };
 
+/// The measures as a JSON object ({"nn": ..., "first_tier": ..., ..., "queries": ...}).
+std::string to_json(const Measures& m);
+
 /// Measures of one query, given its row of distances and the class labels (the query itself,
 /// `query`, is excluded from the ranking).
 Measures query_measures(const Eigen::VectorXd& distances, const std::vector<std::string>& labels, int query);

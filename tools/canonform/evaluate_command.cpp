@@ -82,14 +82,6 @@ void print_row(std::ostream& o, const std::string& name, const retrieval::Measur
     o << buf;
 }
 
-std::string json_of(const retrieval::Measures& m) {
-    char buf[200];
-    std::snprintf(buf, sizeof buf,
-                  "{\"nn\": %.6f, \"first_tier\": %.6f, \"second_tier\": %.6f, \"e_measure\": %.6f, \"dcg\": %.6f, "
-                  "\"queries\": %d}",
-                  m.nn, m.first_tier, m.second_tier, m.e_measure, m.dcg, m.queries);
-    return buf;
-}
 
 }  // namespace
 
@@ -104,9 +96,9 @@ int evaluate_command(const std::string& matrix, const std::string& labels_path, 
         io::write_file_atomic(pr_path, pr.str());
     }
     if (json) {
-        std::cout << "{\"micro\": " << json_of(e.micro) << ", \"macro\": " << json_of(e.macro) << ", \"classes\": {";
+        std::cout << "{\"micro\": " << retrieval::to_json(e.micro) << ", \"macro\": " << retrieval::to_json(e.macro) << ", \"classes\": {";
         for (size_t k = 0; k < e.classes.size(); ++k)
-            std::cout << (k ? ", " : "") << "\"" << e.classes[k] << "\": " << json_of(e.per_class[k]);
+            std::cout << (k ? ", " : "") << "\"" << e.classes[k] << "\": " << retrieval::to_json(e.per_class[k]);
         std::cout << "}, \"precision\": [";
         for (size_t k = 0; k < e.precision.size(); ++k) std::cout << (k ? ", " : "") << e.precision[k];
         std::cout << "]}\n";

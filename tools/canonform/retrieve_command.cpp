@@ -9,6 +9,7 @@
 #include "core/view_directions.h"
 #include "mesh_io.h"
 #include "simplify.h"
+#include "views_commands.h"
 
 #include <unistd.h>
 
@@ -141,14 +142,6 @@ MeshResult process(const Model& model, const std::string& method, const Retrieve
     return r;
 }
 
-std::string measures_json(const retrieval::Measures& m) {
-    char buf[220];
-    std::snprintf(buf, sizeof buf,
-                  "{\"nn\": %.6f, \"first_tier\": %.6f, \"second_tier\": %.6f, \"e_measure\": %.6f, \"dcg\": %.6f, "
-                  "\"queries\": %d}",
-                  m.nn, m.first_tier, m.second_tier, m.e_measure, m.dcg, m.queries);
-    return buf;
-}
 
 }  // namespace
 
@@ -277,19 +270,14 @@ int retrieve_command(const RetrieveOptions& o) {
             order << models[k].name << "," << models[k].label << "\n";
         }
         const Eigen::MatrixXf D = views::distance_matrix(hist, views::rotation_view_maps(), threads);
-        Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> R = D;
-        io::write_file_atomic(dir + "/distances.bin", std::string(reinterpret_cast<const char*>(R.data()), sizeof(float) * R.size()));
-        std::ostringstream csv;
-        for (Eigen::Index i = 0; i < D.rows(); ++i)
-            for (Eigen::Index j = 0; j < D.cols(); ++j) csv << D(i, j) << (j + 1 < D.cols() ? "," : "\n");
-        io::write_file_atomic(dir + "/distances.csv", csv.str());
+        write_distance_matrix(D, dir + "/distances.bin", dir + "/distances.csv");
         io::write_file_atomic(dir + "/models.csv", "name,class\n" + order.str());
         const retrieval::Evaluation e = retrieval::evaluate(D.cast<double>(), labels);
         const double distances_s = since(t0);
         std::ostringstream js, pr;
         js << "{\"method\": \"" << method << "\", \"meshes\": " << good.size() << ", \"failed\": "
-           << models.size() - good.size() << ", \"micro\": " << measures_json(e.micro)
-           << ", \"macro\": " << measures_json(e.macro) << ", \"seconds\": {\"forms_and_views\": " << forms_s
+           << models.size() - good.size() << ", \"micro\": " << retrieval::to_json(e.micro)
+           << ", \"macro\": " << retrieval::to_json(e.macro) << ", \"seconds\": {\"forms_and_views\": " << forms_s
            << ", \"codebook\": " << codebook_s << ", \"distances_and_measures\": " << distances_s << "}}\n";
         io::write_file_atomic(dir + "/metrics.json", js.str());
         pr << "recall,precision\n";

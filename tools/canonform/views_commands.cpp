@@ -54,6 +54,16 @@ void save_png(const QImage& img, const std::string& path) {
 
 }  // namespace
 
+void write_distance_matrix(const Eigen::MatrixXf& D, const std::string& bin_path, const std::string& csv_path) {
+    const Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> R = D;
+    io::write_file_atomic(bin_path, std::string(reinterpret_cast<const char*>(R.data()), sizeof(float) * R.size()));
+    std::ostringstream csv;
+    csv.precision(7);
+    for (Eigen::Index i = 0; i < D.rows(); ++i)
+        for (Eigen::Index j = 0; j < D.cols(); ++j) csv << D(i, j) << (j + 1 < D.cols() ? "," : "\n");
+    io::write_file_atomic(csv_path, csv.str());
+}
+
 int views_command(const std::string& in, const std::string& dir, const ViewCommandOptions& o, int argc, char** argv) {
     const views::ViewSet vs = views_of(in, o);
     mkdir(dir.c_str(), 0755);
@@ -157,14 +167,7 @@ int distance_command(const std::string& out, const std::vector<std::string>& des
     const auto t0 = std::chrono::steady_clock::now();
     const Eigen::MatrixXf D = views::distance_matrix(models, views::rotation_view_maps(), o.threads);
     const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    // Binary: float32, row-major, no header (as the Princeton Shape Benchmark's tools read it).
-    Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> R = D;
-    io::write_file_atomic(out, std::string(reinterpret_cast<const char*>(R.data()), sizeof(float) * R.size()));
-    std::ostringstream csv;
-    csv.precision(7);
-    for (Eigen::Index i = 0; i < D.rows(); ++i)
-        for (Eigen::Index j = 0; j < D.cols(); ++j) csv << D(i, j) << (j + 1 < D.cols() ? "," : "\n");
-    io::write_file_atomic(out + ".csv", csv.str());
+    write_distance_matrix(D, out, out + ".csv");
     std::cerr << D.rows() << " x " << D.cols() << " clock-matching distances in " << secs << " s -> " << out
               << " (float32 row-major) and " << out << ".csv\n";
     return 0;

@@ -1,6 +1,8 @@
 // canonform tool: the view-descriptor commands (views, codebook, descriptor, distance).
 #pragma once
 
+#include <Eigen/Core>
+
 #include <map>
 #include <string>
 #include <vector>
@@ -17,6 +19,10 @@ struct ViewCommandOptions {
     int threads = 0;
     bool json = false;
 };
+
+/// Writes D as float32 row-major without header (`bin_path`, as the Princeton Shape Benchmark's
+/// tools read it) and as CSV (`csv_path`), both atomically.
+void write_distance_matrix(const Eigen::MatrixXf& D, const std::string& bin_path, const std::string& csv_path);
 
 /// canonform views IN DIR: the 66 depth images as PNG and a contact sheet of them.
 int views_command(const std::string& in, const std::string& dir, const ViewCommandOptions& o, int argc, char** argv);
