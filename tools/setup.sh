@@ -17,7 +17,7 @@ PACKAGES=(
   cmake g++ make dpkg-dev pkg-config
   libsuitesparse-dev libopencv-dev libgtest-dev googletest
   xvfb xauth x11-utils xdotool imagemagick
-  python3-matplotlib python3-numpy
+  python3-matplotlib python3-numpy bc
 )
 
 log() { printf '[setup] %s\n' "$*"; }
