@@ -14,6 +14,7 @@
 #include <unistd.h>
 
 #include <atomic>
+#include <cstdlib>
 #include <chrono>
 #include <cstdio>
 #include <fstream>
@@ -291,6 +292,13 @@ int retrieve_command(const RetrieveOptions& o) {
         std::fprintf(stderr, "[%s] NN %.3f, 1-tier %.3f, 2-tier %.3f, E %.3f, DCG %.3f\n", method.c_str(), e.micro.nn,
                      e.micro.first_tier, e.micro.second_tier, e.micro.e_measure, e.micro.dcg);
     }
+    // Precision-recall curves of all methods on one plot (Debian's python3-matplotlib).
+    const std::string plot = std::string(CANONFORM_TOOLS_DIR) + "/plot_pr.py";
+    const std::string cmd = "/usr/bin/python3 '" + plot + "' '" + o.out + "' > /dev/null 2>&1";
+    if (access(plot.c_str(), R_OK) == 0 && std::system(cmd.c_str()) == 0)
+        report << "\n![precision-recall](pr.png)\n";
+    else
+        report << "\n(No precision-recall plot: run /usr/bin/python3 tools/plot_pr.py " << o.out << ".)\n";
     report << "\nMicro averages (psbTable's definitions, normalised by C-1). Per method: `METHOD/metrics.json`, "
               "`METHOD/pr.csv`, `METHOD/distances.bin` (float32 row-major, rows as `METHOD/models.csv`), "
               "`METHOD/failures.txt`.\n";
