@@ -73,9 +73,15 @@ mkdir -p coll
 for p in 0 1 2; do "$cf" generate coll/a$p.ply --vertices 1200 --pose $p; done
 for p in 3 4 5; do "$cf" generate coll/b$p.ply --vertices 600 --pose $p; done
 printf 'path,class\na0.ply,a\na1.ply,a\na2.ply,a\nb3.ply,b\nb4.ply,b\nb5.ply,b\n' > coll/labels.csv
+mkdir -p coll/corres  # the poses of one figure share their vertices: identity correspondences
+for p in 0 1 2; do seq 1 1200 > coll/corres/a$p.vts; done
+for p in 3 4 5; do seq 1 600 > coll/corres/b$p.vts; done
 "$cf" retrieve --dataset coll --out run --method none,euclidean-N --words 50 > run1.out 2> run1.err
 check "retrieve: report, metrics and matrices for both methods" bash -c "[ -s run/report.md ] && [ -s run/none/metrics.json ] && [ \$(stat -c %s run/euclidean-N/distances.bin) -eq 144 ]"
 check "retrieve: precision-recall plot of both methods in the report" bash -c "[ -s run/pr.png ] && grep -q 'pr.png' run/report.md"
+check "retrieve: pose consistency measured, lower for the canonical forms" /usr/bin/python3 -c "
+import json; a = json.load(open('run/none/metrics.json')); b = json.load(open('run/euclidean-N/metrics.json'))
+assert a['pose_consistency_pairs'] == 6 and 0 < b['pose_consistency'] < a['pose_consistency'], (a, b)"
 check "retrieve: first run computes everything" grep -q "6 meshes in .* s (0 from the cache, 0 failed)" run1.err
 "$cf" retrieve --dataset coll --out run --method euclidean-N --words 50 > run2.out 2> run2.err
 check "retrieve: a re-run recomputes nothing" grep -q "(6 from the cache, 0 failed)" run2.err

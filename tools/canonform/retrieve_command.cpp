@@ -4,6 +4,7 @@
 #include "core/euclidean_canonical_form.h"
 #include "core/geodesic_canonical_form.h"
 #include "core/mesh_topology.h"
+#include "core/rigid_alignment.h"
 #include "core/retrieval_measures.h"
 #include "core/view_descriptor.h"
 #include "core/view_directions.h"
@@ -144,6 +145,53 @@ MeshResult process(const Model& model, const std::string& method, const Retrieve
 }
 
 
+/// Ground-truth correspondences of a model: DATASET/corres/NAME.vts, line k = the 1-based vertex
+/// at template point k (empty if the file does not exist).
+std::vector<int> read_vts(const std::string& dataset, const std::string& name) {
+    std::ifstream in(dataset + "/corres/" + name + ".vts");
+    std::vector<int> v;
+    for (int x; in >> x;) v.push_back(x - 1);
+    return v;
+}
+
+/// Pose consistency: over all same-class pairs with correspondences, the RMS distance between
+/// corresponding vertices of the two forms after the best rigid motion (or mirror image: MDS
+/// fixes a form only up to one), relative to the RMS radius of the second; the mean over pairs.
+/// Returns -1 if no pair has correspondences.
+double pose_consistency(const std::vector<Model>& models, const std::vector<size_t>& good, const std::string& dataset,
+                        const std::string& forms_dir, int* pairs) {
+    std::vector<std::vector<int>> vts(models.size());
+    std::vector<Eigen::MatrixXd> V(models.size());
+    for (size_t k : good) {
+        vts[k] = read_vts(dataset, models[k].name);
+        if (!vts[k].empty()) V[k] = io::read_mesh(forms_dir + "/" + models[k].name + ".ply").V;
+    }
+    double sum = 0;
+    *pairs = 0;
+    for (size_t a = 0; a < good.size(); ++a) {
+        for (size_t b = a + 1; b < good.size(); ++b) {
+            const size_t i = good[a], j = good[b];
+            if (models[i].label != models[j].label || vts[i].empty() || vts[i].size() != vts[j].size()) continue;
+            Eigen::MatrixXd P(static_cast<Eigen::Index>(vts[i].size()), 3), Q(P.rows(), 3);
+            bool valid = true;
+            for (size_t k = 0; k < vts[i].size() && valid; ++k) {
+                valid = vts[i][k] >= 0 && vts[i][k] < V[i].rows() && vts[j][k] >= 0 && vts[j][k] < V[j].rows();
+                if (valid) {
+                    P.row(static_cast<Eigen::Index>(k)) = V[i].row(vts[i][k]);
+                    Q.row(static_cast<Eigen::Index>(k)) = V[j].row(vts[j][k]);
+                }
+            }
+            if (!valid) continue;
+            const double radius = std::sqrt((Q.rowwise() - Q.colwise().mean()).squaredNorm() / static_cast<double>(Q.rows()));
+            Eigen::MatrixXd M = P;
+            M.col(0) *= -1;
+            sum += std::min(align_rigid(P, Q).rms, align_rigid(M, Q).rms) / radius;
+            ++*pairs;
+        }
+    }
+    return *pairs ? sum / *pairs : -1.0;
+}
+
 }  // namespace
 
 int retrieve_command(const RetrieveOptions& o) {
@@ -180,8 +228,8 @@ int retrieve_command(const RetrieveOptions& o) {
     report << "# Retrieval run\n\n" << models.size() << " meshes from `" << o.dataset << "`, labels `" << o.labels
            << "`" << (o.simplify ? ", simplified to " + std::to_string(o.simplify) + " vertices" : std::string())
            << (o.noise > 0 ? ", noise " + std::to_string(o.noise) + " of the mean edge length" : std::string())
-           << ".\n\n| method | NN | 1-Tier | 2-Tier | E-measure | DCG | meshes | failed | forms+views s | codebook s | "
-              "distances s |\n|---|---|---|---|---|---|---|---|---|---|---|\n";
+           << ".\n\n| method | NN | 1-Tier | 2-Tier | E-measure | DCG | pose consistency | meshes | failed | "
+              "forms+views s | codebook s | distances s |\n|---|---|---|---|---|---|---|---|---|---|---|---|\n";
 
     for (const std::string& method : o.methods) {
         const std::string dir = o.out + "/" + method;
@@ -275,19 +323,30 @@ int retrieve_command(const RetrieveOptions& o) {
         io::write_file_atomic(dir + "/models.csv", "name,class\n" + order.str());
         const retrieval::Evaluation e = retrieval::evaluate(D.cast<double>(), labels);
         const double distances_s = since(t0);
+        // Pose consistency against ground-truth correspondences (where the collection has them),
+        // on the forms this run wrote (forms/; a form missing there is reported, not measured).
+        int pairs = 0;
+        double consistency = -1;
+        try {
+            consistency = pose_consistency(models, good, o.dataset, dir + "/forms", &pairs);
+        } catch (const std::exception& ex) {
+            std::fprintf(stderr, "[%s] pose consistency not measured: %s\n", method.c_str(), ex.what());
+        }
         std::ostringstream js, pr;
         js << "{\"method\": \"" << method << "\", \"meshes\": " << good.size() << ", \"failed\": "
            << models.size() - good.size() << ", \"micro\": " << retrieval::to_json(e.micro)
-           << ", \"macro\": " << retrieval::to_json(e.macro) << ", \"seconds\": {\"forms_and_views\": " << forms_s
+           << ", \"macro\": " << retrieval::to_json(e.macro) << ", \"pose_consistency\": " << consistency
+           << ", \"pose_consistency_pairs\": " << pairs << ", \"seconds\": {\"forms_and_views\": " << forms_s
            << ", \"codebook\": " << codebook_s << ", \"distances_and_measures\": " << distances_s << "}}\n";
         io::write_file_atomic(dir + "/metrics.json", js.str());
         pr << "recall,precision\n";
         for (size_t k = 0; k < e.recall.size(); ++k) pr << e.recall[k] << "," << e.precision[k] << "\n";
         io::write_file_atomic(dir + "/pr.csv", pr.str());
-        char row[400];
-        std::snprintf(row, sizeof row, "| %s | %.3f | %.3f | %.3f | %.3f | %.3f | %zu | %zu | %.1f | %.1f | %.1f |\n",
+        char row[400], cons[32] = "-";
+        if (consistency >= 0) std::snprintf(cons, sizeof cons, "%.3f", consistency);
+        std::snprintf(row, sizeof row, "| %s | %.3f | %.3f | %.3f | %.3f | %.3f | %s | %zu | %zu | %.1f | %.1f | %.1f |\n",
                       method.c_str(), e.micro.nn, e.micro.first_tier, e.micro.second_tier, e.micro.e_measure,
-                      e.micro.dcg, good.size(), models.size() - good.size(), forms_s, codebook_s, distances_s);
+                      e.micro.dcg, cons, good.size(), models.size() - good.size(), forms_s, codebook_s, distances_s);
         report << row;
         std::fprintf(stderr, "[%s] NN %.3f, 1-tier %.3f, 2-tier %.3f, E %.3f, DCG %.3f\n", method.c_str(), e.micro.nn,
                      e.micro.first_tier, e.micro.second_tier, e.micro.e_measure, e.micro.dcg);
@@ -299,6 +358,9 @@ int retrieve_command(const RetrieveOptions& o) {
         report << "\n![precision-recall](pr.png)\n";
     else
         report << "\n(No precision-recall plot: run /usr/bin/python3 tools/plot_pr.py " << o.out << ".)\n";
+    report << "\nPose consistency: mean over same-class pairs with ground-truth correspondences (corres/*.vts) of "
+              "the RMS distance between corresponding vertices after the best rigid motion (or mirror image), "
+              "relative to the RMS radius; lower = more pose removed.\n";
     report << "\nMicro averages (psbTable's definitions, normalised by C-1). Per method: `METHOD/metrics.json`, "
               "`METHOD/pr.csv`, `METHOD/distances.bin` (float32 row-major, rows as `METHOD/models.csv`), "
               "`METHOD/failures.txt`.\n";
