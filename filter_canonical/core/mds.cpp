@@ -504,12 +504,7 @@ MdsResult least_squares_mds(const MatrixXd& D, const MdsOptions& options, const 
     GuttmanRun g = run_guttman(step, X, options.tolerance, options.max_iterations, options.record_history,
                                options.progress, 0.1, "least-squares MDS");
     MdsResult r;
-    r.X = std::move(g.X);
-    r.iterations = g.iterations;
-    r.converged = g.converged;
-    r.initial_stress = g.initial_stress;
-    r.final_stress = g.final_stress;
-    r.stress_history = std::move(g.history);
+    move_run_into(std::move(g), r);
     return r;
 }
 

@@ -104,12 +104,7 @@ SmacofResult SmacofSolver::solve(const Eigen::MatrixXd& X0, const SmacofOptions&
                                X0.rowwise() - X0.colwise().mean(), options.tolerance, options.max_iterations,
                                options.record_history, options.progress, 0.0, "SMACOF");
     SmacofResult r;
-    r.X = std::move(g.X);
-    r.iterations = g.iterations;
-    r.converged = g.converged;
-    r.initial_stress = g.initial_stress;
-    r.final_stress = g.final_stress;
-    r.stress_history = std::move(g.history);
+    move_run_into(std::move(g), r);
     return r;
 }
 

@@ -105,6 +105,17 @@ GuttmanRun run_guttman(const Step& step, Eigen::MatrixXd X, double tolerance, in
     return r;
 }
 
+/// Moves a GuttmanRun into a solver's result type (SmacofResult, MdsResult: same field names).
+template <class Result>
+void move_run_into(GuttmanRun&& g, Result& r) {
+    r.X = std::move(g.X);
+    r.iterations = g.iterations;
+    r.converged = g.converged;
+    r.initial_stress = g.initial_stress;
+    r.final_stress = g.final_stress;
+    r.stress_history = std::move(g.history);
+}
+
 /// Weighted SMACOF for a fixed set of pairs: builds and factors V once, then iterates Guttman
 /// transforms from any start. Throws InputError if the pair graph does not connect all vertices
 /// or a weight/target is negative or non-finite, NumericalError if the factorisation fails.
