@@ -1,6 +1,6 @@
 // Benchmark of one canonical-form method on one mesh file:
 //   canonform_bench_canonical MESH [--method euclidean|geodesic-ls|geodesic-classical|geodesic-fast]
-//                             [--variant A|N] [--repeats R] [--threads T]
+//                             [--variant A|N] [--solver auto|direct|multigrid] [--repeats R] [--threads T]
 // Prints one JSON line: vertices, median/min/max seconds of R runs, iterations, and memory
 // (VmRSS after loading the mesh, peak VmHWM after the runs, both in MiB, from /proc/self/status).
 // The Euclidean method is single-threaded; the geodesic ones use --threads (default 1).
@@ -33,7 +33,7 @@ double status_mib(const char* key) {
 
 int main(int argc, char** argv) {
     if (argc < 2) {
-        std::fprintf(stderr, "usage: canonform_bench_canonical MESH [--variant A|N] [--repeats R]\n");
+        std::fprintf(stderr, "usage: canonform_bench_canonical MESH [--variant A|N] [--solver auto|direct|multigrid] [--repeats R]\n");
         return 2;
     }
     canonform::EuclideanCanonicalFormOptions opt;
@@ -42,6 +42,7 @@ int main(int argc, char** argv) {
     gopt.max_memory_gib = 20;
     gopt.max_seconds = 1e6;
     std::string method = "euclidean";
+    std::string requested_solver = "auto";
     int repeats = 5;
     for (int k = 2; k + 1 < argc; k += 2) {
         if (!std::strcmp(argv[k], "--variant"))
@@ -52,6 +53,13 @@ int main(int argc, char** argv) {
             gopt.threads = std::atoi(argv[k + 1]);
         else if (!std::strcmp(argv[k], "--method"))
             method = argv[k + 1];
+        else if (!std::strcmp(argv[k], "--solver")) {
+            const std::string v = argv[k + 1];
+            requested_solver = v;
+            opt.linear_solver = v == "direct"      ? canonform::SmacofLinearSolver::Direct
+                                : v == "multigrid" ? canonform::SmacofLinearSolver::Multigrid
+                                                   : canonform::SmacofLinearSolver::Auto;
+        }
     }
     if (method == "geodesic-ls") gopt.method = canonform::GeodesicMds::LeastSquares;
     else if (method == "geodesic-classical") gopt.method = canonform::GeodesicMds::Classical;
@@ -68,6 +76,7 @@ int main(int argc, char** argv) {
         std::vector<double> t;
         int iterations = 0;
         size_t features = 0;
+        std::string solver = canonform::SparseCholesky::backend();
         double geodesic_s = 0, estimate_s = 0, estimate_mib = 0;
         for (int k = 0; k < repeats; ++k) {
             if (geodesic) {
@@ -82,16 +91,18 @@ int main(int argc, char** argv) {
                 t.push_back(r.seconds);
                 iterations = r.iterations;
                 features = r.features.size();
+                if (r.linear_solver == canonform::SmacofLinearSolver::Multigrid) solver = "AMG V-cycle";
             }
         }
         std::sort(t.begin(), t.end());
         std::printf("{\"vertices\": %ld, \"method\": \"%s\", \"variant\": \"%c\", \"repeats\": %d, "
                     "\"median_s\": %.6f, \"min_s\": %.6f, \"max_s\": %.6f, \"iterations\": %d, "
                     "\"feature_points\": %zu, \"geodesic_s\": %.6f, \"estimated_s\": %.3f, \"estimated_mib\": %.1f, "
-                    "\"rss_loaded_mib\": %.1f, \"peak_mib\": %.1f, \"solver\": \"%s\", \"threads\": %d}\n",
+                    "\"rss_loaded_mib\": %.1f, \"peak_mib\": %.1f, \"solver\": \"%s\", \"requested_solver\": \"%s\", "
+                    "\"threads\": %d}\n",
                     long(m.V.rows()), label.c_str(), opt.variant == canonform::CanonicalVariant::A ? 'A' : 'N',
                     repeats, t[t.size() / 2], t.front(), t.back(), iterations, features, geodesic_s, estimate_s,
-                    estimate_mib, rss_loaded, status_mib("VmHWM:"), canonform::SparseCholesky::backend(),
+                    estimate_mib, rss_loaded, status_mib("VmHWM:"), solver.c_str(), requested_solver.c_str(),
                     geodesic ? gopt.threads : 1);
     } catch (const std::exception& e) {
         std::fprintf(stderr, "canonform_bench_canonical: %s\n", e.what());

@@ -1,11 +1,13 @@
 """Turns the benchmark's JSON lines into a CSV, a Markdown table and a log-log plot.
 
 usage: report.py RAW.jsonl OUT_PREFIX   (writes OUT_PREFIX.csv, .md, .png)
-Ratios are against the smallest mesh of the same variant, so linear growth shows as
-time ratio ~ vertex ratio.
+Rows are grouped by variant and requested SMACOF solver (direct, multigrid, auto). Ratios are
+against the smallest mesh of the same group, so linear growth shows as time ratio ~ vertex
+ratio; the growth exponent is the least-squares slope of log time against log vertices.
 """
 import csv
 import json
+import math
 import sys
 
 import matplotlib
@@ -15,33 +17,59 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 rows = [json.loads(line) for line in open(sys.argv[1]) if line.strip()]
 prefix = sys.argv[2]
-for variant in {r["variant"] for r in rows}:
-    group = sorted((r for r in rows if r["variant"] == variant), key=lambda r: r["vertices"])
+for r in rows:
+    r.setdefault("requested_solver", "auto")
+    r["group"] = f"{r['variant']} {r['requested_solver']}"
+
+
+def slope(group):
+    xs = [math.log(r["vertices"]) for r in group]
+    ys = [math.log(r["median_s"]) for r in group]
+    mx, my = sum(xs) / len(xs), sum(ys) / len(ys)
+    sxx = sum((x - mx) ** 2 for x in xs)
+    return sum((x - mx) * (y - my) for x, y in zip(xs, ys)) / sxx if sxx > 0 else float("nan")
+
+
+groups = {}
+for name in sorted({r["group"] for r in rows}):
+    group = sorted((r for r in rows if r["group"] == name), key=lambda r: r["vertices"])
     base = group[0]
     for r in group:
         r["vertex_ratio"] = r["vertices"] / base["vertices"]
         r["time_ratio"] = r["median_s"] / base["median_s"]
         r["us_per_vertex"] = 1e6 * r["median_s"] / r["vertices"]
         r["algorithm_mib"] = r["peak_mib"] - r["rss_loaded_mib"]
-rows.sort(key=lambda r: (r["variant"], r["vertices"]))
-fields = ["variant", "vertices", "feature_points", "iterations", "repeats", "median_s", "min_s", "max_s",
-          "us_per_vertex", "vertex_ratio", "time_ratio", "peak_mib", "algorithm_mib"]
+    groups[name] = group
+rows.sort(key=lambda r: (r["group"], r["vertices"]))
+fields = ["variant", "requested_solver", "solver", "vertices", "feature_points", "iterations", "repeats",
+          "median_s", "min_s", "max_s", "us_per_vertex", "vertex_ratio", "time_ratio", "peak_mib", "algorithm_mib"]
 with open(prefix + ".csv", "w", newline="") as f:
     w = csv.DictWriter(f, fieldnames=fields, extrasaction="ignore")
     w.writeheader()
     w.writerows(rows)
 with open(prefix + ".md", "w") as f:
-    f.write("| variant | vertices | feature points | iterations | median s (runs) | us / vertex "
-            "| vertices x | time x | peak MiB (algorithm) |\n|---|---|---|---|---|---|---|---|---|\n")
+    f.write("| variant | solver (used) | vertices | feature points | iterations | median s (runs) | us / vertex "
+            "| vertices x | time x | peak MiB (algorithm) |\n|---|---|---|---|---|---|---|---|---|---|\n")
     for r in rows:
-        f.write(f"| {r['variant']} | {r['vertices']} | {r['feature_points']} | {r['iterations']} "
+        f.write(f"| {r['variant']} | {r['requested_solver']} ({r['solver']}) | {r['vertices']} "
+                f"| {r['feature_points']} | {r['iterations']} "
                 f"| {r['median_s']:.3f} ({r['repeats']}) | {r['us_per_vertex']:.1f} | {r['vertex_ratio']:.1f} "
                 f"| {r['time_ratio']:.1f} | {r['peak_mib']:.0f} ({r['algorithm_mib']:.0f}) |\n")
+    f.write("\n| variant, solver | growth exponent (log-log slope, all sizes) | from 10k up |\n|---|---|---|\n")
+    for name, group in groups.items():
+        upper = [r for r in group if r["vertices"] >= 9000]
+        f.write(f"| {name} | {slope(group):.2f} | {slope(upper) if len(upper) > 1 else float('nan'):.2f} |\n")
+    d = {r["vertices"]: r for r in groups.get("N direct", [])}
+    m = {r["vertices"]: r for r in groups.get("N multigrid", [])}
+    common = sorted(set(d) & set(m))
+    if common:
+        f.write("\n| vertices | variant N direct s | multigrid s | multigrid / direct |\n|---|---|---|---|\n")
+        for n in common:
+            f.write(f"| {n} | {d[n]['median_s']:.3f} | {m[n]['median_s']:.3f} "
+                    f"| {m[n]['median_s'] / d[n]['median_s']:.2f} |\n")
 fig, ax = plt.subplots(figsize=(6, 4.2))
-for variant, marker in (("N", "o"), ("A", "s")):
-    g = [r for r in rows if r["variant"] == variant]
-    if g:
-        ax.loglog([r["vertices"] for r in g], [r["median_s"] for r in g], marker=marker, label=f"variant {variant}")
+for (name, group), marker in zip(groups.items(), "os^v<>"):
+    ax.loglog([r["vertices"] for r in group], [r["median_s"] for r in group], marker=marker, label=name)
 if rows:
     n0 = min(r["vertices"] for r in rows)
     t0 = min(r["median_s"] for r in rows if r["vertices"] == n0)
@@ -51,7 +79,7 @@ ax.axhline(0.3, color="grey", lw=0.6, ls=":")
 ax.set_xlabel("vertices")
 ax.set_ylabel("median seconds (one core)")
 ax.set_title("Euclidean canonical form: time against mesh size")
-ax.legend()
+ax.legend(fontsize=8)
 ax.grid(True, which="both", lw=0.3)
 fig.tight_layout()
 fig.savefig(prefix + ".png", dpi=110)

@@ -1,3 +1,5 @@
+#include "core/euclidean_canonical_form.h"
+#include "core/mesh_topology.h"
 #include "core/procedural_meshes.h"
 #include "core/rigid_alignment.h"
 #include "core/smacof.h"
@@ -111,4 +113,41 @@ TEST(Smacof, RejectsADisconnectedPairGraphAndBadWeights) {
     StressPairs r;
     r.add(0, 1, std::nan(""), 1.0);
     EXPECT_THROW(SmacofSolver(2, r), InputError);
+}
+
+TEST(Smacof, MultigridStepsNeverRaiseTheStressAndMatchTheDirectSolve) {
+    // The inexact Guttman step (one AMG V-cycle from X) keeps the majorisation, and the canonical
+    // form it converges to is the direct solver's, within the stopping rule's spread.
+    const Figure fig = make_figure(6000, figure_pose(2));
+    EuclideanCanonicalFormOptions opt;
+    opt.tolerance = 1e-6;
+    opt.record_history = true;
+    opt.linear_solver = SmacofLinearSolver::Direct;
+    const EuclideanCanonicalFormResult d = euclidean_canonical_form(fig.mesh.V, fig.mesh.F, opt);
+    opt.linear_solver = SmacofLinearSolver::Multigrid;
+    const EuclideanCanonicalFormResult m = euclidean_canonical_form(fig.mesh.V, fig.mesh.F, opt);
+    EXPECT_EQ(d.linear_solver, SmacofLinearSolver::Direct);
+    ASSERT_EQ(m.linear_solver, SmacofLinearSolver::Multigrid);
+    for (size_t k = 1; k < m.stress_history.size(); ++k)
+        EXPECT_LE(m.stress_history[k], m.stress_history[k - 1] * (1 + 1e-12)) << "iteration " << k;
+    EXPECT_TRUE(m.converged);
+    EXPECT_NEAR(m.final_stress, d.final_stress, 2e-3 * d.final_stress);
+    const double diff = test::aligned_rms(m.V, d.V);
+    std::printf("[ info ] multigrid vs direct: %d vs %d iterations, stress %.6g vs %.6g, aligned rms %.2e\n",
+                m.iterations, d.iterations, m.final_stress, d.final_stress, diff);
+    EXPECT_LT(diff, 0.02);
+}
+
+TEST(Smacof, AutoSolverSwitchesToMultigridAtTheThreshold) {
+    const Figure fig = make_figure(3000, figure_pose(0));
+    StressPairs p;
+    const Eigen::MatrixXi E = unique_edges(fig.mesh.F);
+    for (Eigen::Index e = 0; e < E.rows(); ++e)
+        p.add(E(e, 0), E(e, 1), (fig.mesh.V.row(E(e, 0)) - fig.mesh.V.row(E(e, 1))).norm(), 1.0);
+    SmacofSolverOptions so;
+    EXPECT_EQ(SmacofSolver(3000, p, so).linear_solver(), SmacofLinearSolver::Direct);
+    so.multigrid_from = 2000;
+    EXPECT_EQ(SmacofSolver(3000, p, so).linear_solver(), SmacofLinearSolver::Multigrid);
+    so.linear_solver = SmacofLinearSolver::Direct;
+    EXPECT_EQ(SmacofSolver(3000, p, so).linear_solver(), SmacofLinearSolver::Direct);
 }

@@ -65,8 +65,10 @@ EuclideanCanonicalFormResult euclidean_canonical_form(const Eigen::MatrixXd& V0,
     const FeaturePoints fp = feature_points(adj, cf.normalized, fp_opt);
     report_progress(options.progress, 0.09, "feature points");
 
+    SmacofSolverOptions solver_opt;
+    solver_opt.linear_solver = options.linear_solver;
     const SmacofSolver solver(static_cast<int>(V.rows()),
-                              canonical_form_pairs(V, E, cf.normalized, fp.indices, options));
+                              canonical_form_pairs(V, E, cf.normalized, fp.indices, options), solver_opt);
     report_progress(options.progress, 0.1, "SMACOF: V factorised");
 
     SmacofOptions sm_opt;
@@ -95,6 +97,7 @@ EuclideanCanonicalFormResult euclidean_canonical_form(const Eigen::MatrixXd& V0,
     r.initial_stress = sm.initial_stress;
     r.final_stress = sm.final_stress;
     r.beta = options.effective_beta();
+    r.linear_solver = solver.linear_solver();
     r.stress_history = std::move(sm.stress_history);
     report_progress(options.progress, 1.0, "done");
     r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

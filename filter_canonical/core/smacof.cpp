@@ -2,12 +2,23 @@
 
 #include "core/mesh_topology.h"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
 namespace canonform {
 
-SmacofSolver::SmacofSolver(int num_points, StressPairs pairs) : n_(num_points), pairs_(std::move(pairs)) {
+const char* to_string(SmacofLinearSolver s) {
+    switch (s) {
+    case SmacofLinearSolver::Direct: return "direct";
+    case SmacofLinearSolver::Multigrid: return "multigrid";
+    case SmacofLinearSolver::Auto: break;
+    }
+    return "auto";
+}
+
+SmacofSolver::SmacofSolver(int num_points, StressPairs pairs, const SmacofSolverOptions& options)
+    : n_(num_points), pairs_(std::move(pairs)), options_(options) {
     if (n_ < 2) throw InputError("SMACOF needs at least two points");
     const size_t m = pairs_.size();
     Eigen::MatrixXi E(static_cast<Eigen::Index>(m), 2);
@@ -40,7 +51,12 @@ SmacofSolver::SmacofSolver(int num_points, StressPairs pairs) : n_(num_points), 
     }
     Eigen::SparseMatrix<double> Vr(n_ - 1, n_ - 1);
     Vr.setFromTriplets(t.begin(), t.end());
-    if (!factor_.compute(Vr))
+    multigrid_ = options_.linear_solver == SmacofLinearSolver::Multigrid ||
+                 (options_.linear_solver == SmacofLinearSolver::Auto && n_ >= options_.multigrid_from);
+    if (multigrid_ && n_ - 1 <= AmgOptions{}.coarse_size) multigrid_ = false;  // one level: direct anyway
+    if (multigrid_)
+        amg_ = AmgPreconditioner(Vr);
+    else if (!factor_.compute(Vr))
         throw NumericalError("SMACOF: the Cholesky factorisation of V failed");
 }
 
@@ -91,8 +107,16 @@ Eigen::MatrixXd SmacofSolver::guttman(const Eigen::MatrixXd& X, double* stress_o
     guttman_rhs(X, &BX, stress_of_X);
     Eigen::MatrixXd Y(n_, X.cols());
     Y.row(0).setZero();
-    Y.bottomRows(n_ - 1) = factor_.solve(BX.bottomRows(n_ - 1));
-    if (!factor_.ok()) throw NumericalError("SMACOF: the solve with the factor of V failed");
+    if (multigrid_) {
+        // Warm start at X translated so that the pinned vertex 0 sits at the origin.
+        Eigen::MatrixXd Yr = X.bottomRows(n_ - 1).rowwise() - X.row(0);
+        amg_.cycle(BX.bottomRows(n_ - 1), Yr, std::max(1, options_.vcycles_per_step));
+        Y.bottomRows(n_ - 1) = Yr;
+        if (!Y.allFinite()) throw NumericalError("SMACOF: the multigrid solve of V produced non-finite values");
+    } else {
+        Y.bottomRows(n_ - 1) = factor_.solve(BX.bottomRows(n_ - 1));
+        if (!factor_.ok()) throw NumericalError("SMACOF: the solve with the factor of V failed");
+    }
     Y.rowwise() -= Y.colwise().mean();
     return Y;
 }

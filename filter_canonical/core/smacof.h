@@ -13,15 +13,25 @@
 // Departures from the paper, and why:
 // - Eq. (4) is printed as b_ii = +sum_{j != i} b_ij; the majorisation needs the minus sign
 //   (rows of B sum to zero, as in de Leeuw and Elad-Kimmel). We use the minus sign.
-// - V^+ is never formed: V is constant, so we factor it once (sparse LDL^T,
-//   sparse_cholesky.h) after pinning one vertex (dropping its row and column, which
-//   makes V positive definite when the pair graph is connected), solve, and re-centre. Because
-//   1^T B X = 0 this equals V^+ B X exactly. B(X) X is accumulated pair by pair, O(#pairs).
+// - V^+ is never formed: V is constant, so we set up its solver once after pinning one vertex
+//   (dropping its row and column, which makes V positive definite when the pair graph is
+//   connected), solve, and re-centre. Because 1^T B X = 0 this equals V^+ B X exactly.
+//   B(X) X is accumulated pair by pair, O(#pairs).
+// - Two solvers of V Y = B(X) X (SmacofSolverOptions): a sparse LDL^T factor (exact; fastest
+//   while the factor fits in cache, below ~40k points), or, from there, one V-cycle of algebraic
+//   multigrid (algebraic_multigrid.h) started at X: O(#pairs) per step, so an iteration stays
+//   linear in N as the paper's Section 5 counts it, where the factor's fill grows faster (~N log N)
+//   and leaves the cache. The inexact step keeps the majorisation: every part of a V-cycle
+//   minimises the majorising quadratic tau(Y, X) over a subspace through the current Y, so from
+//   Y = X it ends below tau(X, X) = S(X) and S never increases either way. It converges in about
+//   10-20% more iterations, to the same configuration within the stopping rule's own spread
+//   (measured in bench/run_bench.sh: both solvers side by side).
 // - The stopping rule is relative: stop when (S_{k-1} - S_k) / S_{k-1} < tolerance, or after
 //   max_iterations; the paper's absolute rule S_{k-1} - S_k < e depends on the mesh's scale.
 // Stress never increases across a Guttman step (tested).
 #pragma once
 
+#include "core/algebraic_multigrid.h"
 #include "core/errors.h"
 #include "core/sparse_cholesky.h"
 
@@ -116,12 +126,29 @@ void move_run_into(GuttmanRun&& g, Result& r) {
     r.stress_history = std::move(g.history);
 }
 
+/// How SmacofSolver solves V Y = B(X) X.
+enum class SmacofLinearSolver {
+    Auto,       ///< Direct below SmacofSolverOptions::multigrid_from points, Multigrid from there
+    Direct,     ///< sparse LDL^T factor of V, exact solves
+    Multigrid,  ///< V-cycles of algebraic multigrid from the current X, inexact (majorisation kept)
+};
+
+/// Name of a linear solver ("auto", "direct", "multigrid").
+const char* to_string(SmacofLinearSolver s);
+
+/// Options of the SmacofSolver constructor.
+struct SmacofSolverOptions {
+    SmacofLinearSolver linear_solver = SmacofLinearSolver::Auto;
+    int multigrid_from = 40000;  ///< Auto: points from which Multigrid is used (see bench/run_bench.sh)
+    int vcycles_per_step = 1;    ///< Multigrid: V-cycles per Guttman step (>= 1)
+};
+
 /// Weighted SMACOF for a fixed set of pairs: builds and factors V once, then iterates Guttman
 /// transforms from any start. Throws InputError if the pair graph does not connect all vertices
 /// or a weight/target is negative or non-finite, NumericalError if the factorisation fails.
 class SmacofSolver {
 public:
-    SmacofSolver(int num_points, StressPairs pairs);
+    SmacofSolver(int num_points, StressPairs pairs, const SmacofSolverOptions& options = {});
 
     /// Runs SMACOF from X0 (#points x dim, any dim >= 1).
     SmacofResult solve(const Eigen::MatrixXd& X0, const SmacofOptions& options = {}) const;
@@ -134,6 +161,10 @@ public:
     Eigen::MatrixXd guttman(const Eigen::MatrixXd& X, double* stress_of_X = nullptr) const;
 
     int num_points() const { return n_; }
+    /// The solver in use: Direct or Multigrid (never Auto).
+    SmacofLinearSolver linear_solver() const {
+        return multigrid_ ? SmacofLinearSolver::Multigrid : SmacofLinearSolver::Direct;
+    }
     const StressPairs& pairs() const { return pairs_; }
 
 private:
@@ -142,7 +173,10 @@ private:
 
     int n_;
     StressPairs pairs_;
-    SparseCholesky factor_;  // V with vertex 0 pinned
+    SmacofSolverOptions options_;
+    bool multigrid_ = false;
+    SparseCholesky factor_;    // Direct: V with vertex 0 pinned
+    AmgPreconditioner amg_;    // Multigrid: the same matrix
 };
 
 }  // namespace canonform

@@ -4,8 +4,8 @@
 //   canonform features  IN OUT [--ring K] [--fill none|random] [--seed S] [--json]
 //   canonform canonical IN OUT [--method euclidean|geodesic-ls|geodesic-classical|geodesic-fast]
 //                              [--variant A|N] [--alpha A] [--beta B] [--ring K] [--seed S]
-//                              [--tol T] [--max-iter M] [--max-memory-gib G] [--max-seconds S]
-//                              [--threads T] [--quiet] [--json]
+//                              [--tol T] [--max-iter M] [--solver auto|direct|multigrid]
+//                              [--max-memory-gib G] [--max-seconds S] [--threads T] [--quiet] [--json]
 //   canonform simplify  IN OUT --vertices K
 //   canonform views      IN DIR [--size PX] [--seed S]
 //   canonform codebook   OUT MESH... [--words W] [--seed S] [--random]
@@ -53,8 +53,8 @@ const char* kUsage =
     "  canonform features  IN OUT [--ring K] [--fill none|random] [--seed S] [--json]\n"
     "  canonform canonical IN OUT [--method euclidean|geodesic-ls|geodesic-classical|geodesic-fast]\n"
     "                             [--variant A|N] [--alpha A] [--beta B] [--ring K] [--seed S]\n"
-    "                             [--tol T] [--max-iter M] [--max-memory-gib G] [--max-seconds S]\n"
-    "                             [--threads T] [--quiet] [--json]\n"
+    "                             [--tol T] [--max-iter M] [--solver auto|direct|multigrid]\n"
+    "                             [--max-memory-gib G] [--max-seconds S] [--threads T] [--quiet] [--json]\n"
     "  canonform simplify  IN OUT --vertices K   (quadric edge collapse, as MeshLab's)\n"
     "  canonform views      IN DIR [--size PX] [--seed S]        (66 depth views + contact sheet)\n"
     "  canonform codebook   OUT MESH... [--words W] [--seed S] [--random]\n"
@@ -278,7 +278,7 @@ int cmd_canonical(const Args& a) {
     if (method == "geodesic-fast") return cmd_geodesic(a, GeodesicMds::Fast);
     if (method != "euclidean")
         throw UsageError("--method must be euclidean, geodesic-ls, geodesic-classical or geodesic-fast");
-    a.allow({"method", "variant", "alpha", "beta", "ring", "seed", "tol", "max-iter", "quiet", "json"});
+    a.allow({"method", "variant", "alpha", "beta", "ring", "seed", "tol", "max-iter", "solver", "quiet", "json"});
     const auto t0 = std::chrono::steady_clock::now();
     EuclideanCanonicalFormOptions opt;
     const std::string variant = a.str("variant", "N");
@@ -291,6 +291,10 @@ int cmd_canonical(const Args& a) {
     opt.seed = static_cast<std::uint64_t>(a.integer("seed", 0));
     opt.tolerance = a.num("tol", opt.tolerance);
     opt.max_iterations = a.integer("max-iter", opt.max_iterations);
+    const std::string solver = a.str("solver", "auto");
+    if (solver == "direct") opt.linear_solver = SmacofLinearSolver::Direct;
+    else if (solver == "multigrid") opt.linear_solver = SmacofLinearSolver::Multigrid;
+    else if (solver != "auto") throw UsageError("--solver must be auto, direct or multigrid");
     opt.progress = terminal_progress(a.flag("quiet") || a.flag("json"));
     const io::MeshData m = io::read_mesh(a.positional[0]);
     const double read_seconds = seconds_since(t0);
@@ -305,7 +309,7 @@ int cmd_canonical(const Args& a) {
                          .kv("feature_points", double(r.features.size())).kv("maxima", double(r.num_maxima))
                          .kv("random", double(r.num_random)).kv("iterations", double(r.iterations))
                          .kv("converged", r.converged ? 1.0 : 0.0).kv("initial_stress", r.initial_stress)
-                         .kv("final_stress", r.final_stress)
+                         .kv("final_stress", r.final_stress).kv("solver", to_string(r.linear_solver))
                          .kv("mean_relative_edge_change", r.mean_relative_edge_change)
                          .kv("seconds", r.seconds).kv("read_seconds", read_seconds)
                          .kv("total_seconds", seconds_since(t0)).str() << "\n";

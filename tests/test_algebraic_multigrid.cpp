@@ -1,0 +1,133 @@
+#include "core/algebraic_multigrid.h"
+#include "core/conformal_factor.h"
+#include "core/euclidean_canonical_form.h"
+#include "core/feature_points.h"
+#include "core/mesh_topology.h"
+#include "core/procedural_meshes.h"
+#include "core/sparse_cholesky.h"
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+using namespace canonform;
+
+namespace {
+
+// SMACOF's V (variant N) of a procedural figure with vertex 0 pinned: the matrix the solver sees.
+Eigen::SparseMatrix<double> figure_v(int vertices) {
+    const Figure fig = make_figure(vertices, figure_pose(1));
+    const Eigen::MatrixXd V = normalize_scale(fig.mesh.V);
+    const ConformalFactorResult cf = conformal_factor(V, fig.mesh.F);
+    const Eigen::MatrixXi E = unique_edges(fig.mesh.F);
+    const FeaturePoints fp = feature_points(vertex_adjacency(static_cast<int>(V.rows()), E), cf.normalized, {});
+    const StressPairs p = canonical_form_pairs(V, E, cf.normalized, fp.indices, {});
+    const int n = static_cast<int>(V.rows());
+    std::vector<Eigen::Triplet<double>> t;
+    for (size_t k = 0; k < p.size(); ++k) {
+        const int a = p.i[k], b = p.j[k];
+        if (a > 0) t.emplace_back(a - 1, a - 1, p.w[k]);
+        if (b > 0) t.emplace_back(b - 1, b - 1, p.w[k]);
+        if (a > 0 && b > 0) {
+            t.emplace_back(a - 1, b - 1, -p.w[k]);
+            t.emplace_back(b - 1, a - 1, -p.w[k]);
+        }
+    }
+    Eigen::SparseMatrix<double> A(n - 1, n - 1);
+    A.setFromTriplets(t.begin(), t.end());
+    return A;
+}
+
+Eigen::MatrixXd random_block(Eigen::Index n, int k, unsigned seed) {
+    std::mt19937 rng(seed);
+    std::normal_distribution<double> g;
+    Eigen::MatrixXd B(n, k);
+    for (Eigen::Index i = 0; i < n; ++i)
+        for (int c = 0; c < k; ++c) B(i, c) = g(rng);
+    return B;
+}
+
+double energy(const Eigen::SparseMatrix<double>& A, const Eigen::MatrixXd& B, const Eigen::MatrixXd& X) {
+    return 0.5 * (X.transpose() * (A * X)).trace() - (X.transpose() * B).trace();
+}
+
+}  // namespace
+
+TEST(AlgebraicMultigrid, PcgMatchesTheDirectSolve) {
+    const Eigen::SparseMatrix<double> A = figure_v(6000);
+    const AmgPreconditioner amg(A);
+    EXPECT_GE(amg.num_levels(), 2);
+    EXPECT_LT(amg.operator_complexity(), 2.0);
+    const Eigen::MatrixXd B = random_block(A.rows(), 3, 1);
+    Eigen::MatrixXd X = Eigen::MatrixXd::Zero(A.rows(), 3);
+    const PcgReport rep = amg.pcg(B, X, 1e-10, 200);
+    ASSERT_TRUE(rep.converged);
+    EXPECT_LE(rep.relative_residual, 1e-10);
+    SparseCholesky direct;
+    ASSERT_TRUE(direct.compute(A));
+    const Eigen::MatrixXd Xd = direct.solve(B);
+    EXPECT_LT((X - Xd).norm() / Xd.norm(), 1e-7);
+}
+
+TEST(AlgebraicMultigrid, CgStepsDoNotGrowWithTheMesh) {
+    // The point of multigrid: the number of preconditioned CG steps to a fixed residual
+    // reduction stays about the same as the mesh is refined (here 4x).
+    int steps[2];
+    const int sizes[2] = {4000, 16000};
+    for (int s = 0; s < 2; ++s) {
+        const Eigen::SparseMatrix<double> A = figure_v(sizes[s]);
+        const AmgPreconditioner amg(A);
+        Eigen::MatrixXd X = Eigen::MatrixXd::Zero(A.rows(), 3);
+        const PcgReport rep = amg.pcg(random_block(A.rows(), 3, 2), X, 1e-8, 500);
+        ASSERT_TRUE(rep.converged);
+        steps[s] = rep.iterations;
+    }
+    std::printf("[ info ] AMG-PCG steps to 1e-8: %d at 4000, %d at 16000 vertices\n", steps[0], steps[1]);
+    EXPECT_LE(steps[1], steps[0] + 5);
+    EXPECT_LE(steps[1], 40);
+}
+
+TEST(AlgebraicMultigrid, VCyclesNeverRaiseTheEnergyAndConverge) {
+    const Eigen::SparseMatrix<double> A = figure_v(5000);
+    const AmgPreconditioner amg(A);
+    const Eigen::MatrixXd B = random_block(A.rows(), 3, 3);
+    Eigen::MatrixXd X = random_block(A.rows(), 3, 4);
+    SparseCholesky direct;
+    ASSERT_TRUE(direct.compute(A));
+    const Eigen::MatrixXd Xd = direct.solve(B);
+    const double e_star = energy(A, B, Xd);
+    double e = energy(A, B, X);
+    const double gap0 = e - e_star;
+    for (int c = 0; c < 12; ++c) {
+        amg.cycle(B, X, 1);
+        const double e1 = energy(A, B, X);
+        EXPECT_LE(e1, e + 1e-9 * std::abs(e)) << "cycle " << c;
+        e = e1;
+    }
+    // Twelve cycles cut the energy gap by orders of magnitude.
+    EXPECT_LT(e - e_star, 1e-4 * gap0);
+}
+
+TEST(AlgebraicMultigrid, ColumnsAreIndependent) {
+    // Solving two right-hand sides together equals solving each alone.
+    const Eigen::SparseMatrix<double> A = figure_v(3000);
+    const AmgPreconditioner amg(A);
+    const Eigen::MatrixXd B = random_block(A.rows(), 2, 5);
+    Eigen::MatrixXd X2 = Eigen::MatrixXd::Zero(A.rows(), 2);
+    amg.cycle(B, X2, 3);
+    for (int c = 0; c < 2; ++c) {
+        Eigen::MatrixXd X1 = Eigen::MatrixXd::Zero(A.rows(), 1);
+        amg.cycle(B.col(c), X1, 3);
+        EXPECT_LT((X1.col(0) - X2.col(c)).norm(), 1e-12 * (1 + X1.norm()));
+    }
+}
+
+TEST(AlgebraicMultigrid, RejectsANonPositiveDiagonal) {
+    Eigen::SparseMatrix<double> A(3, 3);
+    A.insert(0, 0) = 1;
+    A.insert(1, 1) = 0;
+    A.insert(2, 2) = 1;
+    EXPECT_THROW(AmgPreconditioner{A}, NumericalError);
+    Eigen::SparseMatrix<double> B(2, 3);
+    EXPECT_THROW(AmgPreconditioner{B}, InputError);
+}
