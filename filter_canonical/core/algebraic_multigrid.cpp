@@ -176,7 +176,7 @@ AmgPreconditioner::AmgPreconditioner(const Eigen::SparseMatrix<double>& A0, cons
         }
         int nc = 0;
         const std::vector<int> agg = aggregate(L.A, diag, options.strength, &nc);
-        if (nc >= 0.9 * static_cast<double>(n) || nc < 1) {  // no real coarsening: stop here
+        if (nc > 0.6 * static_cast<double>(n) || nc < 1) {  // poor coarsening: a direct solve from here
             levels_.push_back(std::move(L));
             break;
         }
@@ -197,6 +197,10 @@ AmgPreconditioner::AmgPreconditioner(const Eigen::SparseMatrix<double>& A0, cons
         A = 0.5 * (Ac + AcT);  // symmetric up to rounding; make it exactly so
         A.prune(0.0);
         A.makeCompressed();
+        if (A.nonZeros() > 2 * L.A.nonZeros()) {  // the coarse operator fills in: stop coarsening
+            levels_.push_back(std::move(L));
+            break;
+        }
         L.P = std::move(P);
         L.R = std::move(R);
         levels_.push_back(std::move(L));
