@@ -1,6 +1,8 @@
 """Turns the benchmark's JSON lines into a CSV, a Markdown table and a log-log plot.
 
-usage: report.py RAW.jsonl OUT_PREFIX   (writes OUT_PREFIX.csv, .md, .png)
+usage: report.py RAW.jsonl OUT_PREFIX [--auto-from N]   (writes OUT_PREFIX.csv, .md, .png)
+With --auto-from, an "auto" group per variant is added: the direct rows below N vertices and the
+multigrid rows from N on (what SMACOF's default solver choice does).
 Rows are grouped by variant and requested SMACOF solver (direct, multigrid, auto). Ratios are
 against the smallest mesh of the same group, so linear growth shows as time ratio ~ vertex
 ratio; the growth exponent is the least-squares slope of log time against log vertices.
@@ -17,9 +19,18 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 rows = [json.loads(line) for line in open(sys.argv[1]) if line.strip()]
 prefix = sys.argv[2]
+auto_from = int(sys.argv[4]) if len(sys.argv) > 4 and sys.argv[3] == "--auto-from" else None
 for r in rows:
     r.setdefault("requested_solver", "auto")
     r["group"] = f"{r['variant']} {r['requested_solver']}"
+if auto_from:
+    for r in list(rows):
+        if (r["requested_solver"] == "direct" and r["vertices"] < auto_from) or (
+                r["requested_solver"] == "multigrid" and r["vertices"] >= auto_from):
+            a = dict(r)
+            a["requested_solver"] = "auto"
+            a["group"] = f"{r['variant']} auto"
+            rows.append(a)
 
 
 def slope(group):
@@ -59,16 +70,15 @@ with open(prefix + ".md", "w") as f:
     for name, group in groups.items():
         upper = [r for r in group if r["vertices"] >= 9000]
         f.write(f"| {name} | {slope(group):.2f} | {slope(upper) if len(upper) > 1 else float('nan'):.2f} |\n")
-    d = {r["vertices"]: r for r in groups.get("N direct", [])}
-    m = {r["vertices"]: r for r in groups.get("N multigrid", [])}
-    common = sorted(set(d) & set(m))
-    if common:
-        f.write("\n| vertices | variant N direct s | multigrid s | multigrid / direct |\n|---|---|---|---|\n")
-        for n in common:
-            f.write(f"| {n} | {d[n]['median_s']:.3f} | {m[n]['median_s']:.3f} "
+    f.write("\n| variant | vertices | direct s | multigrid s | multigrid / direct |\n|---|---|---|---|---|\n")
+    for variant in ("N", "A"):
+        d = {r["vertices"]: r for r in groups.get(f"{variant} direct", [])}
+        m = {r["vertices"]: r for r in groups.get(f"{variant} multigrid", [])}
+        for n in sorted(set(d) & set(m)):
+            f.write(f"| {variant} | {n} | {d[n]['median_s']:.3f} | {m[n]['median_s']:.3f} "
                     f"| {m[n]['median_s'] / d[n]['median_s']:.2f} |\n")
 fig, ax = plt.subplots(figsize=(6, 4.2))
-for (name, group), marker in zip(groups.items(), "os^v<>"):
+for (name, group), marker in zip(((k, v) for k, v in groups.items() if "auto" not in k), "os^v<>"):
     ax.loglog([r["vertices"] for r in group], [r["median_s"] for r in group], marker=marker, label=name)
 if rows:
     n0 = min(r["vertices"] for r in rows)

@@ -13,6 +13,8 @@ namespace {
 using RowSparse = Eigen::SparseMatrix<double, Eigen::RowMajor>;
 using Block = AmgPreconditioner::Block;
 
+constexpr int kManyWeakCouplings = 16;  // mesh rows have ~6 neighbours, all usually strong
+
 // y = A x for a row-major block x (#cols x k). K > 0: k known at compile time (the common k = 3).
 template <int K>
 void multiply_k(const RowSparse& A, const Block& x, Block& y) {
@@ -72,26 +74,57 @@ void gauss_seidel(const RowSparse& A, const Eigen::VectorXd& inv_diag, const Blo
     else gauss_seidel_k<0>(A, inv_diag, b, x, forward);
 }
 
-// Aggregates of the strong-connection graph (Vanek-Mandel-Brezina, three passes). Returns the
-// aggregate of every row and sets *count.
-std::vector<int> aggregate(const RowSparse& A, const Eigen::VectorXd& diag, double theta, int* count) {
-    const int n = static_cast<int>(A.rows());
+// The filtered matrix of smoothed aggregation: the diagonal and the strong off-diagonal entries
+// (|a_ij| >= theta sqrt(a_ii a_jj)); weak entries are added to the diagonal, so row sums (and with
+// them the constant near-null vector of a Laplacian) are kept. Its off-diagonal pattern is the
+// strength graph of the aggregation; smoothing the prolongator with it instead of A keeps weak,
+// long-range couplings (SMACOF's feature-point clique) from making P and the coarse levels dense.
+RowSparse filtered_matrix(const RowSparse& A, const Eigen::VectorXd& diag, double theta,
+                          std::vector<int>* weak_count) {
+    const Eigen::Index n = A.rows();
     const auto* outer = A.outerIndexPtr();
     const auto* inner = A.innerIndexPtr();
     const double* val = A.valuePtr();
+    std::vector<Eigen::Triplet<double>> t;
+    t.reserve(static_cast<size_t>(A.nonZeros()));
+    weak_count->assign(static_cast<size_t>(n), 0);
+    for (Eigen::Index i = 0; i < n; ++i) {
+        double d = 0;
+        for (auto p = outer[i]; p < outer[i + 1]; ++p) {
+            const Eigen::Index j = inner[p];
+            if (j == i)
+                d += val[p];
+            else if (std::abs(val[p]) >= theta * std::sqrt(diag(i) * diag(j)))
+                t.emplace_back(i, j, val[p]);
+            else {
+                d += val[p];
+                ++(*weak_count)[static_cast<size_t>(i)];
+            }
+        }
+        t.emplace_back(i, i, d);
+    }
+    RowSparse F(n, n);
+    F.setFromTriplets(t.begin(), t.end());
+    return F;
+}
+
+// Aggregates of the strength graph (the off-diagonal pattern of the filtered matrix F;
+// Vanek-Mandel-Brezina, three passes). Returns the aggregate of every row and sets *count.
+std::vector<int> aggregate(const RowSparse& F, int* count) {
+    const int n = static_cast<int>(F.rows());
+    const auto* outer = F.outerIndexPtr();
+    const auto* inner = F.innerIndexPtr();
+    const double* val = F.valuePtr();
     // Strong neighbours, in CSR form.
     std::vector<int> s_outer(static_cast<size_t>(n) + 1, 0), s_inner;
-    s_inner.reserve(static_cast<size_t>(A.nonZeros()));
+    s_inner.reserve(static_cast<size_t>(F.nonZeros()));
     std::vector<double> s_val;
-    s_val.reserve(static_cast<size_t>(A.nonZeros()));
+    s_val.reserve(static_cast<size_t>(F.nonZeros()));
     for (int i = 0; i < n; ++i) {
         for (auto p = outer[i]; p < outer[i + 1]; ++p) {
-            const int j = inner[p];
-            if (j == i) continue;
-            if (std::abs(val[p]) >= theta * std::sqrt(diag(i) * diag(j))) {
-                s_inner.push_back(j);
-                s_val.push_back(std::abs(val[p]));
-            }
+            if (inner[p] == i) continue;
+            s_inner.push_back(inner[p]);
+            s_val.push_back(std::abs(val[p]));
         }
         s_outer[static_cast<size_t>(i) + 1] = static_cast<int>(s_inner.size());
     }
@@ -174,8 +207,10 @@ AmgPreconditioner::AmgPreconditioner(const Eigen::SparseMatrix<double>& A0, cons
             levels_.push_back(std::move(L));
             break;
         }
+        std::vector<int> weak;
+        const RowSparse F = filtered_matrix(L.A, diag, options.strength, &weak);
         int nc = 0;
-        const std::vector<int> agg = aggregate(L.A, diag, options.strength, &nc);
+        const std::vector<int> agg = aggregate(F, &nc);
         if (nc > 0.6 * static_cast<double>(n) || nc < 1) {  // poor coarsening: a direct solve from here
             levels_.push_back(std::move(L));
             break;
@@ -185,11 +220,27 @@ AmgPreconditioner::AmgPreconditioner(const Eigen::SparseMatrix<double>& A0, cons
         for (Eigen::Index i = 0; i < n; ++i) t.emplace_back(i, agg[static_cast<size_t>(i)], 1.0);
         RowSparse Pt(n, nc);
         Pt.setFromTriplets(t.begin(), t.end());
-        // Smoothed prolongator P = (I - omega D^-1 A) P_tent, omega = 4 / (3 rho(D^-1 A)).
-        const double omega = 4.0 / (3.0 * spectral_radius_estimate(L.A, L.inv_diag));
-        RowSparse DA = L.inv_diag.asDiagonal() * L.A;
-        RowSparse P = Pt - omega * RowSparse(DA * Pt);
-        P.prune(0.0);
+        // Smoothed prolongator P = (I - omega D_F^-1 F) P_tent, omega = 4 / (3 rho(D_F^-1 F)).
+        const Eigen::VectorXd inv_fdiag = F.diagonal().cwiseInverse();
+        if (!inv_fdiag.allFinite() || !(inv_fdiag.array() > 0).all())
+            throw NumericalError("AMG: the filtered matrix has a non-positive diagonal entry");
+        const double omega = 4.0 / (3.0 * spectral_radius_estimate(F, inv_fdiag));
+        RowSparse DF = inv_fdiag.asDiagonal() * F;
+        RowSparse P = Pt - omega * RowSparse(DF * Pt);
+        // Rows with many weak couplings (a feature point of SMACOF's clique) keep their tentative
+        // row: the clique then couples only the aggregates holding its points, not every
+        // aggregate around them, and the coarse levels stay sparse.
+        std::vector<Eigen::Triplet<double>> pt;
+        pt.reserve(static_cast<size_t>(P.nonZeros()));
+        for (Eigen::Index i = 0; i < n; ++i) {
+            if (weak[static_cast<size_t>(i)] > kManyWeakCouplings) {
+                pt.emplace_back(i, agg[static_cast<size_t>(i)], 1.0);
+                continue;
+            }
+            for (RowSparse::InnerIterator it(P, i); it; ++it)
+                if (it.value() != 0) pt.emplace_back(i, it.col(), it.value());
+        }
+        P.setFromTriplets(pt.begin(), pt.end());
         RowSparse R = P.transpose();
         RowSparse AP = L.A * P;
         RowSparse Ac = R * AP;
