@@ -56,9 +56,9 @@ int main(int argc, char** argv) {
         else if (!std::strcmp(argv[k], "--solver")) {
             const std::string v = argv[k + 1];
             requested_solver = v;
-            opt.linear_solver = v == "direct"      ? canonform::SmacofLinearSolver::Direct
-                                : v == "multigrid" ? canonform::SmacofLinearSolver::Multigrid
-                                                   : canonform::SmacofLinearSolver::Auto;
+            opt.linear_solver = v == "direct"      ? canonform::LinearSolver::Direct
+                                : v == "multigrid" ? canonform::LinearSolver::Multigrid
+                                                   : canonform::LinearSolver::Auto;
         }
     }
     if (method == "geodesic-ls") gopt.method = canonform::GeodesicMds::LeastSquares;
@@ -91,7 +91,7 @@ int main(int argc, char** argv) {
                 t.push_back(r.seconds);
                 iterations = r.iterations;
                 features = r.features.size();
-                if (r.linear_solver == canonform::SmacofLinearSolver::Multigrid) solver = "AMG V-cycle";
+                if (r.linear_solver == canonform::LinearSolver::Multigrid) solver = "AMG V-cycle";
             }
         }
         std::sort(t.begin(), t.end());

@@ -79,3 +79,18 @@ TEST(ConformalFactor, RejectsBadInput) {
     EXPECT_THROW(conformal_factor(V, s.F), InputError);
     EXPECT_THROW(conformal_factor(s.V, Eigen::MatrixXi(0, 3)), InputError);
 }
+
+TEST(ConformalFactor, MultigridSolveEqualsTheDirectOne) {
+    // The AMG-preconditioned CG path (used from kMultigridFrom vertices) gives the factorisation's
+    // phi; checked here on a smaller mesh by asking for it explicitly.
+    const Figure f = make_figure(6000, figure_pose(3));
+    ConformalFactorOptions o;
+    o.linear_solver = LinearSolver::Direct;
+    const ConformalFactorResult d = conformal_factor(f.mesh.V, f.mesh.F, o);
+    o.linear_solver = LinearSolver::Multigrid;
+    const ConformalFactorResult m = conformal_factor(f.mesh.V, f.mesh.F, o);
+    EXPECT_LT((m.raw - d.raw).lpNorm<Eigen::Infinity>(), 1e-7 * d.raw.lpNorm<Eigen::Infinity>());
+    EXPECT_LT(m.residual, 1e-8);
+    EXPECT_EQ(use_multigrid(LinearSolver::Auto, kMultigridFrom - 1), false);
+    EXPECT_EQ(use_multigrid(LinearSolver::Auto, kMultigridFrom), true);
+}

@@ -122,12 +122,12 @@ TEST(Smacof, MultigridStepsNeverRaiseTheStressAndMatchTheDirectSolve) {
     EuclideanCanonicalFormOptions opt;
     opt.tolerance = 1e-6;
     opt.record_history = true;
-    opt.linear_solver = SmacofLinearSolver::Direct;
+    opt.linear_solver = LinearSolver::Direct;
     const EuclideanCanonicalFormResult d = euclidean_canonical_form(fig.mesh.V, fig.mesh.F, opt);
-    opt.linear_solver = SmacofLinearSolver::Multigrid;
+    opt.linear_solver = LinearSolver::Multigrid;
     const EuclideanCanonicalFormResult m = euclidean_canonical_form(fig.mesh.V, fig.mesh.F, opt);
-    EXPECT_EQ(d.linear_solver, SmacofLinearSolver::Direct);
-    ASSERT_EQ(m.linear_solver, SmacofLinearSolver::Multigrid);
+    EXPECT_EQ(d.linear_solver, LinearSolver::Direct);
+    ASSERT_EQ(m.linear_solver, LinearSolver::Multigrid);
     for (size_t k = 1; k < m.stress_history.size(); ++k)
         EXPECT_LE(m.stress_history[k], m.stress_history[k - 1] * (1 + 1e-12)) << "iteration " << k;
     EXPECT_TRUE(m.converged);
@@ -145,9 +145,9 @@ TEST(Smacof, AutoSolverSwitchesToMultigridAtTheThreshold) {
     for (Eigen::Index e = 0; e < E.rows(); ++e)
         p.add(E(e, 0), E(e, 1), (fig.mesh.V.row(E(e, 0)) - fig.mesh.V.row(E(e, 1))).norm(), 1.0);
     SmacofSolverOptions so;
-    EXPECT_EQ(SmacofSolver(3000, p, so).linear_solver(), SmacofLinearSolver::Direct);
+    EXPECT_EQ(SmacofSolver(3000, p, so).linear_solver(), LinearSolver::Direct);
     so.multigrid_from = 2000;
-    EXPECT_EQ(SmacofSolver(3000, p, so).linear_solver(), SmacofLinearSolver::Multigrid);
-    so.linear_solver = SmacofLinearSolver::Direct;
-    EXPECT_EQ(SmacofSolver(3000, p, so).linear_solver(), SmacofLinearSolver::Direct);
+    EXPECT_EQ(SmacofSolver(3000, p, so).linear_solver(), LinearSolver::Multigrid);
+    so.linear_solver = LinearSolver::Direct;
+    EXPECT_EQ(SmacofSolver(3000, p, so).linear_solver(), LinearSolver::Direct);
 }

@@ -190,6 +190,15 @@ double spectral_radius_estimate(const RowSparse& A, const Eigen::VectorXd& inv_d
 
 }  // namespace
 
+const char* to_string(LinearSolver s) {
+    switch (s) {
+    case LinearSolver::Direct: return "direct";
+    case LinearSolver::Multigrid: return "multigrid";
+    case LinearSolver::Auto: break;
+    }
+    return "auto";
+}
+
 AmgPreconditioner::AmgPreconditioner(const Eigen::SparseMatrix<double>& A0, const AmgOptions& options) {
     if (A0.rows() != A0.cols() || A0.rows() < 1) throw InputError("AMG: the matrix must be square and non-empty");
     sweeps_ = std::max(1, options.smoothing_sweeps);

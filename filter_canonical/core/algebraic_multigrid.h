@@ -28,6 +28,26 @@
 
 namespace canonform {
 
+/// How a core algorithm solves its large sparse SPD systems (SMACOF's V, the conformal factor's
+/// Laplacian).
+enum class LinearSolver {
+    Auto,       ///< Direct below kMultigridFrom unknowns, Multigrid from there
+    Direct,     ///< sparse LDL^T factor (sparse_cholesky.h): exact, fastest while it fits in cache
+    Multigrid,  ///< this header: O(N) per solve or step
+};
+
+/// Size from which LinearSolver::Auto picks Multigrid: where the two meet on this project's
+/// meshes (bench/run_bench.sh: equal at 10k vertices, multigrid 0.6x the time at 50k and 200k).
+constexpr int kMultigridFrom = 40000;
+
+/// Name of a linear solver ("auto", "direct", "multigrid").
+const char* to_string(LinearSolver s);
+
+/// True if `s` means multigrid for a system of `unknowns` rows.
+inline bool use_multigrid(LinearSolver s, long long unknowns, long long threshold = kMultigridFrom) {
+    return s == LinearSolver::Multigrid || (s == LinearSolver::Auto && unknowns >= threshold);
+}
+
 /// Options of AmgPreconditioner.
 struct AmgOptions {
     double strength = 0.08;   ///< j is a strong neighbour of i if |a_ij| >= strength sqrt(a_ii a_jj)

@@ -39,16 +39,29 @@ ConformalFactorResult conformal_factor(const Eigen::MatrixXd& V0, const Eigen::M
     const Eigen::SparseMatrix<double> L = cotan_laplacian(V, F);
     // Pin vertex 0: drop its row and column.
     const Eigen::SparseMatrix<double> Lr = L.bottomRightCorner(n - 1, n - 1);
-    SparseCholesky solver;
-    if (!solver.compute(Lr))
-        throw NumericalError("conformal factor: the Cholesky factorisation of the cotangent Laplacian "
-                             "failed (is the mesh connected and free of degenerate triangles?)");
-    report_progress(options.progress, 0.7, "conformal factor: solving");
     Eigen::VectorXd phi(n);
     phi(0) = 0;
-    phi.tail(n - 1) = solver.solve(Eigen::MatrixXd(rhs.tail(n - 1)));
-    if (!solver.ok() || !phi.allFinite())
-        throw NumericalError("conformal factor: the linear solve failed or produced non-finite values");
+    if (use_multigrid(options.linear_solver, n - 1) && n - 1 > AmgOptions{}.coarse_size) {
+        const AmgPreconditioner amg(Lr);
+        report_progress(options.progress, 0.7, "conformal factor: solving (multigrid)");
+        Eigen::MatrixXd x = Eigen::MatrixXd::Zero(n - 1, 1);
+        const PcgReport rep = amg.pcg(Eigen::MatrixXd(rhs.tail(n - 1)), x, 1e-10, 500);
+        if (!rep.converged)
+            throw NumericalError("conformal factor: the multigrid solve did not converge (is the mesh "
+                                 "free of degenerate triangles?)");
+        phi.tail(n - 1) = x.col(0);
+    } else {
+        SparseCholesky solver;
+        if (!solver.compute(Lr))
+            throw NumericalError("conformal factor: the Cholesky factorisation of the cotangent Laplacian "
+                                 "failed (is the mesh connected and free of degenerate triangles?)");
+        report_progress(options.progress, 0.7, "conformal factor: solving");
+        phi.tail(n - 1) = solver.solve(Eigen::MatrixXd(rhs.tail(n - 1)));
+        if (!solver.ok())
+            throw NumericalError("conformal factor: the linear solve failed");
+    }
+    if (!phi.allFinite())
+        throw NumericalError("conformal factor: the linear solve produced non-finite values");
 
     const double scale = rhs.lpNorm<Eigen::Infinity>();
     r.residual = scale > 0 ? (L * phi - rhs).lpNorm<Eigen::Infinity>() / scale : 0.0;

@@ -52,6 +52,7 @@ EuclideanCanonicalFormResult euclidean_canonical_form(const Eigen::MatrixXd& V0,
     // Sub-steps report into [0, 0.1] (conformal factor) and [0.1, 1] (SMACOF).
     ConformalFactorOptions cf_opt;
     cf_opt.validate = false;
+    cf_opt.linear_solver = options.linear_solver;
     if (options.progress)
         cf_opt.progress = [&](double f, const char* s) { return options.progress(0.08 * f, s); };
     const ConformalFactorResult cf = conformal_factor(V, F, cf_opt);

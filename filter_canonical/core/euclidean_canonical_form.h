@@ -58,7 +58,7 @@ struct EuclideanCanonicalFormOptions {
     std::uint64_t seed = 0;       ///< seed of variant A's random fill
     double tolerance = 1e-5;      ///< SMACOF relative stress-decrease tolerance
     int max_iterations = 1000;    ///< SMACOF iteration cap
-    SmacofLinearSolver linear_solver = SmacofLinearSolver::Auto;  ///< how V is solved (smacof.h)
+    LinearSolver linear_solver = LinearSolver::Auto;  ///< conformal factor's and SMACOF's solver
     bool restore_scale = true;    ///< return the result in the input's units and position
     bool record_history = false;  ///< keep the stress of every iteration
     bool validate = true;         ///< run validate_mesh() first (off only if the caller just did)
@@ -81,7 +81,7 @@ struct EuclideanCanonicalFormResult {
     double final_stress = 0;             ///< S(X_final)
     double mean_relative_edge_change = 0;///< mean over edges of |d_ij - delta_ij| / delta_ij
     double beta = 0;                     ///< beta used
-    SmacofLinearSolver linear_solver = SmacofLinearSolver::Direct;  ///< solver used (Direct or Multigrid)
+    LinearSolver linear_solver = LinearSolver::Direct;  ///< solver used (Direct or Multigrid)
     std::vector<double> stress_history;  ///< if record_history
     double seconds = 0;                  ///< wall time of the whole computation
 };

@@ -8,15 +8,6 @@
 
 namespace canonform {
 
-const char* to_string(SmacofLinearSolver s) {
-    switch (s) {
-    case SmacofLinearSolver::Direct: return "direct";
-    case SmacofLinearSolver::Multigrid: return "multigrid";
-    case SmacofLinearSolver::Auto: break;
-    }
-    return "auto";
-}
-
 SmacofSolver::SmacofSolver(int num_points, StressPairs pairs, const SmacofSolverOptions& options)
     : n_(num_points), pairs_(std::move(pairs)), options_(options) {
     if (n_ < 2) throw InputError("SMACOF needs at least two points");
@@ -51,8 +42,7 @@ SmacofSolver::SmacofSolver(int num_points, StressPairs pairs, const SmacofSolver
     }
     Eigen::SparseMatrix<double> Vr(n_ - 1, n_ - 1);
     Vr.setFromTriplets(t.begin(), t.end());
-    multigrid_ = options_.linear_solver == SmacofLinearSolver::Multigrid ||
-                 (options_.linear_solver == SmacofLinearSolver::Auto && n_ >= options_.multigrid_from);
+    multigrid_ = use_multigrid(options_.linear_solver, n_, options_.multigrid_from);
     if (multigrid_ && n_ - 1 <= AmgOptions{}.coarse_size) multigrid_ = false;  // one level: direct anyway
     if (multigrid_)
         amg_ = AmgPreconditioner(Vr);

@@ -126,20 +126,10 @@ void move_run_into(GuttmanRun&& g, Result& r) {
     r.stress_history = std::move(g.history);
 }
 
-/// How SmacofSolver solves V Y = B(X) X.
-enum class SmacofLinearSolver {
-    Auto,       ///< Direct below SmacofSolverOptions::multigrid_from points, Multigrid from there
-    Direct,     ///< sparse LDL^T factor of V, exact solves
-    Multigrid,  ///< V-cycles of algebraic multigrid from the current X, inexact (majorisation kept)
-};
-
-/// Name of a linear solver ("auto", "direct", "multigrid").
-const char* to_string(SmacofLinearSolver s);
-
 /// Options of the SmacofSolver constructor.
 struct SmacofSolverOptions {
-    SmacofLinearSolver linear_solver = SmacofLinearSolver::Auto;
-    int multigrid_from = 40000;  ///< Auto: points from which Multigrid is used (see bench/run_bench.sh)
+    LinearSolver linear_solver = LinearSolver::Auto;
+    int multigrid_from = kMultigridFrom;  ///< Auto: points from which Multigrid is used
     int vcycles_per_step = 1;    ///< Multigrid: V-cycles per Guttman step (>= 1)
 };
 
@@ -162,8 +152,8 @@ public:
 
     int num_points() const { return n_; }
     /// The solver in use: Direct or Multigrid (never Auto).
-    SmacofLinearSolver linear_solver() const {
-        return multigrid_ ? SmacofLinearSolver::Multigrid : SmacofLinearSolver::Direct;
+    LinearSolver linear_solver() const {
+        return multigrid_ ? LinearSolver::Multigrid : LinearSolver::Direct;
     }
     const StressPairs& pairs() const { return pairs_; }
 

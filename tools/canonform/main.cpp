@@ -292,8 +292,8 @@ int cmd_canonical(const Args& a) {
     opt.tolerance = a.num("tol", opt.tolerance);
     opt.max_iterations = a.integer("max-iter", opt.max_iterations);
     const std::string solver = a.str("solver", "auto");
-    if (solver == "direct") opt.linear_solver = SmacofLinearSolver::Direct;
-    else if (solver == "multigrid") opt.linear_solver = SmacofLinearSolver::Multigrid;
+    if (solver == "direct") opt.linear_solver = LinearSolver::Direct;
+    else if (solver == "multigrid") opt.linear_solver = LinearSolver::Multigrid;
     else if (solver != "auto") throw UsageError("--solver must be auto, direct or multigrid");
     opt.progress = terminal_progress(a.flag("quiet") || a.flag("json"));
     const io::MeshData m = io::read_mesh(a.positional[0]);
