@@ -12,6 +12,8 @@
 //                                   initParameterList, each keyword set on the parameter of that
 //                                   Python name (bool, int, float as a C float, str, enum by name or
 //                                   index), getRequirements, applyFilter; its map is the dict.
+//                                   (An unknown keyword is an error here, as in later pymeshlab
+//                                   releases; some releases only print a warning.)
 //
 // then applies every filter of both plugins by its Python name with Python-style keywords on a
 // generated figure and checks the results, and checks that a plugin compiled for single precision
