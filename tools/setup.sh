@@ -104,7 +104,8 @@ have_deb_src_for() {
 # Adds a deb-src entry for suite $1 in file $2 (main component, same archive and keyring).
 add_deb_src() {
   local suite=$1 file=$2 uri keyring
-  read -r uri keyring < <(debian_uri_keyring)
+  read -r uri keyring < <(debian_uri_keyring) || true
+  [ -n "$uri" ] || exit 1  # debian_uri_keyring said why
   log "adding deb-src entry derived from $uri ($suite) in $file"
   {
     echo "Types: deb-src"
