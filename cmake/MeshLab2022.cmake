@@ -14,8 +14,7 @@
 
 set(MESHLAB2022_SOURCE_DIR "${PROJECT_SOURCE_DIR}/external/meshlab-2022.02" CACHE PATH
     "MeshLab 2022.02 source tree (Debian source package meshlab=2022.02+dfsg1-1)")
-set(MESHLAB2022_SCALAR double CACHE STRING "MESHLAB_SCALAR of the MeshLab 2022.02 build (pymeshlab 2022.2: double)")
-set_property(CACHE MESHLAB2022_SCALAR PROPERTY STRINGS double float)
+set(MESHLAB2022_SCALAR double)  # pymeshlab 2022.2's precision (a float build is what it refuses)
 
 set(_ml22 "${MESHLAB2022_SOURCE_DIR}/src")
 if(NOT EXISTS "${_ml22}/common/plugins/interfaces/filter_plugin.h" OR NOT EXISTS "${_ml22}/vcglib/vcg/complex/complex.h")
@@ -34,11 +33,7 @@ string(STRIP "${_ml22_version}" _ml22_version)
 if(NOT _ml22_version STREQUAL "2022.02")
   message(FATAL_ERROR "${MESHLAB2022_SOURCE_DIR} is MeshLab ${_ml22_version}, not 2022.02")
 endif()
-if(MESHLAB2022_SCALAR STREQUAL "double")
-  set(MESHLAB2022_VERSION "${_ml22_version}d")  # upstream appends "d" to a double build's version
-else()
-  set(MESHLAB2022_VERSION "${_ml22_version}")
-endif()
+set(MESHLAB2022_VERSION "${_ml22_version}d")  # upstream appends "d" to a double build's version
 set(MESHLAB2022_OUTPUT_DIR "${CMAKE_BINARY_DIR}/meshlab2022")
 message(STATUS "canonform: MeshLab ${MESHLAB2022_VERSION} meshlab-common (MESHLAB_SCALAR=${MESHLAB2022_SCALAR}) "
                "from ${MESHLAB2022_SOURCE_DIR}")
@@ -89,7 +84,6 @@ set(_ml22_common_sources
   mlapplication.cpp
   meshlab-common.qrc)
 list(TRANSFORM _ml22_common_sources PREPEND "${_ml22}/common/")
-# The headers with Q_OBJECT, for AUTOMOC (it looks for a header next to each source).
 add_library(meshlab_common_2022 SHARED ${_ml22_common_sources})
 add_library(meshlab2022::common ALIAS meshlab_common_2022)
 set_target_properties(meshlab_common_2022 PROPERTIES
