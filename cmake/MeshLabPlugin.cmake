@@ -20,7 +20,7 @@ if(NOT TARGET meshlab_common_2020)
                                                        IMPORTED_NO_SONAME TRUE)
   target_include_directories(meshlab_common_2020 SYSTEM INTERFACE
     "${MESHLAB_SOURCE_DIR}/src" "${MESHLAB_SOURCE_DIR}/src/common" "${MESHLAB_SOURCE_DIR}/vcglib")
-  target_compile_definitions(meshlab_common_2020 INTERFACE MESHLAB_SCALAR=float)
+  target_compile_definitions(meshlab_common_2020 INTERFACE MESHLAB_SCALAR=float CANONFORM_MESHLAB_API=2020)
   target_link_libraries(meshlab_common_2020 INTERFACE Qt5::Core Qt5::Gui Qt5::Widgets Qt5::OpenGL Qt5::Xml
                                                       GLEW::GLEW OpenGL::GL)
   add_library(meshlab::common ALIAS meshlab_common_2020)

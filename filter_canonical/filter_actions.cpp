@@ -7,7 +7,7 @@
 #include "core/mesh_topology.h"
 #include "vcg_bridge.h"
 
-#include <common/meshmodel.h>
+#include "meshlab_document.h"
 #include <vcg/complex/algorithms/update/bounding.h>
 #include <vcg/complex/algorithms/update/color.h>
 #include <vcg/complex/algorithms/update/normal.h>
@@ -70,7 +70,7 @@ ActionOutputs conformal_factor_action(MeshDocument& md, const ParamValues& p, co
         << cf.raw.minCoeff() << ", " << cf.raw.maxCoeff() << "], relative residual " << cf.residual << "; stored "
         << (normalized ? "normalised to [0, 1]" : "raw") << " in the vertex quality";
     ctx.log(log.str());
-    return {{"vertices", double(b.V.rows())}, {"min", cf.raw.minCoeff()}, {"max", cf.raw.maxCoeff()},
+    return {{"vertices", int(b.V.rows())}, {"min", cf.raw.minCoeff()}, {"max", cf.raw.maxCoeff()},
             {"residual", cf.residual}};
 }
 
@@ -112,8 +112,8 @@ ActionOutputs feature_points_action(MeshDocument& md, const ParamValues& p, cons
         << fp.num_random << " random; target ceil(sqrt(" << b.V.rows() << ")) = " << sqrt_count(int(b.V.rows()))
         << ")";
     ctx.log(log.str());
-    return {{"selected", double(fp.indices.size())}, {"maxima", double(fp.num_maxima)},
-            {"random", double(fp.num_random)}};
+    return {{"selected", int(fp.indices.size())}, {"maxima", int(fp.num_maxima)}, {"random", int(fp.num_random)},
+            {"target", int(sqrt_count(int(b.V.rows())))}};
 }
 
 /// Writes a canonical form X (#V x 3, rows as in `b`) into a new layer named after `mm` (or in
@@ -173,10 +173,10 @@ ActionOutputs canonical_form_action(MeshDocument& md, const ParamValues& p, cons
         << r.final_stress << ", mean relative edge-length change " << r.mean_relative_edge_change << ", "
         << r.seconds << " s";
     ctx.log(log.str());
-    return {{"iterations", double(r.iterations)}, {"initial_stress", r.initial_stress},
+    return {{"iterations", int(r.iterations)}, {"initial_stress", r.initial_stress},
             {"final_stress", r.final_stress}, {"mean_relative_edge_change", r.mean_relative_edge_change},
-            {"feature_points", double(r.features.size())}, {"seconds", r.seconds},
-            {"converged", r.converged ? 1.0 : 0.0}};
+            {"feature_points", int(r.features.size())}, {"maxima", int(r.num_maxima)},
+            {"random", int(r.num_random)}, {"beta", r.beta}, {"seconds", r.seconds}, {"converged", bool(r.converged)}};
 }
 
 ActionOutputs geodesic_form_action(MeshDocument& md, const ParamValues& p, const ActionContext& ctx) {
@@ -202,7 +202,7 @@ ActionOutputs geodesic_form_action(MeshDocument& md, const ParamValues& p, const
         << " s (" << r.iterations << " iterations, stress " << r.initial_stress << " -> " << r.final_stress
         << "), mean relative edge-length change " << r.mean_relative_edge_change << ", " << r.seconds << " s";
     ctx.log(log.str());
-    return {{"iterations", double(r.iterations)}, {"initial_stress", r.initial_stress},
+    return {{"iterations", int(r.iterations)}, {"initial_stress", r.initial_stress},
             {"final_stress", r.final_stress}, {"mean_relative_edge_change", r.mean_relative_edge_change},
             {"geodesic_seconds", r.geodesic_seconds}, {"mds_seconds", r.mds_seconds}, {"seconds", r.seconds}};
 }

@@ -3,7 +3,6 @@
 #include "filter_actions.h"
 
 FilterCanonicalPlugin::FilterCanonicalPlugin()
-    : TableFilterPlugin2020("FilterCanonical", canonform::plugin::filter_table(),
-                            &canonform::plugin::apply_filter_action) {}
+    : TableFilterPlugin("FilterCanonical", canonform::plugin::filter_table(), &canonform::plugin::apply_filter_action) {}
 
 MESHLAB_PLUGIN_NAME_EXPORTER(FilterCanonicalPlugin)

@@ -10,6 +10,7 @@
 #include <functional>
 #include <map>
 #include <string>
+#include <variant>
 #include <vector>
 
 namespace canonform::plugin {
@@ -52,8 +53,13 @@ struct ActionContext {
     ProgressFn progress;
 };
 
-/// Named numeric outputs of an action (iterations, stresses, counts, seconds).
-using ActionOutputs = std::map<std::string, double>;
+/// One output of an action: a real number, a count, a flag or a vector. MeshLab 2022.02's
+/// adapter returns them from applyFilter, and pymeshlab 2022.2 to Python as float, int, bool and
+/// numpy array (a QVariant of double, int, bool or Eigen::VectorXd); 2020.09's API has no outputs.
+using OutputValue = std::variant<double, int, bool, std::vector<double>>;
+
+/// Named outputs of an action (iterations, stresses, counts, seconds, descriptor).
+using ActionOutputs = std::map<std::string, OutputValue>;
 
 /// Parameter values by name (bool: 0/1, enum: index; strings apart).
 struct ParamValues {

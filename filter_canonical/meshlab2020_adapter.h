@@ -2,7 +2,8 @@
 // (MeshFilterInterface). Each plugin is a subclass that names its table and its apply function
 // and adds Qt's plugin metadata; everything else - names, classes, requirements, parameters,
 // errorMessage + Log() on failure, progress - is done here once for all plugins. MeshLab
-// 2022.02's FilterPlugin API gets a sibling adapter over the same tables and actions.
+// 2022.02's FilterPlugin API (pymeshlab 2022.2) has the sibling meshlab2022_adapter.h over the
+// same tables and actions; what both share is in meshlab_adapter_common.h.
 #pragma once
 
 #include "filter_table.h"

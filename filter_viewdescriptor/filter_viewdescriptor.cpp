@@ -3,7 +3,7 @@
 #include "view_actions.h"
 
 FilterViewDescriptorPlugin::FilterViewDescriptorPlugin()
-    : TableFilterPlugin2020("FilterViewDescriptor", canonform::plugin::view_filter_table(),
-                            &canonform::plugin::apply_view_action) {}
+    : TableFilterPlugin("FilterViewDescriptor", canonform::plugin::view_filter_table(),
+                        &canonform::plugin::apply_view_action) {}
 
 MESHLAB_PLUGIN_NAME_EXPORTER(FilterViewDescriptorPlugin)

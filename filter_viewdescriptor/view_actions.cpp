@@ -4,7 +4,7 @@
 #include "core/view_descriptor.h"
 #include "vcg_bridge.h"
 
-#include <common/meshmodel.h>
+#include "meshlab_document.h"
 
 #include <QDir>
 #include <QImage>
@@ -17,11 +17,28 @@ namespace canonform::plugin {
 
 namespace {
 
+/// The descriptor as one vector: with a codebook the V dense histograms (V x W word counts, view
+/// 0 first); without, the raw SIFT descriptors (sum of keypoints_per_view rows x 128, view 0's
+/// first), as in the descriptor file (descriptor_file.h).
+std::vector<double> flatten(const views::ModelDescriptor& d) {
+    std::vector<double> v;
+    if (d.codebook_words > 0) {
+        const size_t w = static_cast<size_t>(d.codebook_words);
+        v.assign(d.histograms.size() * w, 0.0);
+        for (size_t k = 0; k < d.histograms.size(); ++k)
+            for (const auto& [word, count] : d.histograms[k]) v[k * w + static_cast<size_t>(word)] = count;
+    } else {
+        for (const auto& m : d.raw)
+            for (Eigen::Index r = 0; r < m.rows(); ++r)
+                for (Eigen::Index c = 0; c < m.cols(); ++c) v.push_back(m(r, c));
+    }
+    return v;
+}
+
 ActionOutputs depth_view_descriptor(MeshDocument& md, const ParamValues& p, const ActionContext& ctx) {
     if (md.mm() == nullptr) throw InputError("there is no current mesh");
     MeshModel& mm = *md.mm();
-    const std::string out = p.get_string(param::output_file);
-    if (out.empty()) throw InputError("choose a descriptor file (output_file)");
+    const std::string out = p.get_string(param::output_file);  // empty: no file (pymeshlab gets the vector)
     const std::string cb_path = p.get_string(param::codebook_file);
     const int size = p.get_int(param::image_size);
     if (size < 32 || size > 2048) throw InputError("the image size must be between 32 and 2048 pixels");
@@ -62,7 +79,7 @@ ActionOutputs depth_view_descriptor(MeshDocument& md, const ParamValues& p, cons
             if (!img.save(f, "PNG")) throw InputError("cannot write '" + f.toStdString() + "'");
         }
     }
-    views::write_descriptor(out, d);
+    if (!out.empty()) views::write_descriptor(out, d);
 
     const auto& n = d.keypoints_per_view;
     const int total = std::accumulate(n.begin(), n.end(), 0);
@@ -72,9 +89,11 @@ ActionOutputs depth_view_descriptor(MeshDocument& md, const ParamValues& p, cons
         << total / static_cast<double>(n.size()) << ", max " << *std::max_element(n.begin(), n.end()) << " ("
         << total << " in all); " << (codebook ? "histograms over " + std::to_string(codebook->size()) + " words"
                                               : std::string("raw SIFT features"))
-        << "; pose by " << (vs.pose.used_rectilinearity ? "rectilinearity" : "PCA") << "; written to " << out;
+        << "; pose by " << (vs.pose.used_rectilinearity ? "rectilinearity" : "PCA") << "; "
+        << (out.empty() ? std::string("no file written (output_file empty)") : "written to " + out);
     ctx.log(log.str());
-    return {{"views", double(n.size())}, {"keypoints", double(total)}};
+    return {{"views", int(n.size())}, {"keypoints", total}, {"codebook_words", d.codebook_words},
+            {"keypoints_per_view", std::vector<double>(n.begin(), n.end())}, {"descriptor", flatten(d)}};
 }
 
 }  // namespace

@@ -17,7 +17,8 @@ const std::vector<FilterSpec>& view_filter_table() {
                      "Godil, X. Sun, J. Xiao, <b>\"CM-BOF: visual similarity-based 3D shape retrieval using "
                      "Clock Matching and Bag-of-Features\"</b>, Machine Vision and Applications, 2013.",
                      {{param::output_file, K::String, 0, "Descriptor file",
-                       "Where to write the descriptor (canonform's versioned .cfvd format).", {}, "descriptor.cfvd"},
+                       "Where to write the descriptor (canonform's versioned .cfvd format); empty: write no file "
+                       "(pymeshlab returns the descriptor as a vector either way).", {}, "descriptor.cfvd"},
                       {param::codebook_file, K::String, 0, "Codebook file (optional)",
                        "A codebook from 'canonform codebook'; empty: store the raw SIFT features.", {}, ""},
                       {param::image_size, K::Int, 256, "Image size (pixels)", "Side of each depth image.", {}},

@@ -3,7 +3,9 @@
 
 #include <gtest/gtest.h>
 
+#include <cctype>
 #include <fstream>
+#include <map>
 #include <regex>
 #include <set>
 #include <sstream>
@@ -51,5 +53,27 @@ TEST(FilterTable, ShippedScriptsListEveryParameterAtItsDefault) {
         EXPECT_EQ(ss.str(), default_script(f)) << path << " is out of date: regenerate it with canonform_mlx";
         for (const auto& p : f.params)
             EXPECT_NE(ss.str().find(std::string("name=\"") + p.name + "\""), std::string::npos) << p.name;
+    }
+}
+
+// pymeshlab 2022.2 calls a filter by FilterPlugin::pythonFilterName() (the table's python_name),
+// and also registers a deprecated name made from the menu name (lower case, spaces to '_'): no
+// name may be taken twice, or pymeshlab's set of functions keeps only one of them.
+TEST(FilterTable, PythonNamesForPymeshlab) {
+    std::map<std::string, std::string> python;
+    for (const auto& f : filter_table()) python[f.name] = f.python_name;
+    for (const auto& f : view_filter_table()) python[f.name] = f.python_name;
+    EXPECT_EQ(python, (std::map<std::string, std::string>{
+                          {"Conformal factor", "compute_conformal_factor"},
+                          {"Feature points", "compute_feature_points"},
+                          {"Euclidean canonical form", "generate_euclidean_canonical_form"},
+                          {"Geodesic canonical form", "generate_geodesic_canonical_form"},
+                          {"Depth view descriptor", "compute_depth_view_descriptor"}}));
+    std::set<std::string> all;
+    for (const auto& [menu, name] : python) {
+        std::string old = menu;
+        for (char& c : old) c = c == ' ' ? '_' : static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+        EXPECT_TRUE(all.insert(name).second) << name;
+        EXPECT_TRUE(all.insert(old).second) << old;
     }
 }

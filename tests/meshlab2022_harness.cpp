@@ -1,0 +1,466 @@
+// canonform: the plugins as pymeshlab 2022.2 sees them, without Python.
+//
+// pymeshlab 2022.2.x is MeshLab 2022.02's meshlab-common (double precision) behind pybind11. This
+// program links the same library (built from Debian's 2022.02 source, cmake/MeshLab2022.cmake) and
+// goes through the same steps as pymeshlab's Python calls:
+//
+//   pymeshlab.load_plugin(path)  -> PluginManager::checkPlugin (Qt plugin, MeshLabPlugin, the
+//                                   precision and "2022.0" version checks, filter checks), then
+//                                   pluginManagerInstance().loadPlugin and
+//                                   functionSetInstance().loadFilterPlugin (the Python names);
+//   ms.apply_filter(name, **kw)  -> the Function of that Python name, the plugin's
+//                                   initParameterList, each keyword set on the parameter of that
+//                                   Python name (bool, int, float as a C float, str, enum by name or
+//                                   index), getRequirements, applyFilter; its map is the dict.
+//                                   (An unknown keyword is an error here, as in later pymeshlab
+//                                   releases; some releases only print a warning.)
+//
+// then applies every filter of both plugins by its Python name with Python-style keywords on a
+// generated figure and checks the results, and checks that a plugin compiled for single precision
+// is refused with MeshLab's message. Results go to OUT for the comparison with the MeshLab 2020.09
+// (float) build (tests/e2e/pymeshlab2022_test.sh).
+//
+//   canonform_meshlab2022_harness --plugin P.so [--plugin P2.so ...] [--wrong-precision W.so]
+//       [--vertices N] [--pose K] [--codebook CB] --out DIR
+#include "core/procedural_meshes.h"
+
+#include <common/globals.h>
+#include <common/ml_document/mesh_document.h>
+#include <common/mlexception.h>
+#include <common/plugins/action_searcher.h>
+#include <common/plugins/interfaces/filter_plugin.h>
+#include <common/plugins/plugin_manager.h>
+#include <common/python/function_set.h>
+#include <common/utilities/eigen_mesh_conversions.h>
+
+#include <vcg/complex/algorithms/update/selection.h>
+
+#include <QDir>
+#include <QFileInfo>
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <iomanip>
+#include <sstream>
+#include <string>
+#include <variant>
+#include <vector>
+
+namespace {
+
+// --- pymeshlab 2022.2, the parts a plugin meets --------------------------------------------------
+
+/// pymeshlab.load_plugin(filename), step by step as pymeshlab 2022.2 does it.
+void load_plugin(const std::string& filename) {
+    const MeshLabPluginType type = PluginManager::checkPlugin(QString::fromStdString(filename));
+    if (!(type.isIOPlugin() || type.isFilterPlugin()))
+        throw MLException("Error while loading plugin: PyMeshLab only supports IO or Filter plugins.");
+    PluginManager& pm = meshlab::pluginManagerInstance();
+    pymeshlab::FunctionSet& fs = pymeshlab::functionSetInstance();
+    MeshLabPlugin* ipf = pm.loadPlugin(QString::fromStdString(filename));
+    const MeshLabPluginType tp(ipf);
+    if (tp.isFilterPlugin()) {
+        auto* fp = dynamic_cast<FilterPlugin*>(ipf);
+        fs.loadFilterPlugin(fp);
+        ActionSearcher& as = meshlab::actionSearcherInstance();
+        for (QAction* a : fp->actions()) {
+            a->setToolTip(fp->filterInfo(a));
+            as.addAction(a);
+        }
+    } else {
+        throw MLException("Error while loading plugin: Unknown plugin type.");
+    }
+}
+
+/// A Python keyword argument's value: bool, int, float or str.
+using PyValue = std::variant<bool, int, double, std::string>;
+using Kwargs = std::vector<std::pair<std::string, PyValue>>;
+/// What apply_filter returns (pymeshlab converts it to a dict).
+using Dict = std::map<std::string, QVariant>;
+
+/// One keyword on its parameter, as pymeshlab's updateRichParameterFromKwarg converts it.
+void set_from_kwarg(RichParameter& par, const std::string& key, const PyValue& v) {
+    auto wrong = [&](const char* want) {
+        return MLException(QString::fromStdString("Parameter " + key + ": expected " + want));
+    };
+    if (par.isOfType<RichBool>()) {
+        if (!std::holds_alternative<bool>(v)) throw wrong("a bool");
+        par.setValue(BoolValue(std::get<bool>(v)));
+    } else if (par.isOfType<RichInt>()) {
+        if (!std::holds_alternative<int>(v)) throw wrong("an int");
+        par.setValue(IntValue(std::get<int>(v)));
+    } else if (par.isOfType<RichFloat>()) {  // pymeshlab: FloatValue(py::cast<float>(value))
+        if (std::holds_alternative<double>(v)) par.setValue(FloatValue(static_cast<float>(std::get<double>(v))));
+        else if (std::holds_alternative<int>(v)) par.setValue(FloatValue(static_cast<float>(std::get<int>(v))));
+        else throw wrong("a float");
+    } else if (par.isOfType<RichEnum>()) {  // by name, or by index
+        auto& en = dynamic_cast<RichEnum&>(par);
+        int index = -1;
+        if (std::holds_alternative<std::string>(v)) {
+            index = en.enumvalues.indexOf(QString::fromStdString(std::get<std::string>(v)));
+            if (index == -1) {
+                std::string list;
+                for (const QString& s : en.enumvalues) list += "'" + s.toStdString() + "'; ";
+                throw MLException(QString::fromStdString("Enum '" + std::get<std::string>(v) +
+                                                         "' not found. Possible values are " + list));
+            }
+        } else if (std::holds_alternative<int>(v)) {
+            index = std::get<int>(v);
+            if (index < 0 || index >= en.enumvalues.size())
+                throw MLException(QString::fromStdString("Enum " + std::to_string(index) + " not valid."));
+        } else {
+            throw wrong("a str or an int");
+        }
+        en.setValue(IntValue(index));
+    } else if (par.isOfType<RichString>()) {
+        if (!std::holds_alternative<std::string>(v)) throw wrong("a str");
+        par.setValue(StringValue(QString::fromStdString(std::get<std::string>(v))));
+    } else {
+        throw MLException(QString::fromStdString("Parameter " + key + ": type not handled by this harness"));
+    }
+}
+
+/// A pymeshlab.MeshSet: a MeshDocument with add_mesh and apply_filter.
+class MeshSet : public MeshDocument {
+public:
+    void add_mesh(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const QString& name) {
+        const CMeshO m = meshlab::meshFromMatrices(V.cast<Scalarm>(), F);
+        addNewMesh(m, name);
+    }
+
+    Dict apply_filter(const std::string& filtername, const Kwargs& kwargs) {
+        const pymeshlab::FunctionSet& fs = pymeshlab::functionSetInstance();
+        const QString fname = QString::fromStdString(filtername);
+        if (!fs.containsFilterFunction(fname))
+            throw MLException("Failed to apply filter: " + fname +
+                              "\nFilter does not exists. Take a look at MeshSet.print_filter_list function.");
+        const pymeshlab::Function& f = fs.filterFunction(fname);
+        QAction* action = nullptr;
+        FilterPlugin* fp = plugin_of(f.meshlabFunctionName(), action);
+        if (fp->filterArity(action) != FilterPlugin::NONE && meshNumber() == 0)
+            throw MLException(fname + " requires at least one mesh loaded in the MeshSet.");
+        RichParameterList rpl = fp->initParameterList(action, *this);
+        for (const auto& [key, value] : kwargs) {
+            const QString k = QString::fromStdString(key);
+            if (!f.contains(k))
+                throw MLException("Parameter " + k + " not found for filter " + fname + ". Please check the documentation.");
+            auto it = rpl.findParameter(f.getFilterFunctionParameter(k).meshlabName());
+            if (it != rpl.end()) set_from_kwarg(*it, key, value);
+        }
+        try {
+            const int req = fp->getRequirements(action);
+            if (mm() != nullptr) mm()->updateDataMask(req);
+            meshDocStateData().clear();
+            meshDocStateData().create(*this);
+            unsigned int post_condition_mask = MeshModel::MM_UNKNOWN;
+            Dict out = fp->applyFilter(action, rpl, *this, post_condition_mask, nullptr);
+            if (mm() != nullptr) {
+                mm()->cm.svn = int(vcg::tri::UpdateSelection<CMeshO>::VertexCount(mm()->cm));
+                mm()->cm.sfn = int(vcg::tri::UpdateSelection<CMeshO>::FaceCount(mm()->cm));
+            }
+            return out;
+        } catch (const std::exception& e) {
+            throw MLException("Failed to apply filter: " + fname + "\nDetails: " + e.what());
+        }
+    }
+
+private:
+    static FilterPlugin* plugin_of(const QString& meshlab_name, QAction*& action) {
+        for (FilterPlugin* fp : meshlab::pluginManagerInstance().filterPluginIterator())
+            for (QAction* a : fp->actions())
+                if (meshlab_name == fp->filterName(a)) {
+                    action = a;
+                    return fp;
+                }
+        throw MLException("no plugin has the filter " + meshlab_name);
+    }
+};
+
+// --- checks --------------------------------------------------------------------------------------
+
+int passes = 0, failures = 0;
+
+void check(bool ok, const std::string& what) {
+    std::printf("  %s %s\n", ok ? "ok  " : "FAIL", what.c_str());
+    std::fflush(stdout);
+    (ok ? passes : failures)++;
+}
+
+/// The message of the MLException that `f` throws, or "" (and a failed check) if none.
+template <class F>
+std::string error_of(F&& f, const std::string& what) {
+    try {
+        f();
+    } catch (const MLException& e) {
+        return e.what();
+    } catch (const std::exception& e) {
+        check(false, what + ": threw a non-MLException: " + e.what());
+        return "";
+    }
+    check(false, what + ": no exception");
+    return "";
+}
+
+bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
+
+bool is_int(const Dict& d, const char* k) { return d.count(k) && std::string(d.at(k).typeName()) == "int"; }
+bool is_double(const Dict& d, const char* k) { return d.count(k) && std::string(d.at(k).typeName()) == "double"; }
+bool is_bool(const Dict& d, const char* k) { return d.count(k) && std::string(d.at(k).typeName()) == "bool"; }
+bool is_vector(const Dict& d, const char* k) { return d.count(k) && d.at(k).canConvert<Eigen::VectorXd>(); }
+
+/// A dict as JSON (numbers, bools; vectors as their length and sum, or in full if short).
+std::string to_json(const Dict& d) {
+    std::ostringstream o;
+    o << std::setprecision(17) << "{";
+    bool first = true;
+    for (const auto& [k, v] : d) {
+        o << (first ? "" : ", ") << "\"" << k << "\": ";
+        first = false;
+        const std::string t = v.typeName();
+        if (t == "int") o << v.toInt();
+        else if (t == "double") o << v.toDouble();
+        else if (t == "bool") o << (v.toBool() ? "true" : "false");
+        else if (v.canConvert<Eigen::VectorXd>()) {
+            const Eigen::VectorXd e = v.value<Eigen::VectorXd>();
+            o << "{\"length\": " << e.size() << ", \"sum\": " << e.sum() << "}";
+        } else o << "null";
+    }
+    return o.str() + "}";
+}
+
+/// Writes the mesh `m` (positions, faces, vertex quality) as an ASCII PLY with 9 significant
+/// digits, the input of the MeshLab 2020.09 comparison.
+void write_ply(const std::string& path, const CMeshO& m, bool quality) {
+    const EigenMatrixX3m V = meshlab::vertexMatrix(m);
+    const Eigen::MatrixX3i F = meshlab::faceMatrix(m);
+    const EigenVectorXm Q = quality ? meshlab::vertexQualityArray(m) : EigenVectorXm();
+    std::ofstream o(path);
+    o << "ply\nformat ascii 1.0\nelement vertex " << V.rows() << "\nproperty float x\nproperty float y\nproperty float z\n";
+    if (quality) o << "property float quality\n";
+    o << "element face " << F.rows() << "\nproperty list uchar int vertex_indices\nend_header\n" << std::setprecision(9);
+    for (Eigen::Index i = 0; i < V.rows(); ++i) {
+        o << V(i, 0) << " " << V(i, 1) << " " << V(i, 2);
+        if (quality) o << " " << Q(i);
+        o << "\n";
+    }
+    for (Eigen::Index i = 0; i < F.rows(); ++i) o << "3 " << F(i, 0) << " " << F(i, 1) << " " << F(i, 2) << "\n";
+    if (!o) throw std::runtime_error("cannot write " + path);
+}
+
+MeshModel* layer_named(MeshSet& ms, const QString& label) {
+    for (MeshModel& m : ms.meshIterator())
+        if (m.label() == label) return &m;
+    return nullptr;
+}
+
+int usage() {
+    std::fprintf(stderr, "usage: canonform_meshlab2022_harness --plugin P.so [--plugin ...] [--wrong-precision W.so]\n"
+                         "       [--vertices N] [--pose K] [--codebook CB] --out DIR\n");
+    return 2;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    std::vector<std::string> plugins;
+    std::string wrong, out, codebook;
+    int vertices = 2500, pose = 4;
+    for (int i = 1; i < argc; ++i) {
+        const std::string a = argv[i];
+        if (i + 1 >= argc) return usage();
+        if (a == "--plugin") plugins.push_back(argv[++i]);
+        else if (a == "--wrong-precision") wrong = argv[++i];
+        else if (a == "--vertices") vertices = std::atoi(argv[++i]);
+        else if (a == "--pose") pose = std::atoi(argv[++i]);
+        else if (a == "--codebook") codebook = argv[++i];
+        else if (a == "--out") out = argv[++i];
+        else return usage();
+    }
+    if (plugins.empty() || out.empty()) return usage();
+    QDir().mkpath(QString::fromStdString(out));
+    std::ofstream json(out + "/outputs.json");
+    json << "{";
+    auto record = [&json, first = true](const std::string& name, const Dict& d) mutable {
+        json << (first ? "" : ",\n ") << "\"" << name << "\": " << to_json(d);
+        first = false;
+    };
+
+    std::printf("MeshLab %s (built with %s precision), pymeshlab 2022.2's plugin loading\n",
+                meshlab::meshlabVersion().c_str(), meshlab::builtWithDoublePrecision() ? "double" : "single");
+    try {
+        // 1. A plugin of the wrong precision is refused, with MeshLab's reason ---------------------
+        if (!wrong.empty()) {
+            const std::string msg = error_of([&] { load_plugin(wrong); }, "load_plugin(single-precision plugin)");
+            std::printf("  load_plugin('%s') -> MLException: %s\n", wrong.c_str(), msg.c_str());
+            check(contains(msg, "has different floating point precision from the running MeshLab version"),
+                  "a plugin built for single precision is refused: 'different floating point precision'");
+        }
+        // 2. load_plugin on each plugin ---------------------------------------------------------
+        for (const auto& p : plugins) {
+            bool loaded = true;
+            try {
+                load_plugin(p);
+            } catch (const std::exception& e) {
+                loaded = false;
+                std::printf("  load_plugin('%s') -> %s\n", p.c_str(), e.what());
+            }
+            check(loaded, "load_plugin(" + QFileInfo(QString::fromStdString(p)).fileName().toStdString() + ")");
+        }
+        if (!plugins.empty()) {
+            const std::string again = error_of([&] { load_plugin(plugins[0]); }, "load_plugin twice");
+            check(contains(again, "has been already loaded"), "loading the same plugin twice is refused: " + again);
+        }
+        const pymeshlab::FunctionSet& fs = pymeshlab::functionSetInstance();
+        const std::map<std::string, std::vector<std::string>> expected = {
+            {"compute_conformal_factor", {"normalize", "colorize"}},
+            {"compute_feature_points", {"ring", "fill", "seed", "add_layer"}},
+            {"generate_euclidean_canonical_form",
+             {"variant", "alpha", "beta", "ring", "seed", "tolerance", "max_iterations", "new_layer"}},
+            {"generate_geodesic_canonical_form",
+             {"method", "tolerance", "max_iterations", "max_memory_gib", "max_seconds", "new_layer"}},
+            {"compute_depth_view_descriptor", {"output_file", "codebook_file", "image_size", "views_folder", "seed"}}};
+        for (const auto& [name, params] : expected) {
+            const bool has = fs.containsFilterFunction(QString::fromStdString(name));
+            std::string missing;
+            if (has) {
+                const auto& f = fs.filterFunction(QString::fromStdString(name));
+                for (const auto& p : params)
+                    if (!f.contains(QString::fromStdString(p))) missing += " " + p;
+                if (f.parametersNumber() != params.size()) missing += " (" + std::to_string(f.parametersNumber()) + " parameters)";
+            }
+            check(has && missing.empty(), "Python name " + name + " with keywords of the table" +
+                                              (missing.empty() ? "" : ": missing" + missing));
+        }
+
+        // 3. Every filter by its Python name on a generated figure ------------------------------
+        // The figure of 'canonform generate OUT --vertices N --pose K': coordinates rounded to float.
+        const canonform::Figure fig = canonform::make_figure(vertices, canonform::figure_pose(pose));
+        const Eigen::MatrixXd V = fig.mesh.V.cast<float>().cast<double>();
+        const long n = V.rows();
+        const int sqrt_n = static_cast<int>(std::ceil(std::sqrt(static_cast<double>(n))));
+        MeshSet ms;
+        ms.add_mesh(V, fig.mesh.F, "fig.ply");
+        write_ply(out + "/input.ply", ms.mm()->cm, false);
+        std::printf("  figure: %ld vertices, %ld faces (pose %d)\n", n, long(fig.mesh.F.rows()), pose);
+
+        // compute_conformal_factor
+        Dict cf = ms.apply_filter("compute_conformal_factor", {{"normalize", true}, {"colorize", false}});
+        record("compute_conformal_factor", cf);
+        const EigenVectorXm q = meshlab::vertexQualityArray(ms.mm()->cm);
+        check(is_int(cf, "vertices") && cf["vertices"].toInt() == n && is_double(cf, "min") && is_double(cf, "max") &&
+                  cf["min"].toDouble() < cf["max"].toDouble() && is_double(cf, "residual") && cf["residual"].toDouble() < 1e-6,
+              "compute_conformal_factor: dict {vertices: int, min, max, residual: float}");
+        check(q.size() == n && q.minCoeff() == 0 && std::abs(q.maxCoeff() - 1) < 1e-12,
+              "compute_conformal_factor(normalize=True): vertex quality spans [0, 1]");
+        write_ply(out + "/cf.ply", ms.mm()->cm, true);
+        Dict cf_raw = ms.apply_filter("compute_conformal_factor", {{"normalize", false}, {"colorize", true}});
+        const EigenVectorXm q_raw = meshlab::vertexQualityArray(ms.mm()->cm);
+        check(std::abs(q_raw.minCoeff() - cf_raw["min"].toDouble()) < 1e-9 &&
+                  std::abs(q_raw.maxCoeff() - cf_raw["max"].toDouble()) < 1e-9 && ms.mm()->hasDataMask(MeshModel::MM_VERTCOLOR),
+              "compute_conformal_factor(normalize=False, colorize=True): raw quality = dict's range, colours on");
+
+        // compute_feature_points (variant A's fill: exactly ceil(sqrt(N)) points)
+        const size_t layers0 = ms.meshNumber();
+        Dict fp = ms.apply_filter("compute_feature_points",
+                                  {{"ring", 2}, {"fill", std::string("random")}, {"seed", 3}, {"add_layer", true}});
+        record("compute_feature_points", fp);
+        const long selected = (meshlab::vertexSelectionArray(ms.mm()->cm).array()).count();
+        check(is_int(fp, "selected") && fp["selected"].toInt() == sqrt_n && selected == sqrt_n && ms.mm()->cm.svn == sqrt_n,
+              "compute_feature_points(fill='random'): " + std::to_string(selected) + " selected = ceil(sqrt(" +
+                  std::to_string(n) + ")) = " + std::to_string(sqrt_n));
+        const MeshModel* points = layer_named(ms, "fig feature points");
+        check(ms.meshNumber() == layers0 + 1 && points && points->cm.vn == sqrt_n && points->cm.fn == 0,
+              "compute_feature_points(add_layer=True): layer 'fig feature points' with those points");
+        Dict fp_none = ms.apply_filter("compute_feature_points", {{"fill", 0}, {"add_layer", false}});
+        check(fp_none["random"].toInt() == 0 && fp_none["selected"].toInt() == fp_none["maxima"].toInt() &&
+                  fp_none["selected"].toInt() <= sqrt_n && ms.meshNumber() == layers0 + 1,
+              "compute_feature_points(fill=0): the maxima only (enum by index), no new layer");
+
+        // generate_euclidean_canonical_form, variant N (default) and A, in new layers
+        Dict ecf = ms.apply_filter("generate_euclidean_canonical_form",
+                                   {{"variant", std::string("N")}, {"alpha", 10.0}, {"new_layer", true}});
+        record("generate_euclidean_canonical_form", ecf);
+        MeshModel* canon = layer_named(ms, "fig canonical form");
+        check(canon && canon->cm.vn == n && canon->cm.fn == fig.mesh.F.rows(),
+              "generate_euclidean_canonical_form: layer 'fig canonical form' with the input's vertices and faces");
+        check(is_int(ecf, "iterations") && ecf["iterations"].toInt() > 0 && is_double(ecf, "initial_stress") &&
+                  is_double(ecf, "final_stress") && ecf["final_stress"].toDouble() < ecf["initial_stress"].toDouble() &&
+                  ecf["final_stress"].toDouble() > 0 && is_bool(ecf, "converged") && ecf["converged"].toBool() &&
+                  is_double(ecf, "mean_relative_edge_change") && ecf["mean_relative_edge_change"].toDouble() > 0 &&
+                  ecf["mean_relative_edge_change"].toDouble() < 0.5 && ecf["beta"].toDouble() == 130,
+              "generate_euclidean_canonical_form: dict iterations " + ecf["iterations"].toString().toStdString() +
+                  ", stress " + ecf["initial_stress"].toString().toStdString() + " -> " +
+                  ecf["final_stress"].toString().toStdString() + ", converged, beta 130");
+        if (canon) {
+            const long canon_selected = meshlab::vertexSelectionArray(canon->cm).count();
+            check(canon_selected == ecf["feature_points"].toInt(), "generate_euclidean_canonical_form: feature points selected");
+            const double moved = (meshlab::vertexMatrix(canon->cm) - V).rowwise().norm().maxCoeff();
+            check(moved > 1e-3, "generate_euclidean_canonical_form: the layer is not the input pose");
+            write_ply(out + "/canon.ply", canon->cm, true);
+        }
+        Dict ecf_a = ms.apply_filter("generate_euclidean_canonical_form", {{"variant", 0}, {"seed", 5}, {"new_layer", true}});
+        record("generate_euclidean_canonical_form_A", ecf_a);
+        check(ecf_a["feature_points"].toInt() == sqrt_n && ecf_a["beta"].toDouble() == 10,
+              "generate_euclidean_canonical_form(variant=0 i.e. A): ceil(sqrt(N)) feature points, beta 10");
+
+        // generate_geodesic_canonical_form (classical MDS), and its refusal over the memory limit
+        const size_t layers1 = ms.meshNumber();
+        Dict geo = ms.apply_filter("generate_geodesic_canonical_form", {{"method", std::string("classical")}});
+        record("generate_geodesic_canonical_form", geo);
+        check(ms.meshNumber() == layers1 + 1 && is_double(geo, "mds_seconds") && is_double(geo, "geodesic_seconds") &&
+                  is_double(geo, "mean_relative_edge_change"),
+              "generate_geodesic_canonical_form(method='classical'): new layer, timings and edge change in the dict");
+        const std::string refused = error_of(
+            [&] { ms.apply_filter("generate_geodesic_canonical_form", {{"max_memory_gib", 0.001}}); }, "geodesic refusal");
+        check(contains(refused, "Failed to apply filter: generate_geodesic_canonical_form") &&
+                  contains(refused, "needs about") && ms.meshNumber() == layers1 + 1,
+              "generate_geodesic_canonical_form(max_memory_gib=0.001): MLException naming memory and time, no layer");
+
+        // compute_depth_view_descriptor: the descriptor as a vector (numpy array in pymeshlab)
+        const std::string dfile = out + "/descriptor.cfvd";
+        Kwargs dk = {{"output_file", dfile}, {"seed", 0}};
+        if (!codebook.empty()) dk.push_back({"codebook_file", codebook});
+        Dict dv = ms.apply_filter("compute_depth_view_descriptor", dk);
+        record("compute_depth_view_descriptor", dv);
+        const Eigen::VectorXd per_view = dv["keypoints_per_view"].value<Eigen::VectorXd>();
+        const Eigen::VectorXd desc = dv["descriptor"].value<Eigen::VectorXd>();
+        check(is_int(dv, "views") && dv["views"].toInt() == 66 && is_vector(dv, "keypoints_per_view") && per_view.size() == 66 &&
+                  per_view.sum() == dv["keypoints"].toInt() && dv["keypoints"].toInt() > 66,
+              "compute_depth_view_descriptor: 66 views, keypoints_per_view a vector of 66 summing to keypoints (" +
+                  dv["keypoints"].toString().toStdString() + ")");
+        const int words = dv["codebook_words"].toInt();
+        const bool desc_ok = is_vector(dv, "descriptor") &&
+                             (words > 0 ? desc.size() == 66L * words && desc.sum() == per_view.sum()
+                                        : desc.size() == static_cast<Eigen::Index>(per_view.sum()) * 128);
+        check(desc_ok && desc.size() > 0 && QFileInfo::exists(QString::fromStdString(dfile)),
+              "compute_depth_view_descriptor: descriptor vector of " + std::to_string(desc.size()) + " values (" +
+                  (words > 0 ? "66 histograms of " + std::to_string(words) + " words" : std::string("raw SIFT, 128 per keypoint")) +
+                  "), file written");
+        Dict dv_nofile = ms.apply_filter("compute_depth_view_descriptor", {{"output_file", std::string()}, {"image_size", 128}});
+        check(dv_nofile["descriptor"].value<Eigen::VectorXd>().size() > 0, "compute_depth_view_descriptor(output_file=''): vector only");
+
+        // 4. Errors are MLExceptions with the reason ------------------------------------------------
+        const std::string bad_enum = error_of(
+            [&] { ms.apply_filter("generate_euclidean_canonical_form", {{"variant", std::string("Z")}}); }, "bad enum");
+        check(contains(bad_enum, "Enum 'Z' not found. Possible values are 'A'; 'N';"), "variant='Z': " + bad_enum);
+        const std::string bad_kw = error_of(
+            [&] { ms.apply_filter("compute_conformal_factor", {{"normalise", true}}); }, "bad keyword");
+        check(contains(bad_kw, "Parameter normalise not found"), "unknown keyword: " + bad_kw);
+        MeshSet cloud;
+        cloud.add_mesh(V.topRows(100), Eigen::MatrixXi(0, 3), "cloud.ply");
+        const std::string bad_mesh = error_of(
+            [&] { cloud.apply_filter("generate_euclidean_canonical_form", {}); }, "point cloud");
+        std::printf("  on a point cloud -> MLException: %s\n", bad_mesh.c_str());
+        check(contains(bad_mesh, "Failed to apply filter: generate_euclidean_canonical_form") &&
+                  contains(bad_mesh, "Euclidean canonical form: ") && contains(bad_mesh, "point cloud") &&
+                  cloud.meshNumber() == 1,
+              "a point cloud: MLException with the reason, no new layer");
+    } catch (const std::exception& e) {
+        check(false, std::string("unexpected exception: ") + e.what());
+    }
+    json << "}\n";
+    std::printf("%d passed, %d failed\n", passes, failures);
+    return failures == 0 ? 0 : 1;
+}
