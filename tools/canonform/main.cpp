@@ -14,6 +14,7 @@
 //   canonform retrieve   --dataset DIR --labels CSV --out RUN --method M[,M...] [--words W]
 //                        [--codebook CB] [--simplify K] [--noise SIGMA] [--seed S] [--threads T]
 //   canonform evaluate   MATRIX --labels labels.csv [--json] [--pr PR.csv]
+//   canonform grid       OUT.png RUN [--methods M,...] [--class C] [--columns K] [--size PX]
 //   canonform generate  OUT [--vertices N] [--pose P]
 //   canonform picture   OUT.png MESH [--points PTS] [--canonical CANON] [--size PX]
 //
@@ -30,6 +31,7 @@
 #include "picture.h"
 #include "simplify.h"
 #include "evaluate_command.h"
+#include "grid.h"
 #include "retrieve_command.h"
 #include "views_commands.h"
 
@@ -62,7 +64,11 @@ const char* kUsage =
     "  canonform distance   OUT DESC... [--threads T]           (OUT: float32 row-major, OUT.csv)\n"
     "  canonform retrieve   --dataset DIR --labels CSV --out RUN --method M[,M...] [--words W]\n"
     "                       [--codebook CB] [--simplify K] [--noise SIGMA] [--seed S] [--threads T]\n"
+    "                       (M: none, euclidean-A, euclidean-N, geodesic-ls, geodesic-classical,\n"
+    "                        geodesic-fast; euclidean-A:beta=B / euclidean-N:beta=B set beta)\n"
     "  canonform evaluate   MATRIX --labels labels.csv [--json] [--pr PR.csv]  (NN, tiers, E, DCG)\n"
+    "  canonform grid       OUT.png RUN [--methods M,...] [--class C] [--columns K] [--size PX]\n"
+    "                       (originals beside canonical forms of a retrieve run: Figs. 8/9)\n"
     "  canonform generate  OUT [--vertices N] [--pose P]\n"
     "  canonform picture   OUT.png MESH [--points PTS] [--canonical CANON] [--size PX]\n"
     "IN: OFF, PLY, OBJ or STL; OUT: PLY with the conformal factor as vertex quality.\n";
@@ -426,6 +432,23 @@ int main(int argc, char** argv) {
             o.seed = static_cast<unsigned long long>(a.integer("seed", 0));
             o.threads = a.integer("threads", 0);
             return cli::retrieve_command(o);
+        }
+        if (cmd == "grid") {
+            const Args a(argc, argv, 2, {});
+            a.need(2);
+            a.allow({"methods", "class", "columns", "size"});
+            cli::GridOptions g;
+            g.run = a.positional[1];
+            std::stringstream ms(a.str("methods", ""));
+            for (std::string m; std::getline(ms, m, ',');)
+                if (!m.empty()) g.methods.push_back(m);
+            g.cls = a.str("class", "");
+            g.columns = a.integer("columns", g.columns);
+            g.panel = a.integer("size", g.panel);
+            const int n = cli::write_grid(a.positional[0], g);
+            std::cerr << "grid: " << n << " models, " << (g.methods.empty() ? std::string("every method") : a.str("methods", ""))
+                      << " -> " << a.positional[0] << "\n";
+            return 0;
         }
         if (cmd == "evaluate") {
             const Args a(argc, argv, 2, {"json"});
