@@ -1623,8 +1623,8 @@ FigureProportions figure_class(const std::string& name) {
         p.leg_length = 0.85;
         p.arm_length = 0.85;
     } else if (name == "long-neck") {
-        p.neck_length = 1.6;
-        p.torso_length = 1.25;
+        p.neck_length = 1.5;
+        p.torso_length = 1.15;
     } else {
         std::string known;
         for (const auto& n : figure_class_names()) known += (known.empty() ? "" : ", ") + n;

@@ -137,8 +137,13 @@ MeshResult process(const Model& model, const MethodSpec& method, const RetrieveO
     std::ostringstream params;
     params << method.cache_key() << "|simplify=" << o.simplify << "|noise=" << o.noise << "|seed=" << o.seed << "|views=v1";
     const std::string key = cache + "/" + hex(fnv1a(params.str(), model.hash)) + ".cfvd";
+    const std::string form = dir + "/forms/" + model.name + ".ply";
+    const std::string cached_form = key.substr(0, key.size() - 5) + ".ply";
     try {
-        if (access(key.c_str(), R_OK) == 0) {
+        // A cache hit also restores the form (forms/ may hold one of other parameters, or none,
+        // and the pose consistency and the grid read it); an entry without its form is recomputed.
+        if (access(key.c_str(), R_OK) == 0 && access(cached_form.c_str(), R_OK) == 0) {
+            io::write_file_atomic(form, slurp(cached_form));
             views::ModelDescriptor d = views::read_descriptor(key);
             r.features = std::move(d.raw);
             r.counts = d.keypoints_per_view;
@@ -149,7 +154,8 @@ MeshResult process(const Model& model, const MethodSpec& method, const RetrieveO
         if (o.simplify > 0 && m.V.rows() > o.simplify) m = io::simplify_mesh(m, o.simplify);
         if (o.noise > 0) add_noise(m, o.noise, o.seed ^ model.hash);
         const Eigen::MatrixXd X = canonical(method, m);
-        io::write_ply(dir + "/forms/" + model.name + ".ply", X, m.F);
+        io::write_ply(form, X, m.F);
+        io::write_file_atomic(cached_form, slurp(form));
         const views::ViewSet vs = views::compute_views(X, m.F);
         views::ModelDescriptor d;
         d.source = model.path;
