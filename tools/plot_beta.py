@@ -56,6 +56,16 @@ for ax, v in zip(axes[0], variants):
         ax.plot(b, [r[m] for r in rs], lw=0.8, ls=style, alpha=0.7, label=m.replace("_", " "))
     best = max(rs, key=lambda r: r["mean"])
     ax.axvline(best["beta"], color="r", lw=0.6)
+    ax.axvline(10 if v == "A" else 130, color="grey", lw=0.8, ls="--", label="paper's beta")
+    pc = [(r["beta"], r["pose_consistency"]) for r in rs if r["pose_consistency"] >= 0]
+    if pc:  # pose left over (lower = more pose removed), on its own axis
+        ax2 = ax.twinx()
+        ax2.plot([b for b, _ in pc], [c for _, c in pc], color="tab:purple", marker="s", ms=3, lw=1,
+                 label="pose consistency (right)")
+        ax2.set_ylabel("pose consistency (lower = less pose)", color="tab:purple", fontsize=8)
+        ax2.tick_params(axis="y", labelcolor="tab:purple", labelsize=7)
+        if v == variants[-1]:
+            ax2.legend(fontsize=7, loc="lower right")
     ax.set_xscale("log")
     ax.set_xlabel("beta")
     ax.set_ylabel("retrieval measure (micro)")

@@ -87,6 +87,13 @@ int write_grid(const std::string& path, const GridOptions& o) {
                 methods.push_back(d.path().filename().string());
         std::sort(methods.begin(), methods.end());
     }
+    // "DIR=LABEL" shows the method folder DIR under another row label.
+    std::vector<std::string> row_labels;
+    for (auto& m : methods) {
+        const auto eq = m.find('=');
+        row_labels.push_back(eq == std::string::npos ? m : m.substr(eq + 1));
+        if (eq != std::string::npos) m = m.substr(0, eq);
+    }
     for (const auto& m : methods)
         if (!std::filesystem::is_directory(o.run + "/" + m + "/forms"))
             throw InputError("the run '" + o.run + "' has no method '" + m + "' (no " + m + "/forms/)");
@@ -149,7 +156,7 @@ int write_grid(const std::string& path, const GridOptions& o) {
         }
     }
     for (int r = 0; r < rows; ++r) {
-        const std::string name = r == 0 ? std::string("original") : methods[static_cast<size_t>(r - 1)];
+        const std::string name = r == 0 ? std::string("original") : row_labels[static_cast<size_t>(r - 1)];
         p.drawText(QRect(4, label_h + r * P, label_w - 8, P), Qt::AlignVCenter | Qt::AlignLeft | Qt::TextWordWrap,
                    QString::fromStdString(name));
         if (r > 0) p.drawLine(label_w, label_h + r * P, out.width(), label_h + r * P);

@@ -14,7 +14,7 @@
 //   canonform retrieve   --dataset DIR --labels CSV --out RUN --method M[,M...] [--words W]
 //                        [--codebook CB] [--simplify K] [--noise SIGMA] [--seed S] [--threads T]
 //   canonform evaluate   MATRIX --labels labels.csv [--json] [--pr PR.csv]
-//   canonform grid       OUT.png RUN [--methods M,...] [--class C] [--columns K] [--size PX]
+//   canonform grid       OUT.png RUN [--methods M[=LABEL],...] [--class C] [--columns K] [--size PX]
 //   canonform generate  OUT [--vertices N] [--pose P] [--class C]
 //   canonform generate  --collection DIR [--vertices N] [--poses K] [--classes C,...] [--seed S]
 //   canonform picture   OUT.png MESH [--points PTS] [--canonical CANON] [--size PX]
@@ -68,7 +68,7 @@ const char* kUsage =
     "                       (M: none, euclidean-A, euclidean-N, geodesic-ls, geodesic-classical,\n"
     "                        geodesic-fast; euclidean-A:beta=B / euclidean-N:beta=B set beta)\n"
     "  canonform evaluate   MATRIX --labels labels.csv [--json] [--pr PR.csv]  (NN, tiers, E, DCG)\n"
-    "  canonform grid       OUT.png RUN [--methods M,...] [--class C] [--columns K] [--size PX]\n"
+    "  canonform grid       OUT.png RUN [--methods M[=LABEL],...] [--class C] [--columns K] [--size PX]\n"
     "                       (originals beside canonical forms of a retrieve run: Figs. 8/9)\n"
     "  canonform generate  OUT [--vertices N] [--pose P] [--class C]\n"
     "  canonform generate  --collection DIR [--vertices N] [--poses K] [--classes C,...] [--seed S]\n"
