@@ -137,6 +137,10 @@ check "generate --collection: the figures have the requested vertices" json la.j
 check "generate --collection: classes differ in shape" bash -c "! cmp -s pcoll/meshes/standard_0.ply pcoll/meshes/long-arms_0.ply"
 "$cf" generate x.ply --class giraffe > err.txt 2>&1
 check "generate --class: an unknown class is a usage error naming the known ones" bash -c "[ $? -eq 2 ] && grep -q 'known: standard' err.txt && [ ! -e x.ply ]"
+"$cf" retrieve --dataset coll --out run_s --method none,euclidean-N --words 50 --simplify 500 --threads 2 > run7.out 2> run7.err
+check "retrieve --simplify on two threads (one simplification at a time)" bash -c "[ $? -eq 0 ] && grep -q '| euclidean-N | .* | 6 | 0 |' run_s/report.md"
+check "retrieve --simplify: the forms are simplified" bash -c "[ \$(grep -a -m1 'element vertex' run_s/euclidean-N/forms/a0.ply | cut -d' ' -f3) -le 500 ]"
+check "retrieve --simplify: no pose consistency (correspondences name original vertices)" json run_s/euclidean-N/metrics.json "j['pose_consistency'] == -1"
 printf 'garbage' > coll/bad.off; printf 'bad.off,a\n' >> coll/labels.csv
 "$cf" retrieve --dataset coll --out run_bad --method none --words 50 > run4.out 2> run4.err
 check "retrieve: a failing mesh is named with its reason and left out" bash -c "grep -q 'bad: cannot read' run_bad/none/failures.txt && grep -q '| none | .* | 6 | 1 |' run_bad/report.md"

@@ -389,7 +389,8 @@ int retrieve_command(const RetrieveOptions& o) {
         int pairs = 0;
         double consistency = -1;
         try {
-            consistency = pose_consistency(models, good, o.dataset, dir + "/forms", &pairs);
+            // The correspondences name vertices of the original meshes: not of simplified ones.
+            if (o.simplify == 0) consistency = pose_consistency(models, good, o.dataset, dir + "/forms", &pairs);
         } catch (const std::exception& ex) {
             std::fprintf(stderr, "[%s] pose consistency not measured: %s\n", method.c_str(), ex.what());
         }
