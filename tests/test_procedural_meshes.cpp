@@ -480,6 +480,71 @@ TEST(ProceduralFigure, ValidAndRepeatableAtOtherTargets) {
     }
 }
 
+TEST(ProceduralFigureClasses, StandardProportionsGiveExactlyTheStandardFigure) {
+    const Figure a = canonform::make_figure(2000, canonform::figure_pose(3));
+    const Figure b = canonform::make_figure(2000, canonform::figure_pose(3), canonform::figure_class("standard"));
+    EXPECT_TRUE(a.mesh.V == b.mesh.V);
+    EXPECT_TRUE(a.mesh.F == b.mesh.F);
+}
+
+TEST(ProceduralFigureClasses, EveryClassIsCleanInEveryNamedPoseWithTheSameFaces) {
+    const Figure standard = canonform::make_figure(2000, FigurePose{});
+    for (const std::string& name : canonform::figure_class_names()) {
+        for (int pose = 0; pose < canonform::kFigureNamedPoses; ++pose) {
+            SCOPED_TRACE(name + ", pose " + std::to_string(pose));
+            const Figure f = canonform::make_figure(2000, canonform::figure_pose(pose), canonform::figure_class(name));
+            EXPECT_TRUE(f.mesh.F == standard.mesh.F);
+            const Topology t = topology(f.mesh);
+            EXPECT_TRUE(t.oriented_manifold && t.fans_are_discs) << t.problem;
+            EXPECT_EQ(t.euler, 2);
+            EXPECT_EQ(self_intersections(f.mesh), 0);
+            EXPECT_GT(min_area_and_angle(f.mesh).second, 1.0 * kPi / 180.0);
+            if (name != "standard") EXPECT_GT((f.mesh.V - standard.mesh.V).rowwise().norm().maxCoeff(), 0.05);
+        }
+    }
+    EXPECT_EQ(static_cast<int>(canonform::figure_class_names().size()), canonform::kFigureClasses);
+}
+
+TEST(ProceduralFigureClasses, RandomPosesOfTheGeneratedCollectionAreClean) {
+    // `canonform generate --collection` (seed 0) poses class c's figure k >= 6 with pose id
+    // 1000 + 37 c + k; ten poses per class by default.
+    const auto names = canonform::figure_class_names();
+    for (size_t c = 0; c < names.size(); ++c)
+        for (int k = canonform::kFigureNamedPoses; k < 10; ++k) {
+            const int id = 1000 + 37 * static_cast<int>(c) + k;
+            SCOPED_TRACE(names[c] + ", pose " + std::to_string(id));
+            const Figure f = canonform::make_figure(2000, canonform::figure_pose(id), canonform::figure_class(names[c]));
+            EXPECT_EQ(self_intersections(f.mesh), 0);
+            EXPECT_GT(min_area_and_angle(f.mesh).second, 1.0 * kPi / 180.0);
+        }
+}
+
+TEST(ProceduralFigureClasses, LengthFactorsStretchTheLimbsByThatFactor) {
+    // Rest pose: the left hand tip lies at the shoulder joint (x = 0.26) plus the arm's length
+    // along x; the tail tip behind the tail's base (y = 0.10) by the tail's length along its axis.
+    const Figure s = canonform::make_figure(3000, FigurePose{});
+    canonform::FigureProportions p;
+    p.arm_length = 1.5;
+    p.tail_length = 0.6;
+    const Figure l = canonform::make_figure(3000, FigurePose{}, p);
+    const double arm_s = s.limb_tips[1].x() - 0.26, arm_l = l.limb_tips[1].x() - 0.26;
+    EXPECT_NEAR(arm_l / arm_s, 1.5, 0.03);
+    const double tail_s = (s.limb_tips[5] - Vector3d(0, 0.10, 0.86)).norm();
+    const double tail_l = (l.limb_tips[5] - Vector3d(0, 0.10, 0.86)).norm();
+    EXPECT_NEAR(tail_l / tail_s, 0.6, 0.03);
+    // The legs did not change.
+    EXPECT_NEAR((l.limb_tips[3] - s.limb_tips[3]).norm(), 0.0, 1e-9);
+}
+
+TEST(ProceduralFigureClasses, RejectsUnknownClassesAndProportionsOutOfRange) {
+    EXPECT_THROW(canonform::figure_class("giraffe"), std::invalid_argument);
+    canonform::FigureProportions p;
+    p.leg_length = 3.0;
+    EXPECT_THROW(canonform::make_figure(2000, FigurePose{}, p), std::invalid_argument);
+    p.leg_length = 0.0;
+    EXPECT_THROW(canonform::make_figure(2000, FigurePose{}, p), std::invalid_argument);
+}
+
 TEST(ProceduralFigure, RejectsBadArguments) {
     EXPECT_THROW(canonform::figure_pose(-1), std::invalid_argument);
     EXPECT_THROW(canonform::make_figure(10, FigurePose{}), std::invalid_argument);

@@ -1,6 +1,6 @@
 """Precision-recall curves of every method of a `canonform retrieve` run on one plot.
 
-usage: /usr/bin/python3 tools/plot_pr.py RUN_DIR      (writes RUN_DIR/pr.png from RUN_DIR/*/pr.csv)
+usage: /usr/bin/python3 tools/plot_pr.py RUN_DIR [TITLE]   (writes RUN_DIR/pr.png from RUN_DIR/*/pr.csv)
 """
 import csv
 import os
@@ -26,7 +26,7 @@ ax.set_xlim(0, 1.02)
 ax.set_ylim(0, 1.02)
 ax.grid(True, lw=0.3)
 ax.legend()
-ax.set_title(os.path.basename(os.path.normpath(run)))
+ax.set_title(sys.argv[2] if len(sys.argv) > 2 else os.path.basename(os.path.normpath(run)), fontsize=9)
 fig.tight_layout()
 out = os.path.join(run, "pr.png")
 tmp = out + ".tmp.png"

@@ -1601,21 +1601,133 @@ FigurePose figure_pose(int pose_id) {
 }
 
 Figure make_figure(int target_vertices, const FigurePose& pose) {
+    return make_figure(target_vertices, pose, FigureProportions());
+}
+
+std::vector<std::string> figure_class_names() {
+    return {"standard", "long-arms", "short-legs", "long-tail", "stocky", "long-neck"};
+}
+
+FigureProportions figure_class(const std::string& name) {
+    FigureProportions p;
+    if (name == "standard") return p;
+    if (name == "long-arms") {
+        p.arm_length = 1.4;
+    } else if (name == "short-legs") {
+        p.leg_length = 0.65;
+    } else if (name == "long-tail") {
+        p.tail_length = 1.7;
+    } else if (name == "stocky") {
+        p.limb_girth = 1.45;
+        p.torso_girth = 1.35;
+        p.leg_length = 0.85;
+        p.arm_length = 0.85;
+    } else if (name == "long-neck") {
+        p.neck_length = 1.5;
+        p.torso_length = 1.15;
+    } else {
+        std::string known;
+        for (const auto& n : figure_class_names()) known += (known.empty() ? "" : ", ") + n;
+        throw std::invalid_argument("unknown figure class '" + name + "' (known: " + known + ")");
+    }
+    return p;
+}
+
+namespace {
+
+/// Affine map x -> A x + c.
+struct Affine {
+    Matrix3d A = Matrix3d::Identity();
+    Vector3d c = Vector3d::Zero();
+    Vector3d operator()(const Vector3d& x) const { return A * x + c; }
+};
+
+/// Per-bone shape maps of FigureProportions (parents before children): bone b maps x to
+/// S_parent(j_b) + M_b (x - j_b), M_b = length d d^T + girth (I - d d^T), d = the bone's axis.
+std::array<Affine, kNumBones> shape_maps(const Body& body, const FigureProportions& p) {
+    const Vector3d Z = Vector3d::UnitZ();
+    std::array<Vector3d, kNumBones> axis;
+    axis.fill(Z);
+    std::array<double, kNumBones> length, girth;
+    length.fill(1.0);
+    girth.fill(1.0);
+    auto set = [&](int b, const Vector3d& to, double l, double g) {
+        axis[static_cast<size_t>(b)] = (to - body.bones[static_cast<size_t>(b)].joint).normalized();
+        length[static_cast<size_t>(b)] = l;
+        girth[static_cast<size_t>(b)] = g;
+    };
+    const auto joint = [&](int b) { return body.bones[static_cast<size_t>(b)].joint; };
+    length[kRoot] = p.torso_length;
+    girth[kRoot] = p.torso_girth;
+    set(kHead, joint(kHead) + Z, p.neck_length, 1.0);
+    set(kLUpperArm, joint(kLLowerArm), p.arm_length, p.limb_girth);
+    set(kLLowerArm, body.tips[1], p.arm_length, p.limb_girth);
+    set(kRUpperArm, joint(kRLowerArm), p.arm_length, p.limb_girth);
+    set(kRLowerArm, body.tips[2], p.arm_length, p.limb_girth);
+    set(kLUpperLeg, joint(kLLowerLeg), p.leg_length, p.limb_girth);
+    set(kLLowerLeg, body.tips[3], p.leg_length, p.limb_girth);
+    set(kRUpperLeg, joint(kRLowerLeg), p.leg_length, p.limb_girth);
+    set(kRLowerLeg, body.tips[4], p.leg_length, p.limb_girth);
+    set(kTail1, joint(kTail2), p.tail_length, p.limb_girth);
+    set(kTail2, joint(kTail3), p.tail_length, p.limb_girth);
+    set(kTail3, body.tips[5], p.tail_length, p.limb_girth);
+    std::array<Affine, kNumBones> S;
+    for (int b = 0; b < kNumBones; ++b) {
+        const size_t k = static_cast<size_t>(b);
+        const Vector3d& d = axis[k];
+        const Matrix3d M = length[k] * d * d.transpose() + girth[k] * (Matrix3d::Identity() - d * d.transpose());
+        const Vector3d j = body.bones[k].joint;
+        const Vector3d moved = body.bones[k].parent < 0 ? j : S[static_cast<size_t>(body.bones[k].parent)](j);
+        S[k].A = M;
+        S[k].c = moved - M * j;
+    }
+    return S;
+}
+
+}  // namespace
+
+Figure make_figure(int target_vertices, const FigurePose& pose, const FigureProportions& proportions) {
     if (target_vertices < 300 || target_vertices > 1000000)
         throw std::invalid_argument("make_figure: target_vertices must be in [300, 1000000]");
-    const Body& body = the_body();
+    for (double f : {proportions.arm_length, proportions.leg_length, proportions.tail_length, proportions.neck_length,
+                     proportions.torso_length, proportions.limb_girth, proportions.torso_girth})
+        if (!(f >= 0.5 && f <= 2.0)) throw std::invalid_argument("make_figure: proportions must lie in [0.5, 2]");
+    const Body& standard = the_body();
     const std::shared_ptr<const RestFigure> rest = rest_figure(target_vertices);
+    const std::array<Affine, kNumBones> S = shape_maps(standard, proportions);
+    // The body with its joints where the shape maps put them (the pose rotates about those).
+    Body body = standard;
+    for (int b = 0; b < kNumBones; ++b) {
+        Bone& bone = body.bones[static_cast<size_t>(b)];
+        bone.joint = bone.parent < 0 ? bone.joint : S[static_cast<size_t>(bone.parent)](bone.joint);
+    }
     const std::array<Rigid, kNumBones> G = bone_transforms(body, pose);
 
+    const bool standard_shape = proportions.arm_length == 1 && proportions.leg_length == 1 &&
+                                proportions.tail_length == 1 && proportions.neck_length == 1 &&
+                                proportions.torso_length == 1 && proportions.limb_girth == 1 &&
+                                proportions.torso_girth == 1;
     Figure fig;
     std::vector<Vector3d> posed(rest->V.size());
-    for (size_t i = 0; i < rest->V.size(); ++i)
-        posed[i] = skin(G, rest->V[i], rest->bone[i], rest->weight[i]);
+    for (size_t i = 0; i < rest->V.size(); ++i) {
+        if (standard_shape) {  // exactly the standard figure (no round-off from the identity maps)
+            posed[i] = skin(G, rest->V[i], rest->bone[i], rest->weight[i]);
+            continue;
+        }
+        Vector3d shaped = Vector3d::Zero();
+        for (int k = 0; k < kInfluences; ++k)
+            shaped += rest->weight[i][static_cast<size_t>(k)] *
+                      S[static_cast<size_t>(rest->bone[i][static_cast<size_t>(k)])](rest->V[i]);
+        posed[i] = skin(G, shaped, rest->bone[i], rest->weight[i]);
+    }
     fig.mesh = to_trimesh(posed, rest->F);
     for (size_t t = 0; t < body.tips.size(); ++t)
         fig.limb_tips.push_back(posed[static_cast<size_t>(rest->tip_vertex[t])]);
     fig.limb_names = body.tip_names;
     fig.limb_radius = body.tip_radius;
+    const double limb_girth[] = {1.0, proportions.limb_girth, proportions.limb_girth, proportions.limb_girth,
+                                 proportions.limb_girth, proportions.limb_girth};
+    for (size_t t = 0; t < fig.limb_radius.size() && t < 6; ++t) fig.limb_radius[t] *= limb_girth[t];
     fig.limb_tip_vertex = rest->tip_vertex;
     return fig;
 }

@@ -92,6 +92,29 @@ constexpr int kFigureNamedPoses = 6;
 /// Throws std::invalid_argument for pose_id < 0.
 FigurePose figure_pose(int pose_id);
 
+/// Body proportions of the figure (all 1 = the standard figure). Applied to the rest mesh before
+/// posing by linear blend skinning of per-bone affine maps (the same weights as the pose): a bone
+/// is stretched by its length factor along its axis and by its girth factor across it, about its
+/// joint, and carried to where its parent moved that joint. Connectivity and vertex order stay
+/// those of the standard figure, so figures of any proportions and pose at one vertex target
+/// correspond vertex by vertex. Factors must lie in [0.5, 2] (std::invalid_argument otherwise).
+struct FigureProportions {
+    double arm_length = 1.0;    ///< upper and lower arms
+    double leg_length = 1.0;    ///< upper and lower legs
+    double tail_length = 1.0;   ///< the three tail segments
+    double neck_length = 1.0;   ///< neck and head, along the neck (the head gets longer, not wider)
+    double torso_length = 1.0;  ///< trunk above the hips
+    double limb_girth = 1.0;    ///< thickness of arms, legs and tail
+    double torso_girth = 1.0;   ///< thickness of the trunk
+};
+
+/// Named body types for labelled procedural collections: "standard", "long-arms", "short-legs",
+/// "long-tail", "stocky", "long-neck" (kFigureClasses of them, in this order).
+constexpr int kFigureClasses = 6;
+std::vector<std::string> figure_class_names();
+/// The proportions of a named body type; std::invalid_argument names the known ones otherwise.
+FigureProportions figure_class(const std::string& name);
+
 /// A posed figure.
 struct Figure {
     TriMesh mesh;                            ///< watertight, 2-manifold, one component, genus 0
@@ -111,5 +134,7 @@ struct Figure {
 /// targets, thread-safe) and deformed by skinning. Throws std::runtime_error if no valid mesh could
 /// be extracted (not observed).
 Figure make_figure(int target_vertices, const FigurePose& pose);
+/// The same with other body proportions (see FigureProportions): same faces and vertex order.
+Figure make_figure(int target_vertices, const FigurePose& pose, const FigureProportions& proportions);
 
 }  // namespace canonform

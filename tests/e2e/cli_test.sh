@@ -5,6 +5,7 @@
 set -u
 cf=$(realpath "$1"); plycheck=$(realpath "$2"); work=$3
 . "$(dirname "$0")/lib.sh"
+tools=$(realpath "$(dirname "$0")/../../tools")
 rm -rf "$work"; mkdir -p "$work"; cd "$work" || exit 1
 
 echo "canonform tool, end to end"
@@ -83,10 +84,63 @@ check "retrieve: pose consistency measured, lower for the canonical forms" /usr/
 import json; a = json.load(open('run/none/metrics.json')); b = json.load(open('run/euclidean-N/metrics.json'))
 assert a['pose_consistency_pairs'] == 6 and 0 < b['pose_consistency'] < a['pose_consistency'], (a, b)"
 check "retrieve: first run computes everything" grep -q "6 meshes in .* s (0 from the cache, 0 failed)" run1.err
+cp run/euclidean-N/forms/a0.ply run_n_a0.ply
 "$cf" retrieve --dataset coll --out run --method euclidean-N --words 50 > run2.out 2> run2.err
 check "retrieve: a re-run recomputes nothing" grep -q "(6 from the cache, 0 failed)" run2.err
 "$cf" retrieve --dataset coll --out run --method euclidean-N --words 50 --noise 0.1 > run3.out 2> run3.err
 check "retrieve: a changed parameter (--noise) recomputes" grep -q "(0 from the cache, 0 failed)" run3.err
+check "retrieve: the forms of the changed parameter replace the others" bash -c "! cmp -s run/euclidean-N/forms/a0.ply run_n_a0.ply"
+"$cf" retrieve --dataset coll --out run --method euclidean-N --words 50 > run3b.out 2> run3b.err
+check "retrieve: back to the first parameters, the cached forms are restored" bash -c "grep -q '(6 from the cache, 0 failed)' run3b.err && cmp -s run/euclidean-N/forms/a0.ply run_n_a0.ply"
+# beta: part of the cache key (the variant's default, 130, is the same computation as no beta)
+"$cf" retrieve --dataset coll --out run --method euclidean-N:beta=130 --words 50 > run5.out 2> run5.err
+check "retrieve: euclidean-N:beta=130 is the default beta (all from the cache)" grep -q "\[euclidean-N_beta130\] 6 meshes in .* (6 from the cache, 0 failed)" run5.err
+"$cf" retrieve --dataset coll --out run --method euclidean-N:beta=40,euclidean-A:beta=5 --words 50 > run6.out 2> run6.err
+check "retrieve: a changed beta recomputes" bash -c "grep -q '\[euclidean-N_beta40\] 6 meshes in .* (0 from the cache, 0 failed)' run6.err && grep -q '\[euclidean-A_beta5\] 6 meshes in .* (0 from the cache, 0 failed)' run6.err"
+check "retrieve: the beta is in metrics.json" json run/euclidean-N_beta40/metrics.json "j['beta'] == 40 and j['base'] == 'euclidean-N'"
+check "retrieve: the default beta is in metrics.json" json run/euclidean-N/metrics.json "j['beta'] == 130"
+check "retrieve: another beta gives other forms" bash -c "! cmp -s run/euclidean-N/forms/a0.ply run/euclidean-N_beta40/forms/a0.ply"
+"$cf" retrieve --dataset coll --out run_x --method euclidean-N:beta=x > err.txt 2>&1
+check "retrieve: a bad beta fails with a reason" bash -c "[ $? -eq 1 ] && grep -q 'beta must be a positive number' err.txt"
+"$cf" retrieve --dataset coll --out run_x --method geodesic-ls:beta=5 > err.txt 2>&1
+check "retrieve: beta on a geodesic method fails with a reason" bash -c "[ $? -eq 1 ] && grep -q 'only euclidean-A and euclidean-N take' err.txt"
+# grid: originals beside canonical forms (Figs. 8/9)
+check "retrieve: grid.png written and linked from the report" bash -c "head -c 8 run/grid.png | od -An -c | grep -q 'P   N   G' && grep -q '(grid.png)' run/report.md"
+"$cf" grid g8.png run --methods euclidean-N > g8.out 2>&1
+"$cf" grid g8b.png run --methods euclidean-N,euclidean-N_beta40,euclidean-A_beta5 > g8b.out 2>&1
+check "grid: one column per class, one row more per method" /usr/bin/python3 -c "
+import struct
+size = lambda p: struct.unpack('>II', open(p, 'rb').read(24)[16:24])
+(w1, h1), (w2, h2) = size('g8.png'), size('g8b.png')
+assert 'grid: 2 models' in open('g8.out').read()
+assert w1 == w2 and h2 > h1 and (h2 - h1) % 2 == 0, (w1, h1, w2, h2)"
+"$cf" grid g9.png run --class a --methods euclidean-N > g9.out 2>&1
+check "grid --class: the models of one class (Fig. 9)" grep -q 'grid: 3 models' g9.out
+"$cf" grid gx.png coll > err.txt 2>&1
+check "grid of a folder that is no run fails with a reason" bash -c "[ $? -eq 1 ] && grep -q 'no collection.csv' err.txt && [ ! -e gx.png ]"
+"$cf" grid gx.png run --methods geodesic-ls > err.txt 2>&1
+check "grid of a method the run lacks fails with a reason" bash -c "[ $? -eq 1 ] && grep -q \"no method 'geodesic-ls'\" err.txt"
+# beta sweep (Fig. 6) on the small collection
+CANONFORM="$cf" "$tools/beta_sweep.sh" coll sweep --betas-a "5 10" --betas-n "65 130" --words 50 > sweep.out 2> sweep.err
+check "beta_sweep.sh: mean of the five measures per beta and variant, and the plot" /usr/bin/python3 -c "
+import csv; rows = list(csv.DictReader(open('sweep/beta_sweep.csv')))
+assert [(r['variant'], float(r['beta'])) for r in rows] == [('A', 5), ('A', 10), ('N', 65), ('N', 130)], rows
+for r in rows:
+    m = [float(r[k]) for k in ('nn', 'first_tier', 'second_tier', 'e_measure', 'dcg')]
+    assert abs(float(r['mean']) - sum(m) / 5) < 1e-3, r"
+check "beta_sweep.sh: plot written" bash -c "head -c 8 sweep/beta_sweep.png | od -An -c | grep -q 'P   N   G'"
+# a procedural labelled collection
+"$cf" generate --collection pcoll --vertices 800 --poses 3 --classes standard,long-arms,stocky > gen.out 2>&1
+check "generate --collection: classes x poses meshes, labels and correspondences" bash -c "[ \$(tail -n +2 pcoll/labels.csv | wc -l) -eq 9 ] && [ \$(grep -c ',stocky\$' pcoll/labels.csv) -eq 3 ] && [ \$(ls pcoll/meshes/*.ply | wc -l) -eq 9 ] && [ \$(wc -l < pcoll/corres/stocky_2.vts) -eq 800 ]"
+"$plycheck" pcoll/meshes/long-arms_1.ply > la.json
+check "generate --collection: the figures have the requested vertices" json la.json "j['vertices'] == 800"
+check "generate --collection: classes differ in shape" bash -c "! cmp -s pcoll/meshes/standard_0.ply pcoll/meshes/long-arms_0.ply"
+"$cf" generate x.ply --class giraffe > err.txt 2>&1
+check "generate --class: an unknown class is a usage error naming the known ones" bash -c "[ $? -eq 2 ] && grep -q 'known: standard' err.txt && [ ! -e x.ply ]"
+"$cf" retrieve --dataset coll --out run_s --method none,euclidean-N --words 50 --simplify 500 --threads 2 > run7.out 2> run7.err
+check "retrieve --simplify on two threads (one simplification at a time)" bash -c "[ $? -eq 0 ] && grep -q '| euclidean-N | .* | 6 | 0 |' run_s/report.md"
+check "retrieve --simplify: the forms are simplified (1200 -> about 500 vertices)" bash -c "[ \$(grep -a -m1 'element vertex' run_s/euclidean-N/forms/a0.ply | cut -d' ' -f3) -le 550 ]"
+check "retrieve --simplify: no pose consistency (correspondences name original vertices)" json run_s/euclidean-N/metrics.json "j['pose_consistency'] == -1"
 printf 'garbage' > coll/bad.off; printf 'bad.off,a\n' >> coll/labels.csv
 "$cf" retrieve --dataset coll --out run_bad --method none --words 50 > run4.out 2> run4.err
 check "retrieve: a failing mesh is named with its reason and left out" bash -c "grep -q 'bad: cannot read' run_bad/none/failures.txt && grep -q '| none | .* | 6 | 1 |' run_bad/report.md"

@@ -14,7 +14,9 @@
 //   canonform retrieve   --dataset DIR --labels CSV --out RUN --method M[,M...] [--words W]
 //                        [--codebook CB] [--simplify K] [--noise SIGMA] [--seed S] [--threads T]
 //   canonform evaluate   MATRIX --labels labels.csv [--json] [--pr PR.csv]
-//   canonform generate  OUT [--vertices N] [--pose P]
+//   canonform grid       OUT.png RUN [--methods M[=LABEL],...] [--class C] [--columns K] [--size PX]
+//   canonform generate  OUT [--vertices N] [--pose P] [--class C]
+//   canonform generate  --collection DIR [--vertices N] [--poses K] [--classes C,...] [--seed S]
 //   canonform picture   OUT.png MESH [--points PTS] [--canonical CANON] [--size PX]
 //
 // IN: OFF, PLY, OBJ or STL. OUT: PLY (binary) with the conformal factor as vertex quality
@@ -30,6 +32,7 @@
 #include "picture.h"
 #include "simplify.h"
 #include "evaluate_command.h"
+#include "grid.h"
 #include "retrieve_command.h"
 #include "views_commands.h"
 
@@ -62,8 +65,14 @@ const char* kUsage =
     "  canonform distance   OUT DESC... [--threads T]           (OUT: float32 row-major, OUT.csv)\n"
     "  canonform retrieve   --dataset DIR --labels CSV --out RUN --method M[,M...] [--words W]\n"
     "                       [--codebook CB] [--simplify K] [--noise SIGMA] [--seed S] [--threads T]\n"
+    "                       (M: none, euclidean-A, euclidean-N, geodesic-ls, geodesic-classical,\n"
+    "                        geodesic-fast; euclidean-A:beta=B / euclidean-N:beta=B set beta)\n"
     "  canonform evaluate   MATRIX --labels labels.csv [--json] [--pr PR.csv]  (NN, tiers, E, DCG)\n"
-    "  canonform generate  OUT [--vertices N] [--pose P]\n"
+    "  canonform grid       OUT.png RUN [--methods M[=LABEL],...] [--class C] [--columns K] [--size PX]\n"
+    "                       (originals beside canonical forms of a retrieve run: Figs. 8/9)\n"
+    "  canonform generate  OUT [--vertices N] [--pose P] [--class C]\n"
+    "  canonform generate  --collection DIR [--vertices N] [--poses K] [--classes C,...] [--seed S]\n"
+    "                      (C: standard, long-arms, short-legs, long-tail, stocky, long-neck)\n"
     "  canonform picture   OUT.png MESH [--points PTS] [--canonical CANON] [--size PX]\n"
     "IN: OFF, PLY, OBJ or STL; OUT: PLY with the conformal factor as vertex quality.\n";
 
@@ -346,12 +355,61 @@ cli::ViewCommandOptions view_options(const Args& a) {
     return o;
 }
 
+FigureProportions class_proportions(const std::string& name) {
+    try {
+        return figure_class(name);
+    } catch (const std::invalid_argument& e) {
+        throw UsageError(e.what());
+    }
+}
+
+/// A labelled collection: every class (body type) in `poses` poses; pose k < 6 is named pose k
+/// (shared by the classes, as the poses of TOSCA's and FAUST's models are), later ones are random
+/// and differ between classes. DIR/meshes/CLASS_K.ply, DIR/labels.csv, DIR/corres/CLASS_K.vts
+/// (identity: every figure has the same vertex order, so these are exact correspondences).
+int generate_collection(const Args& a, int n) {
+    a.need(0);
+    const std::string dir = a.str("collection", "");
+    const int poses = a.integer("poses", 10);
+    if (poses < 2 || poses > 1000) throw UsageError("--poses must be between 2 and 1000");
+    const int seed = a.integer("seed", 0);
+    if (seed < 0 || seed > 100000) throw UsageError("--seed must be between 0 and 100000");
+    std::vector<std::string> classes;
+    std::stringstream cs(a.str("classes", ""));
+    for (std::string c; std::getline(cs, c, ',');)
+        if (!c.empty()) classes.push_back(c);
+    if (classes.empty()) classes = figure_class_names();
+    if (classes.size() < 2) throw UsageError("--classes needs at least two classes");
+    for (const auto& c : classes) class_proportions(c);
+    if (std::system(("mkdir -p '" + dir + "/meshes' '" + dir + "/corres'").c_str()) != 0)
+        throw std::runtime_error("cannot create '" + dir + "'");
+    std::ostringstream labels, ident;
+    labels << "path,class\n";
+    for (int v = 1; v <= n; ++v) ident << v << "\n";
+    for (size_t c = 0; c < classes.size(); ++c) {
+        const FigureProportions prop = class_proportions(classes[c]);
+        for (int k = 0; k < poses; ++k) {
+            const int pose_id = k < kFigureNamedPoses ? k : 1000 * (seed + 1) + 37 * static_cast<int>(c) + k;
+            const Figure fig = make_figure(n, figure_pose(pose_id), prop);
+            const std::string name = classes[c] + "_" + std::to_string(k);
+            io::write_ply(dir + "/meshes/" + name + ".ply", fig.mesh.V.cast<float>().cast<double>(), fig.mesh.F);
+            io::write_file_atomic(dir + "/corres/" + name + ".vts", ident.str());
+            labels << "meshes/" << name << ".ply," << classes[c] << "\n";
+        }
+    }
+    io::write_file_atomic(dir + "/labels.csv", labels.str());
+    std::cerr << "generate: " << classes.size() * static_cast<size_t>(poses) << " figures (" << classes.size()
+              << " classes x " << poses << " poses, " << n << " vertices) in " << dir << "\n";
+    return 0;
+}
+
 int cmd_generate(const Args& a) {
-    a.need(1);
-    a.allow({"vertices", "pose"});
+    a.allow({"vertices", "pose", "class", "collection", "poses", "classes", "seed"});
     const int n = a.integer("vertices", 5000);
     if (n < 500 || n > 2000000) throw UsageError("--vertices must be between 500 and 2000000");
-    const Figure fig = make_figure(n, figure_pose(a.integer("pose", 0)));
+    if (a.flag("collection")) return generate_collection(a, n);
+    a.need(1);
+    const Figure fig = make_figure(n, figure_pose(a.integer("pose", 0)), class_proportions(a.str("class", "standard")));
     // Rounded to float, the precision MeshLab 2020.09 works in, so that the tool and MeshLab
     // compute on exactly the same coordinates.
     io::write_ply(a.positional[0], fig.mesh.V.cast<float>().cast<double>(), fig.mesh.F);
@@ -430,6 +488,23 @@ int main(int argc, char** argv) {
             o.seed = static_cast<unsigned long long>(a.integer("seed", 0));
             o.threads = a.integer("threads", 0);
             return cli::retrieve_command(o);
+        }
+        if (cmd == "grid") {
+            const Args a(argc, argv, 2, {});
+            a.need(2);
+            a.allow({"methods", "class", "columns", "size"});
+            cli::GridOptions g;
+            g.run = a.positional[1];
+            std::stringstream ms(a.str("methods", ""));
+            for (std::string m; std::getline(ms, m, ',');)
+                if (!m.empty()) g.methods.push_back(m);
+            g.cls = a.str("class", "");
+            g.columns = a.integer("columns", g.columns);
+            g.panel = a.integer("size", g.panel);
+            const int n = cli::write_grid(a.positional[0], g);
+            std::cerr << "grid: " << n << " models, " << (g.methods.empty() ? std::string("every method") : a.str("methods", ""))
+                      << " -> " << a.positional[0] << "\n";
+            return 0;
         }
         if (cmd == "evaluate") {
             const Args a(argc, argv, 2, {"json"});

@@ -8,6 +8,7 @@
 #include "core/retrieval_measures.h"
 #include "core/view_descriptor.h"
 #include "core/view_directions.h"
+#include "grid.h"
 #include "mesh_io.h"
 #include "simplify.h"
 #include "views_commands.h"
@@ -15,6 +16,7 @@
 #include <unistd.h>
 
 #include <atomic>
+#include <cmath>
 #include <cstdlib>
 #include <chrono>
 #include <cstdio>
@@ -94,29 +96,54 @@ void add_noise(io::MeshData& m, double sigma, std::uint64_t seed) {
         for (int c = 0; c < 3; ++c) m.V(i, c) += g(rng);
 }
 
-Eigen::MatrixXd canonical(const std::string& method, const io::MeshData& m) {
-    if (method == "none") return m.V;
-    if (method == "euclidean-A" || method == "euclidean-N") {
-        EuclideanCanonicalFormOptions o;
-        o.variant = method == "euclidean-A" ? CanonicalVariant::A : CanonicalVariant::N;
-        return euclidean_canonical_form(m.V, m.F, o).V;
+/// A method of the run: "none", "euclidean-A", ..., optionally with a parameter
+/// ("euclidean-N:beta=50"). `dir` names its folder in the run ("euclidean-N_beta50").
+struct MethodSpec {
+    std::string spec, base, dir;
+    double beta = 0;  ///< 0 = the variant's default
+    bool euclidean() const { return base == "euclidean-A" || base == "euclidean-N"; }
+    EuclideanCanonicalFormOptions euclidean_options() const {
+        EuclideanCanonicalFormOptions e;
+        e.variant = base == "euclidean-A" ? CanonicalVariant::A : CanonicalVariant::N;
+        e.beta = beta;
+        return e;
+    }
+    /// What the cached results depend on: the method and, for the Euclidean forms, the beta used.
+    std::string cache_key() const {
+        if (!euclidean()) return base;
+        std::ostringstream k;
+        k.precision(17);
+        k << base << "|beta=" << euclidean_options().effective_beta();
+        return k.str();
+    }
+};
+
+Eigen::MatrixXd canonical(const MethodSpec& method, const io::MeshData& m) {
+    if (method.base == "none") return m.V;
+    if (method.euclidean()) {
+        return euclidean_canonical_form(m.V, m.F, method.euclidean_options()).V;
     }
     GeodesicCanonicalFormOptions o;
     o.threads = 1;  // the meshes run in parallel
-    o.method = method == "geodesic-ls" ? GeodesicMds::LeastSquares
-               : method == "geodesic-classical" ? GeodesicMds::Classical
+    o.method = method.base == "geodesic-ls" ? GeodesicMds::LeastSquares
+               : method.base == "geodesic-classical" ? GeodesicMds::Classical
                                                  : GeodesicMds::Fast;
     return geodesic_canonical_form(m.V, m.F, o).V;
 }
 
-MeshResult process(const Model& model, const std::string& method, const RetrieveOptions& o, const std::string& dir,
+MeshResult process(const Model& model, const MethodSpec& method, const RetrieveOptions& o, const std::string& dir,
                    const std::string& cache) {
     MeshResult r;
     std::ostringstream params;
-    params << method << "|simplify=" << o.simplify << "|noise=" << o.noise << "|seed=" << o.seed << "|views=v1";
+    params << method.cache_key() << "|simplify=" << o.simplify << "|noise=" << o.noise << "|seed=" << o.seed << "|views=v1";
     const std::string key = cache + "/" + hex(fnv1a(params.str(), model.hash)) + ".cfvd";
+    const std::string form = dir + "/forms/" + model.name + ".ply";
+    const std::string cached_form = key.substr(0, key.size() - 5) + ".ply";
     try {
-        if (access(key.c_str(), R_OK) == 0) {
+        // A cache hit also restores the form (forms/ may hold one of other parameters, or none,
+        // and the pose consistency and the grid read it); an entry without its form is recomputed.
+        if (access(key.c_str(), R_OK) == 0 && access(cached_form.c_str(), R_OK) == 0) {
+            io::write_file_atomic(form, slurp(cached_form));
             views::ModelDescriptor d = views::read_descriptor(key);
             r.features = std::move(d.raw);
             r.counts = d.keypoints_per_view;
@@ -127,7 +154,8 @@ MeshResult process(const Model& model, const std::string& method, const Retrieve
         if (o.simplify > 0 && m.V.rows() > o.simplify) m = io::simplify_mesh(m, o.simplify);
         if (o.noise > 0) add_noise(m, o.noise, o.seed ^ model.hash);
         const Eigen::MatrixXd X = canonical(method, m);
-        io::write_ply(dir + "/forms/" + model.name + ".ply", X, m.F);
+        io::write_ply(form, X, m.F);
+        io::write_file_atomic(cached_form, slurp(form));
         const views::ViewSet vs = views::compute_views(X, m.F);
         views::ModelDescriptor d;
         d.source = model.path;
@@ -194,12 +222,37 @@ double pose_consistency(const std::vector<Model>& models, const std::vector<size
 
 }  // namespace
 
+MethodSpec parse_method(const std::string& spec) {
+    MethodSpec m;
+    m.spec = spec;
+    const auto colon = spec.find(':');
+    m.base = spec.substr(0, colon);
+    if (m.base != "none" && m.base != "euclidean-A" && m.base != "euclidean-N" && m.base != "geodesic-ls" &&
+        m.base != "geodesic-classical" && m.base != "geodesic-fast")
+        throw InputError("unknown method '" + m.base + "' (none, euclidean-A, euclidean-N, geodesic-ls, "
+                         "geodesic-classical, geodesic-fast)");
+    m.dir = m.base;
+    if (colon == std::string::npos) return m;
+    const std::string param = spec.substr(colon + 1);
+    if (!m.euclidean() || param.rfind("beta=", 0) != 0)
+        throw InputError("method '" + spec + "': only euclidean-A and euclidean-N take a parameter, beta=B");
+    const std::string value = param.substr(5);
+    char* end = nullptr;
+    m.beta = std::strtod(value.c_str(), &end);
+    if (value.empty() || *end != '\0' || !(m.beta > 0) || !std::isfinite(m.beta))
+        throw InputError("method '" + spec + "': beta must be a positive number, got '" + value + "'");
+    m.dir = m.base + "_beta" + value;
+    return m;
+}
+
 int retrieve_command(const RetrieveOptions& o) {
     if (o.methods.empty()) throw InputError("name at least one --method");
-    for (const auto& m : o.methods)
-        if (m != "none" && m != "euclidean-A" && m != "euclidean-N" && m != "geodesic-ls" &&
-            m != "geodesic-classical" && m != "geodesic-fast")
-            throw InputError("unknown method '" + m + "'");
+    std::vector<MethodSpec> specs;
+    for (const auto& m : o.methods) {
+        specs.push_back(parse_method(m));
+        for (size_t k = 0; k + 1 < specs.size(); ++k)
+            if (specs[k].dir == specs.back().dir) throw InputError("method '" + m + "' is named twice");
+    }
     // The collection: labels.csv rows in order, paths relative to the dataset folder.
     std::vector<Model> models;
     {
@@ -222,6 +275,13 @@ int retrieve_command(const RetrieveOptions& o) {
     }
     if (models.size() < 3) throw InputError("the collection needs at least three meshes");
     make_dir(o.out + "/cache");
+    {
+        // The collection as this run read it (name, class, mesh), for `canonform grid`.
+        std::ostringstream c;
+        c << "name,class,path\n";
+        for (const Model& m : models) c << m.name << "," << m.label << "," << m.path << "\n";
+        io::write_file_atomic(o.out + "/collection.csv", c.str());
+    }
     const int threads = o.threads > 0 ? o.threads : std::max(1u, std::thread::hardware_concurrency());
     const bool tty = isatty(2);
     std::ostringstream report;
@@ -231,7 +291,8 @@ int retrieve_command(const RetrieveOptions& o) {
            << ".\n\n| method | NN | 1-Tier | 2-Tier | E-measure | DCG | pose consistency | meshes | failed | "
               "forms+views s | codebook s | distances s |\n|---|---|---|---|---|---|---|---|---|---|---|---|\n";
 
-    for (const std::string& method : o.methods) {
+    for (const MethodSpec& spec : specs) {
+        const std::string& method = spec.dir;
         const std::string dir = o.out + "/" + method;
         make_dir(dir + "/forms");
         make_dir(dir + "/descriptors");
@@ -243,7 +304,7 @@ int retrieve_command(const RetrieveOptions& o) {
         for (int t = 0; t < threads; ++t)
             pool.emplace_back([&] {
                 for (size_t k; (k = next++) < models.size(); ++done)
-                    results[k] = process(models[k], method, o, dir, o.out + "/cache");
+                    results[k] = process(models[k], spec, o, dir, o.out + "/cache");
             });
         while (done < models.size()) {
             std::this_thread::sleep_for(std::chrono::milliseconds(tty ? 300 : 2000));
@@ -276,7 +337,7 @@ int retrieve_command(const RetrieveOptions& o) {
         if (!o.codebook.empty()) {
             cb = views::Codebook::load(o.codebook);
         } else {
-            std::uint64_t h = fnv1a(method + "|words=" + std::to_string(o.words) + "|seed=" + std::to_string(o.seed));
+            std::uint64_t h = fnv1a(spec.cache_key() + "|words=" + std::to_string(o.words) + "|seed=" + std::to_string(o.seed));
             Eigen::Index rows = 0;
             for (size_t k : good) {
                 h = fnv1a(hex(models[k].hash), h);
@@ -328,12 +389,14 @@ int retrieve_command(const RetrieveOptions& o) {
         int pairs = 0;
         double consistency = -1;
         try {
-            consistency = pose_consistency(models, good, o.dataset, dir + "/forms", &pairs);
+            // The correspondences name vertices of the original meshes: not of simplified ones.
+            if (o.simplify == 0) consistency = pose_consistency(models, good, o.dataset, dir + "/forms", &pairs);
         } catch (const std::exception& ex) {
             std::fprintf(stderr, "[%s] pose consistency not measured: %s\n", method.c_str(), ex.what());
         }
         std::ostringstream js, pr;
-        js << "{\"method\": \"" << method << "\", \"meshes\": " << good.size() << ", \"failed\": "
+        js << "{\"method\": \"" << method << "\", \"base\": \"" << spec.base << "\", \"beta\": "
+           << (spec.euclidean() ? spec.euclidean_options().effective_beta() : 0.0) << ", \"meshes\": " << good.size() << ", \"failed\": "
            << models.size() - good.size() << ", \"micro\": " << retrieval::to_json(e.micro)
            << ", \"macro\": " << retrieval::to_json(e.macro) << ", \"pose_consistency\": " << consistency
            << ", \"pose_consistency_pairs\": " << pairs << ", \"seconds\": {\"forms_and_views\": " << forms_s
@@ -358,6 +421,24 @@ int retrieve_command(const RetrieveOptions& o) {
         report << "\n![precision-recall](pr.png)\n";
     else
         report << "\n(No precision-recall plot: run /usr/bin/python3 tools/plot_pr.py " << o.out << ".)\n";
+    // Originals beside their canonical forms, one model per class (the paper's Fig. 8).
+    std::vector<std::string> form_methods;
+    for (const MethodSpec& spec : specs)
+        if (spec.base != "none") form_methods.push_back(spec.dir);
+    if (!form_methods.empty()) {
+        try {
+            GridOptions g;
+            g.run = o.out;
+            g.methods = form_methods;
+            g.panel = form_methods.size() > 4 ? 110 : 150;
+            write_grid(o.out + "/grid.png", g);
+            report << "\n![originals (first row) and their canonical forms, one model per class; colour = height "
+                      "along the original's longest axis](grid.png)\n";
+        } catch (const std::exception& ex) {
+            std::fprintf(stderr, "retrieve: no grid picture: %s\n", ex.what());
+            report << "\n(No grid picture: " << ex.what() << ")\n";
+        }
+    }
     report << "\nPose consistency: mean over same-class pairs with ground-truth correspondences (corres/*.vts) of "
               "the RMS distance between corresponding vertices after the best rigid motion (or mirror image), "
               "relative to the RMS radius; lower = more pose removed.\n";

@@ -1,5 +1,7 @@
 #include "simplify.h"
 
+#include <mutex>
+
 // vcglib's quadric code trips GCC 12's -Wmaybe-uninitialized inside its own headers.
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 
@@ -62,6 +64,11 @@ MeshData simplify_mesh(const MeshData& mesh, int target_vertices) {
         throw InputError("the mesh has " + std::to_string(mesh.V.rows()) + " vertices, not more than the target " +
                          std::to_string(target_vertices));
     if (mesh.F.rows() == 0) throw InputError("cannot simplify a point cloud");
+    // vcglib's edge collapse keeps state in function-local statics (the quadric table pointer
+    // above, TriEdgeCollapse::GlobalMark() and statistics): one simplification at a time
+    // (two at once, as `canonform retrieve --simplify` on two threads did, crash).
+    static std::mutex one_at_a_time;
+    std::lock_guard<std::mutex> lock(one_at_a_time);
     SMesh m;
     auto vi = vcg::tri::Allocator<SMesh>::AddVertices(m, static_cast<size_t>(mesh.V.rows()));
     for (Eigen::Index k = 0; k < mesh.V.rows(); ++k, ++vi) vi->P() = vcg::Point3d(mesh.V(k, 0), mesh.V(k, 1), mesh.V(k, 2));

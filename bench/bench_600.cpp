@@ -1,0 +1,165 @@
+// Per-stage costs of a 600-model retrieval run (issue 5's plan: 600 meshes of 10k vertices in at
+// most 15 minutes on 2 cores). On a few real 10k-vertex meshes it measures, one mesh at a time on
+// one thread: the Euclidean canonical form (variant N and A) and the 66 depth views + SIFT. It
+// then builds a 600-model descriptor pool by repeating those meshes' real SIFT descriptors and
+// measures the codebook (k-means++ seeding and one Lloyd iteration over all descriptors, and the
+// alternative of training on a random sample of them), the assignment of every descriptor to
+// its word (the histograms) and the 600 x 600 clock-matching distance matrix of the repeated
+// real histograms on 2 threads. Every stage reports wall seconds and CPU seconds (all threads):
+// the machine may be shared, and CPU seconds are what an extrapolation to 2 idle cores needs.
+// Prints one JSON line per stage.
+//   canonform_bench_600 MESH... [--models 600] [--words 1500] [--sample 200000] [--threads 2]
+#include "core/bag_of_features.h"
+#include "core/codebook.h"
+#include "core/euclidean_canonical_form.h"
+#include "core/view_descriptor.h"
+#include "core/view_directions.h"
+#include "mesh_io.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <ctime>
+#include <random>
+#include <string>
+#include <vector>
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+/// Wall and process CPU seconds of a stage.
+struct Stopwatch {
+    Clock::time_point w0 = Clock::now();
+    double c0 = cpu();
+    static double cpu() {
+        timespec ts{};
+        clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+        return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
+    }
+    double wall() const { return std::chrono::duration<double>(Clock::now() - w0).count(); }
+    double cpu_s() const { return cpu() - c0; }
+};
+
+double median(std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    return v.empty() ? 0 : v[v.size() / 2];
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    using namespace canonform;
+    using namespace canonform::views;
+    std::vector<std::string> meshes;
+    int models = 600, words = 1500, threads = 2;
+    long sample = 200000;
+    for (int k = 1; k < argc; ++k) {
+        const std::string a = argv[k];
+        if (a.rfind("--", 0) == 0 && k + 1 < argc) {
+            const long v = std::atol(argv[++k]);
+            if (a == "--models") models = int(v);
+            else if (a == "--words") words = int(v);
+            else if (a == "--sample") sample = v;
+            else if (a == "--threads") threads = int(v);
+            else { std::fprintf(stderr, "unknown option %s\n", a.c_str()); return 2; }
+        } else {
+            meshes.push_back(a);
+        }
+    }
+    if (meshes.empty() || models < 2 || words < 1 || sample < words || threads < 1) {
+        std::fprintf(stderr, "usage: canonform_bench_600 MESH... [--models 600] [--words 1500] [--sample 200000] [--threads 2]\n");
+        return 2;
+    }
+    std::vector<double> n_wall, n_cpu, a_wall, a_cpu, v_wall, v_cpu, kp;
+    std::vector<ViewSet> sets;
+    long vertices = 0;
+    for (const auto& path : meshes) {
+        const auto m = io::read_mesh(path);
+        vertices += m.V.rows();
+        EuclideanCanonicalFormOptions o;
+        Stopwatch s;
+        const auto r = euclidean_canonical_form(m.V, m.F, o);
+        n_wall.push_back(s.wall());
+        n_cpu.push_back(s.cpu_s());
+        o.variant = CanonicalVariant::A;
+        s = Stopwatch();
+        euclidean_canonical_form(m.V, m.F, o);
+        a_wall.push_back(s.wall());
+        a_cpu.push_back(s.cpu_s());
+        s = Stopwatch();
+        sets.push_back(compute_views(r.V, m.F));
+        v_wall.push_back(s.wall());
+        v_cpu.push_back(s.cpu_s());
+        long n = 0;
+        for (const auto& f : sets.back().features) n += f.rows();
+        kp.push_back(double(n));
+    }
+    std::printf("{\"stage\": \"canonical_form_N\", \"meshes\": %zu, \"mean_vertices\": %ld, \"median_wall_s\": %.3f, \"median_cpu_s\": %.3f}\n",
+                meshes.size(), vertices / long(meshes.size()), median(n_wall), median(n_cpu));
+    std::printf("{\"stage\": \"canonical_form_A\", \"median_wall_s\": %.3f, \"median_cpu_s\": %.3f}\n", median(a_wall), median(a_cpu));
+    std::printf("{\"stage\": \"views_and_sift\", \"median_wall_s\": %.3f, \"median_cpu_s\": %.3f, \"median_keypoints\": %.0f}\n",
+                median(v_wall), median(v_cpu), median(kp));
+    std::fflush(stdout);
+
+    // The 600-model descriptor pool: the real descriptors, repeated.
+    std::vector<const SiftDescriptors*> per_model;
+    long rows = 0;
+    for (int k = 0; k < models; ++k) {
+        const ViewSet& vs = sets[size_t(k) % sets.size()];
+        for (const auto& f : vs.features) rows += f.rows();
+    }
+    SiftDescriptors all(rows, 128);
+    long r = 0;
+    for (int k = 0; k < models; ++k)
+        for (const auto& f : sets[size_t(k) % sets.size()].features) {
+            all.middleRows(r, f.rows()) = f;
+            r += f.rows();
+        }
+    CodebookOptions co;
+    co.words = words;
+    co.kmeans_iterations = 1;
+    Stopwatch s;
+    Codebook::train(all, co);  // seeding + one Lloyd iteration over every descriptor
+    std::printf("{\"stage\": \"codebook_full_one_iteration\", \"descriptors\": %ld, \"words\": %d, \"wall_s\": %.2f, \"cpu_s\": %.2f}\n",
+                rows, words, s.wall(), s.cpu_s());
+    std::fflush(stdout);
+    co.kmeans_iterations = 0;
+    s = Stopwatch();
+    Codebook::train(all, co);  // seeding only (k-means++ on 20 * words descriptors)
+    const double seed_wall = s.wall(), seed_cpu = s.cpu_s();
+    std::printf("{\"stage\": \"codebook_seeding\", \"wall_s\": %.2f, \"cpu_s\": %.2f}\n", seed_wall, seed_cpu);
+    std::fflush(stdout);
+    // Training on a random sample (10 Lloyd iterations, the default).
+    std::mt19937_64 rng(1);
+    const long m = std::min(sample, rows);
+    SiftDescriptors sub(m, 128);
+    for (long i = 0; i < m; ++i) sub.row(i) = all.row(long(rng() % std::uint64_t(rows)));
+    co.kmeans_iterations = 10;
+    s = Stopwatch();
+    const Codebook cb = Codebook::train(sub, co);
+    std::printf("{\"stage\": \"codebook_sample_10_iterations\", \"descriptors\": %ld, \"wall_s\": %.2f, \"cpu_s\": %.2f}\n", m,
+                s.wall(), s.cpu_s());
+    std::fflush(stdout);
+
+    // Histograms: every descriptor of the 600 models assigned to its word.
+    s = Stopwatch();
+    std::vector<std::vector<Histogram>> hist(sets.size());
+    for (size_t k = 0; k < sets.size(); ++k)
+        for (const auto& f : sets[k].features) hist[k].push_back(histogram(cb.assign(f)));
+    const double per_pass_wall = s.wall(), per_pass_cpu = s.cpu_s();
+    const double reps = double(models) / double(sets.size());
+    std::printf("{\"stage\": \"histograms\", \"models\": %d, \"wall_s\": %.2f, \"cpu_s\": %.2f, \"measured_on_models\": %zu}\n",
+                models, per_pass_wall * reps, per_pass_cpu * reps, sets.size());
+    std::fflush(stdout);
+
+    std::vector<std::vector<Histogram>> hm(static_cast<size_t>(models));
+    for (int k = 0; k < models; ++k) hm[size_t(k)] = hist[size_t(k) % hist.size()];
+    s = Stopwatch();
+    const Eigen::MatrixXf D = distance_matrix(hm, rotation_view_maps(), threads);
+    std::printf("{\"stage\": \"distance_matrix\", \"models\": %ld, \"threads\": %d, \"wall_s\": %.2f, \"cpu_s\": %.2f}\n",
+                long(D.rows()), threads, s.wall(), s.cpu_s());
+    return 0;
+}

@@ -1,0 +1,22 @@
+#!/usr/bin/env bash
+# Per-stage costs for the 600-mesh plan (README, "600 meshes of 10k vertices"): six procedural
+# figures of 10k vertices (six body types, six poses) through bench_600, which prints wall and CPU
+# seconds per stage as JSON lines (bench/results/bench_600.jsonl) with the machine's load.
+#   bench/run_bench_600.sh [BUILD_DIR]
+set -euo pipefail
+here=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+build=${1:-$here/build}
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+pose=1
+for c in standard long-arms short-legs long-tail stocky long-neck; do
+  "$build/tools/canonform" generate "$work/$c.ply" --vertices 10000 --pose $pose --class $c
+  pose=$((pose + 1))
+done
+out=$here/bench/results/bench_600.jsonl
+{
+  echo "{\"load_before\": \"$(cut -d' ' -f1-3 /proc/loadavg)\", \"cpus\": $(nproc), \"date\": \"$(date -u +%FT%TZ)\"}"
+  "$build/bench/canonform_bench_600" "$work"/*.ply
+  echo "{\"load_after\": \"$(cut -d' ' -f1-3 /proc/loadavg)\"}"
+} | tee "$out.tmp"
+mv "$out.tmp" "$out"
