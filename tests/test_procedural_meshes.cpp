@@ -499,7 +499,9 @@ TEST(ProceduralFigureClasses, EveryClassIsCleanInEveryNamedPoseWithTheSameFaces)
             EXPECT_EQ(t.euler, 2);
             EXPECT_EQ(self_intersections(f.mesh), 0);
             EXPECT_GT(min_area_and_angle(f.mesh).second, 1.0 * kPi / 180.0);
-            if (name != "standard") EXPECT_GT((f.mesh.V - standard.mesh.V).rowwise().norm().maxCoeff(), 0.05);
+            if (name != "standard") {
+                EXPECT_GT((f.mesh.V - standard.mesh.V).rowwise().norm().maxCoeff(), 0.05);
+            }
         }
     }
     EXPECT_EQ(static_cast<int>(canonform::figure_class_names().size()), canonform::kFigureClasses);

@@ -393,7 +393,7 @@ public:
     double chain_value(int c, const Vector3d& p, Vector3d* grad) const {
         const Chain& ch = body_.chains[static_cast<size_t>(c)];
         double best = std::numeric_limits<double>::infinity();
-        Vector3d g;
+        Vector3d g = Vector3d::Zero();
         for (const Capsule& cap : ch.caps) {
             const double d = capsule_eval(cap, p, grad ? &g : nullptr);
             if (d < best) {
@@ -477,7 +477,7 @@ public:
     Vector3d project(Vector3d p, int steps, double max_step, const int* ids = nullptr,
                      int n_ids = 0, Vector3d* last_grad = nullptr) const {
         for (int s = 0; s < steps; ++s) {
-            Vector3d g;
+            Vector3d g = Vector3d::Zero();
             const double f = ids ? eval(p, ids, n_ids, &g) : eval(p, &g);
             if (last_grad) *last_grad = g;
             const double gg = g.squaredNorm();
@@ -1021,7 +1021,7 @@ void relax(const BodySdf& sdf, std::vector<Vector3d>* V, const std::vector<Face>
                 // Everything below is evaluated within rho of p.
                 int ids[kMaxChains];
                 const int n_ids = sdf.relevant_chains(p, lambda * d.norm() + 2.0 * max_step, ids);
-                Vector3d g;
+                Vector3d g = Vector3d::Zero();
                 sdf.eval(p, ids, n_ids, &g);
                 const double gn = g.norm();
                 if (gn > 1e-12) {
@@ -1123,7 +1123,7 @@ int decimate(const BodySdf& sdf, std::vector<Vector3d>* V, std::vector<Face>* F,
     // Unit surface normals (SDF gradients) at the vertices.
     std::vector<Vector3d> normal(static_cast<size_t>(nv));
     auto surface_normal = [&](const Vector3d& x) {
-        Vector3d g;
+        Vector3d g = Vector3d::Zero();
         sdf.eval(x, &g);
         return Vector3d(g.normalized());
     };
