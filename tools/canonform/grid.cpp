@@ -2,11 +2,10 @@
 
 #include "core/errors.h"
 #include "mesh_io.h"
+#include "qt_image.h"
 #include "render.h"
 
-#include <QCoreApplication>
 #include <QFont>
-#include <QGuiApplication>
 #include <QImage>
 #include <QPainter>
 
@@ -115,13 +114,7 @@ int write_grid(const std::string& path, const GridOptions& o) {
     }
     if (cols.empty()) throw InputError("the run '" + o.run + "' has no model of class '" + o.cls + "'");
 
-    if (!QCoreApplication::instance()) {
-        if (!std::getenv("QT_QPA_PLATFORM")) setenv("QT_QPA_PLATFORM", "offscreen", 1);
-        static int argc = 1;
-        static char arg0[] = "canonform";
-        static char* argv[] = {arg0, nullptr};
-        static QGuiApplication app(argc, argv);  // lives until exit: one per process
-    }
+    ensure_gui_application();
     const int P = o.panel, label_w = 130, label_h = 22;
     const int rows = 1 + static_cast<int>(methods.size());
     QImage out(label_w + static_cast<int>(cols.size()) * P, label_h + rows * P, QImage::Format_RGB888);
@@ -162,12 +155,7 @@ int write_grid(const std::string& path, const GridOptions& o) {
         if (r > 0) p.drawLine(label_w, label_h + r * P, out.width(), label_h + r * P);
     }
     p.end();
-    const std::string tmp = io::temporary_path_for(path);
-    if (!out.save(QString::fromStdString(tmp), "PNG")) {
-        std::remove(tmp.c_str());
-        throw std::runtime_error("cannot write '" + path + "'");
-    }
-    io::commit_file(tmp, path);
+    save_png(out, path);
     return static_cast<int>(cols.size());
 }
 

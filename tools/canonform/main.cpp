@@ -416,7 +416,7 @@ int cmd_generate(const Args& a) {
     return 0;
 }
 
-int cmd_picture(const Args& a, int argc, char** argv) {
+int cmd_picture(const Args& a) {
     a.need(2);
     a.allow({"points", "canonical", "size"});
     PictureInputs in;
@@ -427,7 +427,7 @@ int cmd_picture(const Args& a, int argc, char** argv) {
         in.canonical = io::read_mesh(a.str("canonical", ""));
         in.canonical_quality = io::read_ply_quality(a.str("canonical", ""));
     }
-    write_picture(a.positional[0], in, a.integer("size", 420), argc, argv);
+    write_picture(a.positional[0], in, a.integer("size", 420));
     return 0;
 }
 
@@ -447,7 +447,7 @@ int main(int argc, char** argv) {
             const Args a(argc, argv, 2, {});
             a.need(2);
             a.allow({"size", "seed"});
-            return cli::views_command(a.positional[0], a.positional[1], view_options(a), argc, argv);
+            return cli::views_command(a.positional[0], a.positional[1], view_options(a));
         }
         if (cmd == "codebook") {
             const Args a(argc, argv, 2, {"random"});
@@ -515,7 +515,7 @@ int main(int argc, char** argv) {
         }
         if (cmd == "simplify") return cmd_simplify(Args(argc, argv, 2, {}));
         if (cmd == "generate") return cmd_generate(Args(argc, argv, 2, {}));
-        if (cmd == "picture") return cmd_picture(Args(argc, argv, 2, {}), argc, argv);
+        if (cmd == "picture") return cmd_picture(Args(argc, argv, 2, {}));
         throw UsageError("unknown command '" + cmd + "'");
     } catch (const UsageError& e) {
         std::cerr << "canonform: " << e.what() << "\n" << kUsage;

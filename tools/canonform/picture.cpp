@@ -1,9 +1,9 @@
 #include "picture.h"
 
+#include "qt_image.h"
 #include "render.h"
 
 #include <QFont>
-#include <QGuiApplication>
 #include <QImage>
 #include <QPainter>
 
@@ -55,10 +55,9 @@ Eigen::MatrixXd map_points(const io::MeshData& mesh, const Eigen::MatrixXd& poin
 
 }  // namespace
 
-void write_picture(const std::string& path, const PictureInputs& in, int panel, int argc, char** argv) {
+void write_picture(const std::string& path, const PictureInputs& in, int panel) {
     if (panel < 64 || panel > 4096) throw std::runtime_error("the panel size must be between 64 and 4096 pixels");
-    if (!std::getenv("QT_QPA_PLATFORM")) setenv("QT_QPA_PLATFORM", "offscreen", 1);
-    QGuiApplication app(argc, argv);
+    cli::ensure_gui_application();
 
     struct Panel {
         QImage image;
@@ -95,12 +94,7 @@ void write_picture(const std::string& path, const PictureInputs& in, int panel, 
         if (k > 0) p.drawLine(x, label_h, x, panel + label_h);
     }
     p.end();
-    const std::string tmp = io::temporary_path_for(path);
-    if (!out.save(QString::fromStdString(tmp), "PNG")) {
-        std::remove(tmp.c_str());
-        throw std::runtime_error("cannot write '" + path + "'");
-    }
-    io::commit_file(tmp, path);
+    cli::save_png(out, path);
 }
 
 }  // namespace canonform

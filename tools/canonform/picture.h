@@ -21,6 +21,6 @@ struct PictureInputs {
 /// Renders up to three labelled panels of `panel` x `panel` pixels (mesh coloured by quality;
 /// mesh with the feature points; canonical form with the feature points) into a PNG at `path`,
 /// written atomically. Needs no X server (Qt's offscreen platform is used for the labels).
-void write_picture(const std::string& path, const PictureInputs& in, int panel, int argc, char** argv);
+void write_picture(const std::string& path, const PictureInputs& in, int panel);
 
 }  // namespace canonform

@@ -4,8 +4,8 @@
 #include "core/view_descriptor.h"
 #include "core/view_directions.h"
 #include "mesh_io.h"
+#include "qt_image.h"
 
-#include <QGuiApplication>
 #include <QImage>
 #include <QPainter>
 
@@ -43,15 +43,6 @@ QImage to_qimage(const views::DepthImage& d) {
     return QImage(g.data(), d.size, d.size, d.size, QImage::Format_Grayscale8).copy();
 }
 
-void save_png(const QImage& img, const std::string& path) {
-    const std::string tmp = io::temporary_path_for(path);
-    if (!img.save(QString::fromStdString(tmp), "PNG")) {
-        std::remove(tmp.c_str());
-        throw std::runtime_error("cannot write '" + path + "'");
-    }
-    io::commit_file(tmp, path);
-}
-
 }  // namespace
 
 void write_distance_matrix(const Eigen::MatrixXf& D, const std::string& bin_path, const std::string& csv_path) {
@@ -64,13 +55,12 @@ void write_distance_matrix(const Eigen::MatrixXf& D, const std::string& bin_path
     io::write_file_atomic(csv_path, csv.str());
 }
 
-int views_command(const std::string& in, const std::string& dir, const ViewCommandOptions& o, int argc, char** argv) {
+int views_command(const std::string& in, const std::string& dir, const ViewCommandOptions& o) {
     const views::ViewSet vs = views_of(in, o);
     mkdir(dir.c_str(), 0755);
     struct stat st {};
     if (stat(dir.c_str(), &st) != 0 || !S_ISDIR(st.st_mode)) throw std::runtime_error("cannot create the folder '" + dir + "'");
-    if (!std::getenv("QT_QPA_PLATFORM")) setenv("QT_QPA_PLATFORM", "offscreen", 1);
-    QGuiApplication app(argc, argv);  // fonts for the contact sheet's labels
+    ensure_gui_application();  // fonts for the contact sheet's labels
     const int cols = 11, thumb = 128, label = 16;
     QImage sheet(cols * thumb, 6 * (thumb + label), QImage::Format_RGB888);
     sheet.fill(Qt::white);

@@ -25,7 +25,7 @@ struct ViewCommandOptions {
 void write_distance_matrix(const Eigen::MatrixXf& D, const std::string& bin_path, const std::string& csv_path);
 
 /// canonform views IN DIR: the 66 depth images as PNG and a contact sheet of them.
-int views_command(const std::string& in, const std::string& dir, const ViewCommandOptions& o, int argc, char** argv);
+int views_command(const std::string& in, const std::string& dir, const ViewCommandOptions& o);
 /// canonform codebook OUT MESH...: a codebook trained on the SIFT features of the meshes.
 int codebook_command(const std::string& out, const std::vector<std::string>& meshes, const ViewCommandOptions& o);
 /// canonform descriptor IN OUT [--codebook CB]: the descriptor file of one mesh.

@@ -1,0 +1,32 @@
+#include "qt_image.h"
+
+#include "mesh_io.h"
+
+#include <QCoreApplication>
+#include <QGuiApplication>
+
+#include <cstdio>
+#include <cstdlib>
+#include <stdexcept>
+
+namespace canonform::cli {
+
+void ensure_gui_application() {
+    if (QCoreApplication::instance()) return;
+    if (!std::getenv("QT_QPA_PLATFORM")) setenv("QT_QPA_PLATFORM", "offscreen", 1);
+    static int argc = 1;
+    static char arg0[] = "canonform";
+    static char* argv[] = {arg0, nullptr};
+    static QGuiApplication app(argc, argv);
+}
+
+void save_png(const QImage& img, const std::string& path) {
+    const std::string tmp = io::temporary_path_for(path);
+    if (!img.save(QString::fromStdString(tmp), "PNG")) {
+        std::remove(tmp.c_str());
+        throw std::runtime_error("cannot write '" + path + "'");
+    }
+    io::commit_file(tmp, path);
+}
+
+}  // namespace canonform::cli
