@@ -25,16 +25,15 @@ void multiply_k(const RowSparse& A, const Block& x, Block& y) {
     const double* val = A.valuePtr();
     const double* xs = x.data();
     double* ys = y.data();
+    // Accumulate straight into y's row: no per-row buffer.
     for (Eigen::Index i = 0; i < n; ++i) {
-        double acc[K > 0 ? K : 8] = {};
-        std::vector<double> big(K > 0 || k <= 8 ? 0 : static_cast<size_t>(k), 0.0);
-        double* a_ = K > 0 || k <= 8 ? acc : big.data();
+        double* yi = ys + i * k;
+        for (Eigen::Index c = 0; c < k; ++c) yi[c] = 0;
         for (auto p = outer[i]; p < outer[i + 1]; ++p) {
             const double a = val[p];
             const double* xj = xs + static_cast<Eigen::Index>(inner[p]) * k;
-            for (Eigen::Index c = 0; c < k; ++c) a_[c] += a * xj[c];
+            for (Eigen::Index c = 0; c < k; ++c) yi[c] += a * xj[c];
         }
-        for (Eigen::Index c = 0; c < k; ++c) ys[i * k + c] = a_[c];
     }
 }
 
@@ -197,6 +196,11 @@ const char* to_string(LinearSolver s) {
     case LinearSolver::Auto: break;
     }
     return "auto";
+}
+
+bool use_multigrid(LinearSolver s, long long unknowns, long long threshold) {
+    if (unknowns <= AmgOptions{}.coarse_size) return false;
+    return s == LinearSolver::Multigrid || (s == LinearSolver::Auto && unknowns >= threshold);
 }
 
 AmgPreconditioner::AmgPreconditioner(const Eigen::SparseMatrix<double>& A0, const AmgOptions& options) {

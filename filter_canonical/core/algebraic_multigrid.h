@@ -43,10 +43,11 @@ constexpr int kMultigridFrom = 40000;
 /// Name of a linear solver ("auto", "direct", "multigrid").
 const char* to_string(LinearSolver s);
 
-/// True if `s` means multigrid for a system of `unknowns` rows.
-inline bool use_multigrid(LinearSolver s, long long unknowns, long long threshold = kMultigridFrom) {
-    return s == LinearSolver::Multigrid || (s == LinearSolver::Auto && unknowns >= threshold);
-}
+struct AmgOptions;
+
+/// True if `s` means multigrid for a system of `unknowns` rows. A system no larger than AMG's
+/// coarsest level is solved directly whatever `s` says (a one-level hierarchy is a direct solve).
+bool use_multigrid(LinearSolver s, long long unknowns, long long threshold = kMultigridFrom);
 
 /// Options of AmgPreconditioner.
 struct AmgOptions {

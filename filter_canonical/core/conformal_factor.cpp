@@ -41,7 +41,7 @@ ConformalFactorResult conformal_factor(const Eigen::MatrixXd& V0, const Eigen::M
     const Eigen::SparseMatrix<double> Lr = L.bottomRightCorner(n - 1, n - 1);
     Eigen::VectorXd phi(n);
     phi(0) = 0;
-    if (use_multigrid(options.linear_solver, n - 1) && n - 1 > AmgOptions{}.coarse_size) {
+    if (use_multigrid(options.linear_solver, n - 1)) {
         const AmgPreconditioner amg(Lr);
         report_progress(options.progress, 0.7, "conformal factor: solving (multigrid)");
         Eigen::MatrixXd x = Eigen::MatrixXd::Zero(n - 1, 1);

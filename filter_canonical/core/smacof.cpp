@@ -43,7 +43,6 @@ SmacofSolver::SmacofSolver(int num_points, StressPairs pairs, const SmacofSolver
     Eigen::SparseMatrix<double> Vr(n_ - 1, n_ - 1);
     Vr.setFromTriplets(t.begin(), t.end());
     multigrid_ = use_multigrid(options_.linear_solver, n_, options_.multigrid_from);
-    if (multigrid_ && n_ - 1 <= AmgOptions{}.coarse_size) multigrid_ = false;  // one level: direct anyway
     if (multigrid_)
         amg_ = AmgPreconditioner(Vr);
     else if (!factor_.compute(Vr))
