@@ -28,13 +28,7 @@ QString TableFilterPlugin2020::filterInfo(FilterIDType filter) const {
 }
 
 MeshFilterInterface::FilterClass TableFilterPlugin2020::getClass(QAction* a) {
-    switch (spec(ID(a)).kind) {
-    case FilterKind::Quality: return MeshFilterInterface::Quality;
-    case FilterKind::Selection: return MeshFilterInterface::Selection;
-    case FilterKind::Smoothing: return MeshFilterInterface::Smoothing;
-    case FilterKind::Measure: return MeshFilterInterface::Measure;
-    }
-    return MeshFilterInterface::Measure;
+    return canonform::plugin::filter_class<MeshFilterInterface>(spec(ID(a)).kind);
 }
 
 int TableFilterPlugin2020::getRequirements(QAction* a) { return mesh_mask<MeshModel>(spec(ID(a)).requires); }

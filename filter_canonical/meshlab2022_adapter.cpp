@@ -54,13 +54,7 @@ QString TableFilterPlugin2022::pythonFilterName(ActionIDType filter) const {
 QString TableFilterPlugin2022::filterInfo(ActionIDType filter) const { return QString::fromStdString(spec(filter).info); }
 
 FilterPlugin::FilterClass TableFilterPlugin2022::getClass(const QAction* a) const {
-    switch (spec(ID(a)).kind) {
-    case FilterKind::Quality: return FilterPlugin::Quality;
-    case FilterKind::Selection: return FilterPlugin::Selection;
-    case FilterKind::Smoothing: return FilterPlugin::Smoothing;
-    case FilterKind::Measure: return FilterPlugin::Measure;
-    }
-    return FilterPlugin::Measure;
+    return canonform::plugin::filter_class<FilterPlugin>(spec(ID(a)).kind);
 }
 
 int TableFilterPlugin2022::getRequirements(const QAction* a) { return mesh_mask<MeshModel>(spec(ID(a)).requires); }

@@ -38,6 +38,19 @@ ParamValues read_params(const FilterSpec& spec, const RichParameterListT& par) {
     return values;
 }
 
+/// MeshLab's filter class (the plugin interface's FilterClass: same enumerators in both APIs) of
+/// a table's FilterKind.
+template <class PluginInterface>
+typename PluginInterface::FilterClass filter_class(FilterKind kind) {
+    switch (kind) {
+    case FilterKind::Quality: return PluginInterface::Quality;
+    case FilterKind::Selection: return PluginInterface::Selection;
+    case FilterKind::Smoothing: return PluginInterface::Smoothing;
+    case FilterKind::Measure: return PluginInterface::Measure;
+    }
+    return PluginInterface::Measure;
+}
+
 /// Progress of an action as MeshLab's callback cb(percent, stage) (both APIs).
 template <class CallBack>
 ProgressFn progress_to(CallBack* cb) {
@@ -46,10 +59,6 @@ ProgressFn progress_to(CallBack* cb) {
         return true;
     };
 }
-
-}  // namespace canonform::plugin
-
-namespace canonform::plugin {
 
 /// Adds `spec`'s parameters, at their defaults, to MeshLab's parameter list (RichBool, RichInt,
 /// RichFloat, RichString, RichEnum exist with these arguments in both APIs; a float is stored
