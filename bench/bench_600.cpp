@@ -14,6 +14,7 @@
 #include "core/euclidean_canonical_form.h"
 #include "core/view_descriptor.h"
 #include "core/view_directions.h"
+#include "bench_util.h"
 #include "mesh_io.h"
 
 #include <algorithm>
@@ -28,7 +29,8 @@
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
+using canonform::bench::Clock;
+using canonform::bench::median;
 
 /// Wall and process CPU seconds of a stage.
 struct Stopwatch {
@@ -42,11 +44,6 @@ struct Stopwatch {
     double wall() const { return std::chrono::duration<double>(Clock::now() - w0).count(); }
     double cpu_s() const { return cpu() - c0; }
 };
-
-double median(std::vector<double> v) {
-    std::sort(v.begin(), v.end());
-    return v.empty() ? 0 : v[v.size() / 2];
-}
 
 }  // namespace
 

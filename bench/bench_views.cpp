@@ -6,6 +6,7 @@
 #include "core/codebook.h"
 #include "core/view_descriptor.h"
 #include "core/view_directions.h"
+#include "bench_util.h"
 #include "mesh_io.h"
 
 #include <algorithm>
@@ -16,17 +17,9 @@
 #include <random>
 #include <vector>
 
-namespace {
-
-using Clock = std::chrono::steady_clock;
-double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
-
-double median(std::vector<double> v) {
-    std::sort(v.begin(), v.end());
-    return v[v.size() / 2];
-}
-
-}  // namespace
+using canonform::bench::Clock;
+using canonform::bench::median;
+using canonform::bench::since;
 
 int main(int argc, char** argv) {
     using namespace canonform::views;
