@@ -1,49 +1,109 @@
-# Building a filter plugin that the installed MeshLab 2020.09 (Debian's `meshlab` package) loads.
-# ABI facts (shared/REFERENCE.md section 2): MESHLAB_SCALAR=float, gnu++14 or later, Qt5, GLEW,
-# link the MODULE against the installed libmeshlab-common.so with -Wl,--no-undefined.
+# The MeshLab builds ("flavours") a plugin is compiled for, and the function that compiles a
+# plugin for each of them from one set of sources.
+#
+#   flavour         host                                         API    precision  plugins in
+#   meshlab2020     MeshLab 2020.09 (Debian bookworm)             2020   float      <build>/meshlab/plugins
+#   meshlab2022     MeshLab 2022.02 (Debian trixie)               2022   float      <build>/meshlab/plugins
+#   meshlab2025     MeshLab 2025.07 (Debian forky/sid)            2025   float      <build>/meshlab/plugins
+#   pymeshlab2022   pymeshlab 2022.2.x (meshlab-common built here) 2022  double     <build>/pymeshlab2022/plugins
+#   pymeshlab2025   pymeshlab 2025.7.x (meshlab-common built here) 2025  double     <build>/pymeshlab2025/plugins
+#
+# The first three are the installed MeshLab (cmake/MeshLabInstalled.cmake: one of them per
+# system), the last two options CANONFORM_MESHLAB2022 / CANONFORM_MESHLAB2025
+# (cmake/MeshLabFromSource.cmake). API 2020 is MeshLab 2020.09's MeshFilterInterface; 2022 and
+# 2025 are the FilterPlugin API, which 2025.07 kept (its headers were split and some parameter
+# classes renamed: filter_canonical/meshlab_adapter.h and the adapters take care of that).
 
-find_package(Qt5 COMPONENTS Core Gui Widgets OpenGL Xml REQUIRED)
-find_package(GLEW REQUIRED)
-find_package(OpenGL REQUIRED)
-
-if(NOT EXISTS "${MESHLAB_SOURCE_DIR}/src/common/interfaces.h")
-  message(FATAL_ERROR "MeshLab headers not found under MESHLAB_SOURCE_DIR=${MESHLAB_SOURCE_DIR}; run tools/setup.sh")
-endif()
-find_library(MESHLAB_COMMON_LIBRARY meshlab-common PATHS "${MESHLAB_LIBRARY_DIR}" NO_DEFAULT_PATH)
-if(NOT MESHLAB_COMMON_LIBRARY)
-  message(FATAL_ERROR "libmeshlab-common.so not found in ${MESHLAB_LIBRARY_DIR}: install Debian's meshlab package (tools/setup.sh)")
-endif()
-
-if(NOT TARGET meshlab_common_2020)
-  add_library(meshlab_common_2020 SHARED IMPORTED GLOBAL)
-  set_target_properties(meshlab_common_2020 PROPERTIES IMPORTED_LOCATION "${MESHLAB_COMMON_LIBRARY}"
-                                                       IMPORTED_NO_SONAME TRUE)
-  target_include_directories(meshlab_common_2020 SYSTEM INTERFACE
-    "${MESHLAB_SOURCE_DIR}/src" "${MESHLAB_SOURCE_DIR}/src/common" "${MESHLAB_SOURCE_DIR}/vcglib")
-  target_compile_definitions(meshlab_common_2020 INTERFACE MESHLAB_SCALAR=float CANONFORM_MESHLAB_API=2020)
-  target_link_libraries(meshlab_common_2020 INTERFACE Qt5::Core Qt5::Gui Qt5::Widgets Qt5::OpenGL Qt5::Xml
-                                                      GLEW::GLEW OpenGL::GL)
-  add_library(meshlab::common ALIAS meshlab_common_2020)
-endif()
-
-set(CANONFORM_PLUGIN_DIR "${CMAKE_BINARY_DIR}/meshlab/plugins" CACHE INTERNAL "")
 set(CANONFORM_PLUGIN_INSTALL_DIR "lib/x86_64-linux-gnu/meshlab/plugins" CACHE STRING
-    "Plugin directory relative to the install prefix (MeshLab searches <bin>/../lib/x86_64-linux-gnu/meshlab/plugins)")
+    "Plugin directory relative to the install prefix (where Debian's MeshLab looks: /usr/<this>)")
 
-# canonform_add_meshlab_plugin(NAME SOURCES ... LIBRARIES ... SCRIPTS ...)
+# canonform_meshlab_flavour(NAME COMMON target API 2020|2022|2025 SCALAR float|double VERSION v
+#                           DIR dir [INSTALLED])
+function(canonform_meshlab_flavour name)
+  cmake_parse_arguments(F "INSTALLED" "COMMON;API;SCALAR;VERSION;DIR" "" ${ARGN})
+  set_property(GLOBAL APPEND PROPERTY CANONFORM_MESHLAB_FLAVOURS ${name})
+  foreach(k COMMON API SCALAR VERSION DIR INSTALLED)
+    set_property(GLOBAL PROPERTY CANONFORM_FLAVOUR_${name}_${k} "${F_${k}}")
+  endforeach()
+endfunction()
+
+# canonform_flavour_get(VAR flavour KEY): KEY one of COMMON API SCALAR VERSION DIR INSTALLED PLUGINS
+# (PLUGINS: the plugin targets made for it; WRONG_PRECISION: the twin built for the other precision).
+function(canonform_flavour_get var name key)
+  get_property(v GLOBAL PROPERTY CANONFORM_FLAVOUR_${name}_${key})
+  set(${var} "${v}" PARENT_SCOPE)
+endfunction()
+
+# canonform_add_meshlab_plugin(NAME SOURCES ... LIBRARIES ... [SCRIPTS ...] [INCLUDE_DIRS ...]
+#                              [WRONG_PRECISION])
+# Compiles plugin NAME (lib<NAME>.so) for every flavour: target NAME for the installed MeshLab,
+# NAME_<flavour> for the others; the adapter of the flavour's API is added to SOURCES. The
+# installed MeshLab's plugin and SCRIPTS (.mlx, for 2020.09's meshlabserver) are installed in
+# component `plugins` (what tools/package.sh puts in the Debian package).
+# WRONG_PRECISION: for API 2022 and 2025 also a twin compiled for the other precision (and that
+# precision's version string), target NAME_<flavour>_wrong_precision in <DIR>/../wrong_precision:
+# what a plugin built for the other host is to this one; the tests check that MeshLab's plugin
+# manager refuses it, with its message. It is never applied.
 function(canonform_add_meshlab_plugin name)
-  cmake_parse_arguments(P "" "" "SOURCES;LIBRARIES;SCRIPTS" ${ARGN})
-  add_library(${name} MODULE ${P_SOURCES})
-  add_library(canonform::${name} ALIAS ${name})
-  set_target_properties(${name} PROPERTIES AUTOMOC ON PREFIX "lib"
-                                           LIBRARY_OUTPUT_DIRECTORY "${CANONFORM_PLUGIN_DIR}")
-  target_include_directories(${name} PRIVATE "${CMAKE_CURRENT_SOURCE_DIR}")
-  target_link_libraries(${name} PRIVATE meshlab::common ${P_LIBRARIES} canonform::warnings)
-  target_link_options(${name} PRIVATE -Wl,--no-undefined)
-  install(TARGETS ${name} LIBRARY DESTINATION "${CANONFORM_PLUGIN_INSTALL_DIR}")
-  foreach(s ${P_SCRIPTS})
-    get_filename_component(script_name "${s}" NAME)
-    configure_file("${CMAKE_CURRENT_SOURCE_DIR}/${s}" "${CANONFORM_PLUGIN_DIR}/${name}/${script_name}" COPYONLY)
-    install(FILES "${CMAKE_CURRENT_SOURCE_DIR}/${s}" DESTINATION "${CANONFORM_PLUGIN_INSTALL_DIR}/${name}")
+  cmake_parse_arguments(P "WRONG_PRECISION" "" "SOURCES;LIBRARIES;SCRIPTS;INCLUDE_DIRS" ${ARGN})
+  set(glue "${PROJECT_SOURCE_DIR}/filter_canonical")
+  get_property(flavours GLOBAL PROPERTY CANONFORM_MESHLAB_FLAVOURS)
+  foreach(f ${flavours})
+    foreach(k COMMON API SCALAR VERSION DIR INSTALLED)
+      canonform_flavour_get(${k} ${f} ${k})
+    endforeach()
+    if(API EQUAL 2020)
+      set(adapter "${glue}/meshlab2020_adapter.cpp" "${glue}/meshlab2020_adapter.h")
+    else()
+      set(adapter "${glue}/meshlab2022_adapter.cpp" "${glue}/meshlab2022_adapter.h")
+    endif()
+    if(INSTALLED)
+      set(target ${name})
+    else()
+      set(target ${name}_${f})
+    endif()
+    set(variants ${target})
+    if(P_WRONG_PRECISION AND NOT API EQUAL 2020)
+      list(APPEND variants ${target}_wrong_precision)
+    endif()
+    foreach(t ${variants})
+      add_library(${t} MODULE ${P_SOURCES} ${adapter})
+      set_target_properties(${t} PROPERTIES AUTOMOC ON PREFIX "lib" OUTPUT_NAME ${name})
+      target_include_directories(${t} PRIVATE "${CMAKE_CURRENT_SOURCE_DIR}" "${glue}" ${P_INCLUDE_DIRS})
+      target_link_libraries(${t} PRIVATE ${COMMON} ${P_LIBRARIES} canonform::warnings)
+    endforeach()
+    set_target_properties(${target} PROPERTIES LIBRARY_OUTPUT_DIRECTORY "${DIR}")
+    target_link_options(${target} PRIVATE -Wl,--no-undefined)
+    set_property(GLOBAL APPEND PROPERTY CANONFORM_FLAVOUR_${f}_PLUGINS ${target})
+    if(TARGET ${target}_wrong_precision)
+      # The definitions are given again after the library's: the compiler takes the last -D. The
+      # plugin's own code then disagrees with the library it links about Scalarm, so it is not
+      # linked with --no-undefined (the plugin manager refuses it before any of that is called).
+      string(REGEX REPLACE "d$" "" float_version "${VERSION}")
+      if(SCALAR STREQUAL "double")
+        set(other float)
+        set(other_version ${float_version})
+      else()
+        set(other double)
+        set(other_version ${VERSION}d)
+      endif()
+      get_filename_component(wrong_dir "${DIR}/../wrong_precision" ABSOLUTE)
+      set_target_properties(${target}_wrong_precision PROPERTIES LIBRARY_OUTPUT_DIRECTORY "${wrong_dir}")
+      target_compile_options(${target}_wrong_precision PRIVATE -UMESHLAB_SCALAR -DMESHLAB_SCALAR=${other}
+                                                               -UMESHLAB_VERSION -DMESHLAB_VERSION=${other_version})
+      set_property(GLOBAL PROPERTY CANONFORM_FLAVOUR_${f}_WRONG_PRECISION ${target}_wrong_precision)
+    endif()
+    if(INSTALLED)
+      add_library(canonform::${name} ALIAS ${target})
+      install(TARGETS ${target} LIBRARY DESTINATION "${CANONFORM_PLUGIN_INSTALL_DIR}" COMPONENT plugins)
+      if(API EQUAL 2020)  # meshlabserver scripts, next to the plugin
+        foreach(s ${P_SCRIPTS})
+          get_filename_component(script_name "${s}" NAME)
+          configure_file("${CMAKE_CURRENT_SOURCE_DIR}/${s}" "${DIR}/${name}/${script_name}" COPYONLY)
+          install(FILES "${CMAKE_CURRENT_SOURCE_DIR}/${s}" DESTINATION "${CANONFORM_PLUGIN_INSTALL_DIR}/${name}"
+                  COMPONENT plugins)
+        endforeach()
+      endif()
+    endif()
   endforeach()
 endfunction()

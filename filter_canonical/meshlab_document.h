@@ -5,7 +5,7 @@
 // vcg_bridge.h, which reads and writes the mesh's own scalar types.
 #pragma once
 
-#if defined(CANONFORM_MESHLAB_API) && CANONFORM_MESHLAB_API == 2022
+#if defined(CANONFORM_MESHLAB_API) && CANONFORM_MESHLAB_API >= 2022
 #include <common/ml_document/mesh_document.h>
 #else
 #include <common/meshmodel.h>

@@ -1,19 +1,13 @@
 // canonform: the filter_viewdescriptor plugin ("Depth view descriptor"): view_filter_table.h and
 // view_actions.h behind the shared table-driven adapter of the API being built
-// (meshlab_adapter.h: MeshLab 2020.09, or MeshLab 2022.02 for pymeshlab 2022.2).
+// (meshlab_adapter.h: MeshLab 2020.09, or the FilterPlugin API of MeshLab 2022.02 and 2025.07).
 #pragma once
 
 #include "meshlab_adapter.h"
 
 class FilterViewDescriptorPlugin : public TableFilterPlugin {
     Q_OBJECT
-#if defined(CANONFORM_MESHLAB_API) && CANONFORM_MESHLAB_API == 2022
-    MESHLAB_PLUGIN_IID_EXPORTER(FILTER_PLUGIN_IID)
-    Q_INTERFACES(FilterPlugin)
-#else
-    MESHLAB_PLUGIN_IID_EXPORTER(MESH_FILTER_INTERFACE_IID)
-    Q_INTERFACES(MeshFilterInterface)
-#endif
+    CANONFORM_FILTER_PLUGIN_INTERFACE
 
 public:
     FilterViewDescriptorPlugin();

@@ -1,9 +1,12 @@
 #!/usr/bin/env bash
-# Configures and builds canonform in ./build (or $CANONFORM_BUILD_DIR): the core, the MeshLab
-# 2020.09 plugins (float), the canonform tool, the tests and the benchmarks, and - unless
-# CANONFORM_MESHLAB2022=0 - both plugins again for MeshLab 2022.02 / pymeshlab 2022.2 (double,
-# in build/meshlab2022/plugins) with MeshLab 2022.02's meshlab-common and their test harness.
-# Runs tools/setup.sh first.
+# Configures and builds canonform in ./build (or $CANONFORM_BUILD_DIR): the core, the plugins for
+# the installed MeshLab (float, build/meshlab/plugins: 2020.09 on Debian bookworm, 2022.02 on trixie,
+# 2025.07 on forky; with the canonform-meshlab runner from 2022.02 on), the canonform tool, the
+# tests and the benchmarks. On bookworm also, unless set to 0: CANONFORM_MESHLAB2022 and
+# CANONFORM_MESHLAB2025, both plugins for pymeshlab 2022.2 / 2025.7 (double, build/pymeshlab2022/
+# and build/pymeshlab2025/) with meshlab-common built here and the pymeshlab harness; and, as root,
+# CANONFORM_HOSTS, the tests in trixie's and forky's real MeshLab (tools/host.sh). Elsewhere these
+# are off unless set to 1. Runs tools/setup.sh first.
 set -euo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 build=${CANONFORM_BUILD_DIR:-$here/build}
@@ -11,8 +14,13 @@ build=${CANONFORM_BUILD_DIR:-$here/build}
 mkdir -p "$build"
 log="$build/build.log"
 echo "[build] configuring and building in $build (log: $log)"
-if [ "${CANONFORM_MESHLAB2022:-1}" = "0" ]; then ml2022=OFF; else ml2022=ON; fi
-if ! { cmake -S "$here" -B "$build" -DCMAKE_BUILD_TYPE=Release -DCANONFORM_MESHLAB2022=$ml2022 ${CANONFORM_CMAKE_ARGS:-} &&
+onoff() { if [ "$1" = 1 ]; then echo ON; else echo OFF; fi; }
+if [ "$("$here/tools/setup.sh" --meshlab)" = 2020.09 ]; then def=1; else def=0; fi
+if [ "$(id -u)" -eq 0 ]; then root=$def; else root=0; fi
+opts=(-DCANONFORM_MESHLAB2022="$(onoff "${CANONFORM_MESHLAB2022:-$def}")"
+      -DCANONFORM_MESHLAB2025="$(onoff "${CANONFORM_MESHLAB2025:-$def}")"
+      -DCANONFORM_HOSTS="$(onoff "${CANONFORM_HOSTS:-$root}")")
+if ! { cmake -S "$here" -B "$build" -DCMAKE_BUILD_TYPE=Release "${opts[@]}" ${CANONFORM_CMAKE_ARGS:-} &&
        cmake --build "$build" -j"$(nproc)"; } >"$log" 2>&1; then
   grep -E -B2 -A8 "error|Error" "$log" | head -120
   echo "[build] FAILED (full log: $log)" >&2

@@ -1,34 +1,61 @@
 #!/usr/bin/env bash
-# canonform set-up: installs what is missing with apt and fetches two Debian source packages into
-# external/ (ignored by git). Idempotent: a second run does nothing.
-#   - meshlab=2020.09+dfsg1-2 (bookworm): headers + vcglib of the installed MeshLab 2020.09, for
-#     the default (float) plugins;
-#   - meshlab=2022.02+dfsg1-1 (trixie): MeshLab 2022.02's source, whose meshlab-common library the
-#     build compiles in double precision for the pymeshlab 2022.2 plugins (CANONFORM_MESHLAB2022).
+# canonform set-up: installs what is missing with apt, finds which MeshLab the system packages,
+# and fetches the Debian source packages the build needs into external/ (ignored by git).
+# Idempotent: a second run does nothing. Works on Debian bookworm, trixie and forky/sid:
 #
-#   tools/setup.sh            # as root (or with sudo available)
-#   MESHLAB_SRC=/path tools/setup.sh          # use an existing MeshLab 2020.09 source tree instead
-#   CANONFORM_MESHLAB2022=0 tools/setup.sh    # do not fetch MeshLab 2022.02
+#   installed MeshLab (apt)        source fetched                 plugins built (tools/build.sh)
+#   2020.09 float (bookworm)       meshlab=2020.09+dfsg1-2        MeshLab 2020.09, float
+#   2022.02 float (trixie)         meshlab 2022.02+dfsg1 (trixie) MeshLab 2022.02, float
+#   2025.07 float (forky, sid)     meshlab 2025.07~dfsg (forky)   MeshLab 2025.07, float
+#
+# and, on bookworm, for the pymeshlab builds (double precision, meshlab-common compiled here):
+#   meshlab 2022.02+dfsg1 (suite trixie)  pymeshlab 2022.2   (CANONFORM_MESHLAB2022=0 skips it)
+#   meshlab 2025.07~dfsg  (suite forky)   pymeshlab 2025.7   (CANONFORM_MESHLAB2025=0 skips it)
+# (elsewhere these are off unless set to 1).
+#
+#   tools/setup.sh                 # as root (or with sudo available)
+#   tools/setup.sh --packages      # print the apt packages it installs, one a line, and exit
+#   tools/setup.sh --meshlab       # print the installed MeshLab's version (2020.09, 2022.02, 2025.07)
+#   MESHLAB_SRC=/path tools/setup.sh   # use an existing MeshLab 2020.09 source tree instead
 #
 # deb-src entries are derived from the machine's own Debian 'deb' entry: no host is named here.
 set -euo pipefail
 
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
-MESHLAB_VERSION=2020.09+dfsg1-2
-SRC_DIR="$here/external/meshlab-2020.09"
-MESHLAB2022_VERSION=2022.02+dfsg1-1
-MESHLAB2022_SUITE=trixie
-SRC2022_DIR="$here/external/meshlab-2022.02"
 
 PACKAGES=(
   meshlab qtbase5-dev libqt5opengl5-dev libglew-dev libeigen3-dev
   cmake g++ make dpkg-dev pkg-config
-  libsuitesparse-dev libopencv-dev libgtest-dev googletest
+  libsuitesparse-dev libopencv-dev libgtest-dev googletest libcli11-dev nlohmann-json3-dev
   xvfb xauth x11-utils xdotool imagemagick
   python3-matplotlib python3-numpy bc
 )
 
+codename=$(. /etc/os-release && echo "${VERSION_CODENAME:-bookworm}")
+
+# The MeshLab the system has: upstream version of Debian's meshlab package (2020.09, 2022.02, ...).
+installed_meshlab() {
+  local v
+  v=$(dpkg-query -W -f='${Version}' meshlab 2>/dev/null) || return 1
+  v=${v#*:}
+  echo "${v%%[+~-]*}"
+}
+
+case "${1:-}" in
+  --packages) printf '%s\n' "${PACKAGES[@]}"; exit 0 ;;
+  --meshlab) installed_meshlab || { echo "meshlab is not installed" >&2; exit 1; }; exit 0 ;;
+  "") ;;
+  *) echo "usage: $0 [--packages | --meshlab]" >&2; exit 2 ;;
+esac
+
+# The tools/host.sh root filesystems (trixie, forky) are made with Debian's mmdebstrap, from
+# bookworm (the tests run there); not needed inside those root filesystems.
+if [ "$codename" = bookworm ] && [ "${CANONFORM_HOSTS:-1}" != 0 ]; then
+  PACKAGES+=(mmdebstrap)
+fi
+
 log() { printf '[setup] %s\n' "$*"; }
+die() { printf '[setup] error: %s\n' "$*" >&2; exit 1; }
 
 SUDO=""
 if [ "$(id -u)" -ne 0 ]; then
@@ -63,6 +90,12 @@ else
   log "all packages present"
 fi
 
+host_meshlab=$(installed_meshlab) || die "Debian's meshlab package did not install"
+case "$host_meshlab" in
+  2020.09|2022.02|2025.07) log "MeshLab $host_meshlab (Debian $codename) found: building its plugins" ;;
+  *) die "MeshLab $host_meshlab (Debian's meshlab package): no plugin API of this project matches it (2020.09, 2022.02 or 2025.07)" ;;
+esac
+
 # --- deb-src entries, derived from this machine's Debian 'deb' entry ---------------------------
 # Prints "URI KEYRING" of the first plain Debian archive entry (deb822 or one-line format).
 debian_uri_keyring() {
@@ -70,7 +103,7 @@ debian_uri_keyring() {
   for f in /etc/apt/sources.list.d/*.sources; do
     [ -f "$f" ] || continue
     # first stanza that is a plain Debian archive (not the security one)
-    read -r uri keyring < <(awk -v RS= '/Types:[^\n]*deb/ && !/security/ {
+    read -r uri keyring < <(awk -v RS= '/Types:([^\n]* )?deb([ \n]|$)/ && !/security/ {
         u=""; k="";
         n=split($0, L, "\n");
         for (i=1;i<=n;i++) { if (L[i] ~ /^URIs:/) { sub(/^URIs:[ ]*/, "", L[i]); split(L[i], a, " "); u=a[1] }
@@ -101,9 +134,14 @@ have_deb_src_for() {
   return 1
 }
 
-# Adds a deb-src entry for suite $1 in file $2 (main component, same archive and keyring).
+# Adds a deb-src entry for suite $1 (main component, same archive and keyring) in
+# sources.list.d/canonform-deb-src[-SUITE].sources. Debian's testing and unstable Release files
+# can be past their Valid-Until date on a mirror snapshot: for those suites the entry says
+# Check-Valid-Until: no (for that entry only).
 add_deb_src() {
-  local suite=$1 file=$2 uri keyring
+  local suite=$1 file uri keyring
+  file=/etc/apt/sources.list.d/canonform-deb-src-$suite.sources
+  [ "$suite" = "$codename" ] && [ "$suite" = bookworm ] && file=/etc/apt/sources.list.d/canonform-deb-src.sources
   read -r uri keyring < <(debian_uri_keyring) || true
   [ -n "$uri" ] || exit 1  # debian_uri_keyring said why
   log "adding deb-src entry derived from $uri ($suite) in $file"
@@ -113,6 +151,7 @@ add_deb_src() {
     echo "Suites: $suite"
     echo "Components: main"
     [ -n "$keyring" ] && echo "Signed-By: $keyring"
+    case "$suite" in forky|sid|testing|unstable) echo "Check-Valid-Until: no" ;; esac
   } | $SUDO tee "$file" >/dev/null
   apt_updated=0
 }
@@ -121,85 +160,87 @@ tmp=""
 trap '[ -n "$tmp" ] && rm -rf "$tmp"' EXIT
 mkdir -p "$here/external"
 
-# --- MeshLab 2020.09 source (headers and vcglib), unpacked under external/ -------------------
-codename=$(. /etc/os-release && echo "${VERSION_CODENAME:-bookworm}")
-if [ -n "${MESHLAB_SRC:-}" ]; then
-  log "using MESHLAB_SRC=$MESHLAB_SRC"
-elif [ -f "$SRC_DIR/src/common/interfaces.h" ] && [ -d "$SRC_DIR/vcglib/vcg" ]; then
-  log "MeshLab 2020.09 source present in $SRC_DIR"
-else
-  if ! have_deb_src_for "$codename"; then
-    add_deb_src "$codename" /etc/apt/sources.list.d/canonform-deb-src.sources
-  fi
+# fetch_source UPSTREAM SUITE DEST CHECK...: Debian's meshlab source of upstream version UPSTREAM
+# (e.g. 2022.02+dfsg1: any Debian revision) from SUITE, unpacked into DEST; CHECK... are paths
+# below DEST that must exist afterwards. Unpacks the .dsc (with Debian's patches) when the mirror
+# serves it; some mirrors serve only the upstream tarball of a revision (404 for the .dsc and
+# .debian.tar.xz): then the tarball alone, after checking its SHA-256 against the signed index.
+fetch_source() {
+  local upstream=$1 suite=$2 dest=$3; shift 3
+  local c ok=1
+  for c in "$@"; do [ -e "$dest/$c" ] || ok=0; done
+  if [ "$ok" = 1 ]; then log "MeshLab ${upstream%%[+~]*} source present in $dest"; return 0; fi
+  if ! have_deb_src_for "$suite"; then add_deb_src "$suite"; fi
   apt_update
-  log "fetching Debian source package meshlab=$MESHLAB_VERSION into external/"
+  local versions version
+  versions=$(apt-cache showsrc meshlab | sed -n 's/^Version: //p' | sort -u)
+  # the newest Debian revision of that upstream version in the indices
+  version=$(printf '%s\n' "$versions" | grep -F "$upstream-" | sort -V | tail -n 1 || true)
+  if [ -z "$version" ]; then
+    echo "[setup] error: no source package meshlab=$upstream-* in the apt indices (suite $suite);" >&2
+    echo "[setup] versions seen: $(echo $versions)" >&2
+    exit 1
+  fi
+  log "fetching Debian source package meshlab=$version ($suite) into external/"
   tmp=$(mktemp -d "$here/external/.fetch.XXXXXX")
-  # The version is pinned: a deb-src entry for a newer suite (trixie, below) must not change it.
-  ( cd "$tmp" && apt-get source -qq "meshlab=$MESHLAB_VERSION" >/dev/null )
-  unpacked=$(find "$tmp" -maxdepth 1 -mindepth 1 -type d -name 'meshlab-*' | head -n 1)
-  if [ -z "$unpacked" ] || [ ! -f "$unpacked/src/common/interfaces.h" ]; then
-    echo "[setup] error: the source package did not unpack as expected" >&2
-    exit 1
+  ( cd "$tmp" && apt-get source -qq --download-only "meshlab=$version" ) > "$tmp/apt.log" 2>&1 || true
+  local dsc="$tmp/meshlab_${version#*:}.dsc" orig unpacked
+  orig=$(find "$tmp" -maxdepth 1 -name "meshlab_${upstream}.orig.tar.*" | head -n 1)
+  if [ -f "$dsc" ] && ( cd "$tmp" && dpkg-source -q -x "$(basename "$dsc")" src >/dev/null 2>&1 ); then
+    unpacked="$tmp/src"
+  elif [ -n "$orig" ]; then
+    # apt-get verified the tarball against the signed index; check it again, then unpack it alone.
+    local want have
+    want=$(apt-cache showsrc meshlab | awk -v v="$version" -v f="$(basename "$orig")" '
+        /^Package:/ { inv=0 } $0 == "Version: " v { inv=1 }
+        /^Checksums-Sha256:/ { c=1; next } /^[^ ]/ { c=0 } inv && c && $3==f { print $1; exit }')
+    have=$(sha256sum "$orig" | cut -d' ' -f1)
+    if [ -z "$want" ] || [ "$want" != "$have" ]; then
+      die "$(basename "$orig"): SHA-256 $have does not match the index ($want)"
+    fi
+    log "warning: the mirror has no .dsc/.debian.tar.xz for meshlab=$version"
+    log "         ($(grep -c 404 "$tmp/apt.log" || true) files not found); unpacking the upstream tarball"
+    log "         $(basename "$orig") (SHA-256 $have, as in the signed index), without Debian's patches"
+    mkdir "$tmp/src"
+    tar -xf "$orig" -C "$tmp/src" --strip-components=1
+    unpacked="$tmp/src"
+  else
+    cat "$tmp/apt.log" >&2
+    die "could not download the source package meshlab=$version"
   fi
-  rm -rf "$SRC_DIR"
-  mv "$unpacked" "$SRC_DIR"
+  for c in "$@"; do
+    [ -e "$unpacked/$c" ] || die "the MeshLab $upstream source did not unpack as expected ($c missing)"
+  done
+  rm -rf "$dest"
+  mv "$unpacked" "$dest"
   rm -rf "$tmp"; tmp=""
-  log "MeshLab 2020.09 source ready in $SRC_DIR"
-fi
+  log "MeshLab ${upstream%%[+~]*} source ready in $dest"
+}
 
-# --- MeshLab 2022.02 source (meshlab-common, vcglib), for the pymeshlab 2022.2 build ------------
-if [ "${CANONFORM_MESHLAB2022:-1}" = "0" ]; then
-  log "CANONFORM_MESHLAB2022=0: MeshLab 2022.02 source not fetched"
-  exit 0
-fi
-if [ -f "$SRC2022_DIR/src/common/plugins/interfaces/filter_plugin.h" ] && [ -d "$SRC2022_DIR/src/vcglib/vcg" ]; then
-  log "MeshLab 2022.02 source present in $SRC2022_DIR"
-  exit 0
-fi
-if ! have_deb_src_for "$MESHLAB2022_SUITE"; then
-  add_deb_src "$MESHLAB2022_SUITE" /etc/apt/sources.list.d/canonform-deb-src-$MESHLAB2022_SUITE.sources
-fi
-apt_update
-versions=$(apt-cache showsrc meshlab | sed -n 's/^Version: //p')
-if ! printf '%s\n' "$versions" | grep -qxF "$MESHLAB2022_VERSION"; then
-  echo "[setup] error: no source package meshlab=$MESHLAB2022_VERSION in the apt indices (suite $MESHLAB2022_SUITE);" >&2
-  echo "[setup] versions seen: $(echo $versions)" >&2
-  exit 1
-fi
-log "fetching Debian source package meshlab=$MESHLAB2022_VERSION ($MESHLAB2022_SUITE) into external/"
-tmp=$(mktemp -d "$here/external/.fetch.XXXXXX")
-( cd "$tmp" && apt-get source -qq --download-only "meshlab=$MESHLAB2022_VERSION" ) > "$tmp/apt.log" 2>&1 || true
-dsc="$tmp/meshlab_${MESHLAB2022_VERSION}.dsc"
-orig=$(find "$tmp" -maxdepth 1 -name "meshlab_${MESHLAB2022_VERSION%-*}.orig.tar.*" | head -n 1)
-if [ -f "$dsc" ]; then
-  ( cd "$tmp" && dpkg-source -q -x "$(basename "$dsc")" src >/dev/null )
-  unpacked="$tmp/src"
-elif [ -n "$orig" ]; then
-  # Some mirrors serve the upstream tarball but not the .dsc/.debian.tar.xz of this revision.
-  # apt-get verified the tarball against the signed index; check it again, then unpack it alone.
-  want=$(apt-cache showsrc meshlab | awk -v v="$MESHLAB2022_VERSION" -v f="$(basename "$orig")" '
-      /^Package:/ { inv=0 } $0 == "Version: " v { inv=1 }
-      /^Checksums-Sha256:/ { c=1; next } /^[^ ]/ { c=0 } inv && c && $3==f { print $1; exit }')
-  have=$(sha256sum "$orig" | cut -d' ' -f1)
-  if [ -z "$want" ] || [ "$want" != "$have" ]; then
-    echo "[setup] error: $(basename "$orig"): SHA-256 $have does not match the index ($want)" >&2
-    exit 1
+want2020=0; want2022=0; want2025=0
+case "$host_meshlab" in
+  2020.09) want2020=1; want2022=${CANONFORM_MESHLAB2022:-1}; want2025=${CANONFORM_MESHLAB2025:-1} ;;
+  2022.02) want2022=1; want2025=${CANONFORM_MESHLAB2025:-0} ;;
+  2025.07) want2025=1; want2022=${CANONFORM_MESHLAB2022:-0} ;;
+esac
+
+# MeshLab 2020.09 (bookworm): headers and vcglib of the installed MeshLab.
+if [ "$want2020" = 1 ]; then
+  if [ -n "${MESHLAB_SRC:-}" ]; then
+    log "using MESHLAB_SRC=$MESHLAB_SRC"
+  else
+    fetch_source 2020.09+dfsg1 bookworm "$here/external/meshlab-2020.09" src/common/interfaces.h vcglib/vcg/complex/complex.h
   fi
-  log "warning: the mirror has no .dsc/.debian.tar.xz for meshlab=$MESHLAB2022_VERSION"
-  log "         ($(grep -c 404 "$tmp/apt.log" || true) files not found); unpacking the upstream tarball"
-  log "         $(basename "$orig") (SHA-256 checked against the index), without Debian's patches"
-  mkdir "$tmp/src"
-  tar -xf "$orig" -C "$tmp/src" --strip-components=1
-  unpacked="$tmp/src"
-else
-  cat "$tmp/apt.log" >&2
-  echo "[setup] error: could not download the source package meshlab=$MESHLAB2022_VERSION" >&2
-  exit 1
 fi
-if [ ! -f "$unpacked/src/common/plugins/interfaces/filter_plugin.h" ] || [ ! -d "$unpacked/src/vcglib/vcg" ]; then
-  echo "[setup] error: the MeshLab 2022.02 source did not unpack as expected" >&2
-  exit 1
+# MeshLab 2022.02 (trixie): the installed MeshLab's headers on trixie; meshlab-common in double for
+# pymeshlab 2022.2 on bookworm.
+if [ "$want2022" = 1 ]; then
+  fetch_source 2022.02+dfsg1 trixie "$here/external/meshlab-2022.02" \
+    src/common/plugins/interfaces/filter_plugin.h src/vcglib/vcg/complex/complex.h
 fi
-rm -rf "$SRC2022_DIR"
-mv "$unpacked" "$SRC2022_DIR"
-log "MeshLab 2022.02 source ready in $SRC2022_DIR"
+# MeshLab 2025.07 (forky): the installed MeshLab's headers on forky; meshlab-common in double for
+# pymeshlab 2025.7 on bookworm.
+if [ "$want2025" = 1 ]; then
+  fetch_source 2025.07~dfsg forky "$here/external/meshlab-2025.07" \
+    src/common/plugins/interfaces/filter_plugin.h src/vcglib/vcg/complex/complex.h
+fi

@@ -1,39 +1,24 @@
-// canonform: the plugins as pymeshlab 2022.2 sees them, without Python.
+// canonform: the plugins as pymeshlab 2022.2 and 2025.7 see them, without Python.
 //
-// pymeshlab 2022.2.x is MeshLab 2022.02's meshlab-common (double precision) behind pybind11. This
-// program links the same library (built from Debian's 2022.02 source, cmake/MeshLab2022.cmake) and
-// goes through the same steps as pymeshlab's Python calls:
+// pymeshlab 2022.2.x is MeshLab 2022.02's meshlab-common in double precision behind pybind11,
+// pymeshlab 2025.7.x the same of MeshLab 2025.07. This program links the same library (built from
+// Debian's source, cmake/MeshLabFromSource.cmake; one build of this program per release) and makes
+// the calls pymeshlab's Python calls make, through canonform::meshlab::MeshSet
+// (filter_canonical/meshlab_meshset.h, which the canonform-meshlab runner shares):
+//   pymeshlab.load_plugin(path), ms.add_mesh(...), ms.apply_filter(name, **kwargs).
+// It applies every filter of both plugins by its Python name with Python-style keywords on a
+// generated figure and checks the results, and checks that a plugin compiled for the other
+// precision is refused with MeshLab's message. Results go to OUT for the comparison with the other
+// builds (tests/e2e/same_results_test.sh).
 //
-//   pymeshlab.load_plugin(path)  -> PluginManager::checkPlugin (Qt plugin, MeshLabPlugin, the
-//                                   precision and "2022.0" version checks, filter checks), then
-//                                   pluginManagerInstance().loadPlugin and
-//                                   functionSetInstance().loadFilterPlugin (the Python names);
-//   ms.apply_filter(name, **kw)  -> the Function of that Python name, the plugin's
-//                                   initParameterList, each keyword set on the parameter of that
-//                                   Python name (bool, int, float as a C float, str, enum by name or
-//                                   index), getRequirements, applyFilter; its map is the dict.
-//                                   (An unknown keyword is an error here, as in later pymeshlab
-//                                   releases; some releases only print a warning.)
-//
-// then applies every filter of both plugins by its Python name with Python-style keywords on a
-// generated figure and checks the results, and checks that a plugin compiled for single precision
-// is refused with MeshLab's message. Results go to OUT for the comparison with the MeshLab 2020.09
-// (float) build (tests/e2e/pymeshlab2022_test.sh).
-//
-//   canonform_meshlab2022_harness --plugin P.so [--plugin P2.so ...] [--wrong-precision W.so]
+//   canonform_pymeshlab<YYYY>_harness --plugin P.so [--plugin P2.so ...] [--wrong-precision W.so]
 //       [--vertices N] [--pose K] [--codebook CB] --out DIR
 #include "core/procedural_meshes.h"
+#include "meshlab_meshset.h"
 
 #include <common/globals.h>
-#include <common/ml_document/mesh_document.h>
-#include <common/mlexception.h>
-#include <common/plugins/action_searcher.h>
-#include <common/plugins/interfaces/filter_plugin.h>
-#include <common/plugins/plugin_manager.h>
 #include <common/python/function_set.h>
 #include <common/utilities/eigen_mesh_conversions.h>
-
-#include <vcg/complex/algorithms/update/selection.h>
 
 #include <QDir>
 #include <QFileInfo>
@@ -43,140 +28,15 @@
 #include <cstdlib>
 #include <fstream>
 #include <iomanip>
-#include <sstream>
 #include <string>
-#include <variant>
 #include <vector>
 
+using canonform::meshlab::Dict;
+using canonform::meshlab::Kwargs;
+using canonform::meshlab::load_plugin;
+using canonform::meshlab::MeshSet;
+
 namespace {
-
-// --- pymeshlab 2022.2, the parts a plugin meets --------------------------------------------------
-
-/// pymeshlab.load_plugin(filename), step by step as pymeshlab 2022.2 does it.
-void load_plugin(const std::string& filename) {
-    const MeshLabPluginType type = PluginManager::checkPlugin(QString::fromStdString(filename));
-    if (!(type.isIOPlugin() || type.isFilterPlugin()))
-        throw MLException("Error while loading plugin: PyMeshLab only supports IO or Filter plugins.");
-    PluginManager& pm = meshlab::pluginManagerInstance();
-    pymeshlab::FunctionSet& fs = pymeshlab::functionSetInstance();
-    MeshLabPlugin* ipf = pm.loadPlugin(QString::fromStdString(filename));
-    const MeshLabPluginType tp(ipf);
-    if (tp.isFilterPlugin()) {
-        auto* fp = dynamic_cast<FilterPlugin*>(ipf);
-        fs.loadFilterPlugin(fp);
-        ActionSearcher& as = meshlab::actionSearcherInstance();
-        for (QAction* a : fp->actions()) {
-            a->setToolTip(fp->filterInfo(a));
-            as.addAction(a);
-        }
-    } else {
-        throw MLException("Error while loading plugin: Unknown plugin type.");
-    }
-}
-
-/// A Python keyword argument's value: bool, int, float or str.
-using PyValue = std::variant<bool, int, double, std::string>;
-using Kwargs = std::vector<std::pair<std::string, PyValue>>;
-/// What apply_filter returns (pymeshlab converts it to a dict).
-using Dict = std::map<std::string, QVariant>;
-
-/// One keyword on its parameter, as pymeshlab's updateRichParameterFromKwarg converts it.
-void set_from_kwarg(RichParameter& par, const std::string& key, const PyValue& v) {
-    auto wrong = [&](const char* want) {
-        return MLException(QString::fromStdString("Parameter " + key + ": expected " + want));
-    };
-    if (par.isOfType<RichBool>()) {
-        if (!std::holds_alternative<bool>(v)) throw wrong("a bool");
-        par.setValue(BoolValue(std::get<bool>(v)));
-    } else if (par.isOfType<RichInt>()) {
-        if (!std::holds_alternative<int>(v)) throw wrong("an int");
-        par.setValue(IntValue(std::get<int>(v)));
-    } else if (par.isOfType<RichFloat>()) {  // pymeshlab: FloatValue(py::cast<float>(value))
-        if (std::holds_alternative<double>(v)) par.setValue(FloatValue(static_cast<float>(std::get<double>(v))));
-        else if (std::holds_alternative<int>(v)) par.setValue(FloatValue(static_cast<float>(std::get<int>(v))));
-        else throw wrong("a float");
-    } else if (par.isOfType<RichEnum>()) {  // by name, or by index
-        auto& en = dynamic_cast<RichEnum&>(par);
-        int index = -1;
-        if (std::holds_alternative<std::string>(v)) {
-            index = en.enumvalues.indexOf(QString::fromStdString(std::get<std::string>(v)));
-            if (index == -1) {
-                std::string list;
-                for (const QString& s : en.enumvalues) list += "'" + s.toStdString() + "'; ";
-                throw MLException(QString::fromStdString("Enum '" + std::get<std::string>(v) +
-                                                         "' not found. Possible values are " + list));
-            }
-        } else if (std::holds_alternative<int>(v)) {
-            index = std::get<int>(v);
-            if (index < 0 || index >= en.enumvalues.size())
-                throw MLException(QString::fromStdString("Enum " + std::to_string(index) + " not valid."));
-        } else {
-            throw wrong("a str or an int");
-        }
-        en.setValue(IntValue(index));
-    } else if (par.isOfType<RichString>()) {
-        if (!std::holds_alternative<std::string>(v)) throw wrong("a str");
-        par.setValue(StringValue(QString::fromStdString(std::get<std::string>(v))));
-    } else {
-        throw MLException(QString::fromStdString("Parameter " + key + ": type not handled by this harness"));
-    }
-}
-
-/// A pymeshlab.MeshSet: a MeshDocument with add_mesh and apply_filter.
-class MeshSet : public MeshDocument {
-public:
-    void add_mesh(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const QString& name) {
-        const CMeshO m = meshlab::meshFromMatrices(V.cast<Scalarm>(), F);
-        addNewMesh(m, name);
-    }
-
-    Dict apply_filter(const std::string& filtername, const Kwargs& kwargs) {
-        const pymeshlab::FunctionSet& fs = pymeshlab::functionSetInstance();
-        const QString fname = QString::fromStdString(filtername);
-        if (!fs.containsFilterFunction(fname))
-            throw MLException("Failed to apply filter: " + fname +
-                              "\nFilter does not exists. Take a look at MeshSet.print_filter_list function.");
-        const pymeshlab::Function& f = fs.filterFunction(fname);
-        QAction* action = nullptr;
-        FilterPlugin* fp = plugin_of(f.meshlabFunctionName(), action);
-        if (fp->filterArity(action) != FilterPlugin::NONE && meshNumber() == 0)
-            throw MLException(fname + " requires at least one mesh loaded in the MeshSet.");
-        RichParameterList rpl = fp->initParameterList(action, *this);
-        for (const auto& [key, value] : kwargs) {
-            const QString k = QString::fromStdString(key);
-            if (!f.contains(k))
-                throw MLException("Parameter " + k + " not found for filter " + fname + ". Please check the documentation.");
-            auto it = rpl.findParameter(f.getFilterFunctionParameter(k).meshlabName());
-            if (it != rpl.end()) set_from_kwarg(*it, key, value);
-        }
-        try {
-            const int req = fp->getRequirements(action);
-            if (mm() != nullptr) mm()->updateDataMask(req);
-            meshDocStateData().clear();
-            meshDocStateData().create(*this);
-            unsigned int post_condition_mask = MeshModel::MM_UNKNOWN;
-            Dict out = fp->applyFilter(action, rpl, *this, post_condition_mask, nullptr);
-            if (mm() != nullptr) {
-                mm()->cm.svn = int(vcg::tri::UpdateSelection<CMeshO>::VertexCount(mm()->cm));
-                mm()->cm.sfn = int(vcg::tri::UpdateSelection<CMeshO>::FaceCount(mm()->cm));
-            }
-            return out;
-        } catch (const std::exception& e) {
-            throw MLException("Failed to apply filter: " + fname + "\nDetails: " + e.what());
-        }
-    }
-
-private:
-    static FilterPlugin* plugin_of(const QString& meshlab_name, QAction*& action) {
-        for (FilterPlugin* fp : meshlab::pluginManagerInstance().filterPluginIterator())
-            for (QAction* a : fp->actions())
-                if (meshlab_name == fp->filterName(a)) {
-                    action = a;
-                    return fp;
-                }
-        throw MLException("no plugin has the filter " + meshlab_name);
-    }
-};
 
 // --- checks --------------------------------------------------------------------------------------
 
@@ -210,26 +70,6 @@ bool is_double(const Dict& d, const char* k) { return d.count(k) && std::string(
 bool is_bool(const Dict& d, const char* k) { return d.count(k) && std::string(d.at(k).typeName()) == "bool"; }
 bool is_vector(const Dict& d, const char* k) { return d.count(k) && d.at(k).canConvert<Eigen::VectorXd>(); }
 
-/// A dict as JSON (numbers, bools; vectors as their length and sum, or in full if short).
-std::string to_json(const Dict& d) {
-    std::ostringstream o;
-    o << std::setprecision(17) << "{";
-    bool first = true;
-    for (const auto& [k, v] : d) {
-        o << (first ? "" : ", ") << "\"" << k << "\": ";
-        first = false;
-        const std::string t = v.typeName();
-        if (t == "int") o << v.toInt();
-        else if (t == "double") o << v.toDouble();
-        else if (t == "bool") o << (v.toBool() ? "true" : "false");
-        else if (v.canConvert<Eigen::VectorXd>()) {
-            const Eigen::VectorXd e = v.value<Eigen::VectorXd>();
-            o << "{\"length\": " << e.size() << ", \"sum\": " << e.sum() << "}";
-        } else o << "null";
-    }
-    return o.str() + "}";
-}
-
 /// Writes the mesh `m` (positions, faces, vertex quality) as an ASCII PLY with 9 significant
 /// digits, the input of the MeshLab 2020.09 comparison.
 void write_ply(const std::string& path, const CMeshO& m, bool quality) {
@@ -256,7 +96,7 @@ MeshModel* layer_named(MeshSet& ms, const QString& label) {
 }
 
 int usage() {
-    std::fprintf(stderr, "usage: canonform_meshlab2022_harness --plugin P.so [--plugin ...] [--wrong-precision W.so]\n"
+    std::fprintf(stderr, "usage: canonform_pymeshlab_harness --plugin P.so [--plugin ...] [--wrong-precision W.so]\n"
                          "       [--vertices N] [--pose K] [--codebook CB] --out DIR\n");
     return 2;
 }
@@ -283,12 +123,13 @@ int main(int argc, char** argv) {
     std::ofstream json(out + "/outputs.json");
     json << "{";
     auto record = [&json, first = true](const std::string& name, const Dict& d) mutable {
-        json << (first ? "" : ",\n ") << "\"" << name << "\": " << to_json(d);
+        json << (first ? "" : ",\n ") << "\"" << name << "\": " << canonform::meshlab::to_json(d, true);
         first = false;
     };
 
-    std::printf("MeshLab %s (built with %s precision), pymeshlab 2022.2's plugin loading\n",
-                meshlab::meshlabVersion().c_str(), meshlab::builtWithDoublePrecision() ? "double" : "single");
+    std::printf("MeshLab %s (built with %s precision), pymeshlab %s's plugin loading\n",
+                meshlab::meshlabVersion().c_str(), meshlab::builtWithDoublePrecision() ? "double" : "single",
+                CANONFORM_MESHLAB_API >= 2025 ? "2025.7" : "2022.2");
     try {
         // 1. A plugin of the wrong precision is refused, with MeshLab's reason ---------------------
         if (!wrong.empty()) {

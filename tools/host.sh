@@ -1,0 +1,169 @@
+#!/usr/bin/env bash
+# Runs a command inside a Debian root filesystem of another release, with that release's own
+# MeshLab and our plugins built and installed there as a user of that system would:
+#
+#   tools/host.sh SUITE COMMAND [ARG...]     SUITE: trixie (MeshLab 2022.02) or forky (MeshLab 2025.07)
+#   tools/host.sh trixie canonform-meshlab in.off out.ply --filter generate_euclidean_canonical_form
+#   tools/host.sh forky meshlab --version
+#
+# 1. The root filesystem is made once with Debian's mmdebstrap (variant apt) from the machine's own
+#    Debian mirror (derived from its apt entry): the suite's packages that tools/setup.sh installs
+#    (meshlab, compiler, Qt5, OpenCV, Xvfb, ...). It is cached outside the clone in
+#    $CANONFORM_HOST_CACHE (default /var/cache/canonform/hosts) as SUITE-KEY, KEY a hash of the
+#    suite and the package list; it is never changed after it is made.
+# 2. Each clone runs it through an overlay (its changes under build/hosts/SUITE/upper), with the
+#    project tree (at its own path) and /tmp bind-mounted, proc and dev mounted. All is unmounted
+#    when the script ends, also on failure or interruption.
+# 3. Inside, the README's commands for that system: tools/setup.sh, tools/build.sh (build dir
+#    build/hosts/SUITE/build), tools/package.sh, then `apt-get install ./canonform-plugins-*.deb`
+#    (only when the package changed). CANONFORM_HOST_PREPARE=0 skips this step.
+# 4. COMMAND runs inside as root, in the current directory if it is under the project tree or
+#    /tmp (else the project root); its exit status is the script's.
+# A second run costs seconds: the root filesystem is cached, the build is up to date.
+# Needs root (mmdebstrap, mount, chroot).
+set -euo pipefail
+here=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+
+usage() { echo "usage: $0 trixie|forky COMMAND [ARG...]" >&2; exit 2; }
+[ $# -ge 2 ] || usage
+suite=$1; shift
+case "$suite" in trixie|forky) ;; *) usage ;; esac
+log() { printf '[host %s] %s\n' "$suite" "$*" >&2; }
+die() { printf '[host %s] error: %s\n' "$suite" "$*" >&2; exit 1; }
+[ "$(id -u)" -eq 0 ] || die "needs root (mmdebstrap, mount, chroot)"
+
+cache=${CANONFORM_HOST_CACHE:-/var/cache/canonform/hosts}
+state=$here/build/hosts/$suite
+
+# --- the root filesystem (made once, cached by suite and package list) -------------------------
+mapfile -t packages < <("$here/tools/setup.sh" --packages | sort -u)
+recipe="canonform host rootfs v1: mmdebstrap --variant=apt $suite main; ${packages[*]}"
+key=$(printf '%s\n' "$recipe" | sha256sum | cut -c1-16)
+lower=$cache/$suite-$key
+
+# The machine's Debian archive URI, from its apt entries (deb822 or one-line format).
+mirror_uri() {
+  local uri
+  uri=$(awk -v RS= '/Types:([^\n]* )?deb([ \n]|$)/ && !/security/ { n=split($0, L, "\n");
+          for (i=1;i<=n;i++) if (L[i] ~ /^URIs:/) { sub(/^URIs:[ ]*/, "", L[i]); split(L[i], a, " "); print a[1]; exit } }' \
+        /etc/apt/sources.list.d/*.sources 2>/dev/null | head -n 1)
+  if [ -z "$uri" ] && [ -f /etc/apt/sources.list ]; then
+    uri=$(awk '$1=="deb" && $0 !~ /security/ { for (i=2;i<=NF;i++) if ($i ~ /:\/\//) { print $i; exit } }' /etc/apt/sources.list)
+  fi
+  [ -n "$uri" ] || die "no Debian 'deb' entry in /etc/apt to take the mirror from"
+  echo "$uri"
+}
+
+make_rootfs() {
+  command -v mmdebstrap >/dev/null || die "mmdebstrap missing (tools/setup.sh installs it)"
+  mkdir -p "$cache"
+  exec 8>"$cache/.$suite-$key.lock"
+  flock 8
+  [ -f "$lower/.canonform-complete" ] && return 0  # made meanwhile by another run
+  local uri opts=() t0=$SECONDS
+  uri=$(mirror_uri)
+  # testing/unstable: the mirror's Release files may be past their Valid-Until date
+  case "$suite" in forky) opts+=(--aptopt='Acquire::Check-Valid-Until "false"') ;; esac
+  log "making the $suite root filesystem in $lower (mmdebstrap, mirror $uri, ${#packages[@]} packages); this takes minutes"
+  rm -rf "$lower.tmp"
+  if ! mmdebstrap --variant=apt --quiet "${opts[@]}" --include="$(IFS=,; echo "${packages[*]}")" \
+        --customize-hook='echo "$1" >/dev/null' \
+        "$suite" "$lower.tmp" "deb $uri $suite main" > "$cache/$suite-$key.log" 2>&1; then
+    tail -n 30 "$cache/$suite-$key.log" >&2
+    rm -rf "$lower.tmp"
+    die "mmdebstrap failed (log: $cache/$suite-$key.log)"
+  fi
+  printf '%s\n' "$recipe" > "$lower.tmp/.canonform-recipe"
+  touch "$lower.tmp/.canonform-complete"
+  mv "$lower.tmp" "$lower"
+  log "root filesystem ready in $((SECONDS - t0)) s ($(du -sh "$lower" | cut -f1))"
+}
+[ -f "$lower/.canonform-complete" ] || make_rootfs
+
+# --- the overlay for this clone, and the mounts ----------------------------------------------
+mkdir -p "$state"
+exec 9>"$state/.lock"
+flock 9  # one run per clone and suite at a time (they share the overlay)
+if [ "$(cat "$state/key" 2>/dev/null || true)" != "$key" ]; then
+  rm -rf "$state/upper" "$state/work"  # made over another root filesystem
+  echo "$key" > "$state/key"
+fi
+root=$state/root
+mkdir -p "$state/upper" "$state/work" "$root"
+
+mounted=()
+cleanup() {
+  local rc=$? i pid
+  trap - EXIT INT TERM
+  # processes still running inside (e.g. a daemon COMMAND left behind) hold the mounts
+  for pid in $(ls /proc | grep -E '^[0-9]+$'); do
+    [ "$(readlink "/proc/$pid/root" 2>/dev/null || true)" = "$root" ] && kill "$pid" 2>/dev/null || true
+  done
+  for ((i = ${#mounted[@]} - 1; i >= 0; i--)); do
+    umount -R "${mounted[$i]}" 2>/dev/null || umount -R -l "${mounted[$i]}" 2>/dev/null ||
+      echo "[host $suite] warning: could not unmount ${mounted[$i]}" >&2
+  done
+  exit "$rc"
+}
+trap cleanup EXIT
+trap 'exit 130' INT
+trap 'exit 143' TERM
+mnt() {  # mnt TARGET MOUNT-ARGS...: mount, and remember it for cleanup
+  local target=$1; shift
+  mount "$@" "$target"
+  mounted+=("$target")
+}
+findmnt "$root" >/dev/null 2>&1 && umount -R -l "$root"  # left over by a killed run
+mnt "$root" -t overlay overlay -o "lowerdir=$lower,upperdir=$state/upper,workdir=$state/work"
+mnt "$root/proc" -t proc proc
+mnt "$root/dev" --rbind /dev
+mount --make-rslave "$root/dev"
+mnt "$root/tmp" --bind /tmp
+[ -e "$root/etc/resolv.conf" ] || { rm -f "$root/etc/resolv.conf"; : > "$root/etc/resolv.conf"; }
+[ -f /etc/resolv.conf ] && mnt "$root/etc/resolv.conf" --bind /etc/resolv.conf
+mkdir -p "$root$here"
+mnt "$root$here" --bind "$here"
+# external/ entries that link out of the tree (a worktree sharing another checkout's sources)
+for l in "$here"/external/*; do
+  [ -L "$l" ] || continue
+  t=$(readlink -f "$l")
+  case "$t" in "$here"/*) continue ;; esac
+  [ -d "$t" ] || continue
+  mkdir -p "$root$t"
+  mnt "$root$t" --bind "$t"
+  mount -o remount,bind,ro "$root$t"
+done
+
+inside() {  # runs its arguments inside, as root, with a clean environment
+  local cwd=$1; shift
+  chroot "$root" /usr/bin/env -i HOME=/root LANG=C.UTF-8 TERM="${TERM:-dumb}" CI="${CI:-}" \
+    PATH=/usr/local/sbin:/usr/local/bin:/usr/sbin:/usr/bin:/sbin:/bin \
+    bash -c 'cd "$1" && shift && exec "$@"' inside "$cwd" "$@"
+}
+
+# --- build and install the plugins inside, by the README's commands --------------------------
+if [ "${CANONFORM_HOST_PREPARE:-1}" != 0 ]; then
+  t0=$SECONDS
+  if ! inside "$here" env CANONFORM_BUILD_DIR="$state/build" bash -c '
+      set -e
+      tools/build.sh >&2
+      deb=$(tools/package.sh --build-dir "$CANONFORM_BUILD_DIR")
+      sum=$(sha256sum "$deb" | cut -d" " -f1)
+      if [ "$(cat /var/lib/canonform-installed.sha256 2>/dev/null)" != "$sum" ]; then
+        echo "[host] apt-get install $deb" >&2
+        DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --reinstall "$deb" >/dev/null
+        echo "$sum" > /var/lib/canonform-installed.sha256
+      fi'; then
+    die "building or installing the plugins inside $suite failed"
+  fi
+  log "plugins built and installed ($((SECONDS - t0)) s)"
+fi
+
+# --- the command ---------------------------------------------------------------------------------
+cwd=$PWD
+case "$cwd" in "$here"|"$here"/*|/tmp|/tmp/*) ;; *) cwd=$here ;; esac
+set +e
+inside "$cwd" "$@"
+rc=$?
+set -e
+exit "$rc"

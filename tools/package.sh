@@ -1,0 +1,77 @@
+#!/usr/bin/env bash
+# Makes the Debian package of the plugins for the installed MeshLab, from a build (tools/build.sh):
+#   tools/package.sh [--build-dir DIR]      prints the path of the .deb it wrote (in DIR)
+#
+#   installed MeshLab         package                          contents
+#   2020.09 (bookworm)        canonform-plugins-meshlab2020    both plugins + their meshlabserver scripts
+#   2022.02 (trixie)          canonform-plugins-meshlab2022    both plugins + /usr/bin/canonform-meshlab
+#   2025.07 (forky, sid)      canonform-plugins-meshlab2025    both plugins + /usr/bin/canonform-meshlab
+#
+# The plugins go where Debian's MeshLab looks for them, /usr/lib/x86_64-linux-gnu/meshlab/plugins.
+# Install it with `apt install ./canonform-plugins-meshlabYYYY_VERSION_ARCH.deb`; MeshLab then shows
+# the filters. Depends: that MeshLab release (the plugin manager accepts only its own version) and
+# the libraries the plugins link, as dpkg-shlibdeps finds them. Made with cmake --install (component
+# `plugins`) and dpkg-deb.
+set -euo pipefail
+here=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+build=${CANONFORM_BUILD_DIR:-$here/build}
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --build-dir) build=$2; shift 2 ;;
+    *) echo "usage: $0 [--build-dir DIR]" >&2; exit 2 ;;
+  esac
+done
+die() { echo "$0: $*" >&2; exit 1; }
+[ -f "$build/CMakeCache.txt" ] || die "no build in $build: run tools/build.sh first"
+
+ml=$("$here/tools/setup.sh" --meshlab)          # 2020.09, 2022.02 or 2025.07
+series=${ml%%.*}                                # 2020, 2022, 2025
+name=canonform-plugins-meshlab$series
+version=$(sed -n 's/^CMAKE_PROJECT_VERSION:STATIC=//p' "$build/CMakeCache.txt")
+arch=$(dpkg --print-architecture)
+[ -n "$version" ] || die "no project version in $build/CMakeCache.txt"
+# the next MeshLab release (2022.02 -> 2022.03): the plugin manager compares the version prefix
+next="${ml%.*}.$(printf '%02d' $((10#${ml#*.} + 1)))"
+
+stage=$(mktemp -d "$build/.package.XXXXXX")
+trap 'rm -rf "$stage"' EXIT
+root=$stage/$name
+cmake --install "$build" --component plugins --prefix "$root/usr" --strip >/dev/null
+plugins=("$root"/usr/lib/x86_64-linux-gnu/meshlab/plugins/*.so)
+[ -f "${plugins[0]}" ] || die "the build installs no plugin (component plugins)"
+binaries=("${plugins[@]}")
+[ -x "$root/usr/bin/canonform-meshlab" ] && binaries+=("$root/usr/bin/canonform-meshlab")
+
+# shared-library dependencies (libmeshlab-common.so belongs to meshlab, named explicitly below)
+mkdir -p "$stage/shlibs/debian"
+touch "$stage/shlibs/debian/control"
+shlibs=$(cd "$stage/shlibs" && dpkg-shlibdeps -O --ignore-missing-info -l/usr/lib/x86_64-linux-gnu/meshlab \
+           "${binaries[@]}" 2>/dev/null | sed -n 's/^shlibs:Depends=//p')
+
+mkdir -p "$root/DEBIAN"
+size=$(du -sk "$root/usr" | cut -f1)
+{
+  echo "Package: $name"
+  echo "Version: $version"
+  echo "Architecture: $arch"
+  echo "Maintainer: canonform developers <canonform@localhost>"
+  echo "Installed-Size: $size"
+  echo "Depends: meshlab (>= $ml), meshlab (<< $next)${shlibs:+, $shlibs}"
+  echo "Section: graphics"
+  echo "Priority: optional"
+  echo "Description: canonical forms of non-rigid meshes, as MeshLab $ml filter plugins"
+  echo " Euclidean canonical forms (Pickup et al. 2015), the conformal factor, feature points,"
+  echo " the geodesic canonical form and the depth view descriptor, as filters of MeshLab $ml"
+  echo " (Filters menu; plugins libfilter_canonical.so and libfilter_viewdescriptor.so)."
+  if [ -x "$root/usr/bin/canonform-meshlab" ]; then
+    echo " canonform-meshlab applies them (or any MeshLab filter) headless:"
+    echo " canonform-meshlab IN OUT --filter NAME [--param key=value]..."
+  fi
+} > "$root/DEBIAN/control"
+# reproducible: every time stamp is that of the newest built file, so the same build gives the same bytes
+epoch=$(stat -c %Y "$build"/meshlab/plugins/*.so "$build"/tools/canonform-meshlab/canonform-meshlab 2>/dev/null | sort -n | tail -n 1)
+find "$root" -exec touch -h -d "@$epoch" {} +
+deb=$build/${name}_${version}_${arch}.deb
+SOURCE_DATE_EPOCH=$epoch dpkg-deb --root-owner-group -Zxz --build "$root" "$deb.tmp" >/dev/null
+mv "$deb.tmp" "$deb"
+echo "$deb"
