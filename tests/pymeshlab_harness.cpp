@@ -97,7 +97,7 @@ MeshModel* layer_named(MeshSet& ms, const QString& label) {
 
 int usage() {
     std::fprintf(stderr, "usage: canonform_pymeshlab_harness --plugin P.so [--plugin ...] [--wrong-precision W.so]\n"
-                         "       [--vertices N] [--pose K] [--codebook CB] --out DIR\n");
+                         "       [--wrong-version W.so] [--vertices N] [--pose K] [--codebook CB] --out DIR\n");
     return 2;
 }
 
@@ -105,13 +105,14 @@ int usage() {
 
 int main(int argc, char** argv) {
     std::vector<std::string> plugins;
-    std::string wrong, out, codebook;
+    std::string wrong, wrong_version, out, codebook;
     int vertices = 2500, pose = 4;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
         if (i + 1 >= argc) return usage();
         if (a == "--plugin") plugins.push_back(argv[++i]);
         else if (a == "--wrong-precision") wrong = argv[++i];
+        else if (a == "--wrong-version") wrong_version = argv[++i];
         else if (a == "--vertices") vertices = std::atoi(argv[++i]);
         else if (a == "--pose") pose = std::atoi(argv[++i]);
         else if (a == "--codebook") codebook = argv[++i];
@@ -133,10 +134,17 @@ int main(int argc, char** argv) {
     try {
         // 1. A plugin of the wrong precision is refused, with MeshLab's reason ---------------------
         if (!wrong.empty()) {
-            const std::string msg = error_of([&] { load_plugin(wrong); }, "load_plugin(single-precision plugin)");
+            const std::string msg = error_of([&] { load_plugin(wrong); }, "load_plugin(other-precision plugin)");
             std::printf("  load_plugin('%s') -> MLException: %s\n", wrong.c_str(), msg.c_str());
             check(contains(msg, "has different floating point precision from the running MeshLab version"),
-                  "a plugin built for single precision is refused: 'different floating point precision'");
+                  "a plugin built for single precision (a float MeshLab's) is refused: 'different floating point precision'");
+        }
+        // ... and one of the other pymeshlab release (same precision, other version prefix)
+        if (!wrong_version.empty()) {
+            const std::string msg = error_of([&] { load_plugin(wrong_version); }, "load_plugin(other release's plugin)");
+            std::printf("  load_plugin('%s') -> MLException: %s\n", wrong_version.c_str(), msg.c_str());
+            check(contains(msg, "has different version from the running MeshLab version"),
+                  "the plugin built for the other pymeshlab release is refused: 'different version'");
         }
         // 2. load_plugin on each plugin ---------------------------------------------------------
         for (const auto& p : plugins) {

@@ -24,7 +24,9 @@ done
 for p in "$@"; do
   [ -f "$p" ] || { echo "$0: plugin $p not found" >&2; exit 1; }
   name=$(basename "$p" .so)
-  cp -f "$p" "$prefix/lib/x86_64-linux-gnu/meshlab/plugins/"
+  # replace (not write through) a link to an installed copy of the same plugin
+  rm -f "$prefix/lib/x86_64-linux-gnu/meshlab/plugins/$name.so"
+  cp "$p" "$prefix/lib/x86_64-linux-gnu/meshlab/plugins/"
   scripts="$(dirname "$p")/${name#lib}"
   if [ -d "$scripts" ]; then
     mkdir -p "$prefix/lib/x86_64-linux-gnu/meshlab/plugins/${name#lib}"

@@ -23,6 +23,7 @@ while [ $# -gt 0 ]; do
 done
 die() { echo "$0: $*" >&2; exit 1; }
 [ -f "$build/CMakeCache.txt" ] || die "no build in $build: run tools/build.sh first"
+build=$(realpath "$build")
 
 ml=$("$here/tools/setup.sh" --meshlab)          # 2020.09, 2022.02 or 2025.07
 series=${ml%%.*}                                # 2020, 2022, 2025
@@ -32,6 +33,14 @@ arch=$(dpkg --print-architecture)
 [ -n "$version" ] || die "no project version in $build/CMakeCache.txt"
 # the next MeshLab release (2022.02 -> 2022.03): the plugin manager compares the version prefix
 next="${ml%.*}.$(printf '%02d' $((10#${ml#*.} + 1)))"
+
+deb=$build/${name}_${version}_${arch}.deb
+# up to date: no built file newer than the package (dpkg-shlibdeps alone takes seconds)
+inputs=("$build"/meshlab/plugins "$build"/tools/canonform-meshlab/canonform-meshlab "$0")
+if [ -f "$deb" ] && [ -z "$(find "${inputs[@]}" -newer "$deb" 2>/dev/null | head -n 1)" ]; then
+  echo "$deb"
+  exit 0
+fi
 
 stage=$(mktemp -d "$build/.package.XXXXXX")
 trap 'rm -rf "$stage"' EXIT
@@ -46,7 +55,8 @@ binaries=("${plugins[@]}")
 mkdir -p "$stage/shlibs/debian"
 touch "$stage/shlibs/debian/control"
 shlibs=$(cd "$stage/shlibs" && dpkg-shlibdeps -O --ignore-missing-info -l/usr/lib/x86_64-linux-gnu/meshlab \
-           "${binaries[@]}" 2>/dev/null | sed -n 's/^shlibs:Depends=//p')
+           "${binaries[@]}" 2>"$stage/shlibdeps.log") || { cat "$stage/shlibdeps.log" >&2; die "dpkg-shlibdeps failed"; }
+shlibs=$(printf '%s\n' "$shlibs" | sed -n 's/^shlibs:Depends=//p')
 
 mkdir -p "$root/DEBIAN"
 size=$(du -sk "$root/usr" | cut -f1)
@@ -56,7 +66,7 @@ size=$(du -sk "$root/usr" | cut -f1)
   echo "Architecture: $arch"
   echo "Maintainer: canonform developers <canonform@localhost>"
   echo "Installed-Size: $size"
-  echo "Depends: meshlab (>= $ml), meshlab (<< $next)${shlibs:+, $shlibs}"
+  echo "Depends: meshlab (>= $ml~), meshlab (<< $next~)${shlibs:+, $shlibs}"
   echo "Section: graphics"
   echo "Priority: optional"
   echo "Description: canonical forms of non-rigid meshes, as MeshLab $ml filter plugins"
@@ -69,9 +79,8 @@ size=$(du -sk "$root/usr" | cut -f1)
   fi
 } > "$root/DEBIAN/control"
 # reproducible: every time stamp is that of the newest built file, so the same build gives the same bytes
-epoch=$(stat -c %Y "$build"/meshlab/plugins/*.so "$build"/tools/canonform-meshlab/canonform-meshlab 2>/dev/null | sort -n | tail -n 1)
+epoch=$( (find "${inputs[@]}" -type f -printf '%T@\n' 2>/dev/null || true) | cut -d. -f1 | sort -n | tail -n 1)
 find "$root" -exec touch -h -d "@$epoch" {} +
-deb=$build/${name}_${version}_${arch}.deb
 SOURCE_DATE_EPOCH=$epoch dpkg-deb --root-owner-group -Zxz --build "$root" "$deb.tmp" >/dev/null
 mv "$deb.tmp" "$deb"
 echo "$deb"

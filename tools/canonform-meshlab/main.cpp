@@ -10,7 +10,8 @@
 // MeshLab's plugin folder (its checks of precision, version and filters), the Python names of
 // MeshLab's function set, IN read and OUT written by MeshLab's IO plugins, parameters converted
 // by their MeshLab type (bool, int, float, enum by name or index, string). The filter's returned
-// values are printed as JSON (and written to --json FILE); its log goes to stderr. OUT is the
+// values are printed as JSON (and written to --json FILE); MeshLab prints its log ("LOG: ...") on
+// stderr. OUT is the
 // layer the filter made (the last new one), else the current mesh (--layer), written atomically.
 // Exit status: 0 done, 1 refused or failed (the reason on stderr, no OUT written), 2 usage.
 #include "meshlab_meshset.h"
@@ -21,7 +22,7 @@
 
 #include <CLI/CLI.hpp>
 
-#include <QCoreApplication>
+#include <QApplication>
 #include <QDir>
 #include <QFileInfo>
 
@@ -47,11 +48,17 @@ int fail(const std::string& why) {
     return 1;
 }
 
-/// The filter's log lines (MeshLab's GLLogStream), to stderr.
-void print_log(const MeshSet& ms) {
-    for (const auto& [level, line] : ms.Log.logStringList())
-        if (level == GLLogStream::FILTER || level == GLLogStream::WARNING)
-            std::fprintf(stderr, "  %s\n", line.toStdString().c_str());
+/// The plugin files named in MeshLab's message about the plugins it refused.
+std::string refused_files(const std::string& message) {
+    std::string files;
+    std::size_t at = 0;
+    while ((at = message.find('\t', at)) != std::string::npos) {
+        const std::size_t colon = message.find(':', at);
+        if (colon == std::string::npos) break;
+        files += (files.empty() ? "" : ", ") + message.substr(at + 1, colon - at - 1);
+        at = colon;
+    }
+    return files;
 }
 
 /// Every filter MeshLab's function set knows, with its parameters (Python names and defaults).
@@ -73,7 +80,7 @@ int main(int argc, char** argv) {
                  ::meshlab::meshlabVersion() + "'s own library and plugins; prints the filter's returned values as JSON."};
     std::string in, out, filter, json_file, layer = "result", plugin_dir = CANONFORM_MESHLAB_PLUGIN_DIR;
     std::vector<std::string> params, plugins;
-    bool list = false;
+    bool list = false, verbose = false;
     app.add_option("IN", in, "input mesh (any format MeshLab reads: PLY, OFF, OBJ, STL, ...)");
     app.add_option("OUT", out, "output mesh (format by extension)");
     app.add_option("--filter", filter, "the filter's Python name, e.g. generate_euclidean_canonical_form");
@@ -85,6 +92,7 @@ int main(int argc, char** argv) {
     app.add_option("--plugin", plugins, "load this plugin file too (as pymeshlab.load_plugin)");
     app.add_option("--plugins", plugin_dir, "MeshLab's plugin folder")->capture_default_str();
     app.add_flag("--list", list, "list the filters (Python names and parameters) and exit");
+    app.add_flag("--verbose", verbose, "say why MeshLab refused any of its plugins");
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
@@ -104,11 +112,18 @@ int main(int argc, char** argv) {
         kwargs.emplace_back(p.substr(0, eq), canonform::meshlab::Text{p.substr(eq + 1)});
     }
 
-    QCoreApplication qapp(argc, argv);
+    // MeshLab's plugins expect a GUI application (some make pixmaps when loaded); headless, on
+    // Qt's offscreen platform unless the caller chose another
+    if (qEnvironmentVariableIsEmpty("QT_QPA_PLATFORM")) qputenv("QT_QPA_PLATFORM", "offscreen");
+    QApplication qapp(argc, argv);
     try {
         // MeshLab's plugins, with MeshLab's checks; a refused plugin is reported, the others load
         const std::string refused = canonform::meshlab::load_plugins(plugin_dir);
-        if (!refused.empty()) std::fprintf(stderr, "canonform-meshlab: MeshLab refused plugins:\n%s\n", refused.c_str());
+        if (!refused.empty()) {
+            if (verbose) std::fprintf(stderr, "canonform-meshlab: %s\n", refused.c_str());
+            else std::fprintf(stderr, "canonform-meshlab: note: MeshLab did not load %s (--verbose says why)\n",
+                              refused_files(refused).c_str());
+        }
         for (const std::string& p : plugins) canonform::meshlab::load_plugin(p);
         if (list) {
             list_filters();
@@ -125,7 +140,6 @@ int main(int argc, char** argv) {
         const int current = ms.mm() ? ms.mm()->id() : -1;
 
         const canonform::meshlab::Dict values = ms.apply_filter(filter, kwargs);
-        print_log(ms);
 
         MeshModel* target = nullptr;
         if (layer == "result" || layer == "current") {
