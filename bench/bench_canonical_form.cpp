@@ -5,10 +5,10 @@
 // (VmRSS after loading the mesh, peak VmHWM after the runs, both in MiB, from /proc/self/status).
 // The Euclidean method is single-threaded; the geodesic ones use --threads (default 1).
 // bench/run_bench.sh and bench/run_table1.sh run it over meshes of several sizes.
-#include "core/euclidean_canonical_form.h"
-#include "core/geodesic_canonical_form.h"
-#include "core/sparse_cholesky.h"
-#include "mesh_io.h"
+#include "canonform/canonical/euclidean_canonical_form.h"
+#include "canonform/canonical/geodesic_canonical_form.h"
+#include "canonform/numerics/sparse_cholesky.h"
+#include "canonform/io/mesh_io.h"
 
 #include <algorithm>
 #include <cstdio>

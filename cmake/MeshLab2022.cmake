@@ -104,16 +104,23 @@ set(CANONFORM_PLUGIN2022_DIR "${MESHLAB2022_OUTPUT_DIR}/plugins" CACHE INTERNAL 
 #                                  [SCALAR_OVERRIDE float] [OUTPUT_DIR dir])
 # SCALAR_OVERRIDE compiles the plugin's own code for another precision than the library (only to
 # show that MeshLab's PluginManager refuses such a plugin; it is never applied).
+set(CANONFORM_GLUE2022_SOURCES
+  "${PROJECT_SOURCE_DIR}/src/canonform/meshlab/meshlab2022_adapter.cpp"
+  "${PROJECT_SOURCE_DIR}/src/canonform/meshlab/meshlab2022_adapter.h"
+  "${PROJECT_SOURCE_DIR}/src/canonform/meshlab/meshlab_adapter_common.h"
+  "${PROJECT_SOURCE_DIR}/src/canonform/meshlab/meshlab_adapter.h"
+  "${PROJECT_SOURCE_DIR}/src/canonform/meshlab/vcg_bridge.h"
+  "${PROJECT_SOURCE_DIR}/src/canonform/meshlab/meshlab_document.h")
 function(canonform_add_meshlab2022_plugin target)
   cmake_parse_arguments(P "" "OUTPUT_NAME;SCALAR_OVERRIDE;OUTPUT_DIR" "SOURCES;LIBRARIES" ${ARGN})
   if(NOT P_OUTPUT_DIR)
     set(P_OUTPUT_DIR "${CANONFORM_PLUGIN2022_DIR}")
   endif()
-  add_library(${target} MODULE ${P_SOURCES})
+  add_library(${target} MODULE ${P_SOURCES} ${CANONFORM_GLUE2022_SOURCES})
   set_target_properties(${target} PROPERTIES AUTOMOC ON PREFIX "lib" OUTPUT_NAME "${P_OUTPUT_NAME}"
                                              LIBRARY_OUTPUT_DIRECTORY "${P_OUTPUT_DIR}")
   target_include_directories(${target} PRIVATE "${CMAKE_CURRENT_SOURCE_DIR}")
-  target_link_libraries(${target} PRIVATE meshlab2022::common ${P_LIBRARIES} canonform::warnings)
+  target_link_libraries(${target} PRIVATE meshlab2022::common canonform::filter_table ${P_LIBRARIES} canonform::warnings)
   if(P_SCALAR_OVERRIDE)
     # The definition is given again after the library's: the compiler takes the last -D.
     target_compile_options(${target} PRIVATE -UMESHLAB_SCALAR -DMESHLAB_SCALAR=${P_SCALAR_OVERRIDE})

@@ -1,5 +1,5 @@
 # Building a filter plugin that the installed MeshLab 2020.09 (Debian's `meshlab` package) loads.
-# ABI facts (shared/REFERENCE.md section 2): MESHLAB_SCALAR=float, gnu++14 or later, Qt5, GLEW,
+# ABI facts: MESHLAB_SCALAR=float, gnu++14 or later, Qt5, GLEW,
 # link the MODULE against the installed libmeshlab-common.so with -Wl,--no-undefined.
 
 find_package(Qt5 COMPONENTS Core Gui Widgets OpenGL Xml REQUIRED)
@@ -30,15 +30,25 @@ set(CANONFORM_PLUGIN_DIR "${CMAKE_BINARY_DIR}/meshlab/plugins" CACHE INTERNAL ""
 set(CANONFORM_PLUGIN_INSTALL_DIR "lib/x86_64-linux-gnu/meshlab/plugins" CACHE STRING
     "Plugin directory relative to the install prefix (MeshLab searches <bin>/../lib/x86_64-linux-gnu/meshlab/plugins)")
 
-# canonform_add_meshlab_plugin(NAME SOURCES ... LIBRARIES ... SCRIPTS ...)
+# The MeshLab glue every 2020.09 plugin is built with: the table-driven MeshFilterInterface adapter.
+set(CANONFORM_GLUE2020_SOURCES
+  "${PROJECT_SOURCE_DIR}/src/canonform/meshlab/meshlab2020_adapter.cpp"
+  "${PROJECT_SOURCE_DIR}/src/canonform/meshlab/meshlab2020_adapter.h"
+  "${PROJECT_SOURCE_DIR}/src/canonform/meshlab/meshlab_adapter_common.h"
+  "${PROJECT_SOURCE_DIR}/src/canonform/meshlab/meshlab_adapter.h"
+  "${PROJECT_SOURCE_DIR}/src/canonform/meshlab/vcg_bridge.h"
+  "${PROJECT_SOURCE_DIR}/src/canonform/meshlab/meshlab_document.h")
+
+# canonform_add_meshlab_plugin(NAME SOURCES ... LIBRARIES ... SCRIPTS ...): the plugin's own
+# sources (table, actions, plugin class) plus the shared glue, against MeshLab 2020.09.
 function(canonform_add_meshlab_plugin name)
   cmake_parse_arguments(P "" "" "SOURCES;LIBRARIES;SCRIPTS" ${ARGN})
-  add_library(${name} MODULE ${P_SOURCES})
+  add_library(${name} MODULE ${P_SOURCES} ${CANONFORM_GLUE2020_SOURCES})
   add_library(canonform::${name} ALIAS ${name})
   set_target_properties(${name} PROPERTIES AUTOMOC ON PREFIX "lib"
                                            LIBRARY_OUTPUT_DIRECTORY "${CANONFORM_PLUGIN_DIR}")
   target_include_directories(${name} PRIVATE "${CMAKE_CURRENT_SOURCE_DIR}")
-  target_link_libraries(${name} PRIVATE meshlab::common ${P_LIBRARIES} canonform::warnings)
+  target_link_libraries(${name} PRIVATE meshlab::common canonform::filter_table ${P_LIBRARIES} canonform::warnings)
   target_link_options(${name} PRIVATE -Wl,--no-undefined)
   install(TARGETS ${name} LIBRARY DESTINATION "${CANONFORM_PLUGIN_INSTALL_DIR}")
   foreach(s ${P_SCRIPTS})

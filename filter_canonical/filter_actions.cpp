@@ -1,13 +1,13 @@
 #include "filter_actions.h"
 
-#include "core/conformal_factor.h"
-#include "core/euclidean_canonical_form.h"
-#include "core/feature_points.h"
-#include "core/geodesic_canonical_form.h"
-#include "core/mesh_topology.h"
-#include "vcg_bridge.h"
+#include "canonform/surface/conformal_factor.h"
+#include "canonform/canonical/euclidean_canonical_form.h"
+#include "canonform/surface/feature_points.h"
+#include "canonform/canonical/geodesic_canonical_form.h"
+#include "canonform/surface/mesh_topology.h"
+#include "canonform/meshlab/vcg_bridge.h"
 
-#include "meshlab_document.h"
+#include "canonform/meshlab/meshlab_document.h"
 #include <vcg/complex/algorithms/update/bounding.h>
 #include <vcg/complex/algorithms/update/color.h>
 #include <vcg/complex/algorithms/update/normal.h>

@@ -3,7 +3,7 @@
 // MeshLab 2020.09's MeshFilterInterface, or MeshLab 2022.02's FilterPlugin (pymeshlab 2022.2).
 #pragma once
 
-#include "meshlab_adapter.h"
+#include "canonform/meshlab/meshlab_adapter.h"
 
 class FilterCanonicalPlugin : public TableFilterPlugin {
     Q_OBJECT

@@ -3,7 +3,7 @@
 // (meshlab_adapter.h: MeshLab 2020.09, or MeshLab 2022.02 for pymeshlab 2022.2).
 #pragma once
 
-#include "meshlab_adapter.h"
+#include "canonform/meshlab/meshlab_adapter.h"
 
 class FilterViewDescriptorPlugin : public TableFilterPlugin {
     Q_OBJECT

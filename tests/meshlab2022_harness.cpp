@@ -22,7 +22,7 @@
 //
 //   canonform_meshlab2022_harness --plugin P.so [--plugin P2.so ...] [--wrong-precision W.so]
 //       [--vertices N] [--pose K] [--codebook CB] --out DIR
-#include "core/procedural_meshes.h"
+#include "canonform/procedural/procedural_meshes.h"
 
 #include <common/globals.h>
 #include <common/ml_document/mesh_document.h>

@@ -1,7 +1,7 @@
-#include "core/conformal_factor.h"
-#include "core/cotan_laplacian.h"
-#include "core/gaussian_curvature.h"
-#include "core/procedural_meshes.h"
+#include "canonform/surface/conformal_factor.h"
+#include "canonform/surface/cotan_laplacian.h"
+#include "canonform/surface/gaussian_curvature.h"
+#include "canonform/procedural/procedural_meshes.h"
 #include "test_util.h"
 
 #include <gtest/gtest.h>

@@ -1,5 +1,5 @@
-#include "core/cotan_laplacian.h"
-#include "core/procedural_meshes.h"
+#include "canonform/surface/cotan_laplacian.h"
+#include "canonform/procedural/procedural_meshes.h"
 
 #include <gtest/gtest.h>
 

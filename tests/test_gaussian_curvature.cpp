@@ -1,6 +1,6 @@
-#include "core/gaussian_curvature.h"
-#include "core/procedural_meshes.h"
-#include "core/vertex_areas.h"
+#include "canonform/surface/gaussian_curvature.h"
+#include "canonform/procedural/procedural_meshes.h"
+#include "canonform/surface/vertex_areas.h"
 
 #include <gtest/gtest.h>
 

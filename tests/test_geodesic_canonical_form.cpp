@@ -1,5 +1,5 @@
-#include "core/geodesic_canonical_form.h"
-#include "core/procedural_meshes.h"
+#include "canonform/canonical/geodesic_canonical_form.h"
+#include "canonform/procedural/procedural_meshes.h"
 #include "test_util.h"
 
 #include <gtest/gtest.h>

@@ -1,6 +1,6 @@
-#include "core/geodesic_distances.h"
-#include "core/mesh_topology.h"
-#include "core/procedural_meshes.h"
+#include "canonform/surface/geodesic_distances.h"
+#include "canonform/surface/mesh_topology.h"
+#include "canonform/procedural/procedural_meshes.h"
 
 #include <gtest/gtest.h>
 

@@ -1,6 +1,6 @@
-#include "core/errors.h"
-#include "core/mesh_topology.h"
-#include "core/procedural_meshes.h"
+#include "canonform/common/errors.h"
+#include "canonform/surface/mesh_topology.h"
+#include "canonform/procedural/procedural_meshes.h"
 
 #include <gtest/gtest.h>
 

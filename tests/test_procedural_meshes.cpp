@@ -6,7 +6,7 @@
 // Build times of make_figure measured on the development machine (2-vCPU AMD EPYC VM, g++ 12 -O2,
 // rest mesh not cached, wall clock, exact vertex counts): 2k vertices 0.15 s, 10k 0.19 s,
 // 50k 0.70 s, 200k 2.65 s, 300k 3.9 s (1M: 15 s, 380 MB). Timing is not tested.
-#include "core/procedural_meshes.h"
+#include "canonform/procedural/procedural_meshes.h"
 
 #include <gtest/gtest.h>
 

@@ -1,8 +1,8 @@
-#include "core/euclidean_canonical_form.h"
-#include "core/mesh_topology.h"
-#include "core/procedural_meshes.h"
-#include "core/rigid_alignment.h"
-#include "core/smacof.h"
+#include "canonform/canonical/euclidean_canonical_form.h"
+#include "canonform/surface/mesh_topology.h"
+#include "canonform/procedural/procedural_meshes.h"
+#include "canonform/numerics/rigid_alignment.h"
+#include "canonform/numerics/smacof.h"
 #include "test_util.h"
 
 #include <gtest/gtest.h>

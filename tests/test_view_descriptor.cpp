@@ -1,6 +1,6 @@
-#include "core/procedural_meshes.h"
-#include "core/view_descriptor.h"
-#include "core/view_directions.h"
+#include "canonform/procedural/procedural_meshes.h"
+#include "canonform/views/view_descriptor.h"
+#include "canonform/views/view_directions.h"
 #include "test_util.h"
 
 #include <gtest/gtest.h>

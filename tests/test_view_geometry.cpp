@@ -1,12 +1,12 @@
 // Tests of the view-descriptor geometry: view directions, cube rotations, depth rendering and pose
-// normalisation (filter_viewdescriptor/core).
+// normalisation (canonform/views).
 //
 // Include scheme: both -I<root>/filter_canonical and -I<root>/filter_viewdescriptor are on the
 // path; "core/<name>.h" resolves to whichever folder has <name>.h (the file names are distinct).
-#include "core/depth_render.h"
-#include "core/pose_normalization.h"
-#include "core/procedural_meshes.h"
-#include "core/view_directions.h"
+#include "canonform/views/depth_render.h"
+#include "canonform/views/pose_normalization.h"
+#include "canonform/procedural/procedural_meshes.h"
+#include "canonform/views/view_directions.h"
 
 #include <Eigen/Dense>
 #include <gtest/gtest.h>

@@ -1,7 +1,7 @@
 #include "evaluate_command.h"
 
-#include "core/retrieval_measures.h"
-#include "mesh_io.h"
+#include "canonform/retrieval/retrieval_measures.h"
+#include "canonform/io/mesh_io.h"
 
 #include <cmath>
 #include <cstdio>

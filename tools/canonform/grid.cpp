@@ -1,7 +1,7 @@
 #include "grid.h"
 
-#include "core/errors.h"
-#include "mesh_io.h"
+#include "canonform/common/errors.h"
+#include "canonform/io/mesh_io.h"
 #include "qt_image.h"
 #include "render.h"
 

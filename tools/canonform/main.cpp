@@ -22,15 +22,15 @@
 // IN: OFF, PLY, OBJ or STL. OUT: PLY (binary) with the conformal factor as vertex quality
 // (features: a point cloud of the feature points). Exit status: 0 ok, 1 bad input or failure
 // (message on stderr naming the problem), 2 usage error. Outputs are written atomically.
-#include "core/conformal_factor.h"
-#include "core/euclidean_canonical_form.h"
-#include "core/feature_points.h"
-#include "core/geodesic_canonical_form.h"
-#include "core/mesh_topology.h"
-#include "core/procedural_meshes.h"
-#include "mesh_io.h"
+#include "canonform/surface/conformal_factor.h"
+#include "canonform/canonical/euclidean_canonical_form.h"
+#include "canonform/surface/feature_points.h"
+#include "canonform/canonical/geodesic_canonical_form.h"
+#include "canonform/surface/mesh_topology.h"
+#include "canonform/procedural/procedural_meshes.h"
+#include "canonform/io/mesh_io.h"
 #include "picture.h"
-#include "simplify.h"
+#include "canonform/surface/simplify.h"
 #include "evaluate_command.h"
 #include "grid.h"
 #include "retrieve_command.h"

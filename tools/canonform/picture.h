@@ -1,7 +1,7 @@
 // canonform tool: the side-by-side picture of a mesh, its feature points and its canonical form.
 #pragma once
 
-#include "mesh_io.h"
+#include "canonform/io/mesh_io.h"
 
 #include <Eigen/Core>
 

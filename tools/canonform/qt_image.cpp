@@ -1,6 +1,6 @@
 #include "qt_image.h"
 
-#include "mesh_io.h"
+#include "canonform/io/mesh_io.h"
 
 #include <QCoreApplication>
 #include <QGuiApplication>

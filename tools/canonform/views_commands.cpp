@@ -1,9 +1,9 @@
 #include "views_commands.h"
 
-#include "core/descriptor_file.h"
-#include "core/view_descriptor.h"
-#include "core/view_directions.h"
-#include "mesh_io.h"
+#include "canonform/views/descriptor_file.h"
+#include "canonform/views/view_descriptor.h"
+#include "canonform/views/view_directions.h"
+#include "canonform/io/mesh_io.h"
 #include "qt_image.h"
 
 #include <QImage>

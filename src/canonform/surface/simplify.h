@@ -1,0 +1,14 @@
+// canonform tool: quadric edge-collapse simplification (vcglib's TriEdgeCollapseQuadric, the
+// algorithm of MeshLab's "Simplification: Quadric Edge Collapse Decimation" filter, with its
+// default parameters), for the paper's "simplified to about 2000 vertices" runs.
+#pragma once
+
+#include "canonform/io/mesh_io.h"
+
+namespace canonform::io {
+
+/// Simplifies the mesh to about `target_vertices` vertices (the face budget is scaled from the
+/// current face count). Throws InputError if the target is not below the current count or < 10.
+MeshData simplify_mesh(const MeshData& mesh, int target_vertices);
+
+}  // namespace canonform::io
