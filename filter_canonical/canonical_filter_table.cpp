@@ -1,5 +1,7 @@
 #include "canonical_filter_table.h"
 
+#include "canonform/canonical/method_registry.h"
+
 namespace canonform::plugin {
 
 namespace {
@@ -8,7 +10,24 @@ const char* kCitation =
     "<br><br>P. Pickup, X. Sun, P. L. Rosin, R. R. Martin, <b>\"Euclidean-distance-based canonical "
     "forms for non-rigid 3D shape retrieval\"</b>, Pattern Recognition 48(8), 2015.";
 
-std::vector<FilterSpec> make_table() {
+/// The labels of a filter's methods (its enum), from the registry.
+std::vector<std::string> method_labels(MethodFamily family) {
+    std::vector<std::string> labels;
+    for (const CanonicalMethod* m : canonical_methods_of(family)) labels.push_back(m->label);
+    return labels;
+}
+
+/// The enum index of method `name` among its family's methods.
+double method_index(MethodFamily family, const std::string& name) {
+    const auto methods = canonical_methods_of(family);
+    for (size_t k = 0; k < methods.size(); ++k)
+        if (methods[k]->name == name) return static_cast<double>(k);
+    return 0;
+}
+
+}  // namespace
+
+std::vector<FilterSpec> make_filter_table() {
     using K = ParamKind;
     std::vector<FilterSpec> t;
     t.push_back({int(FilterId::ConformalFactor), "Conformal factor", "compute_conformal_factor",
@@ -49,9 +68,9 @@ std::vector<FilterSpec> make_table() {
                  "(beta = 10); variant N normalises both weight groups (eq. 10, beta = 130). The result "
                  "keeps the input's faces, vertex order and units; feature points are selected and the "
                  "conformal factor is stored in the vertex quality.",
-                 {{param::variant, K::Enum, 1, "Variant",
+                 {{param::variant, K::Enum, method_index(MethodFamily::Euclidean, "euclidean-N"), "Variant",
                    "A: additional random feature points (beta 10); N: normalised weightings (eq. 10, beta 130).",
-                   {"A", "N"}},
+                   method_labels(MethodFamily::Euclidean)},
                   {param::alpha, K::Float, 10, "Alpha", "Target distance of every feature-point pair, in "
                    "units of the mesh radius (the paper uses 10).", {}},
                   {param::beta, K::Float, 0, "Beta (0 = variant default)",
@@ -72,10 +91,10 @@ std::vector<FilterSpec> make_table() {
                  "squares (SMACOF, all pairs), classical, or fast (landmark) MDS. Its memory grows like N^2 "
                  "and its time like N^2 log N: the filter estimates both first and refuses, naming them, "
                  "above the limits below. Same output conventions as 'Euclidean canonical form'.",
-                 {{param::method, K::Enum, 0, "MDS method",
+                 {{param::method, K::Enum, method_index(MethodFamily::Geodesic, "geodesic-ls"), "MDS method",
                    "least squares: SMACOF on all pairs (Elad-Kimmel, the paper's LS); classical: double "
                    "centring and the top three eigenvectors (C); fast: landmark MDS (F).",
-                   {"least squares", "classical", "fast"}},
+                   method_labels(MethodFamily::Geodesic)},
                   {param::tolerance, K::Float, 1e-5, "Tolerance",
                    "SMACOF stops when the relative stress decrease of an iteration falls below this.", {}},
                   {param::max_iterations, K::Int, 500, "Maximum iterations", "SMACOF iteration cap.", {}},
@@ -91,10 +110,8 @@ std::vector<FilterSpec> make_table() {
     return t;
 }
 
-}  // namespace
-
 const std::vector<FilterSpec>& filter_table() {
-    static const std::vector<FilterSpec> table = make_table();
+    static const std::vector<FilterSpec> table = make_filter_table();
     return table;
 }
 

@@ -32,7 +32,10 @@ enum class FilterId : int {
     GeodesicCanonicalForm = 3,
 };
 
-/// The table of all filters of filter_canonical, in menu order.
+/// The table of all filters of filter_canonical, in menu order (built once; the method enums of
+/// the two canonical-form filters list the registry's methods of their family).
 const std::vector<FilterSpec>& filter_table();
+/// The table built anew from the registry as it is now (tests of a method added at run time).
+std::vector<FilterSpec> make_filter_table();
 
 }  // namespace canonform::plugin

@@ -50,7 +50,7 @@ TEST(Smacof, FullWeightRecoversAKnownPointSet) {
 
 TEST(Smacof, StressNeverIncreases) {
     // Sparse weighted pairs: a mesh's edges with distorted targets plus a few long-range pairs.
-    const TriMesh s = make_icosphere(3);
+    const Mesh s = make_icosphere(3);
     StressPairs p;
     std::mt19937 rng(3);
     std::uniform_real_distribution<double> u(0.5, 2.0);

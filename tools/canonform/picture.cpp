@@ -28,7 +28,7 @@ Eigen::MatrixXd colours_from(const Eigen::VectorXd& q, Eigen::Index n) {
     return C;
 }
 
-QImage panel_image(const io::MeshData& m, const Eigen::MatrixXd& C, const Eigen::MatrixXd& points, int size) {
+QImage panel_image(const Mesh& m, const Eigen::MatrixXd& C, const Eigen::MatrixXd& points, int size) {
     render::Image img(size, size);
     const render::View view = render::fit_view(m.V, size, size, 16);
     render::draw_mesh(img, view, m.V, m.F, C);
@@ -41,7 +41,7 @@ QImage panel_image(const io::MeshData& m, const Eigen::MatrixXd& C, const Eigen:
 }
 
 /// Positions of the canonical form at the vertices of `mesh` that coincide with `points`.
-Eigen::MatrixXd map_points(const io::MeshData& mesh, const Eigen::MatrixXd& points, const Eigen::MatrixXd& target) {
+Eigen::MatrixXd map_points(const Mesh& mesh, const Eigen::MatrixXd& points, const Eigen::MatrixXd& target) {
     std::map<std::tuple<double, double, double>, Eigen::Index> where;
     for (Eigen::Index k = 0; k < mesh.V.rows(); ++k) where[{mesh.V(k, 0), mesh.V(k, 1), mesh.V(k, 2)}] = k;
     Eigen::MatrixXd out(points.rows(), 3);

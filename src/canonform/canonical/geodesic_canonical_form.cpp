@@ -1,5 +1,7 @@
 #include "canonform/canonical/geodesic_canonical_form.h"
 
+#include "canonform/common/parallel.h"
+
 #include "canonform/surface/conformal_factor.h"
 #include "canonform/surface/geodesic_distances.h"
 #include "canonform/numerics/mds.h"
@@ -10,36 +12,15 @@
 #include <cmath>
 #include <cstdio>
 #include <sstream>
-#include <thread>
 
 namespace canonform {
 
 namespace {
 
-int effective_threads(int threads) {
-    const int hw = std::max(1u, std::thread::hardware_concurrency());
-    return threads > 0 ? std::min(threads, hw) : hw;
-}
-
-MdsMethod to_mds(GeodesicMds m) {
-    switch (m) {
-    case GeodesicMds::LeastSquares: return MdsMethod::LeastSquares;
-    case GeodesicMds::Classical: return MdsMethod::Classical;
-    case GeodesicMds::Fast: return MdsMethod::Landmark;
-    }
-    return MdsMethod::LeastSquares;
-}
+/// Threads that can run at once: the request, at most every hardware thread.
+int effective_threads(int threads) { return std::min(thread_count(threads), thread_count()); }
 
 }  // namespace
-
-const char* geodesic_mds_name(GeodesicMds method) {
-    switch (method) {
-    case GeodesicMds::LeastSquares: return "geodesic-ls";
-    case GeodesicMds::Classical: return "geodesic-classical";
-    case GeodesicMds::Fast: return "geodesic-fast";
-    }
-    return "geodesic";
-}
 
 std::string GeodesicCost::describe() const {
     char buf[96];
@@ -47,7 +28,7 @@ std::string GeodesicCost::describe() const {
     return buf;
 }
 
-GeodesicCost estimate_geodesic_canonical_form(long n, GeodesicMds method, int threads) {
+GeodesicCost estimate_geodesic_canonical_form(long n, MdsMethod method, int threads) {
     // Memory: the n x n distance matrix and the solver's own n x n work matrix (SMACOF and
     // classical MDS square or copy it), plus the fast-marching buffers.
     // Time: fast marching 2.0e-8 n^2 log2(n) s on one core (geodesic_distances.cpp), divided by
@@ -59,10 +40,10 @@ GeodesicCost estimate_geodesic_canonical_form(long n, GeodesicMds method, int th
     const double speedup = 1.0 + 0.8 * (t - 1);
     GeodesicCost c;
     c.bytes = static_cast<double>(all_pairs_geodesic_bytes(n)) +
-              (method == GeodesicMds::Fast ? 0.0 : 8.0 * nn) + 64.0 * static_cast<double>(n);
+              (method == MdsMethod::Landmark ? 0.0 : 8.0 * nn) + 64.0 * static_cast<double>(n);
     double mds = 0;
-    if (method == GeodesicMds::LeastSquares) mds = 100 * 6e-9 * nn;
-    if (method == GeodesicMds::Classical) mds = 40 * 2e-9 * nn;
+    if (method == MdsMethod::LeastSquares) mds = 100 * 6e-9 * nn;
+    if (method == MdsMethod::Classical) mds = 40 * 2e-9 * nn;
     c.seconds = (all_pairs_geodesic_seconds_estimate(n) + mds) / speedup;
     return c;
 }
@@ -104,7 +85,7 @@ GeodesicCanonicalFormResult geodesic_canonical_form(const Eigen::MatrixXd& V0, c
     mo.check_input = false;  // symmetric with zero diagonal by construction
     if (options.progress) mo.progress = [&](double f, const char* s) { return options.progress(0.7 + 0.3 * f, s); };
     const auto tm = std::chrono::steady_clock::now();
-    MdsResult m = mds(D, to_mds(options.method), mo);
+    MdsResult m = mds(D, options.method, mo);
     r.mds_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - tm).count();
     if (m.X.cols() != 3 || !m.X.allFinite()) throw NumericalError("MDS returned a non-finite configuration");
 

@@ -19,6 +19,7 @@
 #pragma once
 
 #include "canonform/common/errors.h"
+#include "canonform/numerics/mds.h"
 
 #include <Eigen/Core>
 
@@ -27,15 +28,9 @@
 
 namespace canonform {
 
-/// The MDS of step 3 (the paper's C, F and LS).
-enum class GeodesicMds { LeastSquares, Classical, Fast };
-
-/// Short name of a method ("geodesic-ls", "geodesic-classical", "geodesic-fast").
-const char* geodesic_mds_name(GeodesicMds method);
-
 /// Options of geodesic_canonical_form().
 struct GeodesicCanonicalFormOptions {
-    GeodesicMds method = GeodesicMds::LeastSquares;
+    MdsMethod method = MdsMethod::LeastSquares;  ///< step 3: the paper's LS, C and F (landmark MDS)
     double tolerance = 1e-5;         ///< SMACOF relative stress-decrease tolerance (LS only)
     int max_iterations = 500;        ///< SMACOF iteration cap (LS only)
     int threads = 0;                 ///< threads for the geodesics and SMACOF; 0 = all cores
@@ -54,7 +49,7 @@ struct GeodesicCost {
 };
 
 /// Cost estimate from the vertex count (calibrated on a 2-core 2026 x86-64 machine; see the .cpp).
-GeodesicCost estimate_geodesic_canonical_form(long n, GeodesicMds method, int threads = 0);
+GeodesicCost estimate_geodesic_canonical_form(long n, MdsMethod method, int threads = 0);
 
 /// Result of geodesic_canonical_form().
 struct GeodesicCanonicalFormResult {

@@ -27,17 +27,10 @@ class IoVertex : public vcg::Vertex<IoTypes, vcg::vertex::Coord3d, vcg::vertex::
 class IoFace : public vcg::Face<IoTypes, vcg::face::VertexRef, vcg::face::Normal3d, vcg::face::BitFlags> {};
 class IoMesh : public vcg::tri::TriMesh<std::vector<IoVertex>, std::vector<IoFace>> {};
 
-std::string lower_extension(const std::string& path) {
-    const auto dot = path.find_last_of('.');
-    std::string e = dot == std::string::npos ? "" : path.substr(dot + 1);
-    for (auto& c : e) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-    return e;
-}
-
 /// Wavefront OBJ: 'v x y z' and 'f a b c ...' lines (a, b, c as i, i/t, i//n or i/t/n, 1-based or
 /// negative), polygons fan-triangulated; everything else ignored. Our own reader because the
 /// OBJ importer of the vcglib in MeshLab 2020.09 drops every face that uses vertex 1.
-MeshData read_obj(const std::string& path) {
+Mesh read_obj(const std::string& path) {
     std::ifstream in(path);
     if (!in) throw InputError("cannot read '" + path + "': cannot open the file");
     std::vector<double> v;
@@ -78,7 +71,7 @@ MeshData read_obj(const std::string& path) {
         }
     }
     if (v.empty()) throw InputError("cannot read '" + path + "': no vertices (is it an OBJ file?)");
-    MeshData d;
+    Mesh d;
     d.V = Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>>(v.data(), long(v.size() / 3), 3);
     d.F = Eigen::Map<Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor>>(f.data(), long(f.size() / 3), 3);
     return d;
@@ -86,7 +79,7 @@ MeshData read_obj(const std::string& path) {
 
 }  // namespace
 
-MeshData read_mesh(const std::string& path) {
+Mesh read_mesh(const std::string& path) {
     struct stat st {};
     if (stat(path.c_str(), &st) != 0) throw InputError("cannot read '" + path + "': no such file");
     if (!S_ISREG(st.st_mode)) throw InputError("cannot read '" + path + "': not a regular file");
@@ -105,7 +98,7 @@ MeshData read_mesh(const std::string& path) {
         vcg::tri::Clean<IoMesh>::RemoveDuplicateVertex(m);
         vcg::tri::Allocator<IoMesh>::CompactEveryVector(m);
     }
-    MeshData d;
+    Mesh d;
     std::vector<int> index(m.vert.size(), -1);
     int nv = 0;
     for (size_t k = 0; k < m.vert.size(); ++k)
@@ -124,38 +117,6 @@ MeshData read_mesh(const std::string& path) {
         ++r;
     }
     return d;
-}
-
-std::string temporary_path_for(const std::string& path) {
-    std::random_device rd;
-    char buf[32];
-    std::snprintf(buf, sizeof buf, ".tmp%08x", static_cast<unsigned>(rd()));
-    const auto slash = path.find_last_of('/');
-    const std::string dir = slash == std::string::npos ? "" : path.substr(0, slash + 1);
-    const std::string base = slash == std::string::npos ? path : path.substr(slash + 1);
-    const std::string ext = lower_extension(path);
-    return dir + "." + base + buf + (ext.empty() ? "" : "." + ext);
-}
-
-void commit_file(const std::string& tmp, const std::string& path) {
-    if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-        std::remove(tmp.c_str());
-        throw std::runtime_error("cannot write '" + path + "'");
-    }
-}
-
-void write_file_atomic(const std::string& path, const std::string& bytes) {
-    const std::string tmp = temporary_path_for(path);
-    {
-        std::ofstream out(tmp, std::ios::binary);
-        out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-        out.close();
-        if (!out) {
-            std::remove(tmp.c_str());
-            throw std::runtime_error("cannot write '" + path + "'");
-        }
-    }
-    commit_file(tmp, path);
 }
 
 void write_ply(const std::string& path, const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,

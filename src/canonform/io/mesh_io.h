@@ -1,8 +1,11 @@
-// canonform tool: reading and writing meshes through vcglib (OFF, PLY, OBJ, STL in; PLY out).
+// canonform: reading and writing meshes through vcglib (OFF, PLY, OBJ, STL in; PLY out).
 //
 // Files are written atomically: to a temporary file in the same folder, renamed over the target
 // only when complete, so a failure never leaves a half-written output.
 #pragma once
+
+#include "canonform/common/mesh.h"
+#include "canonform/io/files.h"
 
 #include <Eigen/Core>
 
@@ -11,16 +14,10 @@
 
 namespace canonform::io {
 
-/// A mesh as read from a file (V #V x 3, F #F x 3; F may be empty for a point cloud).
-struct MeshData {
-    Eigen::MatrixXd V;
-    Eigen::MatrixXi F;
-};
-
 /// Reads OFF, PLY, OBJ or STL (by extension; OFF, PLY and STL through vcglib, OBJ with our own
 /// reader). STL's per-face vertices are merged. Throws
 /// canonform::InputError naming the file and the reason if it cannot be read.
-MeshData read_mesh(const std::string& path);
+Mesh read_mesh(const std::string& path);
 
 /// Writes a PLY (binary) with optional per-vertex quality (#V, or empty) and per-vertex colours
 /// (#V x 3 in [0, 255], or empty). Faces may be empty (a point cloud). Atomic.
@@ -30,12 +27,5 @@ void write_ply(const std::string& path, const Eigen::MatrixXd& V, const Eigen::M
 
 /// Reads the per-vertex quality of a PLY file (empty if it has none).
 Eigen::VectorXd read_ply_quality(const std::string& path);
-
-/// Writes `bytes` to `path` atomically (temporary file + rename). Throws std::runtime_error.
-void write_file_atomic(const std::string& path, const std::string& bytes);
-
-/// A temporary path next to `path` for an atomic write; commit_file() renames it over `path`.
-std::string temporary_path_for(const std::string& path);
-void commit_file(const std::string& tmp, const std::string& path);
 
 }  // namespace canonform::io

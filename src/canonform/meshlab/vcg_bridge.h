@@ -5,16 +5,17 @@
 // for each row of V, the vcg vertex it came from, so results can be written back in place.
 #pragma once
 
+#include "canonform/common/mesh.h"
+
 #include <Eigen/Core>
 
 #include <vector>
 
 namespace canonform {
 
+/// The live part of a vcg mesh as a Mesh, and where each row of V came from.
 template <class MeshT>
-struct BridgedMesh {
-    Eigen::MatrixXd V;                                   ///< #V x 3
-    Eigen::MatrixXi F;                                   ///< #F x 3
+struct BridgedMesh : Mesh {
     std::vector<typename MeshT::VertexPointer> vertices; ///< row k of V <- vertices[k]
 };
 

@@ -4,6 +4,8 @@
 
 #include "canonform/numerics/mds.h"
 
+#include "canonform/common/parallel.h"
+
 #include "canonform/numerics/smacof.h"
 
 #include <Eigen/Eigenvalues>
@@ -28,40 +30,21 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-/// Worker count: `requested` (0 = hardware), at most one per 128 points (threads do not pay for
-/// themselves below that), at least 1.
+/// Worker count: `requested` (0 = every hardware thread), at most one per 128 points (threads do
+/// not pay for themselves below that), at least 1.
 int resolve_threads(int requested, Index n) {
-    int t = requested > 0 ? requested : static_cast<int>(std::thread::hardware_concurrency());
-    t = std::max(t, 1);
-    return static_cast<int>(std::min<Index>(t, std::max<Index>(1, n / 128)));
+    ParallelOptions o;
+    o.threads = requested;
+    o.grain = 128;
+    return parallel_workers(n, o);
 }
 
 /// Runs f(0), ..., f(T-1) concurrently (f(0) on the calling thread); rethrows the first error.
 template <class F>
 void run_parallel(int T, const F& f) {
-    if (T <= 1) {
-        f(0);
-        return;
-    }
-    std::vector<std::exception_ptr> errors(static_cast<size_t>(T));
-    std::vector<std::thread> pool;
-    pool.reserve(static_cast<size_t>(T - 1));
-    for (int t = 1; t < T; ++t)
-        pool.emplace_back([&f, &errors, t] {
-            try {
-                f(t);
-            } catch (...) {
-                errors[static_cast<size_t>(t)] = std::current_exception();
-            }
-        });
-    try {
-        f(0);
-    } catch (...) {
-        errors[0] = std::current_exception();
-    }
-    for (std::thread& th : pool) th.join();
-    for (const std::exception_ptr& e : errors)
-        if (e) std::rethrow_exception(e);
+    ParallelOptions o;
+    o.threads = T;
+    parallel_for(T, [&](std::ptrdiff_t t, int) { f(static_cast<int>(t)); }, o);
 }
 
 /// T + 1 row boundaries splitting rows [0, n) into T ranges of equal size.

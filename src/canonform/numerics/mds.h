@@ -74,7 +74,7 @@ struct MdsOptions {
     int max_iterations = 500;           ///< SMACOF: Guttman step cap
     int landmarks = 0;                  ///< landmark MDS: L in [dim+1, N]; 0 = clamp(3 ceil(sqrt N), dim+1, N)
     std::uint64_t seed = 0;             ///< subspace-iteration start, first landmark, degenerate-start noise
-    int threads = 0;                    ///< worker threads; 0 = std::thread::hardware_concurrency()
+    int threads = 0;                    ///< worker threads; 0 = every hardware thread (thread_count())
     bool record_history = false;        ///< SMACOF: keep S(X_0), S(X_1), ... in stress_history
     double eigen_tolerance = 1e-8;      ///< classical: relative Ritz residual for convergence
     int eigen_max_iterations = 1000;    ///< classical: subspace-iteration cap (NumericalError beyond)

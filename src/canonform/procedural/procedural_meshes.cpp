@@ -37,8 +37,8 @@ double deg(double d) {
     return d * kPi / 180.0;
 }
 
-TriMesh to_trimesh(const std::vector<Vector3d>& V, const std::vector<Face>& F) {
-    TriMesh m;
+Mesh to_trimesh(const std::vector<Vector3d>& V, const std::vector<Face>& F) {
+    Mesh m;
     m.V.resize(static_cast<Eigen::Index>(V.size()), 3);
     for (size_t i = 0; i < V.size(); ++i) m.V.row(static_cast<Eigen::Index>(i)) = V[i].transpose();
     m.F.resize(static_cast<Eigen::Index>(F.size()), 3);
@@ -84,7 +84,7 @@ void parallel_for(size_t n, const Fn& fn) {
 
 // ================================================================================= simple shapes
 
-TriMesh make_icosphere(int subdivisions, double radius) {
+Mesh make_icosphere(int subdivisions, double radius) {
     if (subdivisions < 0 || subdivisions > 9)
         throw std::invalid_argument("make_icosphere: subdivisions must be in [0, 9]");
     if (!(radius > 0.0) || !std::isfinite(radius))
@@ -126,7 +126,7 @@ TriMesh make_icosphere(int subdivisions, double radius) {
     return to_trimesh(V, F);
 }
 
-TriMesh make_torus(int n_major, int n_minor, double R, double r) {
+Mesh make_torus(int n_major, int n_minor, double R, double r) {
     if (n_major < 3 || n_minor < 3)
         throw std::invalid_argument("make_torus: n_major and n_minor must be >= 3");
     if (!(r > 0.0) || !(R > r) || !std::isfinite(R))
@@ -155,7 +155,7 @@ TriMesh make_torus(int n_major, int n_minor, double R, double r) {
     return to_trimesh(V, F);
 }
 
-TriMesh make_disc(int target_vertices, double radius) {
+Mesh make_disc(int target_vertices, double radius) {
     if (target_vertices < 7) throw std::invalid_argument("make_disc: target_vertices must be >= 7");
     if (!(radius > 0.0) || !std::isfinite(radius))
         throw std::invalid_argument("make_disc: radius must be positive");

@@ -23,6 +23,8 @@
 // on z = 0 with z up, about 1.95 units tall, faces -y, and its left side is +x.
 #pragma once
 
+#include "canonform/common/mesh.h"
+
 #include <Eigen/Core>
 
 #include <string>
@@ -30,27 +32,20 @@
 
 namespace canonform {
 
-/// A triangle mesh: V is #V x 3 (double), F is #F x 3 (int, 0-based, counter-clockwise seen from
-/// outside => outward normals).
-struct TriMesh {
-    Eigen::MatrixXd V;
-    Eigen::MatrixXi F;
-};
-
 /// Icosphere: icosahedron subdivided `subdivisions` (0..9) times, projected on a sphere of
 /// `radius` (centre origin). 10*4^s+2 vertices, 20*4^s faces. Throws std::invalid_argument on bad
 /// arguments.
-TriMesh make_icosphere(int subdivisions, double radius = 1.0);
+Mesh make_icosphere(int subdivisions, double radius = 1.0);
 
 /// Torus about the z axis with major radius R, minor radius r (0 < r < R), n_major x n_minor vertex
 /// grid (n_major, n_minor >= 3): closed, genus 1, no boundary, 2 n_major n_minor faces. Vertex
 /// i * n_minor + j is at angle 2 pi i / n_major around z and 2 pi j / n_minor around the tube.
-TriMesh make_torus(int n_major, int n_minor, double R = 1.0, double r = 0.3);
+Mesh make_torus(int n_major, int n_minor, double R = 1.0, double r = 0.3);
 
 /// Flat disc of radius `radius` in the z = 0 plane, centred at the origin, normals +z. Vertex 0 is
 /// the centre; ring k = 1..K has 6k vertices at radius k/K * radius (spacing about radius/K), with
 /// K chosen so that 1 + 3K(K+1) is closest to `target_vertices` (>= 7). One boundary loop (ring K).
-TriMesh make_disc(int target_vertices, double radius = 1.0);
+Mesh make_disc(int target_vertices, double radius = 1.0);
 
 /// Shoulder and elbow angles of one arm, radians. Left and right arms are mirror images: the same
 /// values give the mirrored posture. In the rest pose the arm is horizontal (T-pose).
@@ -117,7 +112,7 @@ FigureProportions figure_class(const std::string& name);
 
 /// A posed figure.
 struct Figure {
-    TriMesh mesh;                            ///< watertight, 2-manifold, one component, genus 0
+    Mesh mesh;                            ///< watertight, 2-manifold, one component, genus 0
     std::vector<Eigen::Vector3d> limb_tips;  ///< posed extremities, on the surface: the mesh
                                              ///< vertices limb_tip_vertex (same positions)
     std::vector<std::string> limb_names;     ///< "head","left_hand","right_hand","left_foot",

@@ -74,13 +74,9 @@ std::vector<double> pr_curve(const std::vector<char>& rel, int relevant) {
 
 }  // namespace
 
-std::string to_json(const Measures& m) {
-    char buf[220];
-    std::snprintf(buf, sizeof buf,
-                  "{\"nn\": %.6f, \"first_tier\": %.6f, \"second_tier\": %.6f, \"e_measure\": %.6f, \"dcg\": %.6f, "
-                  "\"queries\": %d}",
-                  m.nn, m.first_tier, m.second_tier, m.e_measure, m.dcg, m.queries);
-    return buf;
+nlohmann::ordered_json to_json(const Measures& m) {
+    return {{"nn", m.nn},         {"first_tier", m.first_tier}, {"second_tier", m.second_tier},
+            {"e_measure", m.e_measure}, {"dcg", m.dcg},       {"queries", m.queries}};
 }
 
 Measures query_measures(const Eigen::VectorXd& d, const std::vector<std::string>& labels, int q) {

@@ -2,7 +2,7 @@
 // psbTable computes them (the measures of Pickup et al. 2015, Tables 2-5 and Figs. 10, 11, 13).
 //
 // Reference: P. Shilane, P. Min, M. Kazhdan, T. Funkhouser, "The Princeton Shape Benchmark",
-// SMI 2004; definitions as collected in shared/REFERENCE.md section 3:
+// SMI 2004, and its psbTable tool; the definitions the code follows:
 // - each query ranks all other models by ascending distance, ties by model index; C = its class size;
 // - NN: the first result is of the query's class;
 // - first tier: same-class results among the first C-1, divided by C-1;
@@ -22,6 +22,7 @@
 #include "canonform/common/errors.h"
 
 #include <Eigen/Core>
+#include <nlohmann/json.hpp>
 
 #include <string>
 #include <vector>
@@ -46,7 +47,7 @@ struct Evaluation {
 };
 
 /// The measures as a JSON object ({"nn": ..., "first_tier": ..., ..., "queries": ...}).
-std::string to_json(const Measures& m);
+nlohmann::ordered_json to_json(const Measures& m);
 
 /// Measures of one query, given its row of distances and the class labels (the query itself,
 /// `query`, is excluded from the ranking).

@@ -1,14 +1,13 @@
 // canonform: fast marching geodesic distances (Kimmel and Sethian 1998); see geodesic_distances.h.
 #include "canonform/surface/geodesic_distances.h"
 
+#include "canonform/common/parallel.h"
+
 #include <algorithm>
-#include <atomic>
 #include <cmath>
-#include <exception>
 #include <functional>
 #include <limits>
 #include <string>
-#include <thread>
 
 namespace canonform {
 
@@ -224,58 +223,16 @@ Eigen::MatrixXd all_pairs_geodesic_distances(const Eigen::MatrixXd& V, const Eig
     Eigen::MatrixXd D(n, n);
     if (n == 0) return D;
 
-    int threads = options.threads > 0 ? options.threads
-                                      : static_cast<int>(std::thread::hardware_concurrency());
-    threads = std::max(1, std::min(threads, n));
-
-    std::atomic<int> next{0}, done{0};
-    std::atomic<bool> stop{false};
-    std::vector<std::exception_ptr> errors(threads);
-    // Column s = distances from s (contiguous in column-major storage).
-    auto work = [&](int id) {
-        try {
-            FastMarching::Workspace ws;
-            while (!stop.load(std::memory_order_relaxed)) {
-                const int s = next.fetch_add(1);
-                if (s >= n) break;
-                fm.distances_from(s, D.col(s), ws);
-                done.fetch_add(1);
-            }
-        } catch (...) {
-            errors[id] = std::current_exception();
-            stop = true;
-        }
-    };
-
-    std::vector<std::thread> pool;
-    pool.reserve(threads - 1);
-    for (int id = 1; id < threads; ++id) pool.emplace_back(work, id);
-
-    // The calling thread works too, and reports progress between its sources.
-    std::exception_ptr caller_error;
-    try {
-        FastMarching::Workspace ws;
-        const int step = std::max(1, n / 100);
-        int next_report = 0;
-        report_progress(options.progress, 0.0, "geodesic distances");
-        while (!stop.load(std::memory_order_relaxed)) {
-            const int s = next.fetch_add(1);
-            if (s >= n) break;
-            fm.distances_from(s, D.col(s), ws);
-            const int finished = done.fetch_add(1) + 1;
-            if (finished >= next_report) {
-                report_progress(options.progress, static_cast<double>(finished) / n, "geodesic distances");
-                next_report = finished + step;
-            }
-        }
-    } catch (...) {
-        caller_error = std::current_exception();
-        stop = true;
-    }
-    for (std::thread& t : pool) t.join();
-    if (caller_error) std::rethrow_exception(caller_error);
-    for (const std::exception_ptr& e : errors)
-        if (e) std::rethrow_exception(e);
+    // Column s = distances from s (contiguous in column-major storage); one workspace per worker.
+    ParallelOptions par;
+    par.threads = options.threads;
+    par.progress = options.progress;
+    par.stage = "geodesic distances";
+    std::vector<FastMarching::Workspace> workspaces(static_cast<size_t>(parallel_workers(n, par)));
+    report_progress(options.progress, 0.0, par.stage);
+    parallel_for(n, [&](std::ptrdiff_t s, int worker) {
+        fm.distances_from(static_cast<int>(s), D.col(s), workspaces[static_cast<size_t>(worker)]);
+    }, par);
 
     // Symmetrise in place, in blocks for cache locality: D_ij = D_ji = (d(i,j) + d(j,i)) / 2.
     constexpr int kBlock = 64;
@@ -298,7 +255,7 @@ Eigen::MatrixXd all_pairs_geodesic_distances(const Eigen::MatrixXd& V, const Eig
 std::size_t all_pairs_geodesic_bytes(long n) {
     if (n <= 0) return 0;
     const std::size_t un = static_cast<std::size_t>(n);
-    const std::size_t threads = std::max(1u, std::thread::hardware_concurrency());
+    const std::size_t threads = static_cast<std::size_t>(thread_count());
     return 8 * un * un + 600 * un + 256 * un * threads;
 }
 

@@ -109,7 +109,7 @@ Eigen::VectorXd geodesic_distances_from(const Eigen::MatrixXd& V, const Eigen::M
 
 /// Options of all_pairs_geodesic_distances().
 struct GeodesicOptions {
-    int threads = 0;      ///< worker threads including the caller; 0 = std::thread::hardware_concurrency()
+    int threads = 0;      ///< worker threads including the caller; 0 = every hardware thread (thread_count())
     ProgressFn progress;  ///< called from the calling thread about every 1% ("geodesic distances")
 };
 

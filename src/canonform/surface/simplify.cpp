@@ -58,7 +58,7 @@ public:
 
 }  // namespace
 
-MeshData simplify_mesh(const MeshData& mesh, int target_vertices) {
+Mesh simplify_mesh(const Mesh& mesh, int target_vertices) {
     if (target_vertices < 10) throw InputError("the simplification target must be at least 10 vertices");
     if (target_vertices >= mesh.V.rows())
         throw InputError("the mesh has " + std::to_string(mesh.V.rows()) + " vertices, not more than the target " +
@@ -101,7 +101,7 @@ MeshData simplify_mesh(const MeshData& mesh, int target_vertices) {
     vcg::tri::Clean<SMesh>::RemoveUnreferencedVertex(m);
     vcg::tri::Allocator<SMesh>::CompactEveryVector(m);
 
-    MeshData out;
+    Mesh out;
     out.V.resize(m.vn, 3);
     for (int k = 0; k < m.vn; ++k)
         for (int c = 0; c < 3; ++c) out.V(k, c) = m.vert[static_cast<size_t>(k)].P()[c];

@@ -9,6 +9,6 @@ namespace canonform::io {
 
 /// Simplifies the mesh to about `target_vertices` vertices (the face budget is scaled from the
 /// current face count). Throws InputError if the target is not below the current count or < 10.
-MeshData simplify_mesh(const MeshData& mesh, int target_vertices);
+Mesh simplify_mesh(const Mesh& mesh, int target_vertices);
 
 }  // namespace canonform::io

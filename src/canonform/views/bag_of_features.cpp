@@ -1,11 +1,11 @@
 #include "canonform/views/bag_of_features.h"
 
+#include "canonform/common/parallel.h"
+
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <limits>
 #include <string>
-#include <thread>
 
 namespace canonform::views {
 namespace {
@@ -201,29 +201,24 @@ Eigen::MatrixXf distance_matrix(const std::vector<std::vector<Histogram>>& model
     for (std::size_t m = 0; m < n; ++m)
         for (std::size_t i = 0; i < views; ++i) sums[m][i] = total(models[m][i]);
 
-    std::atomic<std::size_t> next_row{0};
-    auto worker = [&]() {
-        DenseModel A;
-        std::vector<double> scratch;
-        for (std::size_t r; (r = next_row.fetch_add(1)) < n;) {
-            if (r + 1 >= n) continue;
-            densify(models[r], std::max(width, 1), A);
-            for (std::size_t c = r + 1; c < n; ++c) {
-                const float d = static_cast<float>(clock_dense(A, models[c], sums[c], plan, scratch));
-                D(static_cast<Eigen::Index>(r), static_cast<Eigen::Index>(c)) = d;
-                D(static_cast<Eigen::Index>(c), static_cast<Eigen::Index>(r)) = d;
-            }
+    // Rows in parallel (row r computes the pairs (r, c > r)); dense scratch per worker.
+    ParallelOptions par;
+    par.threads = threads;
+    const int workers = parallel_workers(static_cast<std::ptrdiff_t>(n), par);
+    std::vector<DenseModel> dense(static_cast<std::size_t>(workers));
+    std::vector<std::vector<double>> scratch(static_cast<std::size_t>(workers));
+    parallel_for(static_cast<std::ptrdiff_t>(n), [&](std::ptrdiff_t row, int worker) {
+        const auto r = static_cast<std::size_t>(row);
+        if (r + 1 >= n) return;
+        DenseModel& A = dense[static_cast<std::size_t>(worker)];
+        densify(models[r], std::max(width, 1), A);
+        for (std::size_t c = r + 1; c < n; ++c) {
+            const float d = static_cast<float>(
+                clock_dense(A, models[c], sums[c], plan, scratch[static_cast<std::size_t>(worker)]));
+            D(static_cast<Eigen::Index>(r), static_cast<Eigen::Index>(c)) = d;
+            D(static_cast<Eigen::Index>(c), static_cast<Eigen::Index>(r)) = d;
         }
-    };
-    int t = threads > 0 ? threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-    t = static_cast<int>(std::min<std::size_t>(static_cast<std::size_t>(t), n));
-    if (t <= 1) {
-        worker();
-    } else {
-        std::vector<std::thread> pool;
-        for (int k = 0; k < t; ++k) pool.emplace_back(worker);
-        for (auto& th : pool) th.join();
-    }
+    }, par);
     return D;
 }
 

@@ -49,7 +49,7 @@ double clock_matching_distance(const std::vector<Histogram>& a, const std::vecto
                                const std::vector<std::vector<int>>& maps);
 
 /// N x N matrix of clock-matching distances between models (each V histograms): symmetric (upper
-/// triangle computed, mirrored), zero diagonal. threads <= 0: std::thread::hardware_concurrency().
+/// triangle computed, mirrored), zero diagonal. threads <= 0: every hardware thread (thread_count()).
 /// Rows are handed out dynamically; the result does not depend on the thread count.
 /// Throws InputError like clock_matching_distance().
 Eigen::MatrixXf distance_matrix(const std::vector<std::vector<Histogram>>& models,

@@ -1,9 +1,10 @@
 #include "canonform/views/codebook.h"
 
+#include "canonform/common/parallel.h"
+
 #include <unistd.h>
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -13,7 +14,6 @@
 #include <numeric>
 #include <random>
 #include <sstream>
-#include <thread>
 
 namespace canonform::views {
 namespace {
@@ -82,12 +82,6 @@ std::vector<int> sample_distinct(std::mt19937_64& rng, int n, int k) {
     return idx;
 }
 
-int thread_count(Eigen::Index rows) {
-    const unsigned hw = std::max(1u, std::thread::hardware_concurrency());
-    if (rows < 4096) return 1;
-    return static_cast<int>(std::min<Eigen::Index>(hw, rows / 2048));
-}
-
 // Nearest word (ties to the lower index) and its squared distance, for every row of X.
 void nearest_words(const DescriptorMatrix& X, const DescriptorMatrix& C, const Eigen::VectorXf& c_norms,
                    std::vector<int>& label, std::vector<float>* dist2) {
@@ -96,36 +90,33 @@ void nearest_words(const DescriptorMatrix& X, const DescriptorMatrix& C, const E
     if (dist2) dist2->assign(static_cast<std::size_t>(n), 0.f);
     constexpr Eigen::Index kBlock = 256;
     const Eigen::Index blocks = (n + kBlock - 1) / kBlock;
-    auto work = [&](Eigen::Index b0, Eigen::Index b1) {
-        Eigen::MatrixXf S;  // block x words
-        for (Eigen::Index b = b0; b < b1; ++b) {
-            const Eigen::Index r0 = b * kBlock, rn = std::min(kBlock, n - r0);
-            // Dynamic-size maps: the fixed 128 columns would also instantiate Eigen's GEMV path,
-            // which draws a false -Waggressive-loop-optimizations warning from GCC 12.
-            const Eigen::Map<const Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> Xb(
-                X.data() + r0 * kDim, rn, kDim);
-            const Eigen::Map<const Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> Cm(
-                C.data(), w, kDim);
-            S.noalias() = Xb * Cm.transpose();
-            for (Eigen::Index r = 0; r < rn; ++r) {
-                float best = std::numeric_limits<float>::infinity();
-                int arg = 0;
-                for (Eigen::Index j = 0; j < w; ++j) {
-                    const float d = c_norms[j] - 2.f * S(r, j);
-                    if (d < best) { best = d; arg = static_cast<int>(j); }
-                }
-                label[static_cast<std::size_t>(r0 + r)] = arg;
-                if (dist2)
-                    (*dist2)[static_cast<std::size_t>(r0 + r)] =
-                        std::max(0.f, best + X.row(r0 + r).squaredNorm());
+    // Eight blocks (2048 rows) at least per worker: fewer do not pay for a thread.
+    ParallelOptions par;
+    par.grain = 8;
+    std::vector<Eigen::MatrixXf> scratch(static_cast<std::size_t>(parallel_workers(blocks, par)));
+    parallel_for(blocks, [&](Eigen::Index b, int worker) {
+        Eigen::MatrixXf& S = scratch[static_cast<std::size_t>(worker)];  // block x words
+        const Eigen::Index r0 = b * kBlock, rn = std::min(kBlock, n - r0);
+        // Dynamic-size maps: the fixed 128 columns would also instantiate Eigen's GEMV path,
+        // which draws a false -Waggressive-loop-optimizations warning from GCC 12.
+        const Eigen::Map<const Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> Xb(
+            X.data() + r0 * kDim, rn, kDim);
+        const Eigen::Map<const Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> Cm(
+            C.data(), w, kDim);
+        S.noalias() = Xb * Cm.transpose();
+        for (Eigen::Index r = 0; r < rn; ++r) {
+            float best = std::numeric_limits<float>::infinity();
+            int arg = 0;
+            for (Eigen::Index j = 0; j < w; ++j) {
+                const float d = c_norms[j] - 2.f * S(r, j);
+                if (d < best) { best = d; arg = static_cast<int>(j); }
             }
+            label[static_cast<std::size_t>(r0 + r)] = arg;
+            if (dist2)
+                (*dist2)[static_cast<std::size_t>(r0 + r)] =
+                    std::max(0.f, best + X.row(r0 + r).squaredNorm());
         }
-    };
-    const int t = thread_count(n);
-    if (t <= 1) { work(0, blocks); return; }
-    std::vector<std::thread> pool;
-    for (int k = 0; k < t; ++k) pool.emplace_back(work, blocks * k / t, blocks * (k + 1) / t);
-    for (auto& th : pool) th.join();
+    }, par);
 }
 
 Eigen::VectorXf row_norms(const DescriptorMatrix& C) { return C.rowwise().squaredNorm(); }

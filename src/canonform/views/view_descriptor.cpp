@@ -26,10 +26,40 @@ ViewSet compute_views(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const 
     return s;
 }
 
-std::vector<Histogram> view_histograms(const ViewSet& views, const Codebook& codebook) {
+std::vector<Histogram> view_histograms(const std::vector<SiftDescriptors>& features, const Codebook& codebook) {
     std::vector<Histogram> h;
-    for (const auto& f : views.features) h.push_back(histogram(codebook.assign(f)));
+    for (const auto& f : features) h.push_back(histogram(codebook.assign(f)));
     return h;
+}
+
+ModelDescriptor make_descriptor(const std::vector<SiftDescriptors>& features, const Codebook* codebook,
+                                const std::string& source, int image_size) {
+    ModelDescriptor d;
+    d.source = source;
+    d.views = static_cast<int>(features.size());
+    d.image_size = image_size;
+    for (const auto& f : features) d.keypoints_per_view.push_back(static_cast<int>(f.rows()));
+    if (codebook) {
+        d.codebook_words = codebook->size();
+        d.histograms = view_histograms(features, *codebook);
+    } else {
+        d.raw = features;
+    }
+    return d;
+}
+
+SiftDescriptors stack_features(const std::vector<const std::vector<SiftDescriptors>*>& models) {
+    Eigen::Index rows = 0;
+    for (const auto* m : models)
+        for (const auto& f : *m) rows += f.rows();
+    SiftDescriptors all(rows, 128);
+    Eigen::Index r = 0;
+    for (const auto* m : models)
+        for (const auto& f : *m) {
+            all.middleRows(r, f.rows()) = f;
+            r += f.rows();
+        }
+    return all;
 }
 
 }  // namespace canonform::views

@@ -13,6 +13,7 @@
 #include "canonform/views/bag_of_features.h"
 #include "canonform/views/codebook.h"
 #include "canonform/views/depth_render.h"
+#include "canonform/views/descriptor_file.h"
 #include "canonform/views/pose_normalization.h"
 #include "canonform/views/sift_features.h"
 
@@ -43,6 +44,17 @@ struct ViewSet {
 ViewSet compute_views(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const ViewDescriptorOptions& options = {});
 
 /// One bag-of-features histogram per view (a view without keypoints gives an empty histogram).
-std::vector<Histogram> view_histograms(const ViewSet& views, const Codebook& codebook);
+std::vector<Histogram> view_histograms(const std::vector<SiftDescriptors>& features, const Codebook& codebook);
+inline std::vector<Histogram> view_histograms(const ViewSet& views, const Codebook& codebook) {
+    return view_histograms(views.features, codebook);
+}
+
+/// The descriptor file's contents for a model's view features (one per view): with a codebook its
+/// histograms, without one the raw SIFT features. `source` names the model (free text).
+ModelDescriptor make_descriptor(const std::vector<SiftDescriptors>& features, const Codebook* codebook,
+                                const std::string& source, int image_size = 256);
+
+/// The SIFT descriptors of many views stacked into one matrix (the training set of a codebook).
+SiftDescriptors stack_features(const std::vector<const std::vector<SiftDescriptors>*>& models);
 
 }  // namespace canonform::views
