@@ -57,17 +57,7 @@ ActionOutputs depth_view_descriptor(MeshDocument& md, const ParamValues& p, cons
     const views::ViewSet vs = views::compute_views(b.V, b.F, opt);
     report_progress(ctx.progress, 0.8, "writing the descriptor");
 
-    views::ModelDescriptor d;
-    d.source = mm.fullName().toStdString();
-    d.views = static_cast<int>(vs.images.size());
-    d.image_size = size;
-    d.keypoints_per_view = vs.keypoint_counts();
-    if (codebook) {
-        d.codebook_words = codebook->size();
-        d.histograms = views::view_histograms(vs, *codebook);
-    } else {
-        d.raw = vs.features;
-    }
+    const views::ModelDescriptor d = views::make_descriptor(vs.features, codebook, mm.fullName().toStdString(), size);
     const std::string views_dir = p.get_string(view_param::views_folder);
     if (!views_dir.empty()) {
         if (!QDir().mkpath(QString::fromStdString(views_dir)))

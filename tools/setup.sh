@@ -23,7 +23,7 @@ SRC2022_DIR="$here/external/meshlab-2022.02"
 PACKAGES=(
   meshlab qtbase5-dev libqt5opengl5-dev libglew-dev libeigen3-dev
   cmake g++ make dpkg-dev pkg-config
-  libsuitesparse-dev libopencv-dev libgtest-dev googletest libcli11-dev nlohmann-json3-dev
+  libsuitesparse-dev libopencv-dev libgtest-dev googletest libcli11-dev nlohmann-json3-dev libtbb-dev
   xvfb xauth x11-utils xdotool imagemagick
   python3-matplotlib python3-numpy bc
 )

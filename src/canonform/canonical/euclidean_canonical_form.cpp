@@ -42,7 +42,7 @@ EuclideanCanonicalFormResult euclidean_canonical_form(const Eigen::MatrixXd& V0,
     if (!(options.alpha > 0)) throw InputError("alpha must be positive");
     if (options.max_iterations < 1) throw InputError("the iteration cap must be at least 1");
     if (!(options.tolerance >= 0)) throw InputError("the tolerance must be non-negative");
-    if (options.validate) validate_mesh(V0, F);
+    const MeshReport report = options.validate ? validate_mesh(V0, F) : MeshReport{};
     report_progress(options.progress, 0.0, "scaling");
 
     Eigen::RowVector3d centroid;
@@ -57,7 +57,7 @@ EuclideanCanonicalFormResult euclidean_canonical_form(const Eigen::MatrixXd& V0,
         cf_opt.progress = [&](double f, const char* s) { return options.progress(0.08 * f, s); };
     const ConformalFactorResult cf = conformal_factor(V, F, cf_opt);
 
-    const Eigen::MatrixXi E = unique_edges(F);
+    const Eigen::MatrixXi E = report.edge_list.rows() ? report.edge_list : unique_edges(F);
     const VertexAdjacency adj = vertex_adjacency(static_cast<int>(V.rows()), E);
     FeaturePointOptions fp_opt;
     fp_opt.ring = options.ring;
@@ -81,13 +81,7 @@ EuclideanCanonicalFormResult euclidean_canonical_form(const Eigen::MatrixXd& V0,
     SmacofResult sm = solver.solve(V, sm_opt);
 
     EuclideanCanonicalFormResult r;
-    double change = 0;
-    for (Eigen::Index e = 0; e < E.rows(); ++e) {
-        const double d0 = (V.row(E(e, 0)) - V.row(E(e, 1))).norm();
-        const double d1 = (sm.X.row(E(e, 0)) - sm.X.row(E(e, 1))).norm();
-        change += std::abs(d1 - d0) / d0;
-    }
-    r.mean_relative_edge_change = change / static_cast<double>(E.rows());
+    r.mean_relative_edge_change = mean_relative_edge_change(V, sm.X, E);
     r.V = options.restore_scale ? Eigen::MatrixXd((sm.X * scale).rowwise() + centroid) : sm.X;
     r.phi = cf.normalized;
     r.features = fp.indices;

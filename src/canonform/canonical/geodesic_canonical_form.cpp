@@ -51,7 +51,7 @@ GeodesicCost estimate_geodesic_canonical_form(long n, MdsMethod method, int thre
 GeodesicCanonicalFormResult geodesic_canonical_form(const Eigen::MatrixXd& V0, const Eigen::MatrixXi& F,
                                                     const GeodesicCanonicalFormOptions& options) {
     const auto t0 = std::chrono::steady_clock::now();
-    validate_mesh(V0, F);
+    const MeshReport report = validate_mesh(V0, F);
     GeodesicCanonicalFormResult r;
     r.estimate = estimate_geodesic_canonical_form(V0.rows(), options.method, options.threads);
     const double gib = r.estimate.bytes / (1024.0 * 1024.0 * 1024.0);
@@ -89,13 +89,7 @@ GeodesicCanonicalFormResult geodesic_canonical_form(const Eigen::MatrixXd& V0, c
     r.mds_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - tm).count();
     if (m.X.cols() != 3 || !m.X.allFinite()) throw NumericalError("MDS returned a non-finite configuration");
 
-    const Eigen::MatrixXi E = unique_edges(F);
-    double change = 0;
-    for (Eigen::Index e = 0; e < E.rows(); ++e) {
-        const double d0 = (V.row(E(e, 0)) - V.row(E(e, 1))).norm();
-        change += std::abs((m.X.row(E(e, 0)) - m.X.row(E(e, 1))).norm() - d0) / d0;
-    }
-    r.mean_relative_edge_change = change / static_cast<double>(E.rows());
+    r.mean_relative_edge_change = mean_relative_edge_change(V, m.X, report.edge_list);
     r.V = options.restore_scale ? Eigen::MatrixXd((m.X * scale).rowwise() + centroid) : m.X;
     r.iterations = m.iterations;
     r.initial_stress = m.initial_stress;

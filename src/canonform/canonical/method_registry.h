@@ -40,12 +40,13 @@ struct MethodParameter {
     std::string name;                  ///< lower snake_case ("beta", "max_iterations")
     std::string default_value;         ///< as text ("10", "auto")
     std::string help;                  ///< one line, for --help
-    double min = 0, max = 0;           ///< numbers: closed range, finite (both 0: any finite number)
+    double min = 0;                    ///< numbers: closed range [min, max] (both 0: any finite number)
+    double max = 0;
     bool integer = false;              ///< numbers: must be whole
-    std::vector<std::string> choices;  ///< non-empty: the value is one of these words
+    std::vector<std::string> choices = {};  ///< non-empty: the value is one of these words
     bool affects_result = true;        ///< part of the cache key of a retrieval run
     bool zero_means_default = false;   ///< a given 0 stands for the default (a filter's "0 = default")
-    std::string alias;                 ///< a second, older tool option name ("tol"), or empty
+    std::string alias = {};            ///< a second, older tool option name ("tol"), or empty
     /// Checks `value` (throws InputError naming the parameter, the value and what it must be).
     void check(const std::string& value) const;
 };

@@ -1,4 +1,4 @@
-// canonform: the one parallel loop of the library, on OpenMP.
+// canonform: the one parallel loop of the library, on oneTBB.
 //
 // Every parallel loop (fast marching from all sources, MDS blocks, k-means assignment, the
 // distance matrix, per-mesh work in a retrieval run, the procedural generator) goes through
@@ -6,10 +6,12 @@
 // depend on the number of threads: a body may only write to outputs of its own index (or to the
 // state of its own worker, combined afterwards in worker order).
 //
-// Why OpenMP (GCC's libgomp) rather than oneTBB: it ships with the compiler, so the MeshLab
-// plugins gain no run-time dependency in any host; its team's thread 0 is the calling thread,
-// so progress can be reported from the thread that called (MeshLab's GUI callback must not be
-// called from another thread). Built without OpenMP, the loop runs on the calling thread.
+// Why oneTBB rather than OpenMP: Debian's OpenCV (which the views area uses for SIFT) already
+// runs its own parallel loops on oneTBB, so with TBB both share one pool of worker threads and
+// nest without oversubscribing the cores; a second (OpenMP) pool next to it made idle threads
+// spin against busy ones (more CPU time for the same work on the 2-core test machine). Progress
+// is reported only from the thread that called parallel_for() (MeshLab's GUI callback must not be
+// called from another thread).
 #pragma once
 
 #include "canonform/common/errors.h"
@@ -17,13 +19,11 @@
 #include <algorithm>
 #include <atomic>
 #include <cstddef>
-#include <exception>
-#include <mutex>
 #include <thread>
 
-#ifdef _OPENMP
-#include <omp.h>
-#endif
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 
 namespace canonform {
 
@@ -50,56 +50,43 @@ inline int parallel_workers(std::ptrdiff_t n, const ParallelOptions& options = {
 }
 
 /// Calls body(i, worker) for every i in [0, n), on parallel_workers(n, options) threads taking
-/// chunks of `grain` indices in turn (dynamic schedule); `worker` in [0, workers) names the thread
-/// for per-worker state, and worker 0 is the calling thread, which reports progress. The first
-/// exception a body throws (Cancelled too, when `progress` returns false) stops the chunks not yet
-/// started and is rethrown here once every worker has stopped.
+/// chunks of `grain` indices in turn; `worker` in [0, workers) names the thread for per-worker
+/// state. Progress is reported from the calling thread (which works too). The first exception a
+/// body throws (Cancelled too, when `progress` returns false) cancels the chunks not yet started
+/// and is rethrown here.
 template <class Body>
 void parallel_for(std::ptrdiff_t n, Body&& body, const ParallelOptions& options = {}) {
     if (n <= 0) return;
     const std::ptrdiff_t grain = std::max<std::ptrdiff_t>(1, options.grain);
-    const std::ptrdiff_t chunks = (n + grain - 1) / grain;
     const int workers = parallel_workers(n, options);
-    std::atomic<bool> stop{false};
+    const std::thread::id caller = std::this_thread::get_id();
     std::atomic<std::ptrdiff_t> done{0};
-    std::exception_ptr error;
-    std::mutex error_mutex;
     int last_percent = -1;
-    auto run_chunk = [&](std::ptrdiff_t c, int worker) {
-        if (stop.load(std::memory_order_relaxed)) return;
-        try {
-            const std::ptrdiff_t end = std::min(n, (c + 1) * grain);
-            for (std::ptrdiff_t i = c * grain; i < end; ++i) body(i, worker);
-            const std::ptrdiff_t finished = done.fetch_add(end - c * grain) + (end - c * grain);
-            if (worker == 0 && options.progress) {
-                const int percent = static_cast<int>(100 * finished / n);
-                if (percent != last_percent) {
-                    last_percent = percent;
-                    report_progress(options.progress, static_cast<double>(finished) / static_cast<double>(n),
-                                    options.stage);
-                }
+    auto run = [&](std::ptrdiff_t begin, std::ptrdiff_t end, int worker) {
+        for (std::ptrdiff_t i = begin; i < end; ++i) body(i, worker);
+        const std::ptrdiff_t finished = done.fetch_add(end - begin) + (end - begin);
+        if (options.progress && std::this_thread::get_id() == caller) {
+            const int percent = static_cast<int>(100 * finished / n);
+            if (percent != last_percent) {
+                last_percent = percent;
+                report_progress(options.progress, static_cast<double>(finished) / static_cast<double>(n),
+                                options.stage);
             }
-        } catch (...) {
-            std::lock_guard<std::mutex> lock(error_mutex);
-            if (!error) error = std::current_exception();
-            stop = true;
         }
     };
-#ifdef _OPENMP
-    if (workers > 1) {
-#pragma omp parallel num_threads(workers)
-        {
-            const int worker = omp_get_thread_num();
-#pragma omp for schedule(dynamic, 1)
-            for (std::ptrdiff_t c = 0; c < chunks; ++c) run_chunk(c, worker);
-        }
-    } else {
-        for (std::ptrdiff_t c = 0; c < chunks; ++c) run_chunk(c, 0);
+    if (workers <= 1) {
+        for (std::ptrdiff_t begin = 0; begin < n; begin += grain) run(begin, std::min(n, begin + grain), 0);
+        return;
     }
-#else
-    for (std::ptrdiff_t c = 0; c < chunks; ++c) run_chunk(c, 0);
-#endif
-    if (error) std::rethrow_exception(error);
+    tbb::task_arena arena(workers);
+    arena.execute([&] {
+        tbb::parallel_for(tbb::blocked_range<std::ptrdiff_t>(0, n, static_cast<std::size_t>(grain)),
+                          [&](const tbb::blocked_range<std::ptrdiff_t>& r) {
+                              const int w = tbb::this_task_arena::current_thread_index();
+                              run(r.begin(), r.end(), std::min(std::max(w, 0), workers - 1));
+                          },
+                          tbb::simple_partitioner());
+    });
 }
 
 }  // namespace canonform

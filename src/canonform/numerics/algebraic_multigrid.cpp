@@ -363,12 +363,6 @@ PcgReport AmgPreconditioner::pcg(const Eigen::MatrixXd& B, Eigen::MatrixXd& X0, 
     return rep;
 }
 
-std::vector<int> AmgPreconditioner::level_sizes() const {
-    std::vector<int> s;
-    for (const Level& L : levels_) s.push_back(static_cast<int>(L.A.rows()));
-    return s;
-}
-
 double AmgPreconditioner::operator_complexity() const {
     if (levels_.empty()) return 0;
     double total = 0;

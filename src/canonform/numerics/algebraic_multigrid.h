@@ -10,8 +10,8 @@
 //
 // Why: the paper (Section 5) counts one SMACOF iteration as O(N). With a sparse LDL^T factor of V
 // the two triangular solves per iteration cost O(nnz(L)), which grows faster than N (fill ~N log N
-// with a fill-reducing ordering) and leaves the cache beyond ~30k vertices: measured 0.44 ms at
-// 10k but 32 ms at 200k vertices. A V-cycle costs a few sweeps over A (7 entries per row) per
+// with a fill-reducing ordering) and leaves the cache beyond a few 10k vertices (figures in the
+// README's "Speed" section and bench/). A V-cycle costs a few sweeps over A (7 entries per row) per
 // level, O(N) in all, and CG with it needs a number of steps that does not grow with N.
 //
 // Conventions: A is symmetric positive definite (callers pin one vertex of a graph Laplacian).
@@ -91,8 +91,6 @@ public:
 
     int rows() const { return levels_.empty() ? 0 : static_cast<int>(levels_[0].A.rows()); }
     int num_levels() const { return static_cast<int>(levels_.size()); }
-    /// Rows of each level, finest first.
-    std::vector<int> level_sizes() const;
     /// Sum of the non-zeros of all levels' matrices over those of the finest (cost of a V-cycle
     /// relative to one sweep over A).
     double operator_complexity() const;

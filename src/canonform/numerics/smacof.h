@@ -155,7 +155,6 @@ public:
     LinearSolver linear_solver() const {
         return multigrid_ ? LinearSolver::Multigrid : LinearSolver::Direct;
     }
-    const StressPairs& pairs() const { return pairs_; }
 
 private:
     /// B(X) X (#points x dim, if BX is given) and S(X) (if stress_of_X is given), in one pass.

@@ -1,6 +1,9 @@
 // canonform: procedural test meshes. See procedural_meshes.h.
 #include "canonform/procedural/procedural_meshes.h"
 
+#include "canonform/common/parallel.h"
+#include "canonform/surface/mesh_topology.h"
+
 #include <Eigen/Geometry>
 
 #include <algorithm>
@@ -19,7 +22,6 @@
 #include <random>
 #include <stdexcept>
 #include <string>
-#include <thread>
 #include <unordered_map>
 #include <utility>
 #include <vector>
@@ -53,31 +55,16 @@ std::uint64_t edge_key(int a, int b) {
            static_cast<std::uint32_t>(b);
 }
 
-/// Runs fn(begin, end) on contiguous chunks of [0, n) in parallel (at most 8 threads, none for
-/// small n). fn must only write to per-index outputs, so results do not depend on the threading.
+/// Runs fn(begin, end) on chunks of 4096 indices of [0, n), in parallel (canonform::parallel_for).
+/// fn must only write to per-index outputs, so results do not depend on the threading.
 template <class Fn>
-void parallel_for(size_t n, const Fn& fn) {
-    const size_t hw = std::max(1u, std::thread::hardware_concurrency());
-    const size_t threads = std::min<size_t>({hw, size_t{8}, n / 4096 + 1});
-    if (threads <= 1) {
-        fn(size_t{0}, n);
-        return;
-    }
-    std::vector<std::exception_ptr> errors(threads);
-    auto run = [&](size_t t) {
-        try {
-            fn(n * t / threads, n * (t + 1) / threads);
-        } catch (...) {
-            errors[t] = std::current_exception();
-        }
-    };
-    std::vector<std::thread> pool;
-    pool.reserve(threads - 1);
-    for (size_t t = 1; t < threads; ++t) pool.emplace_back(run, t);
-    run(0);
-    for (std::thread& th : pool) th.join();
-    for (const std::exception_ptr& e : errors)
-        if (e) std::rethrow_exception(e);
+void parallel_ranges(size_t n, const Fn& fn) {
+    constexpr size_t kChunk = 4096;
+    const auto chunks = static_cast<std::ptrdiff_t>((n + kChunk - 1) / kChunk);
+    canonform::parallel_for(chunks, [&](std::ptrdiff_t c, int) {
+        const size_t begin = static_cast<size_t>(c) * kChunk;
+        fn(begin, std::min(n, begin + kChunk));
+    });
 }
 
 }  // namespace
@@ -695,7 +682,7 @@ bool surface_nets(const BodySdf& sdf, const Eigen::AlignedBox3d& box, double h,
             }
         }
     }
-    parallel_for(blocks.size(), [&](size_t begin, size_t end) {
+    parallel_ranges(blocks.size(), [&](size_t begin, size_t end) {
         for (size_t i = begin; i < end; ++i) {
             Block& blk = blocks[i];
             blk.val.resize((kBlock + 1) * (kBlock + 1) * (kBlock + 1));
@@ -815,29 +802,6 @@ bool surface_nets(const BodySdf& sdf, const Eigen::AlignedBox3d& box, double h,
 
 // ------------------------------------------------------------------------- mesh bookkeeping
 
-/// Neighbours of each vertex (CSR), from the faces.
-void vertex_neighbours(int nv, const std::vector<Face>& F, std::vector<int>* offsets,
-                       std::vector<int>* nbrs) {
-    std::vector<std::uint64_t> e;
-    e.reserve(F.size() * 6);
-    for (const Face& f : F)
-        for (int k = 0; k < 3; ++k) {
-            const int a = f[static_cast<size_t>(k)], b = f[static_cast<size_t>((k + 1) % 3)];
-            e.push_back(edge_key(a, b));
-            e.push_back(edge_key(b, a));
-        }
-    std::sort(e.begin(), e.end());
-    e.erase(std::unique(e.begin(), e.end()), e.end());
-    offsets->assign(static_cast<size_t>(nv) + 1, 0);
-    nbrs->resize(e.size());
-    for (size_t i = 0; i < e.size(); ++i) {
-        ++(*offsets)[static_cast<size_t>(e[i] >> 32) + 1];
-        (*nbrs)[i] = static_cast<int>(e[i] & 0xffffffffu);
-    }
-    for (int v = 0; v < nv; ++v)
-        (*offsets)[static_cast<size_t>(v) + 1] += (*offsets)[static_cast<size_t>(v)];
-}
-
 /// Checks that F is a closed, oriented 2-manifold with one component and Euler characteristic 2,
 /// every vertex used and every vertex fan a single disc.
 bool check_closed_sphere(int nv, const std::vector<Face>& F, std::string* why) {
@@ -955,14 +919,14 @@ bool check_quality(const BodySdf& sdf, const std::vector<Vector3d>& V, const std
                    double min_angle, std::string* why) {
     // Outward direction: the SDF gradients at the corners (which lie on the surface).
     std::vector<Vector3d> normal(V.size());
-    parallel_for(V.size(), [&](size_t begin, size_t end) {
+    parallel_ranges(V.size(), [&](size_t begin, size_t end) {
         for (size_t i = begin; i < end; ++i) {
             sdf.eval(V[i], &normal[i]);
             normal[i].normalize();
         }
     });
     std::vector<char> bad(F.size(), 0);  // 1: thin, 2: facing inwards
-    parallel_for(F.size(), [&](size_t begin, size_t end) {
+    parallel_ranges(F.size(), [&](size_t begin, size_t end) {
         for (size_t i = begin; i < end; ++i) {
             const Face& f = F[i];
             const Vector3d& a = V[static_cast<size_t>(f[0])];
@@ -994,11 +958,12 @@ bool check_quality(const BodySdf& sdf, const std::vector<Vector3d>& V, const std
 void relax(const BodySdf& sdf, std::vector<Vector3d>* V, const std::vector<Face>& F,
            const std::vector<char>& pinned, int iterations, double lambda, double max_step) {
     const size_t nv = V->size();
-    std::vector<int> off, nb;
-    vertex_neighbours(static_cast<int>(nv), F, &off, &nb);
+    const VertexAdjacency adjacency = vertex_adjacency(static_cast<int>(nv), unique_edges(to_trimesh({}, F).F));
+    const std::vector<int>& off = adjacency.offsets;
+    const std::vector<int>& nb = adjacency.neighbors;
     const std::vector<Vector3d> start = *V;
     std::vector<Vector3d> next(nv), normal(nv), next_normal(nv);
-    parallel_for(nv, [&](size_t begin, size_t end) {
+    parallel_ranges(nv, [&](size_t begin, size_t end) {
         for (size_t v = begin; v < end; ++v) {
             sdf.eval((*V)[v], &normal[v]);
             normal[v].normalize();
@@ -1006,7 +971,7 @@ void relax(const BodySdf& sdf, std::vector<Vector3d>* V, const std::vector<Face>
     });
     std::vector<char> bad(F.size());
     for (int it = 0; it < iterations; ++it) {
-        parallel_for(nv, [&](size_t begin, size_t end) {
+        parallel_ranges(nv, [&](size_t begin, size_t end) {
             for (size_t v = begin; v < end; ++v) {
                 const Vector3d& p = (*V)[v];
                 next[v] = p;
@@ -1034,7 +999,7 @@ void relax(const BodySdf& sdf, std::vector<Vector3d>* V, const std::vector<Face>
         });
         for (bool changed = true; changed;) {
             changed = false;
-            parallel_for(F.size(), [&](size_t begin, size_t end) {
+            parallel_ranges(F.size(), [&](size_t begin, size_t end) {
                 for (size_t i = begin; i < end; ++i) {
                     const Face& f = F[i];
                     Vector3d o[3], q[3], sn = Vector3d::Zero();
@@ -1127,7 +1092,7 @@ int decimate(const BodySdf& sdf, std::vector<Vector3d>* V, std::vector<Face>* F,
         sdf.eval(x, &g);
         return Vector3d(g.normalized());
     };
-    parallel_for(static_cast<size_t>(nv), [&](size_t begin, size_t end) {
+    parallel_ranges(static_cast<size_t>(nv), [&](size_t begin, size_t end) {
         for (size_t i = begin; i < end; ++i) normal[i] = surface_normal(P[i]);
     });
 
@@ -1374,7 +1339,7 @@ std::shared_ptr<RestFigure> build_rest_figure(int target) {
             continue;
         }
         if (!check_closed_sphere(static_cast<int>(V.size()), F, &why)) continue;
-        parallel_for(V.size(), [&](size_t begin, size_t end) {
+        parallel_ranges(V.size(), [&](size_t begin, size_t end) {
             for (size_t i = begin; i < end; ++i) V[i] = sdf.project(V[i], 3, h);
         });
         std::vector<char> pinned(V.size(), 0);
@@ -1405,7 +1370,7 @@ std::shared_ptr<RestFigure> build_rest_figure(int target) {
         const size_t n = rest->V.size();
         rest->bone.resize(n);
         rest->weight.resize(n);
-        parallel_for(n, [&](size_t begin, size_t end) {
+        parallel_ranges(n, [&](size_t begin, size_t end) {
             for (size_t i = begin; i < end; ++i)
                 skin_weights(body, rest->V[i], &rest->bone[i], &rest->weight[i]);
         });

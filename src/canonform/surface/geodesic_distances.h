@@ -33,10 +33,8 @@
 //   which avoids the cancellation of the textbook form when T >> edge length.
 // - All-pairs distances are symmetrised: D_ij = (d(i,j) + d(j,i)) / 2. Fast marching is not
 //   exactly symmetric (first-order error, O(h)); MDS needs a symmetric matrix.
-// Accuracy (measured, tests/test_geodesic_distances.cpp; mean relative error excluding the source's
-// one-ring): 0.8-1.0% on a 10k-vertex icosphere, 1.1-1.3% on a 5k-vertex flat disc (edge Dijkstra:
-// 7.9-9.7%), 0.9% on a lattice whose triangles all have a 120-degree corner (8.3% without the
-// unfolding, 33% for edge Dijkstra).
+// Accuracy against analytic distances on spheres, discs and obtuse lattices, with and without the
+// unfolding, is checked by tests/test_geodesic_distances.cpp (figures in the README).
 // Vertices not connected to the source (other components, unreferenced vertices) get +infinity.
 #pragma once
 

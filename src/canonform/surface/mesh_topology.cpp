@@ -148,8 +148,8 @@ MeshReport validate_mesh(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
                "Unreferenced Vertices'";
         throw InputError(msg.str());
     }
-    const Eigen::MatrixXi E = unique_edges(F);
-    connected_components(static_cast<int>(n), E, &r.components);
+    r.edge_list = unique_edges(F);
+    connected_components(static_cast<int>(n), r.edge_list, &r.components);
     if (options.require_single_component && r.components > 1) {
         msg << "the mesh has " << r.components
             << " connected components; the method needs one. Keep the largest, e.g. with "
@@ -160,6 +160,16 @@ MeshReport validate_mesh(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
     r.boundary_loops_vertices = static_cast<int>(std::count(bnd.begin(), bnd.end(), true));
     r.euler_characteristic = r.vertices - r.edges + r.faces;
     return r;
+}
+
+double mean_relative_edge_change(const Eigen::MatrixXd& V0, const Eigen::MatrixXd& V1, const Eigen::MatrixXi& E) {
+    double change = 0;
+    for (Eigen::Index e = 0; e < E.rows(); ++e) {
+        const double d0 = (V0.row(E(e, 0)) - V0.row(E(e, 1))).norm();
+        const double d1 = (V1.row(E(e, 0)) - V1.row(E(e, 1))).norm();
+        change += std::abs(d1 - d0) / d0;
+    }
+    return E.rows() ? change / static_cast<double>(E.rows()) : 0.0;
 }
 
 }  // namespace canonform

@@ -29,6 +29,7 @@ struct MeshReport {
     int boundary_edges = 0;
     int boundary_loops_vertices = 0;  ///< vertices on a boundary
     int euler_characteristic = 0;     ///< V - E + F
+    Eigen::MatrixXi edge_list;        ///< unique_edges(F), #E x 2 (filled once the edges are checked)
 };
 
 /// Options of validate_mesh(): which conditions are errors.
@@ -45,5 +46,9 @@ struct ValidationOptions {
 /// Boundaries are allowed (the methods handle them) and reported.
 MeshReport validate_mesh(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
                          const ValidationOptions& options = {});
+
+/// Mean over the edges E (#E x 2) of |d1 - d0| / d0, the relative change of each edge's length
+/// from the embedding V0 to V1 (both #V x 3; 0 without edges).
+double mean_relative_edge_change(const Eigen::MatrixXd& V0, const Eigen::MatrixXd& V1, const Eigen::MatrixXi& E);
 
 }  // namespace canonform
