@@ -37,9 +37,9 @@ std::vector<FilterSpec> make_filter_table() {
                  "Laplacian, the angle-deficit curvature K^0 and the area-proportional target curvature "
                  "K^T. It is pose invariant and largest at the extremities of the shape. Stored in the "
                  "vertex quality.",
-                 {{param::normalize, K::Bool, 1, "Normalise to [0, 1]",
+                 {{"normalize", K::Bool, 1, "Normalise to [0, 1]",
                    "Store (phi - min) / (max - min) instead of the raw conformal factor (mean zero).", {}},
-                  {param::colorize, K::Bool, 1, "Colour vertices",
+                  {"colorize", K::Bool, 1, "Colour vertices",
                    "Also colour the vertices by the conformal factor (red-green-blue ramp).", {}}},
                  kVertexQuality | kVertexColor, kVertexQuality | kVertexColor});
     t.push_back({int(FilterId::FeaturePoints), "Feature points", "compute_feature_points", "feature_points.mlx",
@@ -49,14 +49,14 @@ std::vector<FilterSpec> make_filter_table() {
                  "Optionally tops the set up to ceil(sqrt(N)) with seeded random vertices (the paper's "
                  "variant A) and adds a point-cloud layer of the points with the conformal factor as "
                  "quality.",
-                 {{param::ring, K::Int, 2, "Ring size (k)",
+                 {{"ring", K::Int, 2, "Ring size (k)",
                    "A feature point is greater than every vertex of its k-ring (1, 2 or 3; the paper uses 2).", {}},
-                  {param::fill, K::Enum, 0, "Fill",
+                  {"fill", K::Enum, 0, "Fill",
                    "none: local maxima only (variant N); random: add seeded random vertices up to ceil(sqrt(N)) "
                    "(variant A).",
                    {"none", "random"}},
-                  {param::seed, K::Int, 0, "Random seed", "Seed of the random fill.", {}},
-                  {param::add_layer, K::Bool, 0, "Add a point-cloud layer",
+                  {"seed", K::Int, 0, "Random seed", "Seed of the random fill.", {}},
+                  {"add_layer", K::Bool, 0, "Add a point-cloud layer",
                    "Add a new layer holding the feature points, with the conformal factor as vertex quality.", {}}},
                  kVertexQuality, kVertexQuality | kVertexSelection});
     t.push_back({int(FilterId::EuclideanCanonicalForm), "Euclidean canonical form", "generate_euclidean_canonical_form",
@@ -68,19 +68,19 @@ std::vector<FilterSpec> make_filter_table() {
                  "(beta = 10); variant N normalises both weight groups (eq. 10, beta = 130). The result "
                  "keeps the input's faces, vertex order and units; feature points are selected and the "
                  "conformal factor is stored in the vertex quality.",
-                 {{param::variant, K::Enum, method_index(MethodFamily::Euclidean, "euclidean-N"), "Variant",
+                 {{"variant", K::Enum, method_index(MethodFamily::Euclidean, "euclidean-N"), "Variant",
                    "A: additional random feature points (beta 10); N: normalised weightings (eq. 10, beta 130).",
                    method_labels(MethodFamily::Euclidean)},
-                  {param::alpha, K::Float, 10, "Alpha", "Target distance of every feature-point pair, in "
+                  {"alpha", K::Float, 10, "Alpha", "Target distance of every feature-point pair, in "
                    "units of the mesh radius (the paper uses 10).", {}},
-                  {param::beta, K::Float, 0, "Beta (0 = variant default)",
+                  {"beta", K::Float, 0, "Beta (0 = variant default)",
                    "Edge-length preservation weight; 0 uses 10 for variant A and 130 for variant N.", {}},
-                  {param::ring, K::Int, 2, "Ring size (k)", "k-ring of the conformal-factor maxima (1, 2 or 3).", {}},
-                  {param::seed, K::Int, 0, "Random seed", "Seed of variant A's random feature points.", {}},
-                  {param::tolerance, K::Float, 1e-5, "Tolerance",
+                  {"ring", K::Int, 2, "Ring size (k)", "k-ring of the conformal-factor maxima (1, 2 or 3).", {}},
+                  {"seed", K::Int, 0, "Random seed", "Seed of variant A's random feature points.", {}},
+                  {"tolerance", K::Float, 1e-5, "Tolerance",
                    "SMACOF stops when the relative stress decrease of an iteration falls below this.", {}},
-                  {param::max_iterations, K::Int, 1000, "Maximum iterations", "SMACOF iteration cap.", {}},
-                  {param::new_layer, K::Bool, 1, "Result in a new layer",
+                  {"max_iterations", K::Int, 1000, "Maximum iterations", "SMACOF iteration cap.", {}},
+                  {"new_layer", K::Bool, 1, "Result in a new layer",
                    "Put the canonical form in a new layer named after the source mesh; off: replace the "
                    "vertex positions of the current mesh.", {}}},
                  kVertexQuality, kVertexQuality | kVertexSelection | kVertexCoordinates | kNormals});
@@ -91,18 +91,18 @@ std::vector<FilterSpec> make_filter_table() {
                  "squares (SMACOF, all pairs), classical, or fast (landmark) MDS. Its memory grows like N^2 "
                  "and its time like N^2 log N: the filter estimates both first and refuses, naming them, "
                  "above the limits below. Same output conventions as 'Euclidean canonical form'.",
-                 {{param::method, K::Enum, method_index(MethodFamily::Geodesic, "geodesic-ls"), "MDS method",
+                 {{"method", K::Enum, method_index(MethodFamily::Geodesic, "geodesic-ls"), "MDS method",
                    "least squares: SMACOF on all pairs (Elad-Kimmel, the paper's LS); classical: double "
                    "centring and the top three eigenvectors (C); fast: landmark MDS (F).",
                    method_labels(MethodFamily::Geodesic)},
-                  {param::tolerance, K::Float, 1e-5, "Tolerance",
+                  {"tolerance", K::Float, 1e-5, "Tolerance",
                    "SMACOF stops when the relative stress decrease of an iteration falls below this.", {}},
-                  {param::max_iterations, K::Int, 500, "Maximum iterations", "SMACOF iteration cap.", {}},
-                  {param::max_memory_gib, K::Float, 4, "Memory limit (GiB)",
+                  {"max_iterations", K::Int, 500, "Maximum iterations", "SMACOF iteration cap.", {}},
+                  {"max_memory_gib", K::Float, 4, "Memory limit (GiB)",
                    "Refuse meshes whose estimated memory (an N x N distance matrix) exceeds this.", {}},
-                  {param::max_seconds, K::Float, 600, "Time limit (s)",
+                  {"max_seconds", K::Float, 600, "Time limit (s)",
                    "Refuse meshes whose estimated computing time exceeds this.", {}},
-                  {param::new_layer, K::Bool, 1, "Result in a new layer",
+                  {"new_layer", K::Bool, 1, "Result in a new layer",
                    "Put the canonical form in a new layer named after the source mesh; off: replace the "
                    "vertex positions of the current mesh.", {}}},
                  kNothing, kVertexCoordinates | kNormals});

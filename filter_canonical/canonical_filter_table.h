@@ -6,25 +6,6 @@
 
 namespace canonform::plugin {
 
-/// Parameter names: lower snake_case (pymeshlab derives its Python keyword names from them).
-namespace param {
-inline constexpr const char* normalize = "normalize";
-inline constexpr const char* colorize = "colorize";
-inline constexpr const char* ring = "ring";
-inline constexpr const char* fill = "fill";
-inline constexpr const char* seed = "seed";
-inline constexpr const char* add_layer = "add_layer";
-inline constexpr const char* variant = "variant";
-inline constexpr const char* alpha = "alpha";
-inline constexpr const char* beta = "beta";
-inline constexpr const char* tolerance = "tolerance";
-inline constexpr const char* max_iterations = "max_iterations";
-inline constexpr const char* new_layer = "new_layer";
-inline constexpr const char* method = "method";
-inline constexpr const char* max_memory_gib = "max_memory_gib";
-inline constexpr const char* max_seconds = "max_seconds";
-}  // namespace param
-
 enum class FilterId : int {
     ConformalFactor = 0,
     FeaturePoints = 1,

@@ -47,6 +47,16 @@ QString layer_name(const MeshModel& mm, const char* suffix) {
     return QFileInfo(mm.label()).completeBaseName() + suffix;
 }
 
+/// The conformal factor of a bridged mesh, after validate_and_note().
+template <class Bridged>
+ConformalFactorResult validated_conformal_factor(const Bridged& b, const ActionContext& ctx) {
+    validate_and_note(b, ctx);
+    ConformalFactorOptions opt;
+    opt.progress = ctx.progress;
+    opt.validate = false;
+    return conformal_factor(b.V, b.F, opt);
+}
+
 void check_ring(int ring) {
     if (ring < 1 || ring > 10) throw InputError("the ring size must be between 1 and 10");
 }
@@ -54,15 +64,11 @@ void check_ring(int ring) {
 ActionOutputs conformal_factor_action(MeshDocument& md, const ParamValues& p, const ActionContext& ctx) {
     MeshModel& mm = current_mesh(md);
     const auto b = to_eigen(mm.cm);
-    validate_and_note(b, ctx);
-    ConformalFactorOptions opt;
-    opt.progress = ctx.progress;
-    opt.validate = false;
-    const ConformalFactorResult cf = conformal_factor(b.V, b.F, opt);
-    const bool normalized = p.get_bool(param::normalize);
+    const ConformalFactorResult cf = validated_conformal_factor(b, ctx);
+    const bool normalized = p.get_bool("normalize");
     mm.updateDataMask(MeshModel::MM_VERTQUALITY);
     write_quality(b, normalized ? cf.normalized : cf.raw);
-    if (p.get_bool(param::colorize)) {
+    if (p.get_bool("colorize")) {
         mm.updateDataMask(MeshModel::MM_VERTCOLOR);
         vcg::tri::UpdateColor<CMeshO>::PerVertexQualityRamp(mm.cm);
     }
@@ -77,18 +83,14 @@ ActionOutputs conformal_factor_action(MeshDocument& md, const ParamValues& p, co
 
 ActionOutputs feature_points_action(MeshDocument& md, const ParamValues& p, const ActionContext& ctx) {
     MeshModel& mm = current_mesh(md);
-    const int ring = p.get_int(param::ring);
+    const int ring = p.get_int("ring");
     check_ring(ring);
     const auto b = to_eigen(mm.cm);
-    validate_and_note(b, ctx);
-    ConformalFactorOptions cf_opt;
-    cf_opt.progress = ctx.progress;
-    cf_opt.validate = false;
-    const ConformalFactorResult cf = conformal_factor(b.V, b.F, cf_opt);
+    const ConformalFactorResult cf = validated_conformal_factor(b, ctx);
     FeaturePointOptions opt;
     opt.ring = ring;
-    opt.fill = p.get_int(param::fill) == 1 ? FeatureFill::Random : FeatureFill::None;
-    opt.seed = static_cast<std::uint64_t>(p.get_int(param::seed));
+    opt.fill = p.get_int("fill") == 1 ? FeatureFill::Random : FeatureFill::None;
+    opt.seed = static_cast<std::uint64_t>(p.get_int("seed"));
     const FeaturePoints fp = feature_points(b.F, cf.normalized, opt);
 
     // Everything computed: now change the document.
@@ -96,7 +98,7 @@ ActionOutputs feature_points_action(MeshDocument& md, const ParamValues& p, cons
     for (int v : fp.indices) b.vertices[static_cast<size_t>(v)]->SetS();
     mm.updateDataMask(MeshModel::MM_VERTQUALITY);
     write_quality(b, cf.normalized);
-    if (p.get_bool(param::add_layer)) {
+    if (p.get_bool("add_layer")) {
         MeshModel* layer = md.addNewMesh("", layer_name(mm, " feature points"), false);
         layer->updateDataMask(MeshModel::MM_VERTQUALITY);
         auto vi = vcg::tri::Allocator<CMeshO>::AddVertices(layer->cm, fp.indices.size());
@@ -168,7 +170,7 @@ ActionOutputs canonical_form_action(FilterId id, MeshDocument& md, const ParamVa
     const FilterSpec& spec = filter_spec(filter_table(), int(id));
     const bool euclidean = id == FilterId::EuclideanCanonicalForm;
     const auto methods = canonical_methods_of(euclidean ? MethodFamily::Euclidean : MethodFamily::Geodesic);
-    const int choice = p.get_int(euclidean ? param::variant : param::method);
+    const int choice = p.get_int(euclidean ? "variant" : "method");
     if (choice < 0 || choice >= static_cast<int>(methods.size())) throw InputError("unknown method choice");
     const CanonicalMethod& method = *methods[static_cast<size_t>(choice)];
     const MethodSettings settings = method_settings(method, spec, p);
@@ -180,7 +182,7 @@ ActionOutputs canonical_form_action(FilterId id, MeshDocument& md, const ParamVa
     context.validate = false;  // validate_and_note() above
     const CanonicalForm r = method.run(b.V, b.F, settings, context);
     write_canonical_form(md, mm, b, r.V, r.quality.size() ? &r.quality : nullptr,
-                         r.features.empty() ? nullptr : &r.features, p.get_bool(param::new_layer));
+                         r.features.empty() ? nullptr : &r.features, p.get_bool("new_layer"));
     ctx.log(std::string(spec.name) + " of '" + mm.label().toStdString() + "': " + r.description);
     ActionOutputs out;
     for (const auto& [key, value] : r.summary)

@@ -1,4 +1,4 @@
-// canonform: the filter_canonical plugin: the filter table of filter_table.h and the actions of
+// canonform: the filter_canonical plugin: the filter table of canonical_filter_table.h and the actions of
 // filter_actions.h behind the table-driven adapter of the API being built (meshlab_adapter.h):
 // MeshLab 2020.09's MeshFilterInterface, or MeshLab 2022.02's FilterPlugin (pymeshlab 2022.2).
 #pragma once
@@ -6,15 +6,7 @@
 #include "canonform/meshlab/meshlab_adapter.h"
 
 class FilterCanonicalPlugin : public TableFilterPlugin {
-    Q_OBJECT
-#if defined(CANONFORM_MESHLAB_API) && CANONFORM_MESHLAB_API == 2022
-    MESHLAB_PLUGIN_IID_EXPORTER(FILTER_PLUGIN_IID)
-    Q_INTERFACES(FilterPlugin)
-#else
-    MESHLAB_PLUGIN_IID_EXPORTER(MESH_FILTER_INTERFACE_IID)
-    Q_INTERFACES(MeshFilterInterface)
-#endif
-
+    Q_OBJECT CANONFORM_PLUGIN_INTERFACES
 public:
     FilterCanonicalPlugin();
 };

@@ -6,15 +6,7 @@
 #include "canonform/meshlab/meshlab_adapter.h"
 
 class FilterViewDescriptorPlugin : public TableFilterPlugin {
-    Q_OBJECT
-#if defined(CANONFORM_MESHLAB_API) && CANONFORM_MESHLAB_API == 2022
-    MESHLAB_PLUGIN_IID_EXPORTER(FILTER_PLUGIN_IID)
-    Q_INTERFACES(FilterPlugin)
-#else
-    MESHLAB_PLUGIN_IID_EXPORTER(MESH_FILTER_INTERFACE_IID)
-    Q_INTERFACES(MeshFilterInterface)
-#endif
-
+    Q_OBJECT CANONFORM_PLUGIN_INTERFACES
 public:
     FilterViewDescriptorPlugin();
 };

@@ -38,14 +38,14 @@ std::vector<double> flatten(const views::ModelDescriptor& d) {
 ActionOutputs depth_view_descriptor(MeshDocument& md, const ParamValues& p, const ActionContext& ctx) {
     if (md.mm() == nullptr) throw InputError("there is no current mesh");
     MeshModel& mm = *md.mm();
-    const std::string out = p.get_string(view_param::output_file);  // empty: no file (pymeshlab gets the vector)
-    const std::string cb_path = p.get_string(view_param::codebook_file);
-    const int size = p.get_int(view_param::image_size);
+    const std::string out = p.get_string("output_file");  // empty: no file (pymeshlab gets the vector)
+    const std::string cb_path = p.get_string("codebook_file");
+    const int size = p.get_int("image_size");
     if (size < 32 || size > 2048) throw InputError("the image size must be between 32 and 2048 pixels");
 
     views::ViewDescriptorOptions opt;
     opt.image_size = size;
-    opt.pose.seed = static_cast<std::uint64_t>(p.get_int(view_param::seed));
+    opt.pose.seed = static_cast<std::uint64_t>(p.get_int("seed"));
     const views::Codebook* codebook = nullptr;
     views::Codebook cb;
     if (!cb_path.empty()) {
@@ -58,7 +58,7 @@ ActionOutputs depth_view_descriptor(MeshDocument& md, const ParamValues& p, cons
     report_progress(ctx.progress, 0.8, "writing the descriptor");
 
     const views::ModelDescriptor d = views::make_descriptor(vs.features, codebook, mm.fullName().toStdString(), size);
-    const std::string views_dir = p.get_string(view_param::views_folder);
+    const std::string views_dir = p.get_string("views_folder");
     if (!views_dir.empty()) {
         if (!QDir().mkpath(QString::fromStdString(views_dir)))
             throw InputError("cannot create the folder '" + views_dir + "'");

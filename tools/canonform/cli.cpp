@@ -36,6 +36,11 @@ void validate_and_note(const std::string& path, const Mesh& m, bool quiet) {
                   << " boundary edges); boundary curvature uses pi instead of 2 pi (eq. 8)\n";
 }
 
+void add_in_out(CLI::App* command, std::string& in, std::string& out, const std::string& out_help) {
+    command->add_option("IN", in, "input mesh (OFF, PLY, OBJ, STL)")->required();
+    command->add_option("OUT", out, out_help)->required();
+}
+
 double seconds_since(std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }

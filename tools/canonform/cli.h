@@ -19,11 +19,6 @@
 
 namespace canonform::cli {
 
-/// One command of the tool: its name and the function that adds it to the app.
-struct Command {
-    const char* name;
-    void (*add)(CLI::App& app);
-};
 
 /// A usage error found after parsing (exit status 2, like CLI11's own).
 struct UsageError : std::runtime_error {
@@ -52,25 +47,21 @@ auto on_input(const std::string& path, Fn fn) -> decltype(fn()) {
     }
 }
 
+/// The positional arguments IN (an input mesh) and OUT (`out_help`), both required.
+void add_in_out(CLI::App* command, std::string& in, std::string& out, const std::string& out_help);
+
 /// Seconds since `t0`.
 double seconds_since(std::chrono::steady_clock::time_point t0);
 
 /// "a,b,,c" -> {"a", "b", "c"}.
 std::vector<std::string> split_list(const std::string& text);
 
-// The commands (mesh_commands.cpp, views_commands.cpp, retrieval_commands.cpp).
-void add_conformal(CLI::App& app);
-void add_features(CLI::App& app);
-void add_canonical(CLI::App& app);
-void add_simplify(CLI::App& app);
-void add_generate(CLI::App& app);
-void add_picture(CLI::App& app);
-void add_views(CLI::App& app);
-void add_codebook(CLI::App& app);
-void add_descriptor(CLI::App& app);
-void add_distance(CLI::App& app);
-void add_retrieve(CLI::App& app);
-void add_evaluate(CLI::App& app);
-void add_grid(CLI::App& app);
+/// A command: adds its subcommand (options, defaults, help, callback) to the app.
+using AddCommand = void(CLI::App& app);
+
+// The commands, in mesh_commands.cpp, views_commands.cpp and retrieval_commands.cpp.
+AddCommand add_conformal, add_features, add_canonical, add_simplify, add_generate, add_picture,  // one mesh
+    add_views, add_codebook, add_descriptor, add_distance,                                          // views
+    add_retrieve, add_evaluate, add_grid;                                                            // retrieval
 
 }  // namespace canonform::cli

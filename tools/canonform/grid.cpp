@@ -116,16 +116,11 @@ int write_grid(const std::string& path, const GridOptions& o) {
     }
     if (cols.empty()) throw InputError("the run '" + o.run + "' has no model of class '" + o.cls + "'");
 
-    ensure_gui_application();
     const int P = o.panel, label_w = 130, label_h = 22;
     const int rows = 1 + static_cast<int>(methods.size());
-    QImage out(label_w + static_cast<int>(cols.size()) * P, label_h + rows * P, QImage::Format_RGB888);
-    out.fill(Qt::white);
+    QImage out = white_canvas(label_w + static_cast<int>(cols.size()) * P, label_h + rows * P);
     QPainter p(&out);
-    QFont font = p.font();
-    font.setPixelSize(13);
-    p.setFont(font);
-    p.setPen(Qt::black);
+    set_label_font(p, 13);
     for (size_t c = 0; c < cols.size(); ++c) {
         const int x = label_w + static_cast<int>(c) * P;
         p.drawText(QRect(x, 0, P, label_h), Qt::AlignCenter,

@@ -13,6 +13,12 @@ namespace {
 
 using namespace canonform::cli;
 
+/// One command of the tool: its name and the function that adds it to the app.
+struct Command {
+    const char* name;
+    AddCommand* add;
+};
+
 /// Every command, in the order of `canonform --help`. A new command: one line here.
 const Command kCommands[] = {
     {"conformal", add_conformal},   {"features", add_features}, {"canonical", add_canonical},

@@ -38,8 +38,7 @@ void add_conformal(CLI::App& app) {
     };
     auto a = std::make_shared<Args>();
     auto* c = app.add_subcommand("conformal", "the conformal factor (eqs. 7-9) as vertex quality of a PLY");
-    c->add_option("IN", a->in, "input mesh (OFF, PLY, OBJ, STL)")->required();
-    c->add_option("OUT", a->out, "output PLY (conformal factor as vertex quality)")->required();
+    add_in_out(c, a->in, a->out, "output PLY (conformal factor as vertex quality)");
     c->add_flag("--raw", a->raw, "store the raw conformal factor (mean zero) instead of [0, 1]");
     c->add_flag("--json", a->json, "print a JSON summary on stdout");
     c->callback([a] {
@@ -63,8 +62,7 @@ void add_features(CLI::App& app) {
     };
     auto a = std::make_shared<Args>();
     auto* c = app.add_subcommand("features", "the feature points (2-ring maxima of the conformal factor) as a point cloud");
-    c->add_option("IN", a->in, "input mesh (OFF, PLY, OBJ, STL)")->required();
-    c->add_option("OUT", a->out, "output PLY: the feature points (quality: conformal factor)")->required();
+    add_in_out(c, a->in, a->out, "output PLY: the feature points (quality: conformal factor)");
     c->add_option("--ring", a->ring, "k of the k-ring in which a feature point is a strict maximum")
         ->check(CLI::Range(1, 10));
     c->add_option("--fill", a->fill, "none: local maxima only (variant N); random: seeded random vertices up to "
@@ -109,9 +107,7 @@ void add_canonical(CLI::App& app) {
     std::string names = "euclidean (with --variant)";
     for (const auto& m : canonical_methods()) names += ", " + m.name;
     auto* c = app.add_subcommand("canonical", "the canonical form of a mesh, by any method of the registry");
-    c->add_option("IN", a->in, "input mesh (OFF, PLY, OBJ, STL)")->required();
-    c->add_option("OUT", a->out, "output PLY (the form; quality: the conformal factor where the method has one)")
-        ->required();
+    add_in_out(c, a->in, a->out, "output PLY (the form; quality: the conformal factor where the method has one)");
     c->add_option("--method", a->method, "the method: " + names);
     c->add_option("--variant", a->variant, "with --method euclidean: A or N (the paper's variants)")
         ->check(CLI::IsMember({"A", "N"}));
@@ -172,13 +168,12 @@ void add_simplify(CLI::App& app) {
     };
     auto a = std::make_shared<Args>();
     auto* c = app.add_subcommand("simplify", "quadric edge collapse to about K vertices, as MeshLab's filter");
-    c->add_option("IN", a->in, "input mesh (OFF, PLY, OBJ, STL)")->required();
-    c->add_option("OUT", a->out, "output PLY")->required();
+    add_in_out(c, a->in, a->out, "output PLY");
     c->add_option("--vertices", a->vertices, "target vertex count K")->required()->check(CLI::PositiveNumber);
     c->callback([a] {
         const Mesh m = io::read_mesh(a->in);
         validate_and_note(a->in, m, false);
-        const Mesh s = on_input(a->in, [&] { return io::simplify_mesh(m, a->vertices); });
+        const Mesh s = on_input(a->in, [&] { return simplify_mesh(m, a->vertices); });
         io::write_ply(a->out, s.V, s.F);
         std::cerr << "simplified " << m.V.rows() << " -> " << s.V.rows() << " vertices\n";
     });

@@ -80,13 +80,9 @@ void write_picture(const std::string& path, const PictureInputs& in, int panel) 
         panels.push_back({panel_image(in.canonical, Cc, P, panel), "canonical form"});
     }
     const int label_h = 28;
-    QImage out(static_cast<int>(panels.size()) * panel, panel + label_h, QImage::Format_RGB888);
-    out.fill(Qt::white);
+    QImage out = cli::white_canvas(static_cast<int>(panels.size()) * panel, panel + label_h);
     QPainter p(&out);
-    QFont font = p.font();
-    font.setPixelSize(16);
-    p.setFont(font);
-    p.setPen(Qt::black);
+    cli::set_label_font(p, 16);
     for (size_t k = 0; k < panels.size(); ++k) {
         const int x = static_cast<int>(k) * panel;
         p.drawImage(x, label_h, panels[k].image);

@@ -55,20 +55,15 @@ void add_views(CLI::App& app) {
     };
     auto a = std::make_shared<Args>();
     auto* c = app.add_subcommand("views", "the 66 depth views of a mesh as PNG, and a contact sheet of them");
-    c->add_option("IN", a->in, "input mesh (OFF, PLY, OBJ, STL)")->required();
-    c->add_option("DIR", a->dir, "output folder")->required();
+    add_in_out(c, a->in, a->dir, "output folder");
     a->add(c);
     c->callback([a] {
         const views::ViewSet vs = a->views_of(a->in);
         io::make_directories(a->dir);
-        ensure_gui_application();  // fonts for the contact sheet's labels
         const int cols = 11, thumb = 128, label = 16;
-        QImage sheet(cols * thumb, 6 * (thumb + label), QImage::Format_RGB888);
-        sheet.fill(Qt::white);
+        QImage sheet = white_canvas(cols * thumb, 6 * (thumb + label));
         QPainter p(&sheet);
-        QFont font = p.font();
-        font.setPixelSize(11);
-        p.setFont(font);
+        set_label_font(p, 11);
         const auto counts = vs.keypoint_counts();
         for (size_t k = 0; k < vs.images.size(); ++k) {
             const QImage img = to_qimage(vs.images[k]);
@@ -131,8 +126,7 @@ void add_descriptor(CLI::App& app) {
     };
     auto a = std::make_shared<Args>();
     auto* c = app.add_subcommand("descriptor", "the view descriptor file of a mesh (histograms, or raw SIFT features)");
-    c->add_option("IN", a->in, "input mesh (OFF, PLY, OBJ, STL)")->required();
-    c->add_option("OUT", a->out, "output descriptor file (.cfvd)")->required();
+    add_in_out(c, a->in, a->out, "output descriptor file (.cfvd)");
     c->add_option("--codebook", a->codebook, "codebook file (without: raw SIFT features)");
     c->add_flag("--json", a->json, "print a JSON summary on stdout");
     a->add(c);

@@ -22,6 +22,13 @@ std::vector<MethodParameter> smacof_parameters(const char* max_iterations) {
             {"max_iterations", max_iterations, "SMACOF iteration cap", 1, 1e7, true, {}, true, false, "max-iter"}};
 }
 
+/// The SMACOF settings every SMACOF-based method reads.
+template <class Options>
+void read_smacof_settings(const MethodSettings& s, Options* o) {
+    o->tolerance = s.number("tolerance");
+    o->max_iterations = s.integer("max_iterations");
+}
+
 CanonicalMethod none_method() {
     CanonicalMethod m;
     m.name = "none";
@@ -61,8 +68,7 @@ CanonicalMethod euclidean_method(CanonicalVariant variant) {
         o.beta = s.number("beta");
         o.ring = s.integer("ring");
         o.seed = static_cast<std::uint64_t>(s.number("seed"));
-        o.tolerance = s.number("tolerance");
-        o.max_iterations = s.integer("max_iterations");
+        read_smacof_settings(s, &o);
         const std::string& solver = s.text("solver");
         o.linear_solver = solver == "direct"      ? LinearSolver::Direct
                           : solver == "multigrid" ? LinearSolver::Multigrid
@@ -131,8 +137,7 @@ CanonicalMethod geodesic_method(MdsMethod mds) {
                         const MethodContext& c) {
         GeodesicCanonicalFormOptions o;
         o.method = mds;
-        o.tolerance = s.number("tolerance");
-        o.max_iterations = s.integer("max_iterations");
+        read_smacof_settings(s, &o);
         o.max_memory_gib = s.number("max_memory_gib");
         o.max_seconds = s.number("max_seconds");
         o.threads = c.threads;

@@ -8,7 +8,11 @@
 #if defined(CANONFORM_MESHLAB_API) && CANONFORM_MESHLAB_API == 2022
 #include "canonform/meshlab/meshlab2022_adapter.h"
 using TableFilterPlugin = TableFilterPlugin2022;
+/// The plugin interface a plugin class declares (after Q_OBJECT), for the API being built.
+#define CANONFORM_PLUGIN_INTERFACES MESHLAB_PLUGIN_IID_EXPORTER(FILTER_PLUGIN_IID) Q_INTERFACES(FilterPlugin)
 #else
 #include "canonform/meshlab/meshlab2020_adapter.h"
 using TableFilterPlugin = TableFilterPlugin2020;
+#define CANONFORM_PLUGIN_INTERFACES \
+    MESHLAB_PLUGIN_IID_EXPORTER(MESH_FILTER_INTERFACE_IID) Q_INTERFACES(MeshFilterInterface)
 #endif

@@ -510,6 +510,17 @@ inline int cell_index(int x, int y, int z) {
     return x + kBlock * (y + kBlock * z);
 }
 
+/// The values at the 8 corners of cell (x, y, z) of a block (corner m at (m & 1, (m >> 1) & 1,
+/// (m >> 2) & 1)) and their inside pattern (bit m set where c[m] < 0).
+int cell_corners(const Block& blk, int x, int y, int z, double c[8]) {
+    int mask = 0;
+    for (int m = 0; m < 8; ++m) {
+        c[m] = blk.val[static_cast<size_t>(point_index(x + (m & 1), y + ((m >> 1) & 1), z + ((m >> 2) & 1)))];
+        if (c[m] < 0.0) mask |= 1 << m;
+    }
+    return mask;
+}
+
 /// For each of the 256 inside/outside patterns of a cell's corners (bit m = corner m inside;
 /// corner m is at (m & 1, (m >> 1) & 1, (m >> 2) & 1)): true if surface nets would not produce a
 /// single disc around the cell's vertex, i.e. a face has a checkerboard pattern (its dual edge
@@ -591,12 +602,7 @@ bool repair_ambiguities(std::vector<Block>* blocks, const std::vector<int>& slot
                 for (int y = 0; y < kBlock; ++y)
                     for (int x = 0; x < kBlock; ++x) {
                         double c[8];
-                        int mask = 0;
-                        for (int m = 0; m < 8; ++m) {
-                            c[m] = blk.val[static_cast<size_t>(
-                                point_index(x + (m & 1), y + ((m >> 1) & 1), z + ((m >> 2) & 1)))];
-                            if (c[m] < 0.0) mask |= 1 << m;
-                        }
+                        const int mask = cell_corners(blk, x, y, z, c);
                         if (!ambiguous[static_cast<size_t>(mask)]) continue;
                         // Corners by increasing |value|; flip the first that resolves the cell,
                         // else the one nearest to zero.
@@ -710,12 +716,7 @@ bool surface_nets(const BodySdf& sdf, const Eigen::AlignedBox3d& box, double h,
             for (int y = 0; y < kBlock; ++y)
                 for (int x = 0; x < kBlock; ++x) {
                     double c[8];
-                    int mask = 0;
-                    for (int m = 0; m < 8; ++m) {
-                        c[m] = blk.val[static_cast<size_t>(
-                            point_index(x + (m & 1), y + ((m >> 1) & 1), z + ((m >> 2) & 1)))];
-                        if (c[m] < 0.0) mask |= 1 << m;
-                    }
+                    const int mask = cell_corners(blk, x, y, z, c);
                     if (mask == 0 || mask == 255) continue;
                     ++count;
                     if (count_only) continue;
@@ -1418,28 +1419,23 @@ std::array<Matrix3d, kNumBones> joint_rotations(const FigurePose& p) {
     std::array<Matrix3d, kNumBones> R;
     R.fill(Matrix3d::Identity());
     R[kHead] = rot(Z, p.head_yaw) * rot(X, p.head_pitch);
-    auto arm = [&](const ArmPose& a, int upper, int lower, bool right) {
-        Matrix3d ru = rot(Z, -a.shoulder_forward) * rot(Y, a.shoulder_down);
-        Matrix3d rl = rot(Z, -a.elbow_bend);
+    // A limb's upper and lower rotations; right limbs mirror the left ones' (M R M).
+    auto limb = [&](Matrix3d ru, Matrix3d rl, int upper, int lower, bool right) {
         if (right) {
             ru = M * ru * M;
             rl = M * rl * M;
         }
         R[static_cast<size_t>(upper)] = ru;
         R[static_cast<size_t>(lower)] = rl;
+    };
+    auto arm = [&](const ArmPose& a, int upper, int lower, bool right) {
+        limb(rot(Z, -a.shoulder_forward) * rot(Y, a.shoulder_down), rot(Z, -a.elbow_bend), upper, lower, right);
+    };
+    auto leg = [&](const LegPose& l, int upper, int lower, bool right) {
+        limb(rot(X, -l.hip_forward) * rot(Y, -l.hip_out), rot(X, l.knee_bend), upper, lower, right);
     };
     arm(p.left_arm, kLUpperArm, kLLowerArm, false);
     arm(p.right_arm, kRUpperArm, kRLowerArm, true);
-    auto leg = [&](const LegPose& l, int upper, int lower, bool right) {
-        Matrix3d ru = rot(X, -l.hip_forward) * rot(Y, -l.hip_out);
-        Matrix3d rl = rot(X, l.knee_bend);
-        if (right) {
-            ru = M * ru * M;
-            rl = M * rl * M;
-        }
-        R[static_cast<size_t>(upper)] = ru;
-        R[static_cast<size_t>(lower)] = rl;
-    };
     leg(p.left_leg, kLUpperLeg, kLLowerLeg, false);
     leg(p.right_leg, kRUpperLeg, kRLowerLeg, true);
     R[kTail1] = rot(Z, -p.tail_swing) * rot(X, 0.5 * p.tail_curl);

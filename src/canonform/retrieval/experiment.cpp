@@ -103,7 +103,7 @@ MeshFeatures Experiment::mesh_features(const MethodSpec& method, std::size_t k) 
             return r;
         }
         Mesh m = io::read_mesh(model.path);
-        if (o.simplify > 0 && m.V.rows() > o.simplify) m = io::simplify_mesh(m, o.simplify);
+        if (o.simplify > 0 && m.V.rows() > o.simplify) m = simplify_mesh(m, o.simplify);
         if (o.noise > 0) add_noise(m, o.noise, o.seed ^ model.hash);
         MethodContext context;
         context.threads = 1;  // the meshes run in parallel

@@ -18,7 +18,7 @@
 
 #include <string>
 
-namespace canonform::io {
+namespace canonform {
 
 namespace {
 
@@ -111,4 +111,4 @@ Mesh simplify_mesh(const Mesh& mesh, int target_vertices) {
     return out;
 }
 
-}  // namespace canonform::io
+}  // namespace canonform
