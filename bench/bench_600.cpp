@@ -9,13 +9,13 @@
 // the machine may be shared, and CPU seconds are what an extrapolation to 2 idle cores needs.
 // Prints one JSON line per stage.
 //   canonform_bench_600 MESH... [--models 600] [--words 1500] [--sample 200000] [--threads 2]
-#include "core/bag_of_features.h"
-#include "core/codebook.h"
-#include "core/euclidean_canonical_form.h"
-#include "core/view_descriptor.h"
-#include "core/view_directions.h"
+#include "canonform/views/bag_of_features.h"
+#include "canonform/views/codebook.h"
+#include "canonform/canonical/euclidean_canonical_form.h"
+#include "canonform/views/view_descriptor.h"
+#include "canonform/views/view_directions.h"
 #include "bench_util.h"
-#include "mesh_io.h"
+#include "canonform/io/mesh_io.h"
 
 #include <algorithm>
 #include <chrono>

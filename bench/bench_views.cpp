@@ -2,12 +2,12 @@
 // renders + SIFT + histograms - in at most 1 s on one core; a 600 x 600 clock-matching distance
 // matrix in at most 60 s on 2 cores). Prints JSON lines with medians.
 //   canonform_bench_views MESH [--repeats R]
-#include "core/bag_of_features.h"
-#include "core/codebook.h"
-#include "core/view_descriptor.h"
-#include "core/view_directions.h"
+#include "canonform/views/bag_of_features.h"
+#include "canonform/views/codebook.h"
+#include "canonform/views/view_descriptor.h"
+#include "canonform/views/view_directions.h"
 #include "bench_util.h"
-#include "mesh_io.h"
+#include "canonform/io/mesh_io.h"
 
 #include <algorithm>
 #include <chrono>

@@ -3,7 +3,7 @@
 # figures, pose 1), single-threaded, medians of several runs measured in one run: variant N with
 # each of SMACOF's two linear solvers side by side (direct LDL^T factor, AMG V-cycle), both
 # variants. The report adds the default "auto" (direct below 40k vertices, multigrid from there:
-# SmacofSolverOptions::multigrid_from in filter_canonical/core/smacof.h). Writes
+# SmacofSolverOptions::multigrid_from in src/canonform/numerics/smacof.h). Writes
 # bench/results/canonical_form.{csv,md,png}.
 #   bench/run_bench.sh [--quick]        (--quick: 2k and 10k only, 3 repeats)
 set -euo pipefail

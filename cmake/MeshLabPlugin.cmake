@@ -12,7 +12,8 @@
 # system), the last two options CANONFORM_MESHLAB2022 / CANONFORM_MESHLAB2025
 # (cmake/MeshLabFromSource.cmake). API 2020 is MeshLab 2020.09's MeshFilterInterface; 2022 and
 # 2025 are the FilterPlugin API, which 2025.07 kept (its headers were split and some parameter
-# classes renamed: filter_canonical/meshlab_adapter.h and the adapters take care of that).
+# classes renamed, none of which our adapters use: src/canonform/meshlab/meshlab2022_adapter.cpp
+# compiles against both).
 
 set(CANONFORM_PLUGIN_INSTALL_DIR "lib/x86_64-linux-gnu/meshlab/plugins" CACHE STRING
     "Plugin directory relative to the install prefix (where Debian's MeshLab looks: /usr/<this>)")
@@ -46,7 +47,9 @@ endfunction()
 # manager refuses it, with its message. It is never applied.
 function(canonform_add_meshlab_plugin name)
   cmake_parse_arguments(P "WRONG_PRECISION" "" "SOURCES;LIBRARIES;SCRIPTS;INCLUDE_DIRS" ${ARGN})
-  set(glue "${PROJECT_SOURCE_DIR}/filter_canonical")
+  set(glue "${PROJECT_SOURCE_DIR}/src/canonform/meshlab")  # the MeshLab glue both plugins share
+  set(glue_headers "${glue}/meshlab_adapter.h" "${glue}/meshlab_adapter_common.h" "${glue}/vcg_bridge.h"
+                   "${glue}/meshlab_document.h")
   get_property(flavours GLOBAL PROPERTY CANONFORM_MESHLAB_FLAVOURS)
   foreach(f ${flavours})
     foreach(k COMMON API SCALAR VERSION DIR INSTALLED)
@@ -67,10 +70,10 @@ function(canonform_add_meshlab_plugin name)
       list(APPEND variants ${target}_wrong_precision)
     endif()
     foreach(t ${variants})
-      add_library(${t} MODULE ${P_SOURCES} ${adapter})
+      add_library(${t} MODULE ${P_SOURCES} ${adapter} ${glue_headers})
       set_target_properties(${t} PROPERTIES AUTOMOC ON PREFIX "lib" OUTPUT_NAME ${name})
-      target_include_directories(${t} PRIVATE "${CMAKE_CURRENT_SOURCE_DIR}" "${glue}" ${P_INCLUDE_DIRS})
-      target_link_libraries(${t} PRIVATE ${COMMON} ${P_LIBRARIES} canonform::warnings)
+      target_include_directories(${t} PRIVATE "${CMAKE_CURRENT_SOURCE_DIR}" ${P_INCLUDE_DIRS})
+      target_link_libraries(${t} PRIVATE ${COMMON} canonform::filter_table ${P_LIBRARIES} canonform::warnings)
     endforeach()
     set_target_properties(${target} PROPERTIES LIBRARY_OUTPUT_DIRECTORY "${DIR}")
     target_link_options(${target} PRIVATE -Wl,--no-undefined)

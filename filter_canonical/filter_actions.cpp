@@ -1,13 +1,12 @@
 #include "filter_actions.h"
 
-#include "core/conformal_factor.h"
-#include "core/euclidean_canonical_form.h"
-#include "core/feature_points.h"
-#include "core/geodesic_canonical_form.h"
-#include "core/mesh_topology.h"
-#include "vcg_bridge.h"
+#include "canonform/surface/conformal_factor.h"
+#include "canonform/canonical/method_registry.h"
+#include "canonform/meshlab/meshlab_document.h"
+#include "canonform/meshlab/vcg_bridge.h"
+#include "canonform/surface/feature_points.h"
+#include "canonform/surface/mesh_topology.h"
 
-#include "meshlab_document.h"
 #include <vcg/complex/algorithms/update/bounding.h>
 #include <vcg/complex/algorithms/update/color.h>
 #include <vcg/complex/algorithms/update/normal.h>
@@ -17,6 +16,8 @@
 #include <QFileInfo>
 
 #include <sstream>
+#include <type_traits>
+#include <variant>
 
 namespace canonform::plugin {
 
@@ -46,6 +47,16 @@ QString layer_name(const MeshModel& mm, const char* suffix) {
     return QFileInfo(mm.label()).completeBaseName() + suffix;
 }
 
+/// The conformal factor of a bridged mesh, after validate_and_note().
+template <class Bridged>
+ConformalFactorResult validated_conformal_factor(const Bridged& b, const ActionContext& ctx) {
+    validate_and_note(b, ctx);
+    ConformalFactorOptions opt;
+    opt.progress = ctx.progress;
+    opt.validate = false;
+    return conformal_factor(b.V, b.F, opt);
+}
+
 void check_ring(int ring) {
     if (ring < 1 || ring > 10) throw InputError("the ring size must be between 1 and 10");
 }
@@ -53,15 +64,11 @@ void check_ring(int ring) {
 ActionOutputs conformal_factor_action(MeshDocument& md, const ParamValues& p, const ActionContext& ctx) {
     MeshModel& mm = current_mesh(md);
     const auto b = to_eigen(mm.cm);
-    validate_and_note(b, ctx);
-    ConformalFactorOptions opt;
-    opt.progress = ctx.progress;
-    opt.validate = false;
-    const ConformalFactorResult cf = conformal_factor(b.V, b.F, opt);
-    const bool normalized = p.get_bool(param::normalize);
+    const ConformalFactorResult cf = validated_conformal_factor(b, ctx);
+    const bool normalized = p.get_bool("normalize");
     mm.updateDataMask(MeshModel::MM_VERTQUALITY);
     write_quality(b, normalized ? cf.normalized : cf.raw);
-    if (p.get_bool(param::colorize)) {
+    if (p.get_bool("colorize")) {
         mm.updateDataMask(MeshModel::MM_VERTCOLOR);
         vcg::tri::UpdateColor<CMeshO>::PerVertexQualityRamp(mm.cm);
     }
@@ -76,18 +83,14 @@ ActionOutputs conformal_factor_action(MeshDocument& md, const ParamValues& p, co
 
 ActionOutputs feature_points_action(MeshDocument& md, const ParamValues& p, const ActionContext& ctx) {
     MeshModel& mm = current_mesh(md);
-    const int ring = p.get_int(param::ring);
+    const int ring = p.get_int("ring");
     check_ring(ring);
     const auto b = to_eigen(mm.cm);
-    validate_and_note(b, ctx);
-    ConformalFactorOptions cf_opt;
-    cf_opt.progress = ctx.progress;
-    cf_opt.validate = false;
-    const ConformalFactorResult cf = conformal_factor(b.V, b.F, cf_opt);
+    const ConformalFactorResult cf = validated_conformal_factor(b, ctx);
     FeaturePointOptions opt;
     opt.ring = ring;
-    opt.fill = p.get_int(param::fill) == 1 ? FeatureFill::Random : FeatureFill::None;
-    opt.seed = static_cast<std::uint64_t>(p.get_int(param::seed));
+    opt.fill = p.get_int("fill") == 1 ? FeatureFill::Random : FeatureFill::None;
+    opt.seed = static_cast<std::uint64_t>(p.get_int("seed"));
     const FeaturePoints fp = feature_points(b.F, cf.normalized, opt);
 
     // Everything computed: now change the document.
@@ -95,7 +98,7 @@ ActionOutputs feature_points_action(MeshDocument& md, const ParamValues& p, cons
     for (int v : fp.indices) b.vertices[static_cast<size_t>(v)]->SetS();
     mm.updateDataMask(MeshModel::MM_VERTQUALITY);
     write_quality(b, cf.normalized);
-    if (p.get_bool(param::add_layer)) {
+    if (p.get_bool("add_layer")) {
         MeshModel* layer = md.addNewMesh("", layer_name(mm, " feature points"), false);
         layer->updateDataMask(MeshModel::MM_VERTQUALITY);
         auto vi = vcg::tri::Allocator<CMeshO>::AddVertices(layer->cm, fp.indices.size());
@@ -143,68 +146,51 @@ void write_canonical_form(MeshDocument& md, MeshModel& mm, const Bridged& b, con
     vcg::tri::UpdateBounding<CMeshO>::Box(target->cm);
 }
 
-ActionOutputs canonical_form_action(MeshDocument& md, const ParamValues& p, const ActionContext& ctx) {
-    MeshModel& mm = current_mesh(md);
-    EuclideanCanonicalFormOptions opt;
-    opt.variant = p.get_int(param::variant) == 1 ? CanonicalVariant::N : CanonicalVariant::A;
-    opt.alpha = p.get(param::alpha);
-    opt.beta = p.get(param::beta);
-    opt.ring = p.get_int(param::ring);
-    check_ring(opt.ring);
-    opt.seed = static_cast<std::uint64_t>(p.get_int(param::seed));
-    opt.tolerance = p.get(param::tolerance);
-    opt.max_iterations = p.get_int(param::max_iterations);
-    opt.progress = ctx.progress;
-    opt.validate = false;  // validate_and_note() below
-    if (p.get(param::beta) < 0) throw InputError("beta must be positive (or 0 for the variant's default)");
-
-    const auto b = to_eigen(mm.cm);
-    validate_and_note(b, ctx);
-    const EuclideanCanonicalFormResult r = euclidean_canonical_form(b.V, b.F, opt);
-
-    write_canonical_form(md, mm, b, r.V, &r.phi, &r.features, p.get_bool(param::new_layer));
-
-    std::ostringstream log;
-    log << "Euclidean canonical form of '" << mm.label().toStdString() << "' (variant "
-        << (opt.variant == CanonicalVariant::A ? "A" : "N") << ", alpha " << opt.alpha << ", beta " << r.beta
-        << "): " << b.V.rows() << " vertices, " << r.features.size() << " feature points (" << r.num_maxima
-        << " maxima, " << r.num_random << " random), " << r.iterations << " SMACOF iterations"
-        << (r.converged ? "" : " (iteration cap reached)") << ", stress " << r.initial_stress << " -> "
-        << r.final_stress << ", mean relative edge-length change " << r.mean_relative_edge_change << ", "
-        << r.seconds << " s";
-    ctx.log(log.str());
-    return {{"iterations", int(r.iterations)}, {"initial_stress", r.initial_stress},
-            {"final_stress", r.final_stress}, {"mean_relative_edge_change", r.mean_relative_edge_change},
-            {"feature_points", int(r.features.size())}, {"maxima", int(r.num_maxima)},
-            {"random", int(r.num_random)}, {"beta", r.beta}, {"seconds", r.seconds}, {"converged", bool(r.converged)}};
+/// The settings of `method` from the filter's parameters of the same names (the others keep the
+/// method's defaults).
+MethodSettings method_settings(const CanonicalMethod& method, const FilterSpec& spec, const ParamValues& p) {
+    std::vector<std::pair<std::string, std::string>> given;
+    for (const ParamSpec& fp : spec.params) {
+        if (!method.parameter(fp.name)) continue;
+        std::ostringstream v;
+        v.precision(17);
+        if (fp.kind == ParamKind::String)
+            v << p.get_string(fp.name);
+        else
+            v << p.get(fp.name);
+        given.emplace_back(fp.name, v.str());
+    }
+    return method.settings(given);
 }
 
-ActionOutputs geodesic_form_action(MeshDocument& md, const ParamValues& p, const ActionContext& ctx) {
+/// "Euclidean canonical form" and "Geodesic canonical form": the method of the registry that the
+/// filter's enum (`variant` / `method`) names, its result in a new layer or in place.
+ActionOutputs canonical_form_action(FilterId id, MeshDocument& md, const ParamValues& p, const ActionContext& ctx) {
     MeshModel& mm = current_mesh(md);
-    GeodesicCanonicalFormOptions opt;
-    const int method = p.get_int(param::method);
-    opt.method = method == 1 ? GeodesicMds::Classical : method == 2 ? GeodesicMds::Fast : GeodesicMds::LeastSquares;
-    opt.tolerance = p.get(param::tolerance);
-    opt.max_iterations = p.get_int(param::max_iterations);
-    opt.max_memory_gib = p.get(param::max_memory_gib);
-    opt.max_seconds = p.get(param::max_seconds);
-    opt.progress = ctx.progress;
+    const FilterSpec& spec = filter_spec(filter_table(), int(id));
+    const bool euclidean = id == FilterId::EuclideanCanonicalForm;
+    const auto methods = canonical_methods_of(euclidean ? MethodFamily::Euclidean : MethodFamily::Geodesic);
+    const int choice = p.get_int(euclidean ? "variant" : "method");
+    if (choice < 0 || choice >= static_cast<int>(methods.size())) throw InputError("unknown method choice");
+    const CanonicalMethod& method = *methods[static_cast<size_t>(choice)];
+    const MethodSettings settings = method_settings(method, spec, p);
+
     const auto b = to_eigen(mm.cm);
     validate_and_note(b, ctx);
-    const GeodesicCost cost = estimate_geodesic_canonical_form(b.V.rows(), opt.method, opt.threads);
-    ctx.log("Geodesic canonical form of '" + mm.label().toStdString() + "': " + std::to_string(b.V.rows()) +
-            " vertices, estimated " + cost.describe());
-    const GeodesicCanonicalFormResult r = geodesic_canonical_form(b.V, b.F, opt);
-    write_canonical_form(md, mm, b, r.V, nullptr, nullptr, p.get_bool(param::new_layer));
-    std::ostringstream log;
-    log << "Geodesic canonical form of '" << mm.label().toStdString() << "' (" << geodesic_mds_name(opt.method)
-        << "): " << b.V.rows() << " vertices, geodesics " << r.geodesic_seconds << " s, MDS " << r.mds_seconds
-        << " s (" << r.iterations << " iterations, stress " << r.initial_stress << " -> " << r.final_stress
-        << "), mean relative edge-length change " << r.mean_relative_edge_change << ", " << r.seconds << " s";
-    ctx.log(log.str());
-    return {{"iterations", int(r.iterations)}, {"initial_stress", r.initial_stress},
-            {"final_stress", r.final_stress}, {"mean_relative_edge_change", r.mean_relative_edge_change},
-            {"geodesic_seconds", r.geodesic_seconds}, {"mds_seconds", r.mds_seconds}, {"seconds", r.seconds}};
+    MethodContext context;
+    context.progress = ctx.progress;
+    context.validate = false;  // validate_and_note() above
+    const CanonicalForm r = method.run(b.V, b.F, settings, context);
+    write_canonical_form(md, mm, b, r.V, r.quality.size() ? &r.quality : nullptr,
+                         r.features.empty() ? nullptr : &r.features, p.get_bool("new_layer"));
+    ctx.log(std::string(spec.name) + " of '" + mm.label().toStdString() + "': " + r.description);
+    ActionOutputs out;
+    for (const auto& [key, value] : r.summary)
+        if (!std::holds_alternative<std::string>(value))
+            std::visit([&out, k = key](const auto& v) {
+                if constexpr (!std::is_same_v<std::decay_t<decltype(v)>, std::string>) out[k] = v;
+            }, value);
+    return out;
 }
 
 }  // namespace
@@ -214,8 +200,8 @@ ActionOutputs apply_filter_action(int id, MeshDocument& md, const ParamValues& p
     switch (static_cast<FilterId>(id)) {
     case FilterId::ConformalFactor: return conformal_factor_action(md, params, context);
     case FilterId::FeaturePoints: return feature_points_action(md, params, context);
-    case FilterId::EuclideanCanonicalForm: return canonical_form_action(md, params, context);
-    case FilterId::GeodesicCanonicalForm: return geodesic_form_action(md, params, context);
+    case FilterId::EuclideanCanonicalForm:
+    case FilterId::GeodesicCanonicalForm: return canonical_form_action(static_cast<FilterId>(id), md, params, context);
     }
     throw InputError("unknown filter");
 }

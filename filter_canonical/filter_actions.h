@@ -5,8 +5,8 @@
 // writes the result back (quality, colour, selection, new layer).
 #pragma once
 
-#include "core/errors.h"
-#include "filter_table.h"
+#include "canonform/common/errors.h"
+#include "canonical_filter_table.h"
 
 
 class MeshDocument;

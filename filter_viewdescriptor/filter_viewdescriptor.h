@@ -3,12 +3,10 @@
 // (meshlab_adapter.h: MeshLab 2020.09, or the FilterPlugin API of MeshLab 2022.02 and 2025.07).
 #pragma once
 
-#include "meshlab_adapter.h"
+#include "canonform/meshlab/meshlab_adapter.h"
 
 class FilterViewDescriptorPlugin : public TableFilterPlugin {
-    Q_OBJECT
-    CANONFORM_FILTER_PLUGIN_INTERFACE
-
+    Q_OBJECT CANONFORM_PLUGIN_INTERFACES
 public:
     FilterViewDescriptorPlugin();
 };

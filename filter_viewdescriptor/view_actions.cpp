@@ -1,10 +1,10 @@
 #include "view_actions.h"
 
-#include "core/descriptor_file.h"
-#include "core/view_descriptor.h"
-#include "vcg_bridge.h"
+#include "canonform/views/descriptor_file.h"
+#include "canonform/views/view_descriptor.h"
+#include "canonform/meshlab/vcg_bridge.h"
 
-#include "meshlab_document.h"
+#include "canonform/meshlab/meshlab_document.h"
 
 #include <QDir>
 #include <QImage>
@@ -38,14 +38,14 @@ std::vector<double> flatten(const views::ModelDescriptor& d) {
 ActionOutputs depth_view_descriptor(MeshDocument& md, const ParamValues& p, const ActionContext& ctx) {
     if (md.mm() == nullptr) throw InputError("there is no current mesh");
     MeshModel& mm = *md.mm();
-    const std::string out = p.get_string(param::output_file);  // empty: no file (pymeshlab gets the vector)
-    const std::string cb_path = p.get_string(param::codebook_file);
-    const int size = p.get_int(param::image_size);
+    const std::string out = p.get_string("output_file");  // empty: no file (pymeshlab gets the vector)
+    const std::string cb_path = p.get_string("codebook_file");
+    const int size = p.get_int("image_size");
     if (size < 32 || size > 2048) throw InputError("the image size must be between 32 and 2048 pixels");
 
     views::ViewDescriptorOptions opt;
     opt.image_size = size;
-    opt.pose.seed = static_cast<std::uint64_t>(p.get_int(param::seed));
+    opt.pose.seed = static_cast<std::uint64_t>(p.get_int("seed"));
     const views::Codebook* codebook = nullptr;
     views::Codebook cb;
     if (!cb_path.empty()) {
@@ -57,18 +57,8 @@ ActionOutputs depth_view_descriptor(MeshDocument& md, const ParamValues& p, cons
     const views::ViewSet vs = views::compute_views(b.V, b.F, opt);
     report_progress(ctx.progress, 0.8, "writing the descriptor");
 
-    views::ModelDescriptor d;
-    d.source = mm.fullName().toStdString();
-    d.views = static_cast<int>(vs.images.size());
-    d.image_size = size;
-    d.keypoints_per_view = vs.keypoint_counts();
-    if (codebook) {
-        d.codebook_words = codebook->size();
-        d.histograms = views::view_histograms(vs, *codebook);
-    } else {
-        d.raw = vs.features;
-    }
-    const std::string views_dir = p.get_string(param::views_folder);
+    const views::ModelDescriptor d = views::make_descriptor(vs.features, codebook, mm.fullName().toStdString(), size);
+    const std::string views_dir = p.get_string("views_folder");
     if (!views_dir.empty()) {
         if (!QDir().mkpath(QString::fromStdString(views_dir)))
             throw InputError("cannot create the folder '" + views_dir + "'");

@@ -1,5 +1,5 @@
 // canonform: what the filter_viewdescriptor filters do to a MeshLab document, independent of the
-// plugin API (see filter_canonical/filter_actions.h).
+// plugin API: the adapters of canonform/meshlab call apply_view_action() with the parameter values.
 #pragma once
 
 #include "view_filter_table.h"

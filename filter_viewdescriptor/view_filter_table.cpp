@@ -16,15 +16,15 @@ const std::vector<FilterSpec>& view_filter_table() {
                      "Compare descriptors with <i>canonform distance</i> (clock matching).<br><br>Z. Lian, A. "
                      "Godil, X. Sun, J. Xiao, <b>\"CM-BOF: visual similarity-based 3D shape retrieval using "
                      "Clock Matching and Bag-of-Features\"</b>, Machine Vision and Applications, 2013.",
-                     {{param::output_file, K::String, 0, "Descriptor file",
+                     {{"output_file", K::String, 0, "Descriptor file",
                        "Where to write the descriptor (canonform's versioned .cfvd format); empty: write no file "
                        "(pymeshlab returns the descriptor as a vector either way).", {}, "descriptor.cfvd"},
-                      {param::codebook_file, K::String, 0, "Codebook file (optional)",
+                      {"codebook_file", K::String, 0, "Codebook file (optional)",
                        "A codebook from 'canonform codebook'; empty: store the raw SIFT features.", {}, ""},
-                      {param::image_size, K::Int, 256, "Image size (pixels)", "Side of each depth image.", {}},
-                      {param::views_folder, K::String, 0, "Write the views to (optional)",
+                      {"image_size", K::Int, 256, "Image size (pixels)", "Side of each depth image.", {}},
+                      {"views_folder", K::String, 0, "Write the views to (optional)",
                        "A folder for the 66 depth images as PNG; empty: do not write them.", {}, ""},
-                      {param::seed, K::Int, 0, "Random seed", "Seed of the rectilinearity restarts.", {}}},
+                      {"seed", K::Int, 0, "Random seed", "Seed of the rectilinearity restarts.", {}}},
                      kNothing, kNothing});
         return t;
     }();

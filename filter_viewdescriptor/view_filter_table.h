@@ -1,17 +1,10 @@
-// canonform: the filter table of the filter_viewdescriptor plugin (plain C++, see
-// filter_canonical/filter_table.h for the types and the conventions).
+// canonform: the filter table of the filter_viewdescriptor plugin (plain C++; the types and the
+// conventions are in canonform/meshlab/filter_table.h).
 #pragma once
 
-#include "filter_table.h"
+#include "canonform/meshlab/filter_table.h"
 
 namespace canonform::plugin {
-
-namespace param {
-inline constexpr const char* output_file = "output_file";
-inline constexpr const char* codebook_file = "codebook_file";
-inline constexpr const char* image_size = "image_size";
-inline constexpr const char* views_folder = "views_folder";
-}  // namespace param
 
 enum class ViewFilterId : int { DepthViewDescriptor = 100 };
 

@@ -2,8 +2,8 @@
 //   canonform_plycheck FILE [REFERENCE]
 // vertices, faces, quality range, and with REFERENCE: the largest quality and position
 // differences, vertex by vertex, and the RMS position difference after the best rigid alignment.
-#include "core/rigid_alignment.h"
-#include "mesh_io.h"
+#include "canonform/numerics/rigid_alignment.h"
+#include "canonform/io/mesh_io.h"
 
 #include <cstdio>
 #include <exception>

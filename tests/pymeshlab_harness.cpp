@@ -13,8 +13,8 @@
 //
 //   canonform_pymeshlab<YYYY>_harness --plugin P.so [--plugin P2.so ...] [--wrong-precision W.so]
 //       [--vertices N] [--pose K] [--codebook CB] --out DIR
-#include "core/procedural_meshes.h"
-#include "meshlab_meshset.h"
+#include "canonform/meshlab/meshlab_meshset.h"
+#include "canonform/procedural/procedural_meshes.h"
 
 #include <common/globals.h>
 #include <common/python/function_set.h>

@@ -1,10 +1,10 @@
-#include "core/algebraic_multigrid.h"
-#include "core/conformal_factor.h"
-#include "core/euclidean_canonical_form.h"
-#include "core/feature_points.h"
-#include "core/mesh_topology.h"
-#include "core/procedural_meshes.h"
-#include "core/sparse_cholesky.h"
+#include "canonform/numerics/algebraic_multigrid.h"
+#include "canonform/surface/conformal_factor.h"
+#include "canonform/canonical/euclidean_canonical_form.h"
+#include "canonform/surface/feature_points.h"
+#include "canonform/surface/mesh_topology.h"
+#include "canonform/procedural/procedural_meshes.h"
+#include "canonform/numerics/sparse_cholesky.h"
 
 #include <gtest/gtest.h>
 

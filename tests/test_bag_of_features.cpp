@@ -1,10 +1,10 @@
 // Tests of the CM-BOF view-descriptor core: SIFT on depth images, codebook, bag-of-features
 // distances, clock matching, the descriptor file. Timings are printed (not asserted, except the
 // 600 x 600 distance matrix budget of 60 s).
-#include "core/bag_of_features.h"
-#include "core/codebook.h"
-#include "core/descriptor_file.h"
-#include "core/sift_features.h"
+#include "canonform/views/bag_of_features.h"
+#include "canonform/views/codebook.h"
+#include "canonform/views/descriptor_file.h"
+#include "canonform/views/sift_features.h"
 
 #include <gtest/gtest.h>
 

@@ -1,7 +1,7 @@
-#include "core/conformal_factor.h"
-#include "core/cotan_laplacian.h"
-#include "core/gaussian_curvature.h"
-#include "core/procedural_meshes.h"
+#include "canonform/surface/conformal_factor.h"
+#include "canonform/surface/cotan_laplacian.h"
+#include "canonform/surface/gaussian_curvature.h"
+#include "canonform/procedural/procedural_meshes.h"
 #include "test_util.h"
 
 #include <gtest/gtest.h>
@@ -25,7 +25,7 @@ TEST(ConformalFactor, SolvesEquationSevenWithTheDocumentedSign) {
 }
 
 TEST(ConformalFactor, NearlyConstantOnASphere) {
-    const TriMesh s = make_icosphere(4);
+    const Mesh s = make_icosphere(4);
     const ConformalFactorResult cf = conformal_factor(s.V, s.F);
     const double sphere_range = cf.raw.maxCoeff() - cf.raw.minCoeff();
     const Figure f = make_figure(2000, figure_pose(0));
@@ -66,14 +66,14 @@ TEST(ConformalFactor, InvariantToRigidMotionScaleAndPose) {
 }
 
 TEST(ConformalFactor, HandlesBoundaries) {
-    const TriMesh d = make_disc(600);
+    const Mesh d = make_disc(600);
     const ConformalFactorResult cf = conformal_factor(d.V, d.F);
     EXPECT_TRUE(cf.raw.allFinite());
     EXPECT_LT(cf.residual, 1e-8);
 }
 
 TEST(ConformalFactor, RejectsBadInput) {
-    const TriMesh s = make_icosphere(1);
+    const Mesh s = make_icosphere(1);
     Eigen::MatrixXd V = s.V;
     V(3, 1) = std::nan("");
     EXPECT_THROW(conformal_factor(V, s.F), InputError);

@@ -1,5 +1,5 @@
-#include "core/cotan_laplacian.h"
-#include "core/procedural_meshes.h"
+#include "canonform/surface/cotan_laplacian.h"
+#include "canonform/procedural/procedural_meshes.h"
 
 #include <gtest/gtest.h>
 
@@ -45,11 +45,11 @@ TEST(CotanLaplacian, RightTriangleHasZeroWeightOppositeTheRightAngle) {
 }
 
 TEST(CotanLaplacian, PropertiesOnSphereTorusDiscAndFigure) {
-    const TriMesh s = make_icosphere(3);
+    const Mesh s = make_icosphere(3);
     expect_laplacian_properties(s.V, s.F);
-    const TriMesh t = make_torus(40, 16);
+    const Mesh t = make_torus(40, 16);
     expect_laplacian_properties(t.V, t.F);
-    const TriMesh d = make_disc(600);
+    const Mesh d = make_disc(600);
     expect_laplacian_properties(d.V, d.F);
     const Figure f = make_figure(2000, figure_pose(2));
     expect_laplacian_properties(f.mesh.V, f.mesh.F);
@@ -57,7 +57,7 @@ TEST(CotanLaplacian, PropertiesOnSphereTorusDiscAndFigure) {
 
 TEST(CotanLaplacian, ReproducesLinearFunctionsInTheInteriorOfAFlatDisc) {
     // For a flat mesh, (L x)_i = 0 at interior vertices for any linear function x.
-    const TriMesh d = make_disc(800);
+    const Mesh d = make_disc(800);
     const Eigen::SparseMatrix<double> L = cotan_laplacian(d.V, d.F);
     const Eigen::VectorXd f = 2 * d.V.col(0) - 3 * d.V.col(1);
     const Eigen::VectorXd Lf = L * f;

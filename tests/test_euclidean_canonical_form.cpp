@@ -1,8 +1,8 @@
-#include "core/euclidean_canonical_form.h"
-#include "core/feature_points.h"
-#include "core/mesh_topology.h"
-#include "core/procedural_meshes.h"
-#include "core/rigid_alignment.h"
+#include "canonform/canonical/euclidean_canonical_form.h"
+#include "canonform/surface/feature_points.h"
+#include "canonform/surface/mesh_topology.h"
+#include "canonform/procedural/procedural_meshes.h"
+#include "canonform/numerics/rigid_alignment.h"
 #include "test_util.h"
 
 #include <gtest/gtest.h>
@@ -149,7 +149,7 @@ TEST(EuclideanCanonicalForm, PairsFollowThePaper) {
 }
 
 TEST(EuclideanCanonicalForm, RejectsBadInputWithAClearMessage) {
-    const TriMesh s = make_icosphere(2);
+    const Mesh s = make_icosphere(2);
     Eigen::MatrixXd V = s.V;
     V(5, 2) = std::numeric_limits<double>::quiet_NaN();
     try {
@@ -164,7 +164,7 @@ TEST(EuclideanCanonicalForm, RejectsBadInputWithAClearMessage) {
 }
 
 TEST(EuclideanCanonicalForm, ReportsCancellation) {
-    const TriMesh s = make_icosphere(3);
+    const Mesh s = make_icosphere(3);
     EuclideanCanonicalFormOptions o;
     o.progress = [](double f, const char*) { return f < 0.05; };
     EXPECT_THROW(euclidean_canonical_form(s.V, s.F, o), Cancelled);

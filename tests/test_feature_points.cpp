@@ -1,6 +1,6 @@
-#include "core/conformal_factor.h"
-#include "core/feature_points.h"
-#include "core/procedural_meshes.h"
+#include "canonform/surface/conformal_factor.h"
+#include "canonform/surface/feature_points.h"
+#include "canonform/procedural/procedural_meshes.h"
 #include "test_util.h"
 
 #include <gtest/gtest.h>

@@ -1,4 +1,4 @@
-#include "filter_table.h"
+#include "canonical_filter_table.h"
 #include "view_filter_table.h"
 
 #include <gtest/gtest.h>

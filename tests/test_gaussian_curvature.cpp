@@ -1,6 +1,6 @@
-#include "core/gaussian_curvature.h"
-#include "core/procedural_meshes.h"
-#include "core/vertex_areas.h"
+#include "canonform/surface/gaussian_curvature.h"
+#include "canonform/procedural/procedural_meshes.h"
+#include "canonform/surface/vertex_areas.h"
 
 #include <gtest/gtest.h>
 
@@ -9,12 +9,12 @@
 using namespace canonform;
 
 TEST(GaussianCurvature, GaussBonnetOnSphere) {
-    const TriMesh s = make_icosphere(3);
+    const Mesh s = make_icosphere(3);
     EXPECT_NEAR(gaussian_curvature(s.V, s.F).sum(), 4 * M_PI, 1e-9);  // chi = 2
 }
 
 TEST(GaussianCurvature, GaussBonnetOnTorus) {
-    const TriMesh t = make_torus(48, 20, 1.0, 0.35);
+    const Mesh t = make_torus(48, 20, 1.0, 0.35);
     const Eigen::VectorXd K = gaussian_curvature(t.V, t.F);
     EXPECT_NEAR(K.sum(), 0.0, 1e-9);  // chi = 0
     // Positive on the outside, negative on the inside of the ring.
@@ -25,7 +25,7 @@ TEST(GaussianCurvature, GaussBonnetOnTorus) {
 }
 
 TEST(GaussianCurvature, GaussBonnetWithBoundaryOnDisc) {
-    const TriMesh d = make_disc(500);
+    const Mesh d = make_disc(500);
     const Eigen::VectorXd K = gaussian_curvature(d.V, d.F);
     EXPECT_NEAR(K.sum(), 2 * M_PI, 1e-9);  // chi = 1; boundary vertices use pi (eq. 8)
     for (Eigen::Index v = 0; v < d.V.rows(); ++v)
@@ -40,10 +40,10 @@ TEST(GaussianCurvature, FigureHasEulerCharacteristicTwo) {
 }
 
 TEST(VertexAreas, SumToSurfaceArea) {
-    const TriMesh s = make_icosphere(4, 2.0);
+    const Mesh s = make_icosphere(4, 2.0);
     const Eigen::VectorXd A = vertex_areas(s.V, s.F);
     EXPECT_NEAR(A.sum(), 4 * M_PI * 4.0, 0.01 * 4 * M_PI * 4.0);
     EXPECT_GT(A.minCoeff(), 0.0);
-    const TriMesh d = make_disc(700, 1.0);
+    const Mesh d = make_disc(700, 1.0);
     EXPECT_NEAR(vertex_areas(d.V, d.F).sum(), M_PI, 0.02 * M_PI);
 }

@@ -1,5 +1,5 @@
-#include "core/geodesic_canonical_form.h"
-#include "core/procedural_meshes.h"
+#include "canonform/canonical/geodesic_canonical_form.h"
+#include "canonform/procedural/procedural_meshes.h"
 #include "test_util.h"
 
 #include <gtest/gtest.h>
@@ -10,7 +10,11 @@ using namespace canonform;
 
 namespace {
 
-class EachMds : public ::testing::TestWithParam<GeodesicMds> {};
+const char* mds_method_name(MdsMethod m) {
+    return m == MdsMethod::LeastSquares ? "least squares" : m == MdsMethod::Classical ? "classical" : "landmark";
+}
+
+class EachMds : public ::testing::TestWithParam<MdsMethod> {};
 
 }  // namespace
 
@@ -28,7 +32,7 @@ TEST_P(EachMds, RemovesMostOfThePose) {
         const Figure p = make_figure(600, figure_pose(pose));
         const auto c = geodesic_canonical_form(p.mesh.V, p.mesh.F, o);
         const double ratio = test::aligned_rms_or_mirrored(c.V, c0.V) / test::aligned_rms(p.mesh.V, p0.mesh.V);
-        std::printf("      %s pose 0-%d: ratio %.2f (%d iterations, %.2f s)\n", geodesic_mds_name(GetParam()),
+        std::printf("      %s pose 0-%d: ratio %.2f (%d iterations, %.2f s)\n", mds_method_name(GetParam()),
                     pose, ratio, c.iterations, c.seconds);
         mean_ratio += ratio / 2;
     }
@@ -44,20 +48,20 @@ TEST(GeodesicCanonicalForm, LeastSquaresLowersTheStress) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Methods, EachMds,
-                         ::testing::Values(GeodesicMds::LeastSquares, GeodesicMds::Classical, GeodesicMds::Fast),
+                         ::testing::Values(MdsMethod::LeastSquares, MdsMethod::Classical, MdsMethod::Landmark),
                          [](const auto& param_info) {
-                             return std::string(param_info.param == GeodesicMds::LeastSquares ? "LS"
-                                                : param_info.param == GeodesicMds::Classical  ? "C"
+                             return std::string(param_info.param == MdsMethod::LeastSquares ? "LS"
+                                                : param_info.param == MdsMethod::Classical  ? "C"
                                                                                                : "F");
                          });
 
 TEST(GeodesicCanonicalForm, EstimatesGrowQuadratically) {
-    const GeodesicCost a = estimate_geodesic_canonical_form(2000, GeodesicMds::LeastSquares, 1);
-    const GeodesicCost b = estimate_geodesic_canonical_form(4000, GeodesicMds::LeastSquares, 1);
+    const GeodesicCost a = estimate_geodesic_canonical_form(2000, MdsMethod::LeastSquares, 1);
+    const GeodesicCost b = estimate_geodesic_canonical_form(4000, MdsMethod::LeastSquares, 1);
     EXPECT_NEAR(b.bytes / a.bytes, 4.0, 0.2);
     EXPECT_GT(b.seconds / a.seconds, 4.0);  // n^2 log n
     EXPECT_GT(a.bytes, 8.0 * 2000 * 2000);  // at least the distance matrix
-    const GeodesicCost f = estimate_geodesic_canonical_form(4000, GeodesicMds::Fast, 1);
+    const GeodesicCost f = estimate_geodesic_canonical_form(4000, MdsMethod::Landmark, 1);
     EXPECT_LT(f.bytes, b.bytes);
 }
 
@@ -80,5 +84,5 @@ TEST(GeodesicCanonicalForm, RefusesAnOverLargeMeshNamingMemoryAndTime) {
     o.max_seconds = 600;  // raised limits: it runs
     EXPECT_NO_THROW(geodesic_canonical_form(f.mesh.V, f.mesh.F, o));
     // The default limits refuse 100k vertices (80 GB for the distance matrix alone).
-    EXPECT_GT(estimate_geodesic_canonical_form(100000, GeodesicMds::LeastSquares).bytes / (1 << 30), 4.0);
+    EXPECT_GT(estimate_geodesic_canonical_form(100000, MdsMethod::LeastSquares).bytes / (1 << 30), 4.0);
 }

@@ -1,6 +1,6 @@
-#include "core/geodesic_distances.h"
-#include "core/mesh_topology.h"
-#include "core/procedural_meshes.h"
+#include "canonform/surface/geodesic_distances.h"
+#include "canonform/surface/mesh_topology.h"
+#include "canonform/procedural/procedural_meshes.h"
 
 #include <gtest/gtest.h>
 
@@ -70,8 +70,8 @@ int nearest_vertex(const Eigen::MatrixXd& V, const Eigen::RowVector3d& p) {
 }
 
 /// Flat triangular lattice stretched along x by `stretch` (stretch 3 gives 120-degree angles).
-TriMesh stretched_lattice(int nx, int ny, double stretch) {
-    TriMesh m;
+Mesh stretched_lattice(int nx, int ny, double stretch) {
+    Mesh m;
     m.V.resize(nx * ny, 3);
     for (int j = 0; j < ny; ++j)
         for (int i = 0; i < nx; ++i)
@@ -93,7 +93,7 @@ TriMesh stretched_lattice(int nx, int ny, double stretch) {
     return m;
 }
 
-double sphere_error(const TriMesh& s, double r, int source, const Eigen::VectorXd& d) {
+double sphere_error(const Mesh& s, double r, int source, const Eigen::VectorXd& d) {
     const Eigen::RowVector3d p = s.V.row(source);
     return mean_relative_error(s.V, s.F, source, d, [&](int v) {
         const double c = std::clamp(p.dot(s.V.row(v)) / (r * r), -1.0, 1.0);
@@ -101,7 +101,7 @@ double sphere_error(const TriMesh& s, double r, int source, const Eigen::VectorX
     });
 }
 
-double plane_error(const TriMesh& m, int source, const Eigen::VectorXd& d) {
+double plane_error(const Mesh& m, int source, const Eigen::VectorXd& d) {
     const Eigen::RowVector3d p = m.V.row(source);
     return mean_relative_error(m.V, m.F, source, d, [&](int v) { return (m.V.row(v) - p).norm(); });
 }
@@ -110,7 +110,7 @@ double plane_error(const TriMesh& m, int source, const Eigen::VectorXd& d) {
 
 TEST(GeodesicDistances, GreatCircleDistancesOnASphere) {
     const double r = 2.0;
-    const TriMesh s = make_icosphere(5, r);  // 10242 vertices, edge about 0.07
+    const Mesh s = make_icosphere(5, r);  // 10242 vertices, edge about 0.07
     const FastMarching fm(s.V, s.F);
     EXPECT_EQ(fm.stats().obtuse_corners, 0);
     for (int source : {0, 1234, 7777}) {
@@ -128,7 +128,7 @@ TEST(GeodesicDistances, GreatCircleDistancesOnASphere) {
 }
 
 TEST(GeodesicDistances, EuclideanDistancesOnAFlatDisc) {
-    const TriMesh disc = make_disc(5000);
+    const Mesh disc = make_disc(5000);
     const int centre = 0;
     const int off = nearest_vertex(disc.V, Eigen::RowVector3d(0.4, 0.25, 0.0));
     const FastMarching fm(disc.V, disc.F);
@@ -144,7 +144,7 @@ TEST(GeodesicDistances, EuclideanDistancesOnAFlatDisc) {
 }
 
 TEST(GeodesicDistances, MoreAccurateThanEdgeDijkstra) {
-    const TriMesh disc = make_disc(5000);
+    const Mesh disc = make_disc(5000);
     const FastMarching fm(disc.V, disc.F);
     for (const Eigen::RowVector3d& p : {Eigen::RowVector3d(0, 0, 0), Eigen::RowVector3d(0.4, 0.25, 0),
                                         Eigen::RowVector3d(-0.7, 0.1, 0)}) {
@@ -162,7 +162,7 @@ TEST(GeodesicDistances, MoreAccurateThanEdgeDijkstra) {
 
 TEST(GeodesicDistances, UnfoldingHandlesObtuseTriangles) {
     // All triangles have a 120-degree corner.
-    const TriMesh m = stretched_lattice(40, 100, 3.0);
+    const Mesh m = stretched_lattice(40, 100, 3.0);
     const FastMarching unfolded(m.V, m.F, true), plain(m.V, m.F, false);
     EXPECT_GT(unfolded.stats().obtuse_corners, 0);
     EXPECT_EQ(unfolded.stats().obtuse_corners, plain.stats().obtuse_corners);
@@ -181,7 +181,7 @@ TEST(GeodesicDistances, UnfoldingHandlesObtuseTriangles) {
 }
 
 TEST(GeodesicDistances, AllPairsIsAMetricAndIndependentOfThreads) {
-    const TriMesh s = make_icosphere(3, 1.5);  // 642 vertices
+    const Mesh s = make_icosphere(3, 1.5);  // 642 vertices
     const int n = static_cast<int>(s.V.rows());
     GeodesicOptions one, two;
     one.threads = 1;
@@ -226,7 +226,7 @@ TEST(GeodesicDistances, AllPairsIsAMetricAndIndependentOfThreads) {
 }
 
 TEST(GeodesicDistances, ProgressAndCancellation) {
-    const TriMesh s = make_icosphere(3);
+    const Mesh s = make_icosphere(3);
     std::vector<double> seen;
     GeodesicOptions o;
     o.threads = 2;
@@ -248,7 +248,7 @@ TEST(GeodesicDistances, ProgressAndCancellation) {
 }
 
 TEST(GeodesicDistances, RejectsBadInputAndHandlesComponents) {
-    const TriMesh s = make_icosphere(1);
+    const Mesh s = make_icosphere(1);
     EXPECT_THROW(geodesic_distances_from(s.V, s.F, -1), InputError);
     EXPECT_THROW(geodesic_distances_from(s.V, s.F, static_cast<int>(s.V.rows())), InputError);
     Eigen::MatrixXi F = s.F;

@@ -1,7 +1,7 @@
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"  // GCC 12 false positive inside Eigen
 
-#include "core/mds.h"
-#include "core/rigid_alignment.h"
+#include "canonform/numerics/mds.h"
+#include "canonform/numerics/rigid_alignment.h"
 
 #include <gtest/gtest.h>
 

@@ -1,6 +1,6 @@
-#include "core/errors.h"
-#include "core/mesh_topology.h"
-#include "core/procedural_meshes.h"
+#include "canonform/common/errors.h"
+#include "canonform/surface/mesh_topology.h"
+#include "canonform/procedural/procedural_meshes.h"
 
 #include <gtest/gtest.h>
 
@@ -41,18 +41,18 @@ TEST(MeshTopology, EdgesAdjacencyAndComponents) {
 }
 
 TEST(MeshTopology, ValidMeshesPassAndAreReported) {
-    const TriMesh s = make_icosphere(2);
+    const Mesh s = make_icosphere(2);
     const MeshReport r = validate_mesh(s.V, s.F);
     EXPECT_EQ(r.euler_characteristic, 2);
     EXPECT_EQ(r.components, 1);
     EXPECT_EQ(r.boundary_edges, 0);
-    const TriMesh d = make_disc(300);
+    const Mesh d = make_disc(300);
     EXPECT_EQ(problem(d.V, d.F), "") << "boundaries are allowed";
     EXPECT_EQ(validate_mesh(d.V, d.F).euler_characteristic, 1);
 }
 
 TEST(MeshTopology, EveryKindOfBadInputIsNamed) {
-    const TriMesh s = make_icosphere(1);  // 42 vertices
+    const Mesh s = make_icosphere(1);  // 42 vertices
     EXPECT_TRUE(contains(problem(Eigen::MatrixXd(0, 3), Eigen::MatrixXi(0, 3)), "no vertices"));
     EXPECT_TRUE(contains(problem(s.V, Eigen::MatrixXi(0, 3)), "point cloud"));
 
@@ -60,7 +60,7 @@ TEST(MeshTopology, EveryKindOfBadInputIsNamed) {
     V(7, 0) = std::numeric_limits<double>::infinity();
     EXPECT_TRUE(contains(problem(V, s.F), "NaN or infinite"));
 
-    const TriMesh tiny = make_icosphere(0);  // 12 vertices
+    const Mesh tiny = make_icosphere(0);  // 12 vertices
     ValidationOptions strict;
     strict.min_vertices = 20;
     try {

@@ -6,7 +6,7 @@
 // Build times of make_figure measured on the development machine (2-vCPU AMD EPYC VM, g++ 12 -O2,
 // rest mesh not cached, wall clock, exact vertex counts): 2k vertices 0.15 s, 10k 0.19 s,
 // 50k 0.70 s, 200k 2.65 s, 300k 3.9 s (1M: 15 s, 380 MB). Timing is not tested.
-#include "core/procedural_meshes.h"
+#include "canonform/procedural/procedural_meshes.h"
 
 #include <gtest/gtest.h>
 
@@ -28,12 +28,12 @@ namespace {
 
 using canonform::Figure;
 using canonform::FigurePose;
-using canonform::TriMesh;
+using canonform::Mesh;
 using Eigen::Vector3d;
 
 constexpr double kPi = 3.14159265358979323846;
 
-Vector3d vtx(const TriMesh& m, int i) {
+Vector3d vtx(const Mesh& m, int i) {
     return m.V.row(i).transpose();
 }
 
@@ -50,7 +50,7 @@ struct Topology {
     std::string problem;
 };
 
-Topology topology(const TriMesh& m) {
+Topology topology(const Mesh& m) {
     Topology t;
     const int nv = static_cast<int>(m.V.rows()), nf = static_cast<int>(m.F.rows());
     std::map<std::pair<int, int>, int> directed;  // (a, b) -> number of faces using a -> b
@@ -132,14 +132,14 @@ Topology topology(const TriMesh& m) {
     return t;
 }
 
-double signed_volume(const TriMesh& m) {
+double signed_volume(const Mesh& m) {
     double vol = 0.0;
     for (int f = 0; f < m.F.rows(); ++f)
         vol += vtx(m, m.F(f, 0)).dot(vtx(m, m.F(f, 1)).cross(vtx(m, m.F(f, 2)))) / 6.0;
     return vol;
 }
 
-double total_area(const TriMesh& m) {
+double total_area(const Mesh& m) {
     double a = 0.0;
     for (int f = 0; f < m.F.rows(); ++f)
         a += 0.5 * (vtx(m, m.F(f, 1)) - vtx(m, m.F(f, 0)))
@@ -149,7 +149,7 @@ double total_area(const TriMesh& m) {
 }
 
 /// Smallest triangle area and smallest corner angle (radians).
-std::pair<double, double> min_area_and_angle(const TriMesh& m) {
+std::pair<double, double> min_area_and_angle(const Mesh& m) {
     double min_area = 1e300, min_angle = 1e300;
     for (int f = 0; f < m.F.rows(); ++f) {
         const Vector3d p[3] = {vtx(m, m.F(f, 0)), vtx(m, m.F(f, 1)), vtx(m, m.F(f, 2))};
@@ -175,7 +175,7 @@ bool segment_crosses_triangle(const Vector3d& p, const Vector3d& q, const Vector
 }
 
 /// Number of pairs of triangles without a common vertex that intersect (uniform grid broad phase).
-long self_intersections(const TriMesh& m) {
+long self_intersections(const Mesh& m) {
     const int nf = static_cast<int>(m.F.rows());
     const Vector3d lo = m.V.colwise().minCoeff().transpose();
     double mean_edge = 0.0;
@@ -239,7 +239,7 @@ TEST(ProceduralIcosphere, CountsRadiusTopologyAndVolume) {
     const double r = 2.5;
     for (int s = 0; s <= 4; ++s) {
         SCOPED_TRACE("subdivisions " + std::to_string(s));
-        const TriMesh m = canonform::make_icosphere(s, r);
+        const Mesh m = canonform::make_icosphere(s, r);
         const long p = 1L << (2 * s);  // 4^s
         EXPECT_EQ(m.V.rows(), 10 * p + 2);
         EXPECT_EQ(m.F.rows(), 20 * p);
@@ -271,7 +271,7 @@ TEST(ProceduralIcosphere, RejectsBadArguments) {
 
 TEST(ProceduralTorus, ClosedGenusOneWithTheRightVolume) {
     const double R = 1.0, r = 0.3;
-    const TriMesh m = canonform::make_torus(64, 32, R, r);
+    const Mesh m = canonform::make_torus(64, 32, R, r);
     EXPECT_EQ(m.V.rows(), 64 * 32);
     EXPECT_EQ(m.F.rows(), 2 * 64 * 32);
     const Topology t = topology(m);
@@ -297,7 +297,7 @@ TEST(ProceduralDisc, OneBoundaryLoopFlatAndUpwards) {
     const double radius = 1.7;
     for (const int target : {7, 100, 1000, 5000}) {
         SCOPED_TRACE("target " + std::to_string(target));
-        const TriMesh m = canonform::make_disc(target, radius);
+        const Mesh m = canonform::make_disc(target, radius);
         EXPECT_NEAR(static_cast<double>(m.V.rows()), target, 0.15 * target + 1);
         const Topology t = topology(m);
         EXPECT_TRUE(t.oriented_manifold) << t.problem;

@@ -1,4 +1,4 @@
-#include "core/retrieval_measures.h"
+#include "canonform/retrieval/retrieval_measures.h"
 
 #include <gtest/gtest.h>
 

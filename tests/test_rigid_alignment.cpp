@@ -1,4 +1,4 @@
-#include "core/rigid_alignment.h"
+#include "canonform/numerics/rigid_alignment.h"
 #include "test_util.h"
 
 #include <gtest/gtest.h>

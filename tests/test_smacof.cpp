@@ -1,8 +1,8 @@
-#include "core/euclidean_canonical_form.h"
-#include "core/mesh_topology.h"
-#include "core/procedural_meshes.h"
-#include "core/rigid_alignment.h"
-#include "core/smacof.h"
+#include "canonform/canonical/euclidean_canonical_form.h"
+#include "canonform/surface/mesh_topology.h"
+#include "canonform/procedural/procedural_meshes.h"
+#include "canonform/numerics/rigid_alignment.h"
+#include "canonform/numerics/smacof.h"
 #include "test_util.h"
 
 #include <gtest/gtest.h>
@@ -50,7 +50,7 @@ TEST(Smacof, FullWeightRecoversAKnownPointSet) {
 
 TEST(Smacof, StressNeverIncreases) {
     // Sparse weighted pairs: a mesh's edges with distorted targets plus a few long-range pairs.
-    const TriMesh s = make_icosphere(3);
+    const Mesh s = make_icosphere(3);
     StressPairs p;
     std::mt19937 rng(3);
     std::uniform_real_distribution<double> u(0.5, 2.0);

@@ -1,6 +1,6 @@
 #include "test_util.h"
 
-#include "core/rigid_alignment.h"
+#include "canonform/numerics/rigid_alignment.h"
 
 namespace canonform::test {
 

@@ -1,7 +1,7 @@
 // Shared helpers of the core tests: small hand-made meshes and comparisons.
 #pragma once
 
-#include "core/procedural_meshes.h"
+#include "canonform/procedural/procedural_meshes.h"
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>

@@ -1,6 +1,6 @@
-#include "core/procedural_meshes.h"
-#include "core/view_descriptor.h"
-#include "core/view_directions.h"
+#include "canonform/procedural/procedural_meshes.h"
+#include "canonform/views/view_descriptor.h"
+#include "canonform/views/view_directions.h"
 #include "test_util.h"
 
 #include <gtest/gtest.h>
@@ -32,7 +32,7 @@ TEST(ViewDescriptor, SameShapeInAnotherFrameIsNearAndAnotherShapeIsFar) {
     const Figure fig = make_figure(3000, figure_pose(2));
     const Eigen::MatrixXd moved =
         ((2.7 * fig.mesh.V * test::random_rotation(31).transpose()).rowwise() + Eigen::RowVector3d(3, -1, 8));
-    const TriMesh torus = make_torus(60, 24, 1.0, 0.35);
+    const Mesh torus = make_torus(60, 24, 1.0, 0.35);
 
     const ViewSet a = compute_views(fig.mesh.V, fig.mesh.F);
     const ViewSet b = compute_views(moved, fig.mesh.F);
@@ -50,7 +50,7 @@ TEST(ViewDescriptor, SameShapeInAnotherFrameIsNearAndAnotherShapeIsFar) {
 }
 
 TEST(ViewDescriptor, RejectsBadMeshesAndAcceptsSeveralComponents) {
-    const TriMesh s = make_icosphere(2);
+    const Mesh s = make_icosphere(2);
     EXPECT_THROW(compute_views(s.V, Eigen::MatrixXi(0, 3)), InputError);  // a point cloud
     Eigen::MatrixXi F = s.F;
     F(0, 1) = F(0, 0);  // degenerate face

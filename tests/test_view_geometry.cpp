@@ -1,12 +1,12 @@
 // Tests of the view-descriptor geometry: view directions, cube rotations, depth rendering and pose
-// normalisation (filter_viewdescriptor/core).
+// normalisation (canonform/views).
 //
 // Include scheme: both -I<root>/filter_canonical and -I<root>/filter_viewdescriptor are on the
 // path; "core/<name>.h" resolves to whichever folder has <name>.h (the file names are distinct).
-#include "core/depth_render.h"
-#include "core/pose_normalization.h"
-#include "core/procedural_meshes.h"
-#include "core/view_directions.h"
+#include "canonform/views/depth_render.h"
+#include "canonform/views/pose_normalization.h"
+#include "canonform/procedural/procedural_meshes.h"
+#include "canonform/views/view_directions.h"
 
 #include <Eigen/Dense>
 #include <gtest/gtest.h>
@@ -36,8 +36,8 @@ void add_square(std::vector<Eigen::Vector3d>& P, std::vector<Eigen::Vector3i>& T
     T.push_back({b, b + 2, b + 3});
 }
 
-cf::TriMesh to_mesh(const std::vector<Eigen::Vector3d>& P, const std::vector<Eigen::Vector3i>& T) {
-    cf::TriMesh m;
+cf::Mesh to_mesh(const std::vector<Eigen::Vector3d>& P, const std::vector<Eigen::Vector3i>& T) {
+    cf::Mesh m;
     m.V.resize(static_cast<Eigen::Index>(P.size()), 3);
     m.F.resize(static_cast<Eigen::Index>(T.size()), 3);
     for (size_t i = 0; i < P.size(); ++i) m.V.row(static_cast<Eigen::Index>(i)) = P[i].transpose();
@@ -46,8 +46,8 @@ cf::TriMesh to_mesh(const std::vector<Eigen::Vector3d>& P, const std::vector<Eig
 }
 
 // Cube [-h, h]^3, 12 outward triangles.
-cf::TriMesh make_cube(double h) {
-    cf::TriMesh m;
+cf::Mesh make_cube(double h) {
+    cf::Mesh m;
     m.V.resize(8, 3);
     for (int i = 0; i < 8; ++i)
         m.V.row(i) << ((i & 1) ? h : -h), ((i & 2) ? h : -h), ((i & 4) ? h : -h);
@@ -167,7 +167,7 @@ TEST(DepthRender, CameraFrameIsARightHandedRotationWithDocumentedUp) {
 }
 
 TEST(DepthRender, SphereMatchesAnalyticDepth) {
-    const cf::TriMesh s = cf::make_icosphere(5, 0.9);
+    const cf::Mesh s = cf::make_icosphere(5, 0.9);
     const int N = 256;
     for (const Eigen::Vector3d& dir : {Eigen::Vector3d(0, 0, 1), Eigen::Vector3d(1, 2, -0.5).normalized(),
                                       vw::view_directions()[17]}) {
@@ -202,7 +202,7 @@ TEST(DepthRender, SphereMatchesAnalyticDepth) {
 }
 
 TEST(DepthRender, CubeAlongZIsAFlatSquare) {
-    const cf::TriMesh cube = make_cube(0.5);
+    const cf::Mesh cube = make_cube(0.5);
     for (int N : {256, 100}) {
         const vw::DepthImage img = vw::render_depth(cube.V, cube.F, Eigen::Vector3d(0, 0, 1), N);
         int n_square = 0;
@@ -228,11 +228,11 @@ TEST(DepthRender, NearerSurfaceOccludesIndependentlyOfOrder) {
     std::vector<Eigen::Vector3i> T;
     add_square(P, T, -0.6, 0.6, -0.6, 0.6, 0.0);  // big, behind (from +z)
     add_square(P, T, -0.2, 0.2, -0.2, 0.2, 0.3);  // small, in front
-    cf::TriMesh m = to_mesh(P, T);
-    cf::TriMesh rev = m;
+    cf::Mesh m = to_mesh(P, T);
+    cf::Mesh rev = m;
     rev.F = m.F.colwise().reverse();  // small square drawn first
     const int N = 128;
-    for (const cf::TriMesh* mm : {&m, &rev}) {
+    for (const cf::Mesh* mm : {&m, &rev}) {
         const vw::DepthImage front = vw::render_depth(mm->V, mm->F, Eigen::Vector3d(0, 0, 1), N);
         const vw::DepthImage back = vw::render_depth(mm->V, mm->F, Eigen::Vector3d(0, 0, -1), N);
         for (int r = 0; r < N; ++r)
@@ -283,7 +283,7 @@ TEST(DepthRender, SharedEdgesThroughPixelCentresLeaveNoCracks) {
             const int m = static_cast<int>(dirs.size());
             for (int k = 0; k < m; ++k) T.push_back({0, 1 + k, 1 + (k + 1) % m});
             inner *= std::cos(M_PI / 8);  // adjacent directions are less than 45 degrees apart
-            const cf::TriMesh fan = to_mesh(P, T);
+            const cf::Mesh fan = to_mesh(P, T);
             const vw::DepthImage img = vw::render_depth(fan.V, fan.F, D[static_cast<size_t>(view)], N);
             int holes = 0, checked = 0;
             for (int r = 0; r < N; ++r)
@@ -334,7 +334,7 @@ TEST(DepthRender, SixtySixRendersOfATenThousandVertexFigureTiming) {
 
 namespace {
 
-void expect_pose_invariant(const cf::TriMesh& mesh, std::uint64_t seed, bool* used_rect) {
+void expect_pose_invariant(const cf::Mesh& mesh, std::uint64_t seed, bool* used_rect) {
     std::mt19937_64 g(seed);
     std::uniform_real_distribution<double> u(-1.0, 1.0);
     const Eigen::Matrix3d Q =
@@ -386,7 +386,7 @@ TEST(PoseNormalization, FigureIsInvariantToSimilarityTransforms) {
 TEST(PoseNormalization, BoxLikeShapeIsAlignedByRectilinearity) {
     // A rotated cube: PCA is degenerate (isotropic covariance), rectilinearity aligns the faces
     // with the axes (projected area ratio 1) and wins by bounding-box volume.
-    cf::TriMesh cube = make_cube(1.0);
+    cf::Mesh cube = make_cube(1.0);
     const Eigen::Matrix3d Q = Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
     cube.V = cube.V * Q.transpose();
     const vw::PoseNormalization p = vw::normalize_pose(cube.V, cube.F);
@@ -398,7 +398,7 @@ TEST(PoseNormalization, BoxLikeShapeIsAlignedByRectilinearity) {
 }
 
 TEST(PoseNormalization, RejectsBadInput) {
-    const cf::TriMesh s = cf::make_icosphere(1);
+    const cf::Mesh s = cf::make_icosphere(1);
     EXPECT_THROW(vw::normalize_pose(s.V, Eigen::MatrixXi(0, 3)), cf::InputError);
     Eigen::MatrixXd bad = s.V;
     bad(3, 1) = std::nan("");

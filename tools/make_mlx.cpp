@@ -2,7 +2,7 @@
 // tables: `canonform_mlx CANONICAL_DIR VIEWDESCRIPTOR_DIR`. The shipped scripts in
 // filter_canonical/scripts and filter_viewdescriptor/scripts are its output (tests/
 // test_filter_table.cpp checks that they have not drifted from the tables).
-#include "filter_table.h"
+#include "canonical_filter_table.h"
 #include "view_filter_table.h"
 
 #include <fstream>

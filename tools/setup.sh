@@ -26,7 +26,7 @@ here=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 PACKAGES=(
   meshlab qtbase5-dev libqt5opengl5-dev libglew-dev libeigen3-dev
   cmake g++ make dpkg-dev pkg-config
-  libsuitesparse-dev libopencv-dev libgtest-dev googletest libcli11-dev nlohmann-json3-dev
+  libsuitesparse-dev libopencv-dev libgtest-dev googletest libcli11-dev nlohmann-json3-dev libtbb-dev
   xvfb xauth x11-utils xdotool imagemagick
   python3-matplotlib python3-numpy bc
 )

@@ -14,7 +14,7 @@
 // stderr. OUT is the
 // layer the filter made (the last new one), else the current mesh (--layer), written atomically.
 // Exit status: 0 done, 1 refused or failed (the reason on stderr, no OUT written), 2 usage.
-#include "meshlab_meshset.h"
+#include "canonform/meshlab/meshlab_meshset.h"
 
 #include <common/globals.h>
 #include <common/plugins/plugin_manager.h>

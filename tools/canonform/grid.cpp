@@ -1,7 +1,9 @@
 #include "grid.h"
 
-#include "core/errors.h"
-#include "mesh_io.h"
+#include "canonform/common/errors.h"
+#include "canonform/io/csv.h"
+#include "canonform/io/files.h"
+#include "canonform/io/mesh_io.h"
 #include "qt_image.h"
 #include "render.h"
 
@@ -27,20 +29,20 @@ struct Entry {
 };
 
 std::vector<Entry> read_collection(const std::string& run) {
-    std::ifstream in(run + "/collection.csv");
-    if (!in) throw InputError("'" + run + "' has no collection.csv: is it a `canonform retrieve` run folder?");
+    const std::string path = run + "/collection.csv";
+    if (!io::is_file(path)) throw InputError("'" + run + "' has no collection.csv: is it a `canonform retrieve` run folder?");
     std::vector<Entry> out;
-    std::string line;
-    std::getline(in, line);  // header
-    while (std::getline(in, line)) {
-        std::istringstream ls(line);
-        Entry e;
-        if (std::getline(ls, e.name, ',') && std::getline(ls, e.label, ',') && std::getline(ls, e.path)) out.push_back(e);
+    const auto rows = io::read_csv(path);
+    for (size_t r = 1; r < rows.size(); ++r) {  // row 0: the header
+        if (rows[r].size() < 3) continue;
+        Entry e{rows[r][0], rows[r][1], rows[r][2]};
+        for (size_t k = 3; k < rows[r].size(); ++k) e.path += "," + rows[r][k];
+        out.push_back(e);
     }
     return out;
 }
 
-bool exists(const std::string& p) { return std::filesystem::is_regular_file(p); }
+
 
 /// Position of every vertex along the longest principal axis of `ref`, scaled to [0, 1].
 Eigen::VectorXd heights(const Eigen::MatrixXd& ref) {
@@ -53,7 +55,7 @@ Eigen::VectorXd heights(const Eigen::MatrixXd& ref) {
 
 /// The panel: the mesh seen along its smallest principal axis, turned so that the vertices with
 /// larger `t` are (on average) higher up in the picture, coloured by `t` (grey if `t` is empty).
-QImage panel_image(const io::MeshData& m, const Eigen::VectorXd& t, int size) {
+QImage panel_image(const Mesh& m, const Eigen::VectorXd& t, int size) {
     render::Image img(size, size);
     render::View view = render::fit_view(m.V, size, size, 6);
     Eigen::MatrixXd C(m.V.rows(), 3);
@@ -82,7 +84,7 @@ int write_grid(const std::string& path, const GridOptions& o) {
     std::vector<std::string> methods = o.methods;
     if (methods.empty()) {
         for (const auto& d : std::filesystem::directory_iterator(o.run))
-            if (d.is_directory() && d.path().filename() != "none" && exists(d.path().string() + "/models.csv"))
+            if (d.is_directory() && d.path().filename() != "none" && io::is_file(d.path().string() + "/models.csv"))
                 methods.push_back(d.path().filename().string());
         std::sort(methods.begin(), methods.end());
     }
@@ -114,32 +116,27 @@ int write_grid(const std::string& path, const GridOptions& o) {
     }
     if (cols.empty()) throw InputError("the run '" + o.run + "' has no model of class '" + o.cls + "'");
 
-    ensure_gui_application();
     const int P = o.panel, label_w = 130, label_h = 22;
     const int rows = 1 + static_cast<int>(methods.size());
-    QImage out(label_w + static_cast<int>(cols.size()) * P, label_h + rows * P, QImage::Format_RGB888);
-    out.fill(Qt::white);
+    QImage out = white_canvas(label_w + static_cast<int>(cols.size()) * P, label_h + rows * P);
     QPainter p(&out);
-    QFont font = p.font();
-    font.setPixelSize(13);
-    p.setFont(font);
-    p.setPen(Qt::black);
+    set_label_font(p, 13);
     for (size_t c = 0; c < cols.size(); ++c) {
         const int x = label_w + static_cast<int>(c) * P;
         p.drawText(QRect(x, 0, P, label_h), Qt::AlignCenter,
                    QString::fromStdString(o.cls.empty() ? cols[c].label : cols[c].name));
-        io::MeshData orig;
+        Mesh orig;
         const std::string op = simplified ? original_dir + "/" + cols[c].name + ".ply" : cols[c].path;
-        if (exists(op)) orig = io::read_mesh(op);
+        if (io::is_file(op)) orig = io::read_mesh(op);
         const Eigen::VectorXd t = orig.V.rows() ? heights(orig.V) : Eigen::VectorXd();
         for (int r = 0; r < rows; ++r) {
             const int y = label_h + r * P;
-            io::MeshData m;
+            Mesh m;
             if (r == 0) {
                 m = orig;
             } else {
                 const std::string fp = o.run + "/" + methods[static_cast<size_t>(r - 1)] + "/forms/" + cols[c].name + ".ply";
-                if (exists(fp)) m = io::read_mesh(fp);
+                if (io::is_file(fp)) m = io::read_mesh(fp);
             }
             if (m.V.rows() == 0) {
                 p.drawText(QRect(x, y, P, P), Qt::AlignCenter, "missing");

@@ -28,7 +28,7 @@ Eigen::MatrixXd colours_from(const Eigen::VectorXd& q, Eigen::Index n) {
     return C;
 }
 
-QImage panel_image(const io::MeshData& m, const Eigen::MatrixXd& C, const Eigen::MatrixXd& points, int size) {
+QImage panel_image(const Mesh& m, const Eigen::MatrixXd& C, const Eigen::MatrixXd& points, int size) {
     render::Image img(size, size);
     const render::View view = render::fit_view(m.V, size, size, 16);
     render::draw_mesh(img, view, m.V, m.F, C);
@@ -41,7 +41,7 @@ QImage panel_image(const io::MeshData& m, const Eigen::MatrixXd& C, const Eigen:
 }
 
 /// Positions of the canonical form at the vertices of `mesh` that coincide with `points`.
-Eigen::MatrixXd map_points(const io::MeshData& mesh, const Eigen::MatrixXd& points, const Eigen::MatrixXd& target) {
+Eigen::MatrixXd map_points(const Mesh& mesh, const Eigen::MatrixXd& points, const Eigen::MatrixXd& target) {
     std::map<std::tuple<double, double, double>, Eigen::Index> where;
     for (Eigen::Index k = 0; k < mesh.V.rows(); ++k) where[{mesh.V(k, 0), mesh.V(k, 1), mesh.V(k, 2)}] = k;
     Eigen::MatrixXd out(points.rows(), 3);
@@ -80,13 +80,9 @@ void write_picture(const std::string& path, const PictureInputs& in, int panel) 
         panels.push_back({panel_image(in.canonical, Cc, P, panel), "canonical form"});
     }
     const int label_h = 28;
-    QImage out(static_cast<int>(panels.size()) * panel, panel + label_h, QImage::Format_RGB888);
-    out.fill(Qt::white);
+    QImage out = cli::white_canvas(static_cast<int>(panels.size()) * panel, panel + label_h);
     QPainter p(&out);
-    QFont font = p.font();
-    font.setPixelSize(16);
-    p.setFont(font);
-    p.setPen(Qt::black);
+    cli::set_label_font(p, 16);
     for (size_t k = 0; k < panels.size(); ++k) {
         const int x = static_cast<int>(k) * panel;
         p.drawImage(x, label_h, panels[k].image);

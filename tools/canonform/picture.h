@@ -1,7 +1,7 @@
 // canonform tool: the side-by-side picture of a mesh, its feature points and its canonical form.
 #pragma once
 
-#include "mesh_io.h"
+#include "canonform/io/mesh_io.h"
 
 #include <Eigen/Core>
 
@@ -11,10 +11,10 @@ namespace canonform {
 
 /// What the picture shows; empty members are left out.
 struct PictureInputs {
-    io::MeshData mesh;                 ///< the input mesh
+    Mesh mesh;                 ///< the input mesh
     Eigen::VectorXd mesh_quality;      ///< colour of the mesh (e.g. conformal factor), or empty
     Eigen::MatrixXd points;            ///< feature points (#P x 3), or empty
-    io::MeshData canonical;            ///< canonical form (same vertex order as mesh), or empty
+    Mesh canonical;            ///< canonical form (same vertex order as mesh), or empty
     Eigen::VectorXd canonical_quality; ///< colour of the canonical form, or empty
 };
 

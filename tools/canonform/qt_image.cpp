@@ -1,9 +1,10 @@
 #include "qt_image.h"
 
-#include "mesh_io.h"
+#include "canonform/io/files.h"
 
 #include <QCoreApplication>
 #include <QGuiApplication>
+#include <QPainter>
 
 #include <cstdio>
 #include <cstdlib>
@@ -27,6 +28,20 @@ void save_png(const QImage& img, const std::string& path) {
         throw std::runtime_error("cannot write '" + path + "'");
     }
     io::commit_file(tmp, path);
+}
+
+QImage white_canvas(int width, int height) {
+    ensure_gui_application();
+    QImage img(width, height, QImage::Format_RGB888);
+    img.fill(Qt::white);
+    return img;
+}
+
+void set_label_font(QPainter& p, int pixels) {
+    QFont font = p.font();
+    font.setPixelSize(pixels);
+    p.setFont(font);
+    p.setPen(Qt::black);
 }
 
 }  // namespace canonform::cli

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <QImage>
+#include <QPainter>
 
 #include <string>
 
@@ -14,5 +15,11 @@ void ensure_gui_application();
 /// Writes `img` as a PNG at `path` atomically (temporary file, then rename); throws
 /// std::runtime_error naming the path if it cannot be written.
 void save_png(const QImage& img, const std::string& path);
+
+/// A white RGB image (after ensure_gui_application(), which its labels need).
+QImage white_canvas(int width, int height);
+
+/// Labels in black at `pixels` pixels high.
+void set_label_font(QPainter& p, int pixels);
 
 }  // namespace canonform::cli

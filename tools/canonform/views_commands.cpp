@@ -1,42 +1,46 @@
-#include "views_commands.h"
-
-#include "core/descriptor_file.h"
-#include "core/view_descriptor.h"
-#include "core/view_directions.h"
-#include "mesh_io.h"
+// canonform tool: the view-descriptor commands - views, codebook, descriptor, distance.
+#include "cli.h"
 #include "qt_image.h"
+
+#include "canonform/io/distance_matrix_file.h"
+#include "canonform/io/files.h"
+#include "canonform/io/mesh_io.h"
+#include "canonform/views/descriptor_file.h"
+#include "canonform/views/view_descriptor.h"
+#include "canonform/views/view_directions.h"
 
 #include <QImage>
 #include <QPainter>
 
-#include <chrono>
 #include <cstdio>
-#include <cstdlib>
 #include <iostream>
+#include <memory>
 #include <numeric>
-#include <sstream>
-#include <sys/stat.h>
 
 namespace canonform::cli {
 
 namespace {
 
-views::ViewDescriptorOptions view_options(const ViewCommandOptions& o) {
-    if (o.image_size < 32 || o.image_size > 2048) throw InputError("--size must be between 32 and 2048 pixels");
-    views::ViewDescriptorOptions v;
-    v.image_size = o.image_size;
-    v.pose.seed = o.seed;
-    return v;
-}
+/// Options the view commands share.
+struct ViewArgs {
+    int image_size = 256;
+    std::uint64_t seed = 0;
 
-views::ViewSet views_of(const std::string& path, const ViewCommandOptions& o) {
-    const io::MeshData m = io::read_mesh(path);
-    try {
-        return views::compute_views(m.V, m.F, view_options(o));
-    } catch (const InputError& e) {
-        throw InputError("'" + path + "': " + e.what());
+    void add(CLI::App* c) {
+        c->add_option("--size", image_size, "pixels per side of each depth view")->check(CLI::Range(32, 2048));
+        c->add_option("--seed", seed, "seed of the rectilinearity restarts (and of the codebook)");
     }
-}
+    views::ViewDescriptorOptions options() const {
+        views::ViewDescriptorOptions v;
+        v.image_size = image_size;
+        v.pose.seed = seed;
+        return v;
+    }
+    views::ViewSet views_of(const std::string& path) const {
+        const Mesh m = io::read_mesh(path);
+        return on_input(path, [&] { return views::compute_views(m.V, m.F, options()); });
+    }
+};
 
 QImage to_qimage(const views::DepthImage& d) {
     const auto g = d.gray();
@@ -45,122 +49,133 @@ QImage to_qimage(const views::DepthImage& d) {
 
 }  // namespace
 
-void write_distance_matrix(const Eigen::MatrixXf& D, const std::string& bin_path, const std::string& csv_path) {
-    const Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> R = D;
-    io::write_file_atomic(bin_path, std::string(reinterpret_cast<const char*>(R.data()), sizeof(float) * R.size()));
-    std::ostringstream csv;
-    csv.precision(7);
-    for (Eigen::Index i = 0; i < D.rows(); ++i)
-        for (Eigen::Index j = 0; j < D.cols(); ++j) csv << D(i, j) << (j + 1 < D.cols() ? "," : "\n");
-    io::write_file_atomic(csv_path, csv.str());
-}
-
-int views_command(const std::string& in, const std::string& dir, const ViewCommandOptions& o) {
-    const views::ViewSet vs = views_of(in, o);
-    mkdir(dir.c_str(), 0755);
-    struct stat st {};
-    if (stat(dir.c_str(), &st) != 0 || !S_ISDIR(st.st_mode)) throw std::runtime_error("cannot create the folder '" + dir + "'");
-    ensure_gui_application();  // fonts for the contact sheet's labels
-    const int cols = 11, thumb = 128, label = 16;
-    QImage sheet(cols * thumb, 6 * (thumb + label), QImage::Format_RGB888);
-    sheet.fill(Qt::white);
-    QPainter p(&sheet);
-    QFont font = p.font();
-    font.setPixelSize(11);
-    p.setFont(font);
-    const auto counts = vs.keypoint_counts();
-    for (size_t k = 0; k < vs.images.size(); ++k) {
-        const QImage img = to_qimage(vs.images[k]);
-        char name[32];
-        std::snprintf(name, sizeof name, "/view_%02zu.png", k);
-        save_png(img, dir + name);
-        const int x = static_cast<int>(k % cols) * thumb, y = static_cast<int>(k / cols) * (thumb + label);
-        p.drawImage(QRect(x, y + label, thumb, thumb), img);
-        p.drawText(QRect(x, y, thumb, label), Qt::AlignCenter, QString("view %1: %2 keypoints").arg(k).arg(counts[k]));
-    }
-    p.end();
-    save_png(sheet, dir + "/contact_sheet.png");
-    const int total = std::accumulate(counts.begin(), counts.end(), 0);
-    std::cerr << "66 views of " << o.image_size << " px in " << dir << " (pose by "
-              << (vs.pose.used_rectilinearity ? "rectilinearity" : "PCA") << ", " << total << " SIFT keypoints)\n";
-    return 0;
-}
-
-int codebook_command(const std::string& out, const std::vector<std::string>& meshes, const ViewCommandOptions& o) {
-    if (meshes.empty()) throw InputError("codebook needs at least one mesh");
-    std::vector<views::SiftDescriptors> all;
-    Eigen::Index rows = 0;
-    for (size_t k = 0; k < meshes.size(); ++k) {
-        const views::ViewSet vs = views_of(meshes[k], o);
-        for (const auto& f : vs.features) {
-            all.push_back(f);
-            rows += f.rows();
+void add_views(CLI::App& app) {
+    struct Args : ViewArgs {
+        std::string in, dir;
+    };
+    auto a = std::make_shared<Args>();
+    auto* c = app.add_subcommand("views", "the 66 depth views of a mesh as PNG, and a contact sheet of them");
+    add_in_out(c, a->in, a->dir, "output folder");
+    a->add(c);
+    c->callback([a] {
+        const views::ViewSet vs = a->views_of(a->in);
+        io::make_directories(a->dir);
+        const int cols = 11, thumb = 128, label = 16;
+        QImage sheet = white_canvas(cols * thumb, 6 * (thumb + label));
+        QPainter p(&sheet);
+        set_label_font(p, 11);
+        const auto counts = vs.keypoint_counts();
+        for (size_t k = 0; k < vs.images.size(); ++k) {
+            const QImage img = to_qimage(vs.images[k]);
+            char name[32];
+            std::snprintf(name, sizeof name, "/view_%02zu.png", k);
+            save_png(img, a->dir + name);
+            const int x = static_cast<int>(k % cols) * thumb, y = static_cast<int>(k / cols) * (thumb + label);
+            p.drawImage(QRect(x, y + label, thumb, thumb), img);
+            p.drawText(QRect(x, y, thumb, label), Qt::AlignCenter,
+                       QString("view %1: %2 keypoints").arg(k).arg(counts[k]));
         }
-        std::cerr << "\r" << k + 1 << "/" << meshes.size() << " meshes, " << rows << " SIFT descriptors" << std::flush;
-    }
-    std::cerr << "\n";
-    views::SiftDescriptors stacked(rows, 128);
-    Eigen::Index r = 0;
-    for (const auto& f : all) {
-        stacked.middleRows(r, f.rows()) = f;
-        r += f.rows();
-    }
-    views::CodebookOptions co;
-    co.words = o.words;
-    co.seed = o.seed;
-    co.method = o.random_codebook ? views::CodebookOptions::Method::Random : views::CodebookOptions::Method::KMeans;
-    const views::Codebook cb = views::Codebook::train(stacked, co);
-    cb.save(out);
-    std::cerr << "codebook of " << cb.size() << " words from " << rows << " descriptors -> " << out << "\n";
-    return 0;
+        p.end();
+        save_png(sheet, a->dir + "/contact_sheet.png");
+        const int total = std::accumulate(counts.begin(), counts.end(), 0);
+        std::cerr << "66 views of " << a->image_size << " px in " << a->dir << " (pose by "
+                  << (vs.pose.used_rectilinearity ? "rectilinearity" : "PCA") << ", " << total << " SIFT keypoints)\n";
+    });
 }
 
-int descriptor_command(const std::string& in, const std::string& out, const ViewCommandOptions& o) {
-    const auto t0 = std::chrono::steady_clock::now();
-    views::Codebook cb;
-    if (!o.codebook.empty()) cb = views::Codebook::load(o.codebook);
-    const views::ViewSet vs = views_of(in, o);
-    views::ModelDescriptor d;
-    d.source = in;
-    d.views = static_cast<int>(vs.images.size());
-    d.image_size = o.image_size;
-    d.keypoints_per_view = vs.keypoint_counts();
-    if (!o.codebook.empty()) {
-        d.codebook_words = cb.size();
-        d.histograms = views::view_histograms(vs, cb);
-    } else {
-        d.raw = vs.features;
-    }
-    views::write_descriptor(out, d);
-    const int total = std::accumulate(d.keypoints_per_view.begin(), d.keypoints_per_view.end(), 0);
-    const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    if (o.json)
-        std::cout << "{\"views\": " << d.views << ", \"keypoints\": " << total << ", \"codebook_words\": "
-                  << d.codebook_words << ", \"seconds\": " << secs << "}\n";
-    return 0;
+void add_codebook(CLI::App& app) {
+    struct Args : ViewArgs {
+        std::string out;
+        std::vector<std::string> meshes;
+        int words = 1500;
+        bool random = false;
+    };
+    auto a = std::make_shared<Args>();
+    auto* c = app.add_subcommand("codebook", "a codebook of visual words trained on the SIFT features of meshes");
+    c->add_option("OUT", a->out, "output codebook file")->required();
+    c->add_option("MESH", a->meshes, "meshes to train on")->required();
+    c->add_option("--words", a->words, "visual words")->check(CLI::PositiveNumber);
+    c->add_flag("--random", a->random, "random training descriptors as words instead of k-means");
+    a->add(c);
+    c->callback([a] {
+        std::vector<std::vector<views::SiftDescriptors>> features;
+        Eigen::Index rows = 0;
+        for (size_t k = 0; k < a->meshes.size(); ++k) {
+            features.push_back(a->views_of(a->meshes[k]).features);
+            for (const auto& f : features.back()) rows += f.rows();
+            std::cerr << "\r" << k + 1 << "/" << a->meshes.size() << " meshes, " << rows << " SIFT descriptors"
+                      << std::flush;
+        }
+        std::cerr << "\n";
+        std::vector<const std::vector<views::SiftDescriptors>*> sets;
+        for (const auto& f : features) sets.push_back(&f);
+        views::CodebookOptions co;
+        co.words = a->words;
+        co.seed = a->seed;
+        co.method = a->random ? views::CodebookOptions::Method::Random : views::CodebookOptions::Method::KMeans;
+        const views::Codebook cb = views::Codebook::train(views::stack_features(sets), co);
+        cb.save(a->out);
+        std::cerr << "codebook of " << cb.size() << " words from " << rows << " descriptors -> " << a->out << "\n";
+    });
 }
 
-int distance_command(const std::string& out, const std::vector<std::string>& descriptors, const ViewCommandOptions& o) {
-    if (descriptors.size() < 2) throw InputError("distance needs at least two descriptor files");
-    std::vector<std::vector<views::Histogram>> models;
-    int words = -1;
-    for (const auto& path : descriptors) {
-        views::ModelDescriptor d = views::read_descriptor(path);
-        if (d.codebook_words == 0)
-            throw InputError("'" + path + "' holds raw SIFT features: make descriptors with --codebook");
-        if (words >= 0 && d.codebook_words != words)
-            throw InputError("'" + path + "' uses a codebook of " + std::to_string(d.codebook_words) +
-                             " words, the others " + std::to_string(words));
-        words = d.codebook_words;
-        models.push_back(std::move(d.histograms));
-    }
-    const auto t0 = std::chrono::steady_clock::now();
-    const Eigen::MatrixXf D = views::distance_matrix(models, views::rotation_view_maps(), o.threads);
-    const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    write_distance_matrix(D, out, out + ".csv");
-    std::cerr << D.rows() << " x " << D.cols() << " clock-matching distances in " << secs << " s -> " << out
-              << " (float32 row-major) and " << out << ".csv\n";
-    return 0;
+void add_descriptor(CLI::App& app) {
+    struct Args : ViewArgs {
+        std::string in, out, codebook;
+        bool json = false;
+    };
+    auto a = std::make_shared<Args>();
+    auto* c = app.add_subcommand("descriptor", "the view descriptor file of a mesh (histograms, or raw SIFT features)");
+    add_in_out(c, a->in, a->out, "output descriptor file (.cfvd)");
+    c->add_option("--codebook", a->codebook, "codebook file (without: raw SIFT features)");
+    c->add_flag("--json", a->json, "print a JSON summary on stdout");
+    a->add(c);
+    c->callback([a] {
+        const auto t0 = std::chrono::steady_clock::now();
+        views::Codebook cb;
+        if (!a->codebook.empty()) cb = views::Codebook::load(a->codebook);
+        const views::ViewSet vs = a->views_of(a->in);
+        const views::ModelDescriptor d =
+            views::make_descriptor(vs.features, a->codebook.empty() ? nullptr : &cb, a->in, a->image_size);
+        views::write_descriptor(a->out, d);
+        const int total = std::accumulate(d.keypoints_per_view.begin(), d.keypoints_per_view.end(), 0);
+        if (a->json)
+            print_json({{"views", d.views}, {"keypoints", total}, {"codebook_words", d.codebook_words},
+                        {"seconds", seconds_since(t0)}});
+    });
+}
+
+void add_distance(CLI::App& app) {
+    struct Args {
+        std::string out;
+        std::vector<std::string> descriptors;
+        int threads = 0;
+    };
+    auto a = std::make_shared<Args>();
+    auto* c = app.add_subcommand("distance", "the clock-matching distance matrix of descriptor files");
+    c->add_option("OUT", a->out, "output matrix: float32 row-major (and OUT.csv as text)")->required();
+    c->add_option("DESC", a->descriptors, "descriptor files made with a codebook (two or more)")->required()->expected(2, -1);
+    c->add_option("--threads", a->threads, "threads (0: every core)");
+    c->callback([a] {
+        std::vector<std::vector<views::Histogram>> models;
+        int words = -1;
+        for (const auto& path : a->descriptors) {
+            views::ModelDescriptor d = views::read_descriptor(path);
+            if (d.codebook_words == 0)
+                throw InputError("'" + path + "' holds raw SIFT features: make descriptors with --codebook");
+            if (words >= 0 && d.codebook_words != words)
+                throw InputError("'" + path + "' uses a codebook of " + std::to_string(d.codebook_words) +
+                                 " words, the others " + std::to_string(words));
+            words = d.codebook_words;
+            models.push_back(std::move(d.histograms));
+        }
+        const auto t0 = std::chrono::steady_clock::now();
+        const Eigen::MatrixXf D = views::distance_matrix(models, views::rotation_view_maps(), a->threads);
+        const double secs = seconds_since(t0);
+        io::write_distance_matrix(D, a->out, a->out + ".csv");
+        std::cerr << D.rows() << " x " << D.cols() << " clock-matching distances in " << secs << " s -> " << a->out
+                  << " (float32 row-major) and " << a->out << ".csv\n";
+    });
 }
 
 }  // namespace canonform::cli

@@ -1,0 +1,102 @@
+#include "canonform/canonical/euclidean_canonical_form.h"
+
+#include "canonform/surface/conformal_factor.h"
+#include "canonform/surface/feature_points.h"
+#include "canonform/surface/mesh_topology.h"
+
+#include <chrono>
+
+namespace canonform {
+
+StressPairs canonical_form_pairs(const Eigen::MatrixXd& V, const Eigen::MatrixXi& E,
+                                 const Eigen::VectorXd& phi, const std::vector<int>& features,
+                                 const EuclideanCanonicalFormOptions& options) {
+    const bool normalised = options.variant == CanonicalVariant::N;
+    const double beta = options.effective_beta();
+    const double edge_scale = normalised ? beta / static_cast<double>(E.rows()) : beta;
+    StressPairs pairs;
+    const size_t nf = features.size();
+    pairs.i.reserve(static_cast<size_t>(E.rows()) + nf * nf / 2);
+    for (Eigen::Index e = 0; e < E.rows(); ++e) {
+        const double len = (V.row(E(e, 0)) - V.row(E(e, 1))).norm();
+        pairs.add(E(e, 0), E(e, 1), len, edge_scale / (len * len));
+    }
+    double wsum = 0;
+    const size_t first_feature_pair = pairs.size();
+    for (size_t a = 0; a < nf; ++a) {
+        for (size_t b = a + 1; b < nf; ++b) {
+            const double w = 0.5 * (phi(features[a]) + phi(features[b]));
+            if (!(w > 0)) continue;
+            pairs.add(features[a], features[b], options.alpha, w);
+            wsum += w;
+        }
+    }
+    if (normalised && wsum > 0)
+        for (size_t k = first_feature_pair; k < pairs.size(); ++k) pairs.w[k] /= wsum;
+    return pairs;
+}
+
+EuclideanCanonicalFormResult euclidean_canonical_form(const Eigen::MatrixXd& V0, const Eigen::MatrixXi& F,
+                                                      const EuclideanCanonicalFormOptions& options) {
+    const auto t0 = std::chrono::steady_clock::now();
+    if (!(options.alpha > 0)) throw InputError("alpha must be positive");
+    if (options.max_iterations < 1) throw InputError("the iteration cap must be at least 1");
+    if (!(options.tolerance >= 0)) throw InputError("the tolerance must be non-negative");
+    const MeshReport report = options.validate ? validate_mesh(V0, F) : MeshReport{};
+    report_progress(options.progress, 0.0, "scaling");
+
+    Eigen::RowVector3d centroid;
+    double scale = 1;
+    const Eigen::MatrixXd V = normalize_scale(V0, &centroid, &scale);
+
+    // Sub-steps report into [0, 0.1] (conformal factor) and [0.1, 1] (SMACOF).
+    ConformalFactorOptions cf_opt;
+    cf_opt.validate = false;
+    cf_opt.linear_solver = options.linear_solver;
+    if (options.progress)
+        cf_opt.progress = [&](double f, const char* s) { return options.progress(0.08 * f, s); };
+    const ConformalFactorResult cf = conformal_factor(V, F, cf_opt);
+
+    const Eigen::MatrixXi E = report.edge_list.rows() ? report.edge_list : unique_edges(F);
+    const VertexAdjacency adj = vertex_adjacency(static_cast<int>(V.rows()), E);
+    FeaturePointOptions fp_opt;
+    fp_opt.ring = options.ring;
+    fp_opt.seed = options.seed;
+    fp_opt.fill = options.variant == CanonicalVariant::A ? FeatureFill::Random : FeatureFill::None;
+    const FeaturePoints fp = feature_points(adj, cf.normalized, fp_opt);
+    report_progress(options.progress, 0.09, "feature points");
+
+    SmacofSolverOptions solver_opt;
+    solver_opt.linear_solver = options.linear_solver;
+    const SmacofSolver solver(static_cast<int>(V.rows()),
+                              canonical_form_pairs(V, E, cf.normalized, fp.indices, options), solver_opt);
+    report_progress(options.progress, 0.1, "SMACOF: V factorised");
+
+    SmacofOptions sm_opt;
+    sm_opt.tolerance = options.tolerance;
+    sm_opt.max_iterations = options.max_iterations;
+    sm_opt.record_history = options.record_history;
+    if (options.progress)
+        sm_opt.progress = [&](double f, const char* s) { return options.progress(0.1 + 0.9 * f, s); };
+    SmacofResult sm = solver.solve(V, sm_opt);
+
+    EuclideanCanonicalFormResult r;
+    r.mean_relative_edge_change = mean_relative_edge_change(V, sm.X, E);
+    r.V = options.restore_scale ? Eigen::MatrixXd((sm.X * scale).rowwise() + centroid) : sm.X;
+    r.phi = cf.normalized;
+    r.features = fp.indices;
+    r.num_maxima = fp.num_maxima;
+    r.num_random = fp.num_random;
+    r.iterations = sm.iterations;
+    r.converged = sm.converged;
+    r.initial_stress = sm.initial_stress;
+    r.final_stress = sm.final_stress;
+    r.beta = options.effective_beta();
+    r.linear_solver = solver.linear_solver();
+    r.stress_history = std::move(sm.stress_history);
+    report_progress(options.progress, 1.0, "done");
+    r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return r;
+}
+
+}  // namespace canonform

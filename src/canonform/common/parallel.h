@@ -1,0 +1,92 @@
+// canonform: the one parallel loop of the library, on oneTBB.
+//
+// Every parallel loop (fast marching from all sources, MDS blocks, k-means assignment, the
+// distance matrix, per-mesh work in a retrieval run, the procedural generator) goes through
+// parallel_for(), and every "how many threads" question through thread_count(). Results never
+// depend on the number of threads: a body may only write to outputs of its own index (or to the
+// state of its own worker, combined afterwards in worker order).
+//
+// Why oneTBB rather than OpenMP: Debian's OpenCV (which the views area uses for SIFT) already
+// runs its own parallel loops on oneTBB, so with TBB both share one pool of worker threads and
+// nest without oversubscribing the cores; a second (OpenMP) pool next to it made idle threads
+// spin against busy ones (more CPU time for the same work on the 2-core test machine). Progress
+// is reported only from the thread that called parallel_for() (MeshLab's GUI callback must not be
+// called from another thread).
+#pragma once
+
+#include "canonform/common/errors.h"
+
+#include <algorithm>
+#include <atomic>
+#include <cstddef>
+#include <thread>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+namespace canonform {
+
+/// Worker threads for a request: `requested` if positive, else every hardware thread (at least 1).
+inline int thread_count(int requested = 0) {
+    if (requested > 0) return requested;
+    return static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+}
+
+/// How a parallel_for() runs.
+struct ParallelOptions {
+    int threads = 0;           ///< worker threads; 0 = thread_count() (every hardware thread)
+    std::ptrdiff_t grain = 1;  ///< indices per task, and the fewest per worker (small loops use fewer workers)
+    ProgressFn progress;       ///< called on the calling thread with the fraction done; false cancels
+    const char* stage = "";    ///< label passed to `progress`
+};
+
+/// Workers parallel_for(n, ..., options) uses: thread_count(options.threads), at most one per
+/// `grain` indices, at least 1. Size per-worker state with it.
+inline int parallel_workers(std::ptrdiff_t n, const ParallelOptions& options = {}) {
+    const std::ptrdiff_t grain = std::max<std::ptrdiff_t>(1, options.grain);
+    const std::ptrdiff_t by_size = std::max<std::ptrdiff_t>(1, n / grain);
+    return static_cast<int>(std::min<std::ptrdiff_t>(thread_count(options.threads), by_size));
+}
+
+/// Calls body(i, worker) for every i in [0, n), on parallel_workers(n, options) threads taking
+/// chunks of `grain` indices in turn; `worker` in [0, workers) names the thread for per-worker
+/// state. Progress is reported from the calling thread (which works too). The first exception a
+/// body throws (Cancelled too, when `progress` returns false) cancels the chunks not yet started
+/// and is rethrown here.
+template <class Body>
+void parallel_for(std::ptrdiff_t n, Body&& body, const ParallelOptions& options = {}) {
+    if (n <= 0) return;
+    const std::ptrdiff_t grain = std::max<std::ptrdiff_t>(1, options.grain);
+    const int workers = parallel_workers(n, options);
+    const std::thread::id caller = std::this_thread::get_id();
+    std::atomic<std::ptrdiff_t> done{0};
+    int last_percent = -1;
+    auto run = [&](std::ptrdiff_t begin, std::ptrdiff_t end, int worker) {
+        for (std::ptrdiff_t i = begin; i < end; ++i) body(i, worker);
+        const std::ptrdiff_t finished = done.fetch_add(end - begin) + (end - begin);
+        if (options.progress && std::this_thread::get_id() == caller) {
+            const int percent = static_cast<int>(100 * finished / n);
+            if (percent != last_percent) {
+                last_percent = percent;
+                report_progress(options.progress, static_cast<double>(finished) / static_cast<double>(n),
+                                options.stage);
+            }
+        }
+    };
+    if (workers <= 1) {
+        for (std::ptrdiff_t begin = 0; begin < n; begin += grain) run(begin, std::min(n, begin + grain), 0);
+        return;
+    }
+    tbb::task_arena arena(workers);
+    arena.execute([&] {
+        tbb::parallel_for(tbb::blocked_range<std::ptrdiff_t>(0, n, static_cast<std::size_t>(grain)),
+                          [&](const tbb::blocked_range<std::ptrdiff_t>& r) {
+                              const int w = tbb::this_task_arena::current_thread_index();
+                              run(r.begin(), r.end(), std::min(std::max(w, 0), workers - 1));
+                          },
+                          tbb::simple_partitioner());
+    });
+}
+
+}  // namespace canonform

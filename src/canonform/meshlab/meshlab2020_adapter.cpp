@@ -1,0 +1,57 @@
+#include "canonform/meshlab/meshlab2020_adapter.h"
+
+#include "canonform/meshlab/meshlab_adapter_common.h"
+
+using canonform::plugin::FilterKind;
+using canonform::plugin::FilterSpec;
+using canonform::plugin::mesh_mask;
+
+TableFilterPlugin2020::TableFilterPlugin2020(QString plugin_name, const std::vector<FilterSpec>& table,
+                                             canonform::plugin::ApplyFn apply)
+    : name_(std::move(plugin_name)), table_(table), apply_(apply) {
+    for (const auto& f : table_) {
+        typeList << f.id;
+        actionList << new QAction(QString::fromUtf8(f.name), this);
+    }
+}
+
+const FilterSpec& TableFilterPlugin2020::spec(FilterIDType id) const {
+    return canonform::plugin::filter_spec(table_, id);
+}
+
+QString TableFilterPlugin2020::filterName(FilterIDType filter) const {
+    return QString::fromUtf8(spec(filter).name);
+}
+
+QString TableFilterPlugin2020::filterInfo(FilterIDType filter) const {
+    return QString::fromStdString(spec(filter).info);
+}
+
+MeshFilterInterface::FilterClass TableFilterPlugin2020::getClass(QAction* a) {
+    return canonform::plugin::filter_class<MeshFilterInterface>(spec(ID(a)).kind);
+}
+
+int TableFilterPlugin2020::getRequirements(QAction* a) { return mesh_mask<MeshModel>(spec(ID(a)).requires); }
+
+int TableFilterPlugin2020::postCondition(QAction* a) const { return mesh_mask<MeshModel>(spec(ID(a)).changes); }
+
+void TableFilterPlugin2020::initParameterSet(QAction* a, MeshModel&, RichParameterList& par) {
+    canonform::plugin::add_params(spec(ID(a)), par);
+}
+
+bool TableFilterPlugin2020::applyFilter(QAction* a, MeshDocument& md, const RichParameterList& par,
+                                        vcg::CallBackPos* cb) {
+    const FilterSpec& s = spec(ID(a));
+    const canonform::plugin::ParamValues values = canonform::plugin::read_params(s, par);
+    canonform::plugin::ActionContext ctx;
+    ctx.log = [this](const std::string& line) { Log("%s", line.c_str()); };
+    ctx.progress = canonform::plugin::progress_to(cb);
+    try {
+        apply_(s.id, md, values, ctx);
+        return true;
+    } catch (const std::exception& e) {
+        errorMessage = QString("%1: %2").arg(QString::fromUtf8(s.name), QString::fromUtf8(e.what()));
+        Log("%s failed: %s", s.name, e.what());
+        return false;
+    }
+}

@@ -1,0 +1,84 @@
+#include "canonform/meshlab/meshlab2022_adapter.h"
+
+#include "canonform/meshlab/meshlab_adapter_common.h"
+
+#include <QStringList>
+
+#include <Eigen/Core>
+
+#include <type_traits>
+#include <variant>
+
+using canonform::plugin::FilterKind;
+using canonform::plugin::FilterSpec;
+using canonform::plugin::mesh_mask;
+
+std::map<std::string, QVariant> canonform::plugin::to_qvariant_map(const ActionOutputs& outputs) {
+    std::map<std::string, QVariant> out;
+    for (const auto& [name, value] : outputs) {
+        out[name] = std::visit(
+            [](const auto& v) -> QVariant {
+                using T = std::decay_t<decltype(v)>;
+                if constexpr (std::is_same_v<T, std::vector<double>>) {
+                    const Eigen::VectorXd e =
+                        Eigen::Map<const Eigen::VectorXd>(v.data(), static_cast<Eigen::Index>(v.size()));
+                    return QVariant::fromValue(e);
+                } else {
+                    return QVariant(v);
+                }
+            },
+            value);
+    }
+    return out;
+}
+
+TableFilterPlugin2022::TableFilterPlugin2022(QString plugin_name, const std::vector<FilterSpec>& table,
+                                             canonform::plugin::ApplyFn apply)
+    : name_(std::move(plugin_name)), table_(table), apply_(apply) {
+    for (const auto& f : table_) {
+        typeList.push_back(f.id);
+        actionList.push_back(new QAction(QString::fromUtf8(f.name), this));
+    }
+}
+
+const FilterSpec& TableFilterPlugin2022::spec(ActionIDType id) const {
+    return canonform::plugin::filter_spec(table_, id);
+}
+
+QString TableFilterPlugin2022::filterName(ActionIDType filter) const { return QString::fromUtf8(spec(filter).name); }
+
+QString TableFilterPlugin2022::pythonFilterName(ActionIDType filter) const {
+    return QString::fromUtf8(spec(filter).python_name);
+}
+
+QString TableFilterPlugin2022::filterInfo(ActionIDType filter) const { return QString::fromStdString(spec(filter).info); }
+
+FilterPlugin::FilterClass TableFilterPlugin2022::getClass(const QAction* a) const {
+    return canonform::plugin::filter_class<FilterPlugin>(spec(ID(a)).kind);
+}
+
+int TableFilterPlugin2022::getRequirements(const QAction* a) { return mesh_mask<MeshModel>(spec(ID(a)).requires); }
+
+int TableFilterPlugin2022::postCondition(const QAction* a) const { return mesh_mask<MeshModel>(spec(ID(a)).changes); }
+
+RichParameterList TableFilterPlugin2022::initParameterList(const QAction* a, const MeshModel&) {
+    RichParameterList par;
+    canonform::plugin::add_params(spec(ID(a)), par);
+    return par;
+}
+
+std::map<std::string, QVariant> TableFilterPlugin2022::applyFilter(const QAction* a, const RichParameterList& par,
+                                                                   MeshDocument& md, unsigned int& /*postConditionMask*/,
+                                                                   vcg::CallBackPos* cb) {
+    const FilterSpec& s = spec(ID(a));
+    const canonform::plugin::ParamValues values = canonform::plugin::read_params(s, par);
+    canonform::plugin::ActionContext ctx;
+    ctx.log = [this](const std::string& line) { log(line); };
+    ctx.progress = canonform::plugin::progress_to(cb);
+    try {
+        return canonform::plugin::to_qvariant_map(apply_(s.id, md, values, ctx));
+    } catch (const std::exception& e) {
+        log(std::string(s.name) + " failed: " + e.what());
+        throw MLException(QString("%1: %2").arg(QString::fromUtf8(s.name), QString::fromUtf8(e.what())));
+    }
+}

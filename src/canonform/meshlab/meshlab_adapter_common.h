@@ -1,0 +1,90 @@
+// canonform: what the MeshLab 2020.09 and 2022.02 adapters share, written once over the parts of
+// MeshLab's API that did not change between the two releases (MeshModel's data masks and
+// RichParameterList's getters). Included by meshlab2020_adapter.cpp and meshlab2022_adapter.cpp.
+#pragma once
+
+#include "canonform/meshlab/filter_table.h"
+
+namespace canonform::plugin {
+
+/// MeshLab's MeshModel data mask (MM_*) of MeshData flags.
+template <class MeshModelT>
+int mesh_mask(unsigned flags) {
+    int m = MeshModelT::MM_NONE;
+    if (flags & kVertexQuality) m |= MeshModelT::MM_VERTQUALITY;
+    if (flags & kVertexColor) m |= MeshModelT::MM_VERTCOLOR;
+    if (flags & kVertexSelection) m |= MeshModelT::MM_VERTFLAGSELECT;
+    if (flags & kVertexCoordinates) m |= MeshModelT::MM_VERTCOORD;
+    if (flags & kNormals) m |= MeshModelT::MM_VERTNORMAL | MeshModelT::MM_FACENORMAL;
+    return m;
+}
+
+/// The values of `spec`'s parameters in MeshLab's parameter list `par` (a missing one is left
+/// out; ParamValues::get then names it).
+template <class RichParameterListT>
+ParamValues read_params(const FilterSpec& spec, const RichParameterListT& par) {
+    ParamValues values;
+    for (const auto& p : spec.params) {
+        const auto name = QString::fromUtf8(p.name);
+        if (!par.hasParameter(name)) continue;
+        switch (p.kind) {
+        case ParamKind::Bool: values.values[p.name] = par.getBool(name) ? 1 : 0; break;
+        case ParamKind::Int: values.values[p.name] = par.getInt(name); break;
+        case ParamKind::Float: values.values[p.name] = static_cast<double>(par.getFloat(name)); break;
+        case ParamKind::Enum: values.values[p.name] = par.getEnum(name); break;
+        case ParamKind::String: values.strings[p.name] = par.getString(name).toStdString(); break;
+        }
+    }
+    return values;
+}
+
+/// MeshLab's filter class (the plugin interface's FilterClass: same enumerators in both APIs) of
+/// a table's FilterKind.
+template <class PluginInterface>
+typename PluginInterface::FilterClass filter_class(FilterKind kind) {
+    switch (kind) {
+    case FilterKind::Quality: return PluginInterface::Quality;
+    case FilterKind::Selection: return PluginInterface::Selection;
+    case FilterKind::Smoothing: return PluginInterface::Smoothing;
+    case FilterKind::Measure: return PluginInterface::Measure;
+    }
+    return PluginInterface::Measure;
+}
+
+/// Progress of an action as MeshLab's callback cb(percent, stage) (both APIs).
+template <class CallBack>
+ProgressFn progress_to(CallBack* cb) {
+    return [cb](double f, const char* stage) {
+        if (cb) cb(static_cast<int>(100 * f), stage);
+        return true;
+    };
+}
+
+/// Adds `spec`'s parameters, at their defaults, to MeshLab's parameter list (RichBool, RichInt,
+/// RichFloat, RichString, RichEnum exist with these arguments in both APIs; a float is stored
+/// in MESHLAB_SCALAR, float for 2020.09 and double for pymeshlab 2022.2).
+template <class RichParameterListT>
+void add_params(const FilterSpec& spec, RichParameterListT& par) {
+    for (const auto& p : spec.params) {
+        const QString name = QString::fromUtf8(p.name), label = QString::fromUtf8(p.label),
+                      tip = QString::fromUtf8(p.tooltip);
+        switch (p.kind) {
+        case ParamKind::Bool: par.addParam(RichBool(name, p.default_value != 0, label, tip)); break;
+        case ParamKind::Int: par.addParam(RichInt(name, static_cast<int>(p.default_value), label, tip)); break;
+        case ParamKind::Float:
+            par.addParam(RichFloat(name, static_cast<MESHLAB_SCALAR>(p.default_value), label, tip));
+            break;
+        case ParamKind::String:
+            par.addParam(RichString(name, QString::fromStdString(p.default_text), label, tip));
+            break;
+        case ParamKind::Enum: {
+            QStringList choices;
+            for (const auto& c : p.choices) choices << QString::fromStdString(c);
+            par.addParam(RichEnum(name, static_cast<int>(p.default_value), choices, label, tip));
+            break;
+        }
+        }
+    }
+}
+
+}  // namespace canonform::plugin

@@ -1,0 +1,373 @@
+#include "canonform/numerics/algebraic_multigrid.h"
+
+#include "canonform/common/errors.h"
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <sstream>
+
+namespace canonform {
+namespace {
+
+using RowSparse = Eigen::SparseMatrix<double, Eigen::RowMajor>;
+using Block = AmgPreconditioner::Block;
+
+constexpr int kManyWeakCouplings = 16;  // mesh rows have ~6 neighbours, all usually strong
+
+// y = A x for a row-major block x (#cols x k). K > 0: k known at compile time (the common k = 3).
+template <int K>
+void multiply_k(const RowSparse& A, const Block& x, Block& y) {
+    const Eigen::Index n = A.rows(), k = K > 0 ? K : x.cols();
+    y.resize(n, k);
+    const auto* outer = A.outerIndexPtr();
+    const auto* inner = A.innerIndexPtr();
+    const double* val = A.valuePtr();
+    const double* xs = x.data();
+    double* ys = y.data();
+    // Accumulate straight into y's row: no per-row buffer.
+    for (Eigen::Index i = 0; i < n; ++i) {
+        double* yi = ys + i * k;
+        for (Eigen::Index c = 0; c < k; ++c) yi[c] = 0;
+        for (auto p = outer[i]; p < outer[i + 1]; ++p) {
+            const double a = val[p];
+            const double* xj = xs + static_cast<Eigen::Index>(inner[p]) * k;
+            for (Eigen::Index c = 0; c < k; ++c) yi[c] += a * xj[c];
+        }
+    }
+}
+
+void multiply(const RowSparse& A, const Block& x, Block& y) {
+    if (x.rows() != A.cols()) throw InputError("AMG: block size mismatch");
+    if (x.cols() == 3) multiply_k<3>(A, x, y);
+    else multiply_k<0>(A, x, y);
+}
+
+// One Gauss-Seidel sweep on A x = b, rows in increasing (forward) or decreasing order.
+template <int K>
+void gauss_seidel_k(const RowSparse& A, const Eigen::VectorXd& inv_diag, const Block& b, Block& x, bool forward) {
+    const Eigen::Index n = A.rows(), k = K > 0 ? K : x.cols();
+    const auto* outer = A.outerIndexPtr();
+    const auto* inner = A.innerIndexPtr();
+    const double* val = A.valuePtr();
+    double* xs = x.data();
+    const double* bs = b.data();
+    double small[K > 0 ? K : 8];
+    std::vector<double> big(K > 0 || k <= 8 ? 0 : static_cast<size_t>(k));
+    double* acc = K > 0 || k <= 8 ? small : big.data();
+    for (Eigen::Index t = 0; t < n; ++t) {
+        const Eigen::Index i = forward ? t : n - 1 - t;
+        for (Eigen::Index c = 0; c < k; ++c) acc[c] = bs[i * k + c];
+        for (auto p = outer[i]; p < outer[i + 1]; ++p) {
+            const double a = val[p];
+            const double* xj = xs + static_cast<Eigen::Index>(inner[p]) * k;
+            for (Eigen::Index c = 0; c < k; ++c) acc[c] -= a * xj[c];
+        }
+        const double d = inv_diag(i);
+        for (Eigen::Index c = 0; c < k; ++c) xs[i * k + c] += acc[c] * d;
+    }
+}
+
+void gauss_seidel(const RowSparse& A, const Eigen::VectorXd& inv_diag, const Block& b, Block& x, bool forward) {
+    if (x.cols() == 3) gauss_seidel_k<3>(A, inv_diag, b, x, forward);
+    else gauss_seidel_k<0>(A, inv_diag, b, x, forward);
+}
+
+// The filtered matrix of smoothed aggregation: the diagonal and the strong off-diagonal entries
+// (|a_ij| >= theta sqrt(a_ii a_jj)); weak entries are added to the diagonal, so row sums (and with
+// them the constant near-null vector of a Laplacian) are kept. Its off-diagonal pattern is the
+// strength graph of the aggregation; smoothing the prolongator with it instead of A keeps weak,
+// long-range couplings (SMACOF's feature-point clique) from making P and the coarse levels dense.
+RowSparse filtered_matrix(const RowSparse& A, const Eigen::VectorXd& diag, double theta,
+                          std::vector<int>* weak_count) {
+    const Eigen::Index n = A.rows();
+    const auto* outer = A.outerIndexPtr();
+    const auto* inner = A.innerIndexPtr();
+    const double* val = A.valuePtr();
+    std::vector<Eigen::Triplet<double>> t;
+    t.reserve(static_cast<size_t>(A.nonZeros()));
+    weak_count->assign(static_cast<size_t>(n), 0);
+    for (Eigen::Index i = 0; i < n; ++i) {
+        double d = 0;
+        for (auto p = outer[i]; p < outer[i + 1]; ++p) {
+            const Eigen::Index j = inner[p];
+            if (j == i)
+                d += val[p];
+            else if (std::abs(val[p]) >= theta * std::sqrt(diag(i) * diag(j)))
+                t.emplace_back(i, j, val[p]);
+            else {
+                d += val[p];
+                ++(*weak_count)[static_cast<size_t>(i)];
+            }
+        }
+        t.emplace_back(i, i, d);
+    }
+    RowSparse F(n, n);
+    F.setFromTriplets(t.begin(), t.end());
+    return F;
+}
+
+// Aggregates of the strength graph (the off-diagonal pattern of the filtered matrix F;
+// Vanek-Mandel-Brezina, three passes). Returns the aggregate of every row and sets *count.
+std::vector<int> aggregate(const RowSparse& F, int* count) {
+    const int n = static_cast<int>(F.rows());
+    const auto* outer = F.outerIndexPtr();
+    const auto* inner = F.innerIndexPtr();
+    const double* val = F.valuePtr();
+    // Strong neighbours, in CSR form.
+    std::vector<int> s_outer(static_cast<size_t>(n) + 1, 0), s_inner;
+    s_inner.reserve(static_cast<size_t>(F.nonZeros()));
+    std::vector<double> s_val;
+    s_val.reserve(static_cast<size_t>(F.nonZeros()));
+    for (int i = 0; i < n; ++i) {
+        for (auto p = outer[i]; p < outer[i + 1]; ++p) {
+            if (inner[p] == i) continue;
+            s_inner.push_back(inner[p]);
+            s_val.push_back(std::abs(val[p]));
+        }
+        s_outer[static_cast<size_t>(i) + 1] = static_cast<int>(s_inner.size());
+    }
+    std::vector<int> agg(static_cast<size_t>(n), -1);
+    int next = 0;
+    // Pass 1: a row whose strong neighbours are all free starts an aggregate with them.
+    for (int i = 0; i < n; ++i) {
+        if (agg[static_cast<size_t>(i)] >= 0) continue;
+        const int b = s_outer[static_cast<size_t>(i)], e = s_outer[static_cast<size_t>(i) + 1];
+        if (b == e) continue;  // no strong neighbour: left for pass 3
+        bool free = true;
+        for (int p = b; p < e && free; ++p) free = agg[static_cast<size_t>(s_inner[static_cast<size_t>(p)])] < 0;
+        if (!free) continue;
+        agg[static_cast<size_t>(i)] = next;
+        for (int p = b; p < e; ++p) agg[static_cast<size_t>(s_inner[static_cast<size_t>(p)])] = next;
+        ++next;
+    }
+    // Pass 2: a free row joins the pass-1 aggregate of its strongest aggregated neighbour.
+    std::vector<int> pass1 = agg;
+    for (int i = 0; i < n; ++i) {
+        if (agg[static_cast<size_t>(i)] >= 0) continue;
+        double best = -1;
+        for (int p = s_outer[static_cast<size_t>(i)]; p < s_outer[static_cast<size_t>(i) + 1]; ++p) {
+            const int j = s_inner[static_cast<size_t>(p)];
+            if (pass1[static_cast<size_t>(j)] >= 0 && s_val[static_cast<size_t>(p)] > best) {
+                best = s_val[static_cast<size_t>(p)];
+                agg[static_cast<size_t>(i)] = pass1[static_cast<size_t>(j)];
+            }
+        }
+    }
+    // Pass 3: what is still free forms aggregates with its free strong neighbours (or alone).
+    for (int i = 0; i < n; ++i) {
+        if (agg[static_cast<size_t>(i)] >= 0) continue;
+        agg[static_cast<size_t>(i)] = next;
+        for (int p = s_outer[static_cast<size_t>(i)]; p < s_outer[static_cast<size_t>(i) + 1]; ++p) {
+            const int j = s_inner[static_cast<size_t>(p)];
+            if (agg[static_cast<size_t>(j)] < 0) agg[static_cast<size_t>(j)] = next;
+        }
+        ++next;
+    }
+    *count = next;
+    return agg;
+}
+
+// Largest eigenvalue of D^-1 A by power iteration (fixed seed), with a 10% margin.
+double spectral_radius_estimate(const RowSparse& A, const Eigen::VectorXd& inv_diag) {
+    std::mt19937 rng(12345);
+    std::uniform_real_distribution<double> u(-1, 1);
+    Block x(A.rows(), 1), y;
+    for (Eigen::Index i = 0; i < x.rows(); ++i) x(i, 0) = u(rng);
+    double lambda = 1;
+    for (int it = 0; it < 15; ++it) {
+        const double nx = x.norm();
+        if (!(nx > 0)) break;
+        x /= nx;
+        multiply(A, x, y);
+        y.col(0).array() *= inv_diag.array();
+        lambda = y.norm();
+        x.swap(y);
+    }
+    return 1.1 * lambda;
+}
+
+}  // namespace
+
+const char* to_string(LinearSolver s) {
+    switch (s) {
+    case LinearSolver::Direct: return "direct";
+    case LinearSolver::Multigrid: return "multigrid";
+    case LinearSolver::Auto: break;
+    }
+    return "auto";
+}
+
+bool use_multigrid(LinearSolver s, long long unknowns, long long threshold) {
+    if (unknowns <= AmgOptions{}.coarse_size) return false;
+    return s == LinearSolver::Multigrid || (s == LinearSolver::Auto && unknowns >= threshold);
+}
+
+AmgPreconditioner::AmgPreconditioner(const Eigen::SparseMatrix<double>& A0, const AmgOptions& options) {
+    if (A0.rows() != A0.cols() || A0.rows() < 1) throw InputError("AMG: the matrix must be square and non-empty");
+    sweeps_ = std::max(1, options.smoothing_sweeps);
+    RowSparse A = A0;
+    A.makeCompressed();
+    while (true) {
+        Level L;
+        L.A = std::move(A);
+        const Eigen::VectorXd diag = L.A.diagonal();
+        if (!(diag.array() > 0).all() || !diag.allFinite())
+            throw NumericalError("AMG: the matrix has a non-positive or non-finite diagonal entry");
+        L.inv_diag = diag.cwiseInverse();
+        const Eigen::Index n = L.A.rows();
+        if (n <= options.coarse_size || static_cast<int>(levels_.size()) + 1 >= options.max_levels) {
+            levels_.push_back(std::move(L));
+            break;
+        }
+        std::vector<int> weak;
+        const RowSparse F = filtered_matrix(L.A, diag, options.strength, &weak);
+        int nc = 0;
+        const std::vector<int> agg = aggregate(F, &nc);
+        if (nc > 0.6 * static_cast<double>(n) || nc < 1) {  // poor coarsening: a direct solve from here
+            levels_.push_back(std::move(L));
+            break;
+        }
+        std::vector<Eigen::Triplet<double>> t;
+        t.reserve(static_cast<size_t>(n));
+        for (Eigen::Index i = 0; i < n; ++i) t.emplace_back(i, agg[static_cast<size_t>(i)], 1.0);
+        RowSparse Pt(n, nc);
+        Pt.setFromTriplets(t.begin(), t.end());
+        // Smoothed prolongator P = (I - omega D_F^-1 F) P_tent, omega = 4 / (3 rho(D_F^-1 F)).
+        const Eigen::VectorXd inv_fdiag = F.diagonal().cwiseInverse();
+        if (!inv_fdiag.allFinite() || !(inv_fdiag.array() > 0).all())
+            throw NumericalError("AMG: the filtered matrix has a non-positive diagonal entry");
+        const double omega = 4.0 / (3.0 * spectral_radius_estimate(F, inv_fdiag));
+        RowSparse DF = inv_fdiag.asDiagonal() * F;
+        RowSparse P = Pt - omega * RowSparse(DF * Pt);
+        // Rows with many weak couplings (a feature point of SMACOF's clique) keep their tentative
+        // row: the clique then couples only the aggregates holding its points, not every
+        // aggregate around them, and the coarse levels stay sparse.
+        std::vector<Eigen::Triplet<double>> pt;
+        pt.reserve(static_cast<size_t>(P.nonZeros()));
+        for (Eigen::Index i = 0; i < n; ++i) {
+            if (weak[static_cast<size_t>(i)] > kManyWeakCouplings) {
+                pt.emplace_back(i, agg[static_cast<size_t>(i)], 1.0);
+                continue;
+            }
+            for (RowSparse::InnerIterator it(P, i); it; ++it)
+                if (it.value() != 0) pt.emplace_back(i, it.col(), it.value());
+        }
+        P.setFromTriplets(pt.begin(), pt.end());
+        RowSparse R = P.transpose();
+        RowSparse AP = L.A * P;
+        RowSparse Ac = R * AP;
+        RowSparse AcT = Ac.transpose();
+        A = 0.5 * (Ac + AcT);  // symmetric up to rounding; make it exactly so
+        A.prune(0.0);
+        A.makeCompressed();
+        if (A.nonZeros() > 2 * L.A.nonZeros()) {  // the coarse operator fills in: stop coarsening
+            levels_.push_back(std::move(L));
+            break;
+        }
+        L.P = std::move(P);
+        L.R = std::move(R);
+        levels_.push_back(std::move(L));
+    }
+    const Eigen::SparseMatrix<double> coarsest = levels_.back().A;
+    if (!coarse_.compute(coarsest)) {
+        std::ostringstream m;
+        m << "AMG: the Cholesky factorisation of the coarsest level (" << coarsest.rows() << " rows) failed";
+        throw NumericalError(m.str());
+    }
+}
+
+void AmgPreconditioner::vcycle(int l, const Block& b, Block& x, bool zero_guess) const {
+    const Level& L = levels_[static_cast<size_t>(l)];
+    if (l + 1 == static_cast<int>(levels_.size())) {
+        const Eigen::MatrixXd sol = coarse_.solve(Eigen::MatrixXd(b));
+        if (!coarse_.ok()) throw NumericalError("AMG: the coarsest-level solve failed");
+        x = sol;
+        return;
+    }
+    if (zero_guess) x.setZero(b.rows(), b.cols());
+    // Pre-smoothing (forward), the coarse correction, post-smoothing (backward): symmetric.
+    // (Each level stores P and R of the transfer to the next coarser level.)
+    for (int s = 0; s < sweeps_; ++s) gauss_seidel(L.A, L.inv_diag, b, x, true);
+    Block r;
+    multiply(L.A, x, r);
+    r = b - r;
+    Block bc, xc;
+    multiply(L.R, r, bc);
+    vcycle(l + 1, bc, xc, true);
+    Block corr;
+    multiply(L.P, xc, corr);
+    x += corr;
+    for (int s = 0; s < sweeps_; ++s) gauss_seidel(L.A, L.inv_diag, b, x, false);
+}
+
+void AmgPreconditioner::apply(const Block& R, Block& Z) const {
+    if (levels_.empty()) throw NumericalError("AMG: apply() before set-up");
+    vcycle(0, R, Z, true);
+}
+
+void AmgPreconditioner::cycle(const Eigen::MatrixXd& B, Eigen::MatrixXd& X, int cycles) const {
+    const Eigen::Index n = rows();
+    if (B.rows() != n || X.rows() != n || X.cols() != B.cols())
+        throw InputError("AMG: right-hand side and guess must have the matrix's number of rows");
+    const Block b = B;
+    Block x = X;
+    for (int c = 0; c < cycles; ++c) vcycle(0, b, x, false);
+    X = x;
+}
+
+PcgReport AmgPreconditioner::pcg(const Eigen::MatrixXd& B, Eigen::MatrixXd& X0, double tolerance, int max_iterations,
+                                 int min_iterations) const {
+    const Level& L = levels_.at(0);
+    const Eigen::Index n = L.A.rows(), k = B.cols();
+    if (B.rows() != n || X0.rows() != n || X0.cols() != k)
+        throw InputError("AMG: right-hand side and guess must have the matrix's number of rows");
+    Block x = X0, b = B, r, z, p, q;
+    multiply(L.A, x, q);
+    r = b - q;
+    const Eigen::ArrayXd r0 = r.colwise().norm().transpose();
+    PcgReport rep;
+    if ((r0 == 0).all()) {
+        rep.converged = true;
+        return rep;
+    }
+    apply(r, z);
+    p = z;
+    Eigen::ArrayXd rz = (r.array() * z.array()).colwise().sum().transpose();
+    for (int it = 1; it <= max_iterations; ++it) {
+        multiply(L.A, p, q);
+        const Eigen::ArrayXd pq = (p.array() * q.array()).colwise().sum().transpose();
+        Eigen::ArrayXd alpha(k);
+        for (Eigen::Index c = 0; c < k; ++c) alpha(c) = (pq(c) > 0 && rz(c) > 0) ? rz(c) / pq(c) : 0.0;
+        x += p * alpha.matrix().asDiagonal();
+        r -= q * alpha.matrix().asDiagonal();
+        rep.iterations = it;
+        double rel = 0;
+        const Eigen::ArrayXd rn = r.colwise().norm().transpose();
+        for (Eigen::Index c = 0; c < k; ++c)
+            if (r0(c) > 0) rel = std::max(rel, rn(c) / r0(c));
+        rep.relative_residual = rel;
+        if (!std::isfinite(rel)) throw NumericalError("AMG-preconditioned CG produced non-finite values");
+        if (rel <= tolerance && it >= min_iterations) {
+            rep.converged = true;
+            break;
+        }
+        apply(r, z);
+        const Eigen::ArrayXd rz_new = (r.array() * z.array()).colwise().sum().transpose();
+        Eigen::ArrayXd beta(k);
+        for (Eigen::Index c = 0; c < k; ++c) beta(c) = rz(c) > 0 ? rz_new(c) / rz(c) : 0.0;
+        p = z + p * beta.matrix().asDiagonal();
+        rz = rz_new;
+    }
+    X0 = x;
+    return rep;
+}
+
+double AmgPreconditioner::operator_complexity() const {
+    if (levels_.empty()) return 0;
+    double total = 0;
+    for (const Level& L : levels_) total += static_cast<double>(L.A.nonZeros());
+    return total / static_cast<double>(levels_[0].A.nonZeros());
+}
+
+}  // namespace canonform

@@ -1,0 +1,55 @@
+#include "canonform/numerics/graph.h"
+
+#include <algorithm>
+#include <numeric>
+
+namespace canonform {
+
+VertexAdjacency vertex_adjacency(int n, const Eigen::MatrixXi& E) {
+    VertexAdjacency adj;
+    adj.offsets.assign(static_cast<size_t>(n) + 1, 0);
+    for (int e = 0; e < E.rows(); ++e) {
+        ++adj.offsets[static_cast<size_t>(E(e, 0)) + 1];
+        ++adj.offsets[static_cast<size_t>(E(e, 1)) + 1];
+    }
+    std::partial_sum(adj.offsets.begin(), adj.offsets.end(), adj.offsets.begin());
+    adj.neighbors.resize(static_cast<size_t>(adj.offsets.back()));
+    std::vector<int> fill(adj.offsets.begin(), adj.offsets.end() - 1);
+    for (int e = 0; e < E.rows(); ++e) {
+        const int a = E(e, 0), b = E(e, 1);
+        adj.neighbors[static_cast<size_t>(fill[static_cast<size_t>(a)]++)] = b;
+        adj.neighbors[static_cast<size_t>(fill[static_cast<size_t>(b)]++)] = a;
+    }
+    for (int v = 0; v < n; ++v)
+        std::sort(adj.neighbors.begin() + adj.offsets[static_cast<size_t>(v)],
+                  adj.neighbors.begin() + adj.offsets[static_cast<size_t>(v) + 1]);
+    return adj;
+}
+
+std::vector<int> connected_components(int n, const Eigen::MatrixXi& E, int* count) {
+    // Union-find with path halving.
+    std::vector<int> parent(static_cast<size_t>(n));
+    std::iota(parent.begin(), parent.end(), 0);
+    auto find = [&](int x) {
+        while (parent[static_cast<size_t>(x)] != x) {
+            parent[static_cast<size_t>(x)] = parent[static_cast<size_t>(parent[static_cast<size_t>(x)])];
+            x = parent[static_cast<size_t>(x)];
+        }
+        return x;
+    };
+    for (int e = 0; e < E.rows(); ++e) {
+        int a = find(E(e, 0)), b = find(E(e, 1));
+        if (a != b) parent[static_cast<size_t>(std::max(a, b))] = std::min(a, b);
+    }
+    std::vector<int> label(static_cast<size_t>(n), -1);
+    int c = 0;
+    for (int v = 0; v < n; ++v) {
+        const int r = find(v);
+        if (label[static_cast<size_t>(r)] < 0) label[static_cast<size_t>(r)] = c++;
+        label[static_cast<size_t>(v)] = label[static_cast<size_t>(r)];
+    }
+    if (count) *count = c;
+    return label;
+}
+
+}  // namespace canonform

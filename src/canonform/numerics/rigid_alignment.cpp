@@ -1,0 +1,34 @@
+#include "canonform/numerics/rigid_alignment.h"
+
+#include "canonform/common/errors.h"
+
+#include <Eigen/LU>
+#include <Eigen/SVD>
+
+namespace canonform {
+
+RigidAlignment align_rigid(const Eigen::MatrixXd& src, const Eigen::MatrixXd& dst, bool with_scale) {
+    if (src.rows() != dst.rows() || src.cols() != 3 || dst.cols() != 3 || src.rows() == 0)
+        throw InputError("rigid alignment needs two non-empty #P x 3 point sets of the same size");
+    const Eigen::RowVector3d cs = src.colwise().mean(), cd = dst.colwise().mean();
+    const Eigen::MatrixXd A = src.rowwise() - cs, B = dst.rowwise() - cd;
+    const Eigen::Matrix3d H = A.transpose() * B;  // sum a_k b_k^T
+    Eigen::JacobiSVD<Eigen::Matrix3d> svd(H, Eigen::ComputeFullU | Eigen::ComputeFullV);
+    Eigen::Matrix3d D = Eigen::Matrix3d::Identity();
+    if ((svd.matrixV() * svd.matrixU().transpose()).determinant() < 0) D(2, 2) = -1;
+    RigidAlignment r;
+    r.R = svd.matrixV() * D * svd.matrixU().transpose();
+    if (with_scale) {
+        const double var = A.squaredNorm();
+        r.scale = var > 0 ? (svd.singularValues().asDiagonal() * D).trace() / var : 1.0;
+    }
+    r.t = cd - r.scale * cs * r.R.transpose();
+    r.rms = std::sqrt((apply(r, src) - dst).squaredNorm() / static_cast<double>(src.rows()));
+    return r;
+}
+
+Eigen::MatrixXd apply(const RigidAlignment& a, const Eigen::MatrixXd& src) {
+    return ((a.scale * src * a.R.transpose()).rowwise() + a.t);
+}
+
+}  // namespace canonform

@@ -1,0 +1,124 @@
+#include "canonform/numerics/smacof.h"
+
+#include "canonform/numerics/graph.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+namespace canonform {
+
+SmacofSolver::SmacofSolver(int num_points, StressPairs pairs, const SmacofSolverOptions& options)
+    : n_(num_points), pairs_(std::move(pairs)), options_(options) {
+    if (n_ < 2) throw InputError("SMACOF needs at least two points");
+    const size_t m = pairs_.size();
+    Eigen::MatrixXi E(static_cast<Eigen::Index>(m), 2);
+    std::vector<Eigen::Triplet<double>> t;
+    t.reserve(4 * m);
+    for (size_t k = 0; k < m; ++k) {
+        const int a = pairs_.i[k], b = pairs_.j[k];
+        const double w = pairs_.w[k], d = pairs_.delta[k];
+        if (a < 0 || b < 0 || a >= n_ || b >= n_ || a == b)
+            throw InputError("SMACOF: a pair has an index out of range or joins a point to itself");
+        if (!(w > 0) || !std::isfinite(w) || !(d >= 0) || !std::isfinite(d))
+            throw InputError("SMACOF: weights must be positive and targets non-negative and finite");
+        E(static_cast<Eigen::Index>(k), 0) = a;
+        E(static_cast<Eigen::Index>(k), 1) = b;
+        // Pinned vertex 0: its row and column are dropped (indices shift by one).
+        if (a > 0) t.emplace_back(a - 1, a - 1, w);
+        if (b > 0) t.emplace_back(b - 1, b - 1, w);
+        if (a > 0 && b > 0) {
+            t.emplace_back(a - 1, b - 1, -w);
+            t.emplace_back(b - 1, a - 1, -w);
+        }
+    }
+    int components = 0;
+    connected_components(n_, E, &components);
+    if (components != 1) {
+        std::ostringstream msg;
+        msg << "SMACOF: the weighted pairs split the points into " << components
+            << " groups; the configuration would not be determined";
+        throw InputError(msg.str());
+    }
+    Eigen::SparseMatrix<double> Vr(n_ - 1, n_ - 1);
+    Vr.setFromTriplets(t.begin(), t.end());
+    multigrid_ = use_multigrid(options_.linear_solver, n_, options_.multigrid_from);
+    if (multigrid_)
+        amg_ = AmgPreconditioner(Vr);
+    else if (!factor_.compute(Vr))
+        throw NumericalError("SMACOF: the Cholesky factorisation of V failed");
+}
+
+double SmacofSolver::stress(const Eigen::MatrixXd& X) const {
+    double s = 0;
+    guttman_rhs(X, nullptr, &s);
+    return s;
+}
+
+void SmacofSolver::guttman_rhs(const Eigen::MatrixXd& X, Eigen::MatrixXd* BX, double* stress_of_X) const {
+    // Column-major X: coordinate c of point i is x[c * n + i]. Plain loops, no temporaries: this
+    // is the O(#pairs) half of every iteration.
+    const Eigen::Index n = X.rows(), dim = X.cols();
+    const double* x = X.data();
+    double* b = nullptr;
+    if (BX) {
+        BX->setZero(n, dim);
+        b = BX->data();
+    }
+    double s = 0;
+    double diff[8];
+    const bool small = dim <= 8;
+    for (size_t k = 0; k < pairs_.size(); ++k) {
+        const Eigen::Index a = pairs_.i[k], c = pairs_.j[k];
+        double d2 = 0;
+        for (Eigen::Index q = 0; q < dim; ++q) {
+            const double t = x[q * n + a] - x[q * n + c];
+            if (small) diff[q] = t;
+            d2 += t * t;
+        }
+        const double d = std::sqrt(d2);
+        const double r = pairs_.delta[k] - d;
+        s += pairs_.w[k] * r * r;
+        if (b && d > 0) {
+            const double f = pairs_.w[k] * pairs_.delta[k] / d;  // -b_ac of eq. (3)
+            for (Eigen::Index q = 0; q < dim; ++q) {
+                const double t = small ? diff[q] : x[q * n + a] - x[q * n + c];
+                b[q * n + a] += f * t;
+                b[q * n + c] -= f * t;
+            }
+        }
+    }
+    if (stress_of_X) *stress_of_X = s;
+}
+
+Eigen::MatrixXd SmacofSolver::guttman(const Eigen::MatrixXd& X, double* stress_of_X) const {
+    Eigen::MatrixXd BX;
+    guttman_rhs(X, &BX, stress_of_X);
+    Eigen::MatrixXd Y(n_, X.cols());
+    Y.row(0).setZero();
+    if (multigrid_) {
+        // Warm start at X translated so that the pinned vertex 0 sits at the origin.
+        Eigen::MatrixXd Yr = X.bottomRows(n_ - 1).rowwise() - X.row(0);
+        amg_.cycle(BX.bottomRows(n_ - 1), Yr, std::max(1, options_.vcycles_per_step));
+        Y.bottomRows(n_ - 1) = Yr;
+        if (!Y.allFinite()) throw NumericalError("SMACOF: the multigrid solve of V produced non-finite values");
+    } else {
+        Y.bottomRows(n_ - 1) = factor_.solve(BX.bottomRows(n_ - 1));
+        if (!factor_.ok()) throw NumericalError("SMACOF: the solve with the factor of V failed");
+    }
+    Y.rowwise() -= Y.colwise().mean();
+    return Y;
+}
+
+SmacofResult SmacofSolver::solve(const Eigen::MatrixXd& X0, const SmacofOptions& options) const {
+    if (X0.rows() != n_ || X0.cols() < 1) throw InputError("SMACOF: the start has the wrong shape");
+    if (!X0.allFinite()) throw InputError("SMACOF: the start has non-finite coordinates");
+    GuttmanRun g = run_guttman([this](const Eigen::MatrixXd& X, double* s) { return guttman(X, s); },
+                               X0.rowwise() - X0.colwise().mean(), options.tolerance, options.max_iterations,
+                               options.record_history, options.progress, 0.0, "SMACOF");
+    SmacofResult r;
+    move_run_into(std::move(g), r);
+    return r;
+}
+
+}  // namespace canonform

@@ -1,0 +1,314 @@
+#include "canonform/retrieval/experiment.h"
+
+#include "canonform/common/parallel.h"
+#include "canonform/io/csv.h"
+#include "canonform/io/distance_matrix_file.h"
+#include "canonform/io/files.h"
+#include "canonform/io/mesh_io.h"
+#include "canonform/numerics/rigid_alignment.h"
+#include "canonform/surface/mesh_topology.h"
+#include "canonform/surface/simplify.h"
+#include "canonform/views/view_directions.h"
+
+#include <nlohmann/json.hpp>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <random>
+#include <sstream>
+
+namespace canonform::retrieval {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+/// Seeded vertex noise: every coordinate moves by N(0, (sigma * mean edge length)^2).
+void add_noise(Mesh& m, double sigma, std::uint64_t seed) {
+    const Eigen::MatrixXi E = unique_edges(m.F);
+    double mean = 0;
+    for (Eigen::Index e = 0; e < E.rows(); ++e) mean += (m.V.row(E(e, 0)) - m.V.row(E(e, 1))).norm();
+    mean /= static_cast<double>(std::max<Eigen::Index>(1, E.rows()));
+    std::mt19937_64 rng(seed);
+    std::normal_distribution<double> g(0.0, sigma * mean);
+    for (Eigen::Index i = 0; i < m.V.rows(); ++i)
+        for (int c = 0; c < 3; ++c) m.V(i, c) += g(rng);
+}
+
+/// Ground-truth correspondences of a model (empty if the collection has none for it).
+std::vector<int> read_vts(const std::string& dataset, const std::string& name) {
+    std::ifstream in(dataset + "/corres/" + name + ".vts");
+    std::vector<int> v;
+    for (int x; in >> x;) v.push_back(x - 1);
+    return v;
+}
+
+void log_line(const ExperimentOptions& o, const std::string& line) {
+    if (o.log) o.log(line);
+}
+
+}  // namespace
+
+std::vector<Model> read_collection(const std::string& dataset, const std::string& labels) {
+    std::vector<Model> models;
+    for (const io::LabelRow& row : io::read_labels(labels)) {
+        if (row.path.empty()) continue;
+        Model m;
+        m.path = dataset + "/" + row.path;
+        m.label = row.label;
+        m.name = io::stem(m.path);
+        m.hash = io::fnv1a(io::read_file(m.path));
+        models.push_back(m);
+    }
+    return models;
+}
+
+Experiment::Experiment(ExperimentOptions options) : options_(std::move(options)) {
+    const ExperimentOptions& o = options_;
+    if (o.methods.empty()) throw InputError("name at least one --method");
+    for (size_t k = 0; k < o.methods.size(); ++k)
+        for (size_t j = 0; j < k; ++j)
+            if (o.methods[j].folder() == o.methods[k].folder())
+                throw InputError("method '" + o.methods[k].to_string() + "' is named twice");
+    models_ = read_collection(o.dataset, o.labels);
+    if (models_.size() < 3) throw InputError("the collection needs at least three meshes");
+    io::make_directories(o.out + "/cache");
+    // The collection as this run read it (name, class, mesh), for `canonform grid`.
+    std::ostringstream c;
+    c << "name,class,path\n";
+    for (const Model& m : models_) c << m.name << "," << m.label << "," << m.path << "\n";
+    io::write_file_atomic(o.out + "/collection.csv", c.str());
+}
+
+MeshFeatures Experiment::mesh_features(const MethodSpec& method, std::size_t k) const {
+    const ExperimentOptions& o = options_;
+    const Model& model = models_[k];
+    MeshFeatures r;
+    std::ostringstream params;
+    params << method.cache_key() << "|simplify=" << o.simplify << "|noise=" << o.noise << "|seed=" << o.seed
+           << "|views=v1";
+    const std::string key = o.out + "/cache/" + io::hex(io::fnv1a(params.str(), model.hash));
+    const std::string cached_descriptor = key + ".cfvd", cached_form = key + ".ply";
+    const std::string form = o.out + "/" + method.folder() + "/forms/" + model.name + ".ply";
+    try {
+        // A cache hit also restores the form (forms/ may hold one of other parameters, or none,
+        // and the pose consistency and the grid read it); an entry without its form is recomputed.
+        if (io::is_file(cached_descriptor) && io::is_file(cached_form)) {
+            io::write_file_atomic(form, io::read_file(cached_form));
+            r.features = views::read_descriptor(cached_descriptor).raw;
+            r.ok = r.cached = true;
+            return r;
+        }
+        Mesh m = io::read_mesh(model.path);
+        if (o.simplify > 0 && m.V.rows() > o.simplify) m = simplify_mesh(m, o.simplify);
+        if (o.noise > 0) add_noise(m, o.noise, o.seed ^ model.hash);
+        MethodContext context;
+        context.threads = 1;  // the meshes run in parallel
+        const Eigen::MatrixXd X = method.method().run(m.V, m.F, method.settings(), context).V;
+        io::write_ply(form, X, m.F);
+        io::write_file_atomic(cached_form, io::read_file(form));
+        const views::ViewSet vs = views::compute_views(X, m.F, o.views);
+        views::write_descriptor(cached_descriptor, views::make_descriptor(vs.features, nullptr, model.path));
+        r.features = vs.features;
+        r.ok = true;
+    } catch (const std::exception& e) {
+        r.error = e.what();
+    }
+    return r;
+}
+
+std::vector<MeshFeatures> Experiment::features(const MethodSpec& method) const {
+    io::make_directories(options_.out + "/" + method.folder() + "/forms");
+    std::vector<MeshFeatures> results(models_.size());
+    ParallelOptions par;
+    par.threads = options_.threads;
+    par.stage = "meshes";
+    if (options_.progress) par.progress = options_.progress(method.folder());
+    parallel_for(static_cast<std::ptrdiff_t>(models_.size()),
+                 [&](std::ptrdiff_t k, int) { results[static_cast<size_t>(k)] = mesh_features(method, static_cast<size_t>(k)); },
+                 par);
+    return results;
+}
+
+views::Codebook Experiment::codebook(const MethodSpec& method, const std::vector<MeshFeatures>& features,
+                                     const std::vector<std::size_t>& good) const {
+    const ExperimentOptions& o = options_;
+    if (!o.codebook.empty()) return views::Codebook::load(o.codebook);
+    std::uint64_t h = io::fnv1a(method.cache_key() + "|words=" + std::to_string(o.words) + "|seed=" + std::to_string(o.seed));
+    std::vector<const std::vector<views::SiftDescriptors>*> sets;
+    for (size_t k : good) {
+        h = io::fnv1a(io::hex(models_[k].hash), h);
+        sets.push_back(&features[k].features);
+    }
+    const std::string path = o.out + "/cache/codebook_" + io::hex(h) + ".bin";
+    if (io::is_file(path)) return views::Codebook::load(path);
+    views::CodebookOptions co;
+    co.words = o.words;
+    co.seed = o.seed;
+    views::Codebook cb = views::Codebook::train(views::stack_features(sets), co);
+    cb.save(path);
+    return cb;
+}
+
+MethodOutcome Experiment::run_method(const MethodSpec& spec) const {
+    const ExperimentOptions& o = options_;
+    MethodOutcome out;
+    out.spec = spec;
+    const std::string method = spec.folder();
+    const std::string dir = o.out + "/" + method;
+    out.folder = dir;
+    io::make_directories(dir + "/descriptors");
+
+    // 1. Per mesh, in parallel: canonical form and the SIFT features of its views (cached).
+    auto t0 = Clock::now();
+    const std::vector<MeshFeatures> results = features(spec);
+    out.forms_seconds = since(t0);
+    std::vector<size_t> good;
+    std::ostringstream failures;
+    for (size_t k = 0; k < models_.size(); ++k) {
+        if (results[k].ok) {
+            good.push_back(k);
+            out.cached += results[k].cached;
+        } else {
+            failures << models_[k].name << ": " << results[k].error << "\n";
+        }
+    }
+    out.meshes = good.size();
+    out.failed = models_.size() - good.size();
+    io::write_file_atomic(dir + "/failures.txt", failures.str());
+    char line[300];
+    std::snprintf(line, sizeof line, "[%s] %zu meshes in %.1f s (%d from the cache, %zu failed)", method.c_str(),
+                  models_.size(), out.forms_seconds, out.cached, out.failed);
+    log_line(o, line);
+    if (good.size() < 3) throw InputError(method + ": fewer than three meshes succeeded; see " + dir + "/failures.txt");
+
+    // 2. Codebook.
+    t0 = Clock::now();
+    const views::Codebook cb = codebook(spec, results, good);
+    out.codebook_seconds = since(t0);
+
+    // 3. Descriptors, distances, measures.
+    t0 = Clock::now();
+    std::vector<std::vector<views::Histogram>> hist;
+    std::vector<std::string> labels;
+    std::ostringstream order;
+    for (size_t k : good) {
+        views::ModelDescriptor d = views::make_descriptor(results[k].features, &cb, models_[k].path);
+        views::write_descriptor(dir + "/descriptors/" + models_[k].name + ".cfvd", d);
+        hist.push_back(std::move(d.histograms));
+        labels.push_back(models_[k].label);
+        order << models_[k].name << "," << models_[k].label << "\n";
+    }
+    const Eigen::MatrixXf D = views::distance_matrix(hist, views::rotation_view_maps(), o.threads);
+    io::write_distance_matrix(D, dir + "/distances.bin", dir + "/distances.csv");
+    io::write_file_atomic(dir + "/models.csv", "name,class\n" + order.str());
+    out.evaluation = evaluate(D.cast<double>(), labels);
+    out.distances_seconds = since(t0);
+    // Pose consistency against ground-truth correspondences (where the collection has them), on
+    // the forms this run wrote; the correspondences name vertices of the original meshes, so not
+    // on simplified ones.
+    try {
+        if (o.simplify == 0)
+            out.pose_consistency = pose_consistency(models_, good, o.dataset, dir + "/forms", &out.pose_consistency_pairs);
+    } catch (const std::exception& ex) {
+        log_line(o, "[" + method + "] pose consistency not measured: " + ex.what());
+    }
+    const MethodSettings settings = spec.settings();
+    nlohmann::ordered_json js;
+    js["method"] = method;
+    js["base"] = spec.name;
+    js["beta"] = spec.method().parameter("beta") ? settings.number("beta") : 0.0;
+    js["meshes"] = out.meshes;
+    js["failed"] = out.failed;
+    js["micro"] = to_json(out.evaluation.micro);
+    js["macro"] = to_json(out.evaluation.macro);
+    js["pose_consistency"] = out.pose_consistency;
+    js["pose_consistency_pairs"] = out.pose_consistency_pairs;
+    js["seconds"] = {{"forms_and_views", out.forms_seconds},
+                     {"codebook", out.codebook_seconds},
+                     {"distances_and_measures", out.distances_seconds}};
+    io::write_file_atomic(dir + "/metrics.json", js.dump() + "\n");
+    std::ostringstream pr;
+    pr << "recall,precision\n";
+    for (size_t k = 0; k < out.evaluation.recall.size(); ++k)
+        pr << out.evaluation.recall[k] << "," << out.evaluation.precision[k] << "\n";
+    io::write_file_atomic(dir + "/pr.csv", pr.str());
+    const Measures& e = out.evaluation.micro;
+    std::snprintf(line, sizeof line, "[%s] NN %.3f, 1-tier %.3f, 2-tier %.3f, E %.3f, DCG %.3f", method.c_str(), e.nn,
+                  e.first_tier, e.second_tier, e.e_measure, e.dcg);
+    log_line(o, line);
+    return out;
+}
+
+std::vector<MethodOutcome> Experiment::run() const {
+    std::vector<MethodOutcome> outcomes;
+    for (const MethodSpec& m : options_.methods) outcomes.push_back(run_method(m));
+    return outcomes;
+}
+
+std::string report_markdown(const ExperimentOptions& o, std::size_t meshes, const std::vector<MethodOutcome>& outcomes,
+                            const std::string& pictures) {
+    std::ostringstream report;
+    report << "# Retrieval run\n\n" << meshes << " meshes from `" << o.dataset << "`, labels `" << o.labels << "`"
+           << (o.simplify ? ", simplified to " + std::to_string(o.simplify) + " vertices" : std::string())
+           << (o.noise > 0 ? ", noise " + std::to_string(o.noise) + " of the mean edge length" : std::string())
+           << ".\n\n| method | NN | 1-Tier | 2-Tier | E-measure | DCG | pose consistency | meshes | failed | "
+              "forms+views s | codebook s | distances s |\n|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+    for (const MethodOutcome& m : outcomes) {
+        const Measures& e = m.evaluation.micro;
+        char row[400], cons[32] = "-";
+        if (m.pose_consistency >= 0) std::snprintf(cons, sizeof cons, "%.3f", m.pose_consistency);
+        std::snprintf(row, sizeof row, "| %s | %.3f | %.3f | %.3f | %.3f | %.3f | %s | %zu | %zu | %.1f | %.1f | %.1f |\n",
+                      m.spec.folder().c_str(), e.nn, e.first_tier, e.second_tier, e.e_measure, e.dcg, cons, m.meshes,
+                      m.failed, m.forms_seconds, m.codebook_seconds, m.distances_seconds);
+        report << row;
+    }
+    report << pictures;
+    report << "\nPose consistency: mean over same-class pairs with ground-truth correspondences (corres/*.vts) of "
+              "the RMS distance between corresponding vertices after the best rigid motion (or mirror image), "
+              "relative to the RMS radius; lower = more pose removed.\n";
+    report << "\nMicro averages (psbTable's definitions, normalised by C-1). Per method: `METHOD/metrics.json`, "
+              "`METHOD/pr.csv`, `METHOD/distances.bin` (float32 row-major, rows as `METHOD/models.csv`), "
+              "`METHOD/failures.txt`.\n";
+    return report.str();
+}
+
+double pose_consistency(const std::vector<Model>& models, const std::vector<size_t>& good, const std::string& dataset,
+                        const std::string& forms_dir, int* pairs) {
+    std::vector<std::vector<int>> vts(models.size());
+    std::vector<Eigen::MatrixXd> V(models.size());
+    for (size_t k : good) {
+        vts[k] = read_vts(dataset, models[k].name);
+        if (!vts[k].empty()) V[k] = io::read_mesh(forms_dir + "/" + models[k].name + ".ply").V;
+    }
+    double sum = 0;
+    *pairs = 0;
+    for (size_t a = 0; a < good.size(); ++a) {
+        for (size_t b = a + 1; b < good.size(); ++b) {
+            const size_t i = good[a], j = good[b];
+            if (models[i].label != models[j].label || vts[i].empty() || vts[i].size() != vts[j].size()) continue;
+            Eigen::MatrixXd P(static_cast<Eigen::Index>(vts[i].size()), 3), Q(P.rows(), 3);
+            bool valid = true;
+            for (size_t k = 0; k < vts[i].size() && valid; ++k) {
+                valid = vts[i][k] >= 0 && vts[i][k] < V[i].rows() && vts[j][k] >= 0 && vts[j][k] < V[j].rows();
+                if (valid) {
+                    P.row(static_cast<Eigen::Index>(k)) = V[i].row(vts[i][k]);
+                    Q.row(static_cast<Eigen::Index>(k)) = V[j].row(vts[j][k]);
+                }
+            }
+            if (!valid) continue;
+            const double radius =
+                std::sqrt((Q.rowwise() - Q.colwise().mean()).squaredNorm() / static_cast<double>(Q.rows()));
+            Eigen::MatrixXd M = P;
+            M.col(0) *= -1;
+            sum += std::min(align_rigid(P, Q).rms, align_rigid(M, Q).rms) / radius;
+            ++*pairs;
+        }
+    }
+    return *pairs ? sum / *pairs : -1.0;
+}
+
+}  // namespace canonform::retrieval

@@ -1,0 +1,118 @@
+// canonform: a retrieval experiment over a labelled collection - the pipeline of the paper's
+// Section 6 (Tables 2-5, Figs. 10-11), as `canonform retrieve`, the benchmarks and the filters
+// run it.
+//
+//   per mesh (in parallel, cached by file content and parameters):
+//       [simplify] [noise] -> canonical form (a method of the registry) -> 66 depth views + SIFT
+//   per method: codebook (trained on the method's features, or given) -> one bag-of-features
+//       histogram per view -> N x N clock-matching distances -> psbTable's measures, precision-
+//       recall, and pose consistency where the collection has ground-truth correspondences
+//
+// Everything lives in the run folder RUN: cache/ (per-mesh features and forms, codebooks),
+// collection.csv, and per method METHOD/ (METHOD = MethodSpec::folder()): forms/, descriptors/,
+// distances.bin (+ .csv, models.csv), metrics.json, pr.csv, failures.txt. A second run with the
+// same inputs recomputes nothing; an added method computes only its own work.
+#pragma once
+
+#include "canonform/canonical/method_registry.h"
+#include "canonform/retrieval/retrieval_measures.h"
+#include "canonform/views/view_descriptor.h"
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace canonform::retrieval {
+
+/// One model of a collection.
+struct Model {
+    std::string path;        ///< the mesh file (dataset folder + the labels file's path)
+    std::string label;       ///< its class
+    std::string name;        ///< file name without folder and extension (names its outputs)
+    std::uint64_t hash = 0;  ///< FNV-1a of the file's bytes (the cache key's content part)
+};
+
+/// The collection of a labels file ("path,class" rows, paths relative to `dataset`), in order.
+/// InputError naming the file if a mesh cannot be read.
+std::vector<Model> read_collection(const std::string& dataset, const std::string& labels);
+
+/// What an experiment runs.
+struct ExperimentOptions {
+    std::string dataset;              ///< folder the label paths are relative to
+    std::string labels;               ///< labels file ("path,class")
+    std::string out;                  ///< run folder
+    std::vector<MethodSpec> methods;  ///< canonical-form methods, in order (folders must differ)
+    int words = 1500;                 ///< codebook size (trained on each method's features)
+    std::string codebook;             ///< a given codebook instead ("" = train)
+    int simplify = 0;                 ///< simplify every mesh to this many vertices first (0 = no)
+    double noise = 0;                 ///< vertex noise, as a fraction of the mean edge length
+    std::uint64_t seed = 0;           ///< seeds of the noise and the codebook
+    int threads = 0;                  ///< meshes in parallel (0 = every core)
+    views::ViewDescriptorOptions views;                ///< image size, pose and SIFT settings
+    std::function<void(const std::string&)> log;       ///< one line per finished stage (may be empty)
+    std::function<ProgressFn(const std::string& method)> progress;  ///< per-mesh progress of a method (may be empty)
+};
+
+/// The features of one mesh under one method.
+struct MeshFeatures {
+    bool ok = false;
+    bool cached = false;                          ///< read from the run's cache
+    std::string error;                            ///< why it failed (if !ok)
+    std::vector<views::SiftDescriptors> features; ///< one matrix per view
+};
+
+/// The outcome of one method.
+struct MethodOutcome {
+    MethodSpec spec;
+    std::string folder;                ///< RUN/METHOD
+    Evaluation evaluation;
+    double pose_consistency = -1;      ///< -1: not measured (no correspondences, or simplified)
+    int pose_consistency_pairs = 0;
+    std::size_t meshes = 0, failed = 0;
+    int cached = 0;                    ///< meshes read from the cache
+    double forms_seconds = 0, codebook_seconds = 0, distances_seconds = 0;
+};
+
+/// A retrieval run. The constructor reads the collection and prepares the run folder; the stage
+/// functions can be called one by one (benchmarks, tests) or all at once by run().
+class Experiment {
+public:
+    explicit Experiment(ExperimentOptions options);
+
+    const ExperimentOptions& options() const { return options_; }
+    const std::vector<Model>& models() const { return models_; }
+
+    /// Stage 1 for one mesh: [simplify, noise,] the canonical form (written to METHOD/forms/) and
+    /// the SIFT features of its 66 views, from the cache when it has them. Never throws: a failure
+    /// is returned with its reason.
+    MeshFeatures mesh_features(const MethodSpec& method, std::size_t model) const;
+    /// Stage 1 for every mesh, in parallel, with progress.
+    std::vector<MeshFeatures> features(const MethodSpec& method) const;
+    /// Stage 2: the given codebook, or one trained on the features of the meshes `good` (cached).
+    views::Codebook codebook(const MethodSpec& method, const std::vector<MeshFeatures>& features,
+                             const std::vector<std::size_t>& good) const;
+    /// Every stage of one method; writes its folder.
+    MethodOutcome run_method(const MethodSpec& method) const;
+    /// Every method, in order.
+    std::vector<MethodOutcome> run() const;
+
+private:
+    ExperimentOptions options_;
+    std::vector<Model> models_;
+};
+
+/// RUN/report.md of a run: the collection, one table row per method, then `pictures` (markdown
+/// lines: the precision-recall plot, the grid) and the notes on the measures.
+std::string report_markdown(const ExperimentOptions& options, std::size_t meshes,
+                            const std::vector<MethodOutcome>& outcomes, const std::string& pictures);
+
+/// Pose consistency of a method's forms (FOLDER/forms/NAME.ply) against ground-truth
+/// correspondences (DATASET/corres/NAME.vts, line k = the 1-based vertex at template point k):
+/// over same-class pairs, the RMS distance between corresponding vertices after the best rigid
+/// motion or mirror image (MDS fixes a form only up to one), relative to the RMS radius of the
+/// second; the mean over pairs, or -1 if no pair has correspondences.
+double pose_consistency(const std::vector<Model>& models, const std::vector<std::size_t>& good,
+                        const std::string& dataset, const std::string& forms_dir, int* pairs);
+
+}  // namespace canonform::retrieval

@@ -1,0 +1,83 @@
+#include "canonform/surface/conformal_factor.h"
+
+#include "canonform/surface/cotan_laplacian.h"
+#include "canonform/surface/gaussian_curvature.h"
+#include "canonform/surface/mesh_topology.h"
+#include "canonform/surface/vertex_areas.h"
+
+#include "canonform/numerics/sparse_cholesky.h"
+
+#include <sstream>
+
+namespace canonform {
+
+Eigen::MatrixXd normalize_scale(const Eigen::MatrixXd& V, Eigen::RowVector3d* centroid, double* scale) {
+    const Eigen::RowVector3d c = V.colwise().mean();
+    Eigen::MatrixXd X = V.rowwise() - c;
+    const double r = X.rowwise().norm().maxCoeff();
+    if (!(r > 0)) throw InputError("all vertices of the mesh coincide");
+    X /= r;
+    if (centroid) *centroid = c;
+    if (scale) *scale = r;
+    return X;
+}
+
+ConformalFactorResult conformal_factor(const Eigen::MatrixXd& V0, const Eigen::MatrixXi& F,
+                                       const ConformalFactorOptions& options) {
+    if (options.validate) validate_mesh(V0, F);
+    report_progress(options.progress, 0.0, "conformal factor: curvature");
+    const Eigen::MatrixXd V = normalize_scale(V0);
+    const Eigen::Index n = V.rows();
+
+    ConformalFactorResult r;
+    r.curvature = gaussian_curvature(V, F);
+    const Eigen::VectorXd A = vertex_areas(V, F);
+    r.target = r.curvature.sum() * A / A.sum();
+    const Eigen::VectorXd rhs = r.curvature - r.target;  // (D - W) phi = K0 - KT, see header
+
+    report_progress(options.progress, 0.2, "conformal factor: factorising");
+    const Eigen::SparseMatrix<double> L = cotan_laplacian(V, F);
+    // Pin vertex 0: drop its row and column.
+    const Eigen::SparseMatrix<double> Lr = L.bottomRightCorner(n - 1, n - 1);
+    Eigen::VectorXd phi(n);
+    phi(0) = 0;
+    if (use_multigrid(options.linear_solver, n - 1)) {
+        const AmgPreconditioner amg(Lr);
+        report_progress(options.progress, 0.7, "conformal factor: solving (multigrid)");
+        Eigen::MatrixXd x = Eigen::MatrixXd::Zero(n - 1, 1);
+        const PcgReport rep = amg.pcg(Eigen::MatrixXd(rhs.tail(n - 1)), x, 1e-10, 500);
+        if (!rep.converged)
+            throw NumericalError("conformal factor: the multigrid solve did not converge (is the mesh "
+                                 "free of degenerate triangles?)");
+        phi.tail(n - 1) = x.col(0);
+    } else {
+        SparseCholesky solver;
+        if (!solver.compute(Lr))
+            throw NumericalError("conformal factor: the Cholesky factorisation of the cotangent Laplacian "
+                                 "failed (is the mesh connected and free of degenerate triangles?)");
+        report_progress(options.progress, 0.7, "conformal factor: solving");
+        phi.tail(n - 1) = solver.solve(Eigen::MatrixXd(rhs.tail(n - 1)));
+        if (!solver.ok())
+            throw NumericalError("conformal factor: the linear solve failed");
+    }
+    if (!phi.allFinite())
+        throw NumericalError("conformal factor: the linear solve produced non-finite values");
+
+    const double scale = rhs.lpNorm<Eigen::Infinity>();
+    r.residual = scale > 0 ? (L * phi - rhs).lpNorm<Eigen::Infinity>() / scale : 0.0;
+    if (!(r.residual <= options.residual_tolerance)) {
+        std::ostringstream m;
+        m << "conformal factor: relative residual " << r.residual << " above tolerance "
+          << options.residual_tolerance << " (ill-conditioned mesh: obtuse or sliver triangles?)";
+        throw NumericalError(m.str());
+    }
+    phi.array() -= A.dot(phi) / A.sum();
+    r.raw = phi;
+    const double lo = phi.minCoeff(), hi = phi.maxCoeff();
+    r.normalized = hi > lo ? Eigen::VectorXd((phi.array() - lo) / (hi - lo))
+                           : Eigen::VectorXd::Constant(n, 0.5);
+    report_progress(options.progress, 1.0, "conformal factor: done");
+    return r;
+}
+
+}  // namespace canonform

@@ -1,0 +1,25 @@
+#include "canonform/surface/gaussian_curvature.h"
+
+#include "canonform/surface/mesh_topology.h"
+
+#include <Eigen/Geometry>
+
+#include <cmath>
+
+namespace canonform {
+
+Eigen::VectorXd gaussian_curvature(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F) {
+    const auto boundary = boundary_vertices(static_cast<int>(V.rows()), F);
+    Eigen::VectorXd K(V.rows());
+    for (Eigen::Index v = 0; v < V.rows(); ++v) K(v) = boundary[static_cast<size_t>(v)] ? M_PI : 2 * M_PI;
+    for (Eigen::Index f = 0; f < F.rows(); ++f) {
+        for (int c = 0; c < 3; ++c) {
+            const int k = F(f, c), i = F(f, (c + 1) % 3), j = F(f, (c + 2) % 3);
+            const Eigen::Vector3d a = V.row(i) - V.row(k), b = V.row(j) - V.row(k);
+            K(k) -= std::atan2(a.cross(b).norm(), a.dot(b));
+        }
+    }
+    return K;
+}
+
+}  // namespace canonform

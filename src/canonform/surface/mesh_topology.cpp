@@ -1,0 +1,175 @@
+#include "canonform/surface/mesh_topology.h"
+
+#include "canonform/common/errors.h"
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <sstream>
+#include <utility>
+
+namespace canonform {
+
+namespace {
+
+/// Directed half-edges (min, max, face) of F, sorted: the basis of the edge queries below.
+std::vector<std::pair<long long, int>> sorted_edge_keys(const Eigen::MatrixXi& F, long long n) {
+    std::vector<std::pair<long long, int>> keys;
+    keys.reserve(static_cast<size_t>(F.rows()) * 3);
+    for (int f = 0; f < F.rows(); ++f) {
+        for (int c = 0; c < 3; ++c) {
+            long long a = F(f, c), b = F(f, (c + 1) % 3);
+            if (a > b) std::swap(a, b);
+            keys.emplace_back(a * n + b, f);
+        }
+    }
+    std::sort(keys.begin(), keys.end());
+    return keys;
+}
+
+}  // namespace
+
+Eigen::MatrixXi unique_edges(const Eigen::MatrixXi& F) {
+    const long long n = F.size() ? static_cast<long long>(F.maxCoeff()) + 1 : 0;
+    auto keys = sorted_edge_keys(F, n);
+    std::vector<long long> uniq;
+    uniq.reserve(keys.size() / 2 + 1);
+    for (size_t k = 0; k < keys.size(); ++k)
+        if (k == 0 || keys[k].first != keys[k - 1].first) uniq.push_back(keys[k].first);
+    Eigen::MatrixXi E(static_cast<Eigen::Index>(uniq.size()), 2);
+    for (size_t e = 0; e < uniq.size(); ++e) {
+        E(static_cast<Eigen::Index>(e), 0) = static_cast<int>(uniq[e] / n);
+        E(static_cast<Eigen::Index>(e), 1) = static_cast<int>(uniq[e] % n);
+    }
+    return E;
+}
+
+std::vector<bool> boundary_vertices(int n, const Eigen::MatrixXi& F) {
+    std::vector<bool> on_boundary(static_cast<size_t>(n), false);
+    auto keys = sorted_edge_keys(F, n);
+    for (size_t k = 0; k < keys.size();) {
+        size_t m = k;
+        while (m < keys.size() && keys[m].first == keys[k].first) ++m;
+        if (m - k == 1) {
+            on_boundary[static_cast<size_t>(keys[k].first / n)] = true;
+            on_boundary[static_cast<size_t>(keys[k].first % n)] = true;
+        }
+        k = m;
+    }
+    return on_boundary;
+}
+
+MeshReport validate_mesh(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
+                         const ValidationOptions& options) {
+    MeshReport r;
+    r.vertices = static_cast<int>(V.rows());
+    r.faces = static_cast<int>(F.rows());
+    std::ostringstream msg;
+    if (V.rows() == 0) throw InputError("the mesh is empty: it has no vertices");
+    if (V.cols() != 3 || (F.rows() > 0 && F.cols() != 3))
+        throw InputError("the mesh must have 3D vertices and triangular faces");
+    if (F.rows() == 0) {
+        msg << "the mesh has " << V.rows()
+            << " vertices and no faces (a point cloud): a triangle mesh is needed";
+        throw InputError(msg.str());
+    }
+    for (Eigen::Index v = 0; v < V.rows(); ++v) {
+        if (!V.row(v).allFinite()) {
+            Eigen::Index bad = 0;
+            for (Eigen::Index u = 0; u < V.rows(); ++u) bad += V.row(u).allFinite() ? 0 : 1;
+            msg << "the mesh has " << bad << " vertices with NaN or infinite coordinates (first: vertex "
+                << v << ")";
+            throw InputError(msg.str());
+        }
+    }
+    if (F.minCoeff() < 0 || F.maxCoeff() >= V.rows()) {
+        msg << "face indices out of range: they must lie in [0, " << V.rows() - 1 << "]";
+        throw InputError(msg.str());
+    }
+    if (V.rows() < options.min_vertices) {
+        msg << "the mesh has only " << V.rows() << " vertices; at least " << options.min_vertices
+            << " are needed";
+        throw InputError(msg.str());
+    }
+    // Degenerate faces: a repeated vertex, or an area that is zero at the scale of the mesh.
+    const double diag = (V.colwise().maxCoeff() - V.colwise().minCoeff()).norm();
+    const double min_area = options.degenerate_area * diag * diag;
+    int degenerate = 0, first_degenerate = -1;
+    for (int f = 0; f < F.rows(); ++f) {
+        const int a = F(f, 0), b = F(f, 1), c = F(f, 2);
+        bool bad = (a == b || b == c || a == c);
+        if (!bad) {
+            const Eigen::Vector3d e1 = V.row(b) - V.row(a), e2 = V.row(c) - V.row(a);
+            bad = !(0.5 * e1.cross(e2).norm() > min_area);
+        }
+        if (bad) {
+            if (first_degenerate < 0) first_degenerate = f;
+            ++degenerate;
+        }
+    }
+    if (degenerate > 0) {
+        msg << "the mesh has " << degenerate
+            << " degenerate faces (zero area or a repeated vertex; first: face " << first_degenerate
+            << "); remove them first, e.g. with MeshLab's 'Remove Zero Area Faces' and 'Remove "
+               "Duplicate Vertices'";
+        throw InputError(msg.str());
+    }
+    // Edges: count incident faces per undirected edge.
+    const long long n = V.rows();
+    auto keys = sorted_edge_keys(F, n);
+    int nonmanifold = 0;
+    long long first_nm = -1;
+    for (size_t k = 0; k < keys.size();) {
+        size_t m = k;
+        while (m < keys.size() && keys[m].first == keys[k].first) ++m;
+        ++r.edges;
+        if (m - k == 1) ++r.boundary_edges;
+        if (m - k > 2) {
+            if (first_nm < 0) first_nm = keys[k].first;
+            ++nonmanifold;
+        }
+        k = m;
+    }
+    if (nonmanifold > 0) {
+        msg << "the mesh has " << nonmanifold << " non-manifold edges (shared by more than two faces; "
+            << "first: vertices " << first_nm / n << "-" << first_nm % n
+            << "); repair it, e.g. with MeshLab's 'Repair non Manifold Edges'";
+        throw InputError(msg.str());
+    }
+    std::vector<bool> referenced(static_cast<size_t>(n), false);
+    for (int f = 0; f < F.rows(); ++f)
+        for (int c = 0; c < 3; ++c) referenced[static_cast<size_t>(F(f, c))] = true;
+    const auto unref = std::count(referenced.begin(), referenced.end(), false);
+    if (unref > 0) {
+        msg << "the mesh has " << unref
+            << " vertices that belong to no face; remove them first, e.g. with MeshLab's 'Remove "
+               "Unreferenced Vertices'";
+        throw InputError(msg.str());
+    }
+    r.edge_list = unique_edges(F);
+    connected_components(static_cast<int>(n), r.edge_list, &r.components);
+    if (options.require_single_component && r.components > 1) {
+        msg << "the mesh has " << r.components
+            << " connected components; the method needs one. Keep the largest, e.g. with "
+               "MeshLab's 'Remove Isolated pieces (wrt Diameter)'";
+        throw InputError(msg.str());
+    }
+    const auto bnd = boundary_vertices(static_cast<int>(n), F);
+    r.boundary_loops_vertices = static_cast<int>(std::count(bnd.begin(), bnd.end(), true));
+    r.euler_characteristic = r.vertices - r.edges + r.faces;
+    return r;
+}
+
+double mean_relative_edge_change(const Eigen::MatrixXd& V0, const Eigen::MatrixXd& V1, const Eigen::MatrixXi& E) {
+    double change = 0;
+    for (Eigen::Index e = 0; e < E.rows(); ++e) {
+        const double d0 = (V0.row(E(e, 0)) - V0.row(E(e, 1))).norm();
+        const double d1 = (V1.row(E(e, 0)) - V1.row(E(e, 1))).norm();
+        change += std::abs(d1 - d0) / d0;
+    }
+    return E.rows() ? change / static_cast<double>(E.rows()) : 0.0;
+}
+
+}  // namespace canonform

@@ -1,0 +1,225 @@
+#include "canonform/views/bag_of_features.h"
+
+#include "canonform/common/parallel.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+
+namespace canonform::views {
+namespace {
+
+double total(const Histogram& h) {
+    double s = 0;
+    for (const auto& e : h) s += e.second;
+    return s;
+}
+
+double distance_from(double inter, double sa, double sb) {
+    if (sa <= 0 && sb <= 0) return 0.0;  // both empty
+    const double m = std::max(sa, sb);
+    return std::clamp(1.0 - inter / m, 0.0, 1.0);
+}
+
+void check_histogram(const Histogram& h, const char* which, std::size_t view) {
+    int last = -1;
+    for (const auto& e : h) {
+        if (e.first <= last)
+            throw InputError(std::string("Bag of features: histogram of view ") + std::to_string(view) + " of " +
+                             which + " is not sorted by strictly increasing word (or has a negative word).");
+        if (!(e.second > 0) || !std::isfinite(e.second))
+            throw InputError(std::string("Bag of features: histogram of view ") + std::to_string(view) + " of " +
+                             which + " has a non-positive or non-finite count.");
+        last = e.first;
+    }
+}
+
+void check_maps(const std::vector<std::vector<int>>& maps, std::size_t views) {
+    if (maps.empty()) throw InputError("Clock matching: no rotation maps given.");
+    for (std::size_t r = 0; r < maps.size(); ++r) {
+        if (maps[r].size() != views)
+            throw InputError("Clock matching: rotation map " + std::to_string(r) + " has " +
+                             std::to_string(maps[r].size()) + " entries, the models have " + std::to_string(views) +
+                             " views.");
+        for (int j : maps[r])
+            if (j < 0 || static_cast<std::size_t>(j) >= views)
+                throw InputError("Clock matching: rotation map " + std::to_string(r) + " has the view index " +
+                                 std::to_string(j) + ", outside [0, " + std::to_string(views) + ").");
+    }
+}
+
+// The distinct (i, j) pairs used by the maps, and per rotation the pair index of each view.
+struct PairPlan {
+    std::vector<std::vector<int>> partners;   // partners[i] = distinct j's of view i
+    std::vector<std::vector<int>> pair_of;    // pair_of[r][i] = index into the flat pair list
+    int pairs = 0;
+};
+
+PairPlan plan_pairs(const std::vector<std::vector<int>>& maps, std::size_t views) {
+    PairPlan p;
+    p.partners.resize(views);
+    std::vector<std::vector<int>> offset(views);
+    for (std::size_t i = 0; i < views; ++i) {
+        for (const auto& m : maps) p.partners[i].push_back(m[i]);
+        std::sort(p.partners[i].begin(), p.partners[i].end());
+        p.partners[i].erase(std::unique(p.partners[i].begin(), p.partners[i].end()), p.partners[i].end());
+    }
+    std::vector<int> base(views + 1, 0);
+    for (std::size_t i = 0; i < views; ++i) base[i + 1] = base[i] + static_cast<int>(p.partners[i].size());
+    p.pairs = base[views];
+    p.pair_of.assign(maps.size(), std::vector<int>(views));
+    for (std::size_t r = 0; r < maps.size(); ++r)
+        for (std::size_t i = 0; i < views; ++i) {
+            const auto& q = p.partners[i];
+            p.pair_of[r][i] = base[i] + static_cast<int>(std::lower_bound(q.begin(), q.end(), maps[r][i]) - q.begin());
+        }
+    return p;
+}
+
+// Dense copies of a model's views (views x (max word + 1)), for the scatter-gather intersection.
+struct DenseModel {
+    int width = 0;
+    std::vector<float> values;  // views * width
+    std::vector<double> sums;
+};
+
+int max_word(const std::vector<Histogram>& m) {
+    int w = -1;
+    for (const auto& h : m)
+        if (!h.empty()) w = std::max(w, h.back().first);
+    return w;
+}
+
+void densify(const std::vector<Histogram>& m, int width, DenseModel& d) {
+    d.width = width;
+    d.values.assign(m.size() * static_cast<std::size_t>(width), 0.f);
+    d.sums.resize(m.size());
+    for (std::size_t i = 0; i < m.size(); ++i) {
+        float* row = d.values.data() + i * static_cast<std::size_t>(width);
+        for (const auto& e : m[i]) row[e.first] = e.second;
+        d.sums[i] = total(m[i]);
+    }
+}
+
+// Clock matching of dense A against sparse B with a prepared plan; `scratch` holds pair distances.
+double clock_dense(const DenseModel& A, const std::vector<Histogram>& B, const std::vector<double>& b_sums,
+                   const PairPlan& plan, std::vector<double>& scratch) {
+    scratch.resize(static_cast<std::size_t>(plan.pairs));
+    const std::size_t views = B.size();
+    std::size_t k = 0;
+    for (std::size_t i = 0; i < views; ++i) {
+        const float* row = A.values.data() + i * static_cast<std::size_t>(A.width);
+        for (int j : plan.partners[i]) {
+            float inter = 0.f;
+            for (const auto& e : B[static_cast<std::size_t>(j)])
+                if (e.first < A.width) inter += std::min(row[e.first], e.second);
+            scratch[k++] = distance_from(inter, A.sums[i], b_sums[static_cast<std::size_t>(j)]);
+        }
+    }
+    double best = std::numeric_limits<double>::infinity();
+    for (const auto& pr : plan.pair_of) {
+        double s = 0;
+        for (int q : pr) s += scratch[static_cast<std::size_t>(q)];
+        best = std::min(best, s);
+    }
+    return best;
+}
+
+}  // namespace
+
+Histogram histogram(const std::vector<int>& words) {
+    std::vector<int> w = words;
+    for (int x : w)
+        if (x < 0) throw InputError("Bag of features: negative word index " + std::to_string(x) + ".");
+    std::sort(w.begin(), w.end());
+    Histogram h;
+    for (std::size_t k = 0; k < w.size();) {
+        std::size_t e = k;
+        while (e < w.size() && w[e] == w[k]) ++e;
+        h.emplace_back(w[k], static_cast<float>(e - k));
+        k = e;
+    }
+    return h;
+}
+
+double view_distance(const Histogram& a, const Histogram& b) {
+    double inter = 0, sa = 0, sb = 0;
+    std::size_t i = 0, j = 0;
+    while (i < a.size() && j < b.size()) {
+        if (a[i].first < b[j].first) sa += a[i++].second;
+        else if (b[j].first < a[i].first) sb += b[j++].second;
+        else {
+            inter += std::min(a[i].second, b[j].second);
+            sa += a[i++].second;
+            sb += b[j++].second;
+        }
+    }
+    for (; i < a.size(); ++i) sa += a[i].second;
+    for (; j < b.size(); ++j) sb += b[j].second;
+    return distance_from(inter, sa, sb);
+}
+
+double clock_matching_distance(const std::vector<Histogram>& a, const std::vector<Histogram>& b,
+                               const std::vector<std::vector<int>>& maps) {
+    if (a.size() != b.size())
+        throw InputError("Clock matching: the models have different view counts (" + std::to_string(a.size()) +
+                         " and " + std::to_string(b.size()) + ").");
+    if (a.empty()) throw InputError("Clock matching: the models have no views.");
+    check_maps(maps, a.size());
+    for (std::size_t i = 0; i < a.size(); ++i) {
+        check_histogram(a[i], "model A", i);
+        check_histogram(b[i], "model B", i);
+    }
+    double best = std::numeric_limits<double>::infinity();
+    for (const auto& m : maps) {
+        double s = 0;
+        for (std::size_t i = 0; i < a.size(); ++i) s += view_distance(a[i], b[static_cast<std::size_t>(m[i])]);
+        best = std::min(best, s);
+    }
+    return best;
+}
+
+Eigen::MatrixXf distance_matrix(const std::vector<std::vector<Histogram>>& models,
+                                const std::vector<std::vector<int>>& maps, int threads) {
+    const std::size_t n = models.size();
+    Eigen::MatrixXf D = Eigen::MatrixXf::Zero(static_cast<Eigen::Index>(n), static_cast<Eigen::Index>(n));
+    if (n == 0) return D;
+    const std::size_t views = models[0].size();
+    if (views == 0) throw InputError("Distance matrix: model 0 has no views.");
+    int width = 0;
+    for (std::size_t m = 0; m < n; ++m) {
+        if (models[m].size() != views)
+            throw InputError("Distance matrix: model " + std::to_string(m) + " has " + std::to_string(models[m].size()) +
+                             " views, model 0 has " + std::to_string(views) + ".");
+        for (std::size_t i = 0; i < views; ++i) check_histogram(models[m][i], ("model " + std::to_string(m)).c_str(), i);
+        width = std::max(width, max_word(models[m]) + 1);
+    }
+    check_maps(maps, views);
+    const PairPlan plan = plan_pairs(maps, views);
+    std::vector<std::vector<double>> sums(n, std::vector<double>(views));
+    for (std::size_t m = 0; m < n; ++m)
+        for (std::size_t i = 0; i < views; ++i) sums[m][i] = total(models[m][i]);
+
+    // Rows in parallel (row r computes the pairs (r, c > r)); dense scratch per worker.
+    ParallelOptions par;
+    par.threads = threads;
+    const int workers = parallel_workers(static_cast<std::ptrdiff_t>(n), par);
+    std::vector<DenseModel> dense(static_cast<std::size_t>(workers));
+    std::vector<std::vector<double>> scratch(static_cast<std::size_t>(workers));
+    parallel_for(static_cast<std::ptrdiff_t>(n), [&](std::ptrdiff_t row, int worker) {
+        const auto r = static_cast<std::size_t>(row);
+        if (r + 1 >= n) return;
+        DenseModel& A = dense[static_cast<std::size_t>(worker)];
+        densify(models[r], std::max(width, 1), A);
+        for (std::size_t c = r + 1; c < n; ++c) {
+            const float d = static_cast<float>(
+                clock_dense(A, models[c], sums[c], plan, scratch[static_cast<std::size_t>(worker)]));
+            D(static_cast<Eigen::Index>(r), static_cast<Eigen::Index>(c)) = d;
+            D(static_cast<Eigen::Index>(c), static_cast<Eigen::Index>(r)) = d;
+        }
+    }, par);
+    return D;
+}
+
+}  // namespace canonform::views

@@ -1,0 +1,263 @@
+#include "canonform/views/codebook.h"
+
+#include "canonform/common/parallel.h"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <iterator>
+#include <limits>
+#include <numeric>
+#include <random>
+#include <sstream>
+
+namespace canonform::views {
+namespace {
+
+constexpr std::uint32_t kVersion = 1;
+constexpr int kDim = 128;
+
+// ---- little-endian helpers ------------------------------------------------------------------------
+void put_u32(std::string& out, std::uint32_t v) {
+    for (int k = 0; k < 4; ++k) out.push_back(static_cast<char>((v >> (8 * k)) & 0xFFu));
+}
+void put_f32(std::string& out, float f) {
+    std::uint32_t v;
+    std::memcpy(&v, &f, 4);
+    put_u32(out, v);
+}
+std::uint32_t get_u32(const unsigned char* p) {
+    return std::uint32_t(p[0]) | (std::uint32_t(p[1]) << 8) | (std::uint32_t(p[2]) << 16) | (std::uint32_t(p[3]) << 24);
+}
+float get_f32(const unsigned char* p) {
+    const std::uint32_t v = get_u32(p);
+    float f;
+    std::memcpy(&f, &v, 4);
+    return f;
+}
+
+void write_atomically(const std::string& path, const std::string& bytes, const char* what) {
+    static std::atomic<unsigned> counter{0};
+    const std::string tmp = path + ".tmp-" + std::to_string(::getpid()) + "-" + std::to_string(counter++);
+    {
+        std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
+        if (!f) throw InputError(std::string("Cannot write the ") + what + " file '" + path + "' (cannot create '" + tmp + "').");
+        f.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+        f.flush();
+        if (!f) {
+            f.close();
+            std::remove(tmp.c_str());
+            throw InputError(std::string("Cannot write the ") + what + " file '" + path + "' (write failed; disk full?).");
+        }
+    }
+    if (std::rename(tmp.c_str(), path.c_str()) != 0) {
+        std::remove(tmp.c_str());
+        throw InputError(std::string("Cannot write the ") + what + " file '" + path + "' (rename of the temporary file failed).");
+    }
+}
+
+std::string read_all(const std::string& path, const char* what) {
+    std::ifstream f(path, std::ios::binary);
+    if (!f) throw InputError(std::string("Cannot open the ") + what + " file '" + path + "'.");
+    std::ostringstream ss;
+    ss << f.rdbuf();
+    if (f.bad()) throw InputError(std::string("Cannot read the ") + what + " file '" + path + "'.");
+    return ss.str();
+}
+
+// ---- random numbers (platform independent for a seed) ---------------------------------------------
+double uniform01(std::mt19937_64& rng) { return static_cast<double>(rng() >> 11) * (1.0 / 9007199254740992.0); }
+std::size_t uniform_index(std::mt19937_64& rng, std::size_t n) { return static_cast<std::size_t>(rng() % n); }
+
+// First `k` entries of a seeded partial Fisher-Yates shuffle of 0..n-1.
+std::vector<int> sample_distinct(std::mt19937_64& rng, int n, int k) {
+    std::vector<int> idx(n);
+    std::iota(idx.begin(), idx.end(), 0);
+    for (int i = 0; i < k; ++i) std::swap(idx[i], idx[i + uniform_index(rng, static_cast<std::size_t>(n - i))]);
+    idx.resize(k);
+    return idx;
+}
+
+// Nearest word (ties to the lower index) and its squared distance, for every row of X.
+void nearest_words(const DescriptorMatrix& X, const DescriptorMatrix& C, const Eigen::VectorXf& c_norms,
+                   std::vector<int>& label, std::vector<float>* dist2) {
+    const Eigen::Index n = X.rows(), w = C.rows();
+    label.assign(static_cast<std::size_t>(n), 0);
+    if (dist2) dist2->assign(static_cast<std::size_t>(n), 0.f);
+    constexpr Eigen::Index kBlock = 256;
+    const Eigen::Index blocks = (n + kBlock - 1) / kBlock;
+    // Eight blocks (2048 rows) at least per worker: fewer do not pay for a thread.
+    ParallelOptions par;
+    par.grain = 8;
+    std::vector<Eigen::MatrixXf> scratch(static_cast<std::size_t>(parallel_workers(blocks, par)));
+    parallel_for(blocks, [&](Eigen::Index b, int worker) {
+        Eigen::MatrixXf& S = scratch[static_cast<std::size_t>(worker)];  // block x words
+        const Eigen::Index r0 = b * kBlock, rn = std::min(kBlock, n - r0);
+        // Dynamic-size maps: the fixed 128 columns would also instantiate Eigen's GEMV path,
+        // which draws a false -Waggressive-loop-optimizations warning from GCC 12.
+        const Eigen::Map<const Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> Xb(
+            X.data() + r0 * kDim, rn, kDim);
+        const Eigen::Map<const Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> Cm(
+            C.data(), w, kDim);
+        S.noalias() = Xb * Cm.transpose();
+        for (Eigen::Index r = 0; r < rn; ++r) {
+            float best = std::numeric_limits<float>::infinity();
+            int arg = 0;
+            for (Eigen::Index j = 0; j < w; ++j) {
+                const float d = c_norms[j] - 2.f * S(r, j);
+                if (d < best) { best = d; arg = static_cast<int>(j); }
+            }
+            label[static_cast<std::size_t>(r0 + r)] = arg;
+            if (dist2)
+                (*dist2)[static_cast<std::size_t>(r0 + r)] =
+                    std::max(0.f, best + X.row(r0 + r).squaredNorm());
+        }
+    }, par);
+}
+
+Eigen::VectorXf row_norms(const DescriptorMatrix& C) { return C.rowwise().squaredNorm(); }
+
+DescriptorMatrix kmeans_pp_seed(const DescriptorMatrix& X, int k, std::mt19937_64& rng) {
+    const int n = static_cast<int>(X.rows());
+    const int m = std::min(n, 20 * k);
+    std::vector<int> subset = sample_distinct(rng, n, m);
+    DescriptorMatrix S(m, kDim);
+    for (int i = 0; i < m; ++i) S.row(i) = X.row(subset[i]);
+    DescriptorMatrix C(k, kDim);
+    Eigen::VectorXd d2 = Eigen::VectorXd::Constant(m, std::numeric_limits<double>::infinity());
+    int pick = static_cast<int>(uniform_index(rng, static_cast<std::size_t>(m)));
+    for (int c = 0; c < k; ++c) {
+        if (c > 0) {
+            const double total = d2.sum();
+            if (total > 0) {
+                double u = uniform01(rng) * total, acc = 0;
+                pick = m - 1;
+                for (int i = 0; i < m; ++i) {
+                    acc += d2[i];
+                    if (acc > u && d2[i] > 0) { pick = i; break; }
+                }
+            } else {
+                pick = static_cast<int>(uniform_index(rng, static_cast<std::size_t>(m)));  // all duplicates
+            }
+        }
+        C.row(c) = S.row(pick);
+        const Eigen::VectorXf dn = (S.rowwise() - S.row(pick)).rowwise().squaredNorm();
+        d2 = d2.cwiseMin(dn.cast<double>());
+    }
+    return C;
+}
+
+}  // namespace
+
+Codebook Codebook::from_words(DescriptorMatrix words) {
+    if (words.rows() == 0) throw InputError("Codebook: no words.");
+    if (!words.allFinite()) throw InputError("Codebook: a word has a non-finite value.");
+    Codebook cb;
+    cb.words_ = std::move(words);
+    cb.norms_ = row_norms(cb.words_);
+    return cb;
+}
+
+Codebook Codebook::train(const DescriptorMatrix& X, const CodebookOptions& options) {
+    if (options.words <= 0) throw InputError("Codebook: the number of words must be positive.");
+    if (options.kmeans_iterations < 0) throw InputError("Codebook: kmeans_iterations must be >= 0.");
+    if (X.rows() == 0) throw InputError("Codebook: no training descriptors (every view was blank?).");
+    if (X.rows() > std::numeric_limits<int>::max()) throw InputError("Codebook: too many training descriptors.");
+    if (!X.allFinite()) throw InputError("Codebook: a training descriptor has a non-finite value.");
+    const int n = static_cast<int>(X.rows()), k = options.words;
+    if (n <= k) return from_words(X);  // documented: every descriptor becomes a word
+
+    std::mt19937_64 rng(options.seed);
+    if (options.method == CodebookOptions::Method::Random) {
+        const std::vector<int> pick = sample_distinct(rng, n, k);
+        DescriptorMatrix C(k, kDim);
+        for (int i = 0; i < k; ++i) C.row(i) = X.row(pick[i]);
+        return from_words(std::move(C));
+    }
+
+    DescriptorMatrix C = kmeans_pp_seed(X, k, rng);
+    std::vector<int> label, previous;
+    std::vector<float> dist2;
+    for (int it = 0; it < options.kmeans_iterations; ++it) {
+        nearest_words(X, C, row_norms(C), label, &dist2);
+        if (label == previous) break;
+        // New means, accumulated sequentially (deterministic).
+        Eigen::MatrixXd sum = Eigen::MatrixXd::Zero(k, kDim);
+        std::vector<int> count(static_cast<std::size_t>(k), 0);
+        for (int i = 0; i < n; ++i) {
+            sum.row(label[i]) += X.row(i).cast<double>();
+            ++count[static_cast<std::size_t>(label[i])];
+        }
+        std::vector<int> order;  // points by decreasing distance, for re-seeding empty clusters
+        std::size_t next_far = 0;
+        for (int c = 0; c < k; ++c) {
+            if (count[static_cast<std::size_t>(c)] > 0) {
+                C.row(c) = (sum.row(c) / count[static_cast<std::size_t>(c)]).cast<float>();
+                continue;
+            }
+            if (order.empty()) {
+                order.resize(static_cast<std::size_t>(n));
+                std::iota(order.begin(), order.end(), 0);
+                std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return dist2[a] > dist2[b]; });
+            }
+            C.row(c) = X.row(order[std::min(next_far++, order.size() - 1)]);
+        }
+        previous.swap(label);
+    }
+    return from_words(std::move(C));
+}
+
+std::vector<int> Codebook::assign(const DescriptorMatrix& descriptors) const {
+    if (words_.rows() == 0) throw InputError("Codebook: assign() on an empty codebook.");
+    std::vector<int> label;
+    nearest_words(descriptors, words_, norms_, label, nullptr);
+    return label;
+}
+
+void Codebook::save(const std::string& path) const {
+    if (words_.rows() == 0) throw InputError("Codebook: cannot save an empty codebook to '" + path + "'.");
+    std::string out;
+    out.reserve(16 + static_cast<std::size_t>(words_.size()) * 4);
+    out.append("CFCB", 4);
+    put_u32(out, kVersion);
+    put_u32(out, static_cast<std::uint32_t>(words_.rows()));
+    put_u32(out, kDim);
+    for (Eigen::Index r = 0; r < words_.rows(); ++r)
+        for (int c = 0; c < kDim; ++c) put_f32(out, words_(r, c));
+    write_atomically(path, out, "codebook");
+}
+
+Codebook Codebook::load(const std::string& path) {
+    const std::string bytes = read_all(path, "codebook");
+    const auto* p = reinterpret_cast<const unsigned char*>(bytes.data());
+    const std::string where = "Codebook file '" + path + "': ";
+    if (bytes.size() < 16) {
+        if (bytes.size() >= 4 && std::memcmp(p, "CFCB", 4) != 0)
+            throw InputError(where + "wrong magic (not a canonform codebook).");
+        throw InputError(where + "truncated header (" + std::to_string(bytes.size()) + " of 16 bytes).");
+    }
+    if (std::memcmp(p, "CFCB", 4) != 0) throw InputError(where + "wrong magic (not a canonform codebook).");
+    const std::uint32_t version = get_u32(p + 4), words = get_u32(p + 8), dim = get_u32(p + 12);
+    if (version != kVersion)
+        throw InputError(where + "unsupported version " + std::to_string(version) + " (this build reads version 1).");
+    if (dim != kDim) throw InputError(where + "descriptor dimension " + std::to_string(dim) + ", expected 128.");
+    if (words == 0) throw InputError(where + "zero words.");
+    const std::uint64_t need = 16 + std::uint64_t(words) * kDim * 4;
+    if (bytes.size() < need)
+        throw InputError(where + "truncated (" + std::to_string(bytes.size()) + " bytes, " + std::to_string(need) +
+                         " expected for " + std::to_string(words) + " words).");
+    if (bytes.size() > need)
+        throw InputError(where + std::to_string(bytes.size() - need) + " unexpected trailing bytes.");
+    DescriptorMatrix C(words, kDim);
+    const unsigned char* q = p + 16;
+    for (std::uint32_t r = 0; r < words; ++r)
+        for (int c = 0; c < kDim; ++c, q += 4) C(r, c) = get_f32(q);
+    if (!C.allFinite()) throw InputError(where + "a word has a non-finite value.");
+    return from_words(std::move(C));
+}
+
+}  // namespace canonform::views

@@ -1,0 +1,88 @@
+// canonform: visual-word codebook (vector quantisation of SIFT descriptors) for bag-of-features.
+//
+// Reference: Z. Lian, A. Godil, X. Sun, J. Xiao, "CM-BOF: visual similarity-based 3D shape retrieval
+// using Clock Matching and Bag-of-Features", Machine Vision and Applications 24, 2013 (Sec. 3.3:
+// a codebook of N_W = 1500 words, each view a histogram of nearest-word counts); J. Sivic and
+// A. Zisserman, "Video Google", ICCV 2003; D. Arthur and S. Vassilvitskii, "k-means++: the
+// advantages of careful seeding", SODA 2007.
+//
+// Training:
+// - Method::KMeans: Lloyd's k-means, seeded by k-means++. Deterministic for a seed (own
+//   std::mt19937_64 stream, no global RNG; results do not depend on the thread count). To keep
+//   seeding affordable (k-means++ is sequential: one pass over the seeding set per word), the
+//   k-means++ seeding runs on a seeded random subset of at most 20 * words descriptors; Lloyd
+//   iterations then use all descriptors. An empty cluster is re-seeded with the descriptor
+//   farthest from its current word. Stops after kmeans_iterations or when no assignment changes.
+// - Method::Random: `words` distinct descriptors drawn uniformly (the public re-implementation
+//   that Pickup et al. used picks random training descriptors).
+// - If there are no more descriptors than words, every descriptor becomes a word (in input order)
+//   and size() is the number of descriptors, possibly < options.words.
+//
+// Assignment: nearest word in squared Euclidean distance, ties to the lower word index; computed
+// as |c|^2 - 2 x.c in blocks with Eigen's matrix product (float), so two words whose distances
+// differ by less than float rounding (~1e-6 relative to |x|^2) may be swapped.
+//
+// File format (little endian, written atomically: temp file + rename):
+//   bytes 0-3   magic "CFCB"
+//   bytes 4-7   uint32 version (= 1)
+//   bytes 8-11  uint32 number of words W (> 0)
+//   bytes 12-15 uint32 dimension D (= 128)
+//   then W * D float32, word-major (word 0's 128 values first); all finite. Nothing after.
+#pragma once
+
+#include "canonform/common/errors.h"
+
+#include <Eigen/Core>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace canonform::views {
+
+/// n x 128 descriptors, one per row.
+using DescriptorMatrix = Eigen::Matrix<float, Eigen::Dynamic, 128, Eigen::RowMajor>;
+
+/// Options of Codebook::train().
+struct CodebookOptions {
+    int words = 1500;          ///< codebook size N_W (> 0)
+    std::uint64_t seed = 0;    ///< seed of the random stream (k-means++ seeding / random choice)
+    enum class Method { KMeans, Random } method = Method::KMeans;
+    int kmeans_iterations = 10;  ///< Lloyd iterations after seeding (>= 0)
+};
+
+/// A set of visual words (size() x 128).
+class Codebook {
+public:
+    Codebook() = default;
+
+    /// Trains a codebook from training descriptors (rows). Throws InputError if there are no
+    /// descriptors, a value is not finite, or an option is out of range.
+    static Codebook train(const DescriptorMatrix& descriptors, const CodebookOptions& options = {});
+
+    /// Wraps given words (rows); throws InputError if empty or not finite.
+    static Codebook from_words(DescriptorMatrix words);
+
+    /// Number of words.
+    int size() const { return static_cast<int>(words_.rows()); }
+
+    /// Index in [0, size()) of the nearest word of every descriptor (row). Throws InputError on an
+    /// empty codebook. Multi-threaded over blocks of descriptors for large inputs.
+    std::vector<int> assign(const DescriptorMatrix& descriptors) const;
+
+    /// Writes the binary file described above (atomic). Throws InputError if it cannot be written.
+    void save(const std::string& path) const;
+
+    /// Reads a file written by save(). Throws InputError naming the problem (cannot open, wrong
+    /// magic, unsupported version, bad dimension, truncated, trailing bytes, non-finite values).
+    static Codebook load(const std::string& path);
+
+    /// The words, size() x 128.
+    const DescriptorMatrix& words() const { return words_; }
+
+private:
+    DescriptorMatrix words_;
+    Eigen::VectorXf norms_;  // |word|^2, cached for assign()
+};
+
+}  // namespace canonform::views

@@ -1,0 +1,127 @@
+#include "canonform/views/depth_render.h"
+
+#include <Eigen/Dense>
+
+#include <algorithm>
+#include <cmath>
+
+namespace canonform {
+namespace views {
+
+std::vector<std::uint8_t> DepthImage::gray() const {
+    std::vector<std::uint8_t> g(depth.size());
+    for (size_t i = 0; i < depth.size(); ++i) {
+        const double v = std::round(255.0 * std::clamp(static_cast<double>(depth[i]), 0.0, 1.0));
+        g[i] = static_cast<std::uint8_t>(v);
+    }
+    return g;
+}
+
+Eigen::Matrix3d camera_frame(const Eigen::Vector3d& direction) {
+    const double n = direction.norm();
+    if (!std::isfinite(n) || !(n > 0))
+        throw InputError("render_depth: the view direction must be finite and non-zero");
+    const Eigen::Vector3d d = direction / n;
+    const Eigen::Vector3d a = d.cwiseAbs();
+    const double m = a.minCoeff();
+    int k = 0;
+    while (a[k] > m + 1e-9) ++k;
+    Eigen::Vector3d u = Eigen::Vector3d::Unit(k) - d[k] * d;
+    u.normalize();
+    const Eigen::Vector3d r = u.cross(d);
+    Eigen::Matrix3d C;
+    C.row(0) = r.transpose();
+    C.row(1) = u.transpose();
+    C.row(2) = d.transpose();
+    return C;
+}
+
+namespace {
+
+struct P2 {
+    double x, y;
+};
+
+// Twice the signed area of (a, b, p), evaluated with (a, b) in a canonical order so that the value
+// for the reversed edge is the exact negation.
+inline double edge_fn(const P2& a, const P2& b, double px, double py) {
+    const bool swap = (b.x < a.x) || (b.x == a.x && b.y < a.y);
+    const P2& s = swap ? b : a;
+    const P2& t = swap ? a : b;
+    const double v = (t.x - s.x) * (py - s.y) - (t.y - s.y) * (px - s.x);
+    return swap ? -v : v;
+}
+
+}  // namespace
+
+DepthImage render_depth(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
+                        const Eigen::Vector3d& direction, int size) {
+    if (size < 1 || size > 8192) throw InputError("render_depth: the image size must be in 1..8192");
+    if (V.cols() != 3 || (F.size() > 0 && F.cols() != 3))
+        throw InputError("render_depth: V must be #V x 3 and F #F x 3");
+    if (!V.allFinite()) throw InputError("render_depth: the mesh has non-finite vertex coordinates");
+    if (F.size() > 0 && (F.minCoeff() < 0 || F.maxCoeff() >= V.rows()))
+        throw InputError("render_depth: a face index is out of range");
+    const Eigen::Matrix3d C = camera_frame(direction);
+
+    DepthImage img;
+    img.size = size;
+    img.depth.assign(static_cast<size_t>(size) * size, 0.0f);
+    if (F.rows() == 0) return img;
+
+    // Project: pixel coordinates (col, row as doubles; centres at integers) and depth.
+    const double inv_h = size / 2.0;
+    const Eigen::Index nv = V.rows();
+    std::vector<P2> q(static_cast<size_t>(nv));
+    std::vector<double> z(static_cast<size_t>(nv));
+    for (Eigen::Index i = 0; i < nv; ++i) {
+        const double x = C(0, 0) * V(i, 0) + C(0, 1) * V(i, 1) + C(0, 2) * V(i, 2);
+        const double y = C(1, 0) * V(i, 0) + C(1, 1) * V(i, 1) + C(1, 2) * V(i, 2);
+        const double w = C(2, 0) * V(i, 0) + C(2, 1) * V(i, 1) + C(2, 2) * V(i, 2);
+        q[static_cast<size_t>(i)] = {(x + 1.0) * inv_h - 0.5, (1.0 - y) * inv_h - 0.5};
+        z[static_cast<size_t>(i)] = 0.5 * (1.0 + w);
+    }
+
+    float* buf = img.depth.data();
+    const double lim = size - 1;
+    for (Eigen::Index f = 0; f < F.rows(); ++f) {
+        const int ia = F(f, 0), ib = F(f, 1), ic = F(f, 2);
+        const P2& a = q[static_cast<size_t>(ia)];
+        const P2& b = q[static_cast<size_t>(ib)];
+        const P2& c = q[static_cast<size_t>(ic)];
+        const double area2 = (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
+        if (!(std::abs(area2) > 1e-12)) continue;
+        const double x0 = std::max(0.0, std::ceil(std::min({a.x, b.x, c.x})));
+        const double x1 = std::min(lim, std::floor(std::max({a.x, b.x, c.x})));
+        const double y0 = std::max(0.0, std::ceil(std::min({a.y, b.y, c.y})));
+        const double y1 = std::min(lim, std::floor(std::max({a.y, b.y, c.y})));
+        if (x0 > x1 || y0 > y1) continue;
+        // Orientation-independent: scale the edge functions by the sign of the area.
+        const double sgn = area2 > 0 ? 1.0 : -1.0;
+        const double inv_area = 1.0 / area2;
+        const double za = z[static_cast<size_t>(ia)], zb = z[static_cast<size_t>(ib)],
+                     zc = z[static_cast<size_t>(ic)];
+        const int c0 = static_cast<int>(x0), c1 = static_cast<int>(x1);
+        for (int row = static_cast<int>(y0); row <= static_cast<int>(y1); ++row) {
+            const double py = row;
+            float* line = buf + static_cast<size_t>(row) * size;
+            for (int col = c0; col <= c1; ++col) {
+                const double px = col;
+                const double wa = edge_fn(b, c, px, py);
+                if (sgn * wa < 0) continue;
+                const double wb = edge_fn(c, a, px, py);
+                if (sgn * wb < 0) continue;
+                const double wc = edge_fn(a, b, px, py);
+                if (sgn * wc < 0) continue;
+                double d = (wa * za + wb * zb + wc * zc) * inv_area;
+                d = std::min(1.0, std::max(0.0, d));
+                const float df = static_cast<float>(d);
+                if (df > line[col]) line[col] = df;
+            }
+        }
+    }
+    return img;
+}
+
+}  // namespace views
+}  // namespace canonform

@@ -1,0 +1,59 @@
+// canonform: orthographic depth images of a triangle mesh, as captured by the view-based
+// descriptor of Lian et al. (CM-BOF): 66 cameras on the unit sphere looking at the origin, one
+// 256 x 256 depth image each, background = far.
+//
+// Reference: Z. Lian, A. Godil, X. Sun, J. Xiao, "CM-BOF: visual similarity-based 3D shape
+// retrieval using Clock Matching and Bag-of-Features", Machine Vision and Applications 2013;
+// Pickup et al., Pattern Recognition 2015, Section 3, Fig. 2(d).
+//
+// Camera for a unit direction d (the camera sits at d and looks along -d):
+// - up    u = the world axis e_k least aligned with d (smallest |d_k|; ties within 1e-9 go to the
+//             lowest k), orthogonalised against d and normalised: u = normalize(e_k - (e_k.d) d);
+// - right r = u x d (so that r x u = d: a right-handed camera frame looking along -d).
+// The image spans [-1, 1] x [-1, 1] in (r, u) coordinates (the mesh is assumed to lie in the unit
+// ball, e.g. after normalize_pose). Pixel (row, col), row 0 at the top, has its centre at
+//   x = -1 + (col + 0.5) * 2 / size   (along r),   y = 1 - (row + 0.5) * 2 / size   (along u).
+// Depth of a surface point p: (1 + p.d) / 2, clamped to [0, 1]: 1 = the nearest possible point,
+// 0 = the farthest possible point and the background.
+//
+// Rasterisation: every triangle (both orientations, no back-face culling) is sampled at the pixel
+// centres; a centre on an edge is covered (the edge function of a shared edge is evaluated with its
+// endpoints in a canonical order, so neighbouring triangles leave no cracks); depth is interpolated
+// linearly (exact for an orthographic camera); the z-buffer keeps the largest depth. Triangles whose
+// projection has (near) zero area are skipped. The result does not depend on the triangle order.
+#pragma once
+
+#include "canonform/common/errors.h"
+
+#include <Eigen/Core>
+
+#include <cstdint>
+#include <vector>
+
+namespace canonform {
+namespace views {
+
+/// A square depth image.
+struct DepthImage {
+    int size = 0;              ///< width = height in pixels
+    std::vector<float> depth;  ///< size*size, row-major, row 0 at the top; in [0, 1], 1 = nearest
+                               ///< possible point (p.d = 1), 0 = background / farthest (p.d = -1)
+    /// 8-bit version: round(255 * depth), row-major like `depth`.
+    std::vector<std::uint8_t> gray() const;
+    /// depth at (row, col).
+    float at(int row, int col) const { return depth[static_cast<size_t>(row) * size + col]; }
+};
+
+/// The camera frame of a view direction (see the file comment): rows r (image right), u (image
+/// up), d (towards the camera). A rotation (det +1).
+Eigen::Matrix3d camera_frame(const Eigen::Vector3d& direction);
+
+/// Renders the depth image of the mesh (V: #V x 3, F: #F x 3, 0-based) seen from the unit
+/// direction `direction` (normalised here; must be non-zero), size x size pixels (1..8192).
+/// Throws InputError on a zero or non-finite direction, a bad size, non-finite vertices or face
+/// indices out of range. An empty F gives an all-zero image.
+DepthImage render_depth(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
+                        const Eigen::Vector3d& direction, int size = 256);
+
+}  // namespace views
+}  // namespace canonform

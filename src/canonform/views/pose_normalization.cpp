@@ -1,0 +1,250 @@
+#include "canonform/views/pose_normalization.h"
+
+#include <Eigen/Dense>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <numeric>
+#include <random>
+
+namespace canonform {
+namespace views {
+
+namespace {
+
+void validate(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F) {
+    if (V.cols() != 3 || V.rows() < 3) throw InputError("pose normalisation needs a #V x 3 vertex matrix with at least 3 vertices");
+    if (F.rows() == 0 || F.cols() != 3) throw InputError("pose normalisation needs a mesh with faces (#F x 3)");
+    if (!V.allFinite()) throw InputError("the mesh has non-finite vertex coordinates");
+    if (F.minCoeff() < 0 || F.maxCoeff() >= V.rows()) throw InputError("a face index is out of range");
+}
+
+// Area vectors (area x unit normal) as columns, 3 x #F.
+Eigen::Matrix3Xd area_vectors(const Eigen::MatrixXd& X, const Eigen::MatrixXi& F) {
+    Eigen::Matrix3Xd A(3, F.rows());
+    for (Eigen::Index f = 0; f < F.rows(); ++f) {
+        const Eigen::Vector3d p0 = X.row(F(f, 0)).transpose();
+        const Eigen::Vector3d p1 = X.row(F(f, 1)).transpose();
+        const Eigen::Vector3d p2 = X.row(F(f, 2)).transpose();
+        A.col(f) = 0.5 * (p1 - p0).cross(p2 - p0);
+    }
+    return A;
+}
+
+Eigen::Matrix3d euler(double a, double b, double c) {
+    const double ca = std::cos(a), sa = std::sin(a), cb = std::cos(b), sb = std::sin(b),
+                 cc = std::cos(c), sc = std::sin(c);
+    Eigen::Matrix3d Rx, Ry, Rz;
+    Rx << 1, 0, 0, 0, ca, -sa, 0, sa, ca;
+    Ry << cb, 0, sb, 0, 1, 0, -sb, 0, cb;
+    Rz << cc, -sc, 0, sc, cc, 0, 0, 0, 1;
+    return Rz * Ry * Rx;
+}
+
+// Makes the frame R (rows = axes) unique: axes by decreasing second moment of X, signs by the
+// third moment (two largest |m3| positive, the last one by det +1). See the header, step 4.
+Eigen::Matrix3d canonicalize_axes(const Eigen::Matrix3d& R, const Eigen::MatrixXd& X) {
+    const Eigen::MatrixXd Y = X * R.transpose();
+    const double n = static_cast<double>(X.rows());
+    std::array<double, 3> m2{}, m3{};
+    for (int k = 0; k < 3; ++k) {
+        m2[k] = Y.col(k).array().square().sum() / n;
+        m3[k] = Y.col(k).array().cube().sum() / n;
+    }
+    std::array<int, 3> order = {0, 1, 2};
+    std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return m2[a] > m2[b]; });
+    Eigen::Matrix3d Q;
+    std::array<double, 3> t3{};
+    for (int k = 0; k < 3; ++k) {
+        Q.row(k) = R.row(order[k]);
+        t3[k] = m3[order[k]];
+    }
+    std::array<int, 3> by_m3 = {0, 1, 2};
+    std::stable_sort(by_m3.begin(), by_m3.end(),
+                     [&](int a, int b) { return std::abs(t3[a]) > std::abs(t3[b]); });
+    for (int j = 0; j < 2; ++j)
+        if (t3[by_m3[j]] < 0) Q.row(by_m3[j]) *= -1.0;
+    if (Q.determinant() < 0) Q.row(by_m3[2]) *= -1.0;
+    return Q;
+}
+
+double aabb_volume(const Eigen::MatrixXd& X, const Eigen::Matrix3d& R) {
+    const Eigen::MatrixXd Y = X * R.transpose();
+    const Eigen::RowVector3d ext = Y.colwise().maxCoeff() - Y.colwise().minCoeff();
+    return ext.prod();
+}
+
+// Uniform in [0, 1) from the raw 64-bit output (platform independent, unlike the distributions).
+double uniform01(std::mt19937_64& g) { return static_cast<double>(g() >> 11) * 0x1.0p-53; }
+
+Eigen::Matrix3d random_rotation(std::mt19937_64& g) {
+    Eigen::Vector4d q;
+    double n2;
+    do {
+        for (int i = 0; i < 4; ++i) q[i] = 2.0 * uniform01(g) - 1.0;
+        n2 = q.squaredNorm();
+    } while (n2 > 1.0 || n2 < 1e-6);
+    q /= std::sqrt(n2);
+    return Eigen::Quaterniond(q[0], q[1], q[2], q[3]).toRotationMatrix();
+}
+
+// Rectilinearity objective on area vectors already in the PCA frame.
+struct RectCost {
+    const Eigen::Matrix3Xd& A;
+    double inv_area;
+    double operator()(const Eigen::Matrix3d& Q) const {
+        double s = 0.0;
+        const Eigen::Index m = A.cols();
+        const double* a = A.data();
+        for (Eigen::Index f = 0; f < m; ++f, a += 3) {
+            s += std::abs(Q(0, 0) * a[0] + Q(0, 1) * a[1] + Q(0, 2) * a[2]) +
+                 std::abs(Q(1, 0) * a[0] + Q(1, 1) * a[1] + Q(1, 2) * a[2]) +
+                 std::abs(Q(2, 0) * a[0] + Q(2, 1) * a[1] + Q(2, 2) * a[2]);
+        }
+        return s * inv_area;
+    }
+};
+
+// Nelder-Mead over Euler angles around Q0; returns the best rotation (Rz Ry Rx Q0) and its cost.
+// Standard coefficients (reflection 1, expansion 2, contraction 1/2, shrink 1/2).
+std::pair<Eigen::Matrix3d, double> nelder_mead(const RectCost& cost, const Eigen::Matrix3d& Q0,
+                                               double step, int max_evals, double ftol, double xtol) {
+    auto f = [&](const Eigen::Vector3d& x) { return cost(euler(x[0], x[1], x[2]) * Q0); };
+    std::array<Eigen::Vector3d, 4> s;
+    std::array<double, 4> fv{};
+    s[0].setZero();
+    for (int i = 1; i < 4; ++i) {
+        s[i].setZero();
+        s[i][i - 1] = step;
+    }
+    for (int i = 0; i < 4; ++i) fv[i] = f(s[i]);
+    int evals = 4;
+    std::array<int, 4> idx = {0, 1, 2, 3};
+    while (evals < max_evals) {
+        std::stable_sort(idx.begin(), idx.end(), [&](int a, int b) { return fv[a] < fv[b]; });
+        const int lo = idx[0], hi = idx[3], nh = idx[2];
+        double diam = 0.0;
+        for (int i = 1; i < 4; ++i) diam = std::max(diam, (s[idx[i]] - s[lo]).cwiseAbs().maxCoeff());
+        if (fv[hi] - fv[lo] <= ftol && diam <= xtol) break;
+        if (diam <= 1e-13) break;
+        const Eigen::Vector3d cen = (s[idx[0]] + s[idx[1]] + s[idx[2]]) / 3.0;
+        const Eigen::Vector3d xr = cen + (cen - s[hi]);
+        const double fr = f(xr);
+        ++evals;
+        if (fr < fv[lo]) {
+            const Eigen::Vector3d xe = cen + 2.0 * (cen - s[hi]);
+            const double fe = f(xe);
+            ++evals;
+            if (fe < fr) s[hi] = xe, fv[hi] = fe;
+            else s[hi] = xr, fv[hi] = fr;
+        } else if (fr < fv[nh]) {
+            s[hi] = xr, fv[hi] = fr;
+        } else {
+            const bool outside = fr < fv[hi];
+            const Eigen::Vector3d xc = outside ? Eigen::Vector3d(cen + 0.5 * (xr - cen))
+                                               : Eigen::Vector3d(cen + 0.5 * (s[hi] - cen));
+            const double fc = f(xc);
+            ++evals;
+            if (fc < (outside ? fr : fv[hi])) {
+                s[hi] = xc, fv[hi] = fc;
+            } else {
+                for (int i = 1; i < 4; ++i) {
+                    const int k = idx[i];
+                    s[k] = s[lo] + 0.5 * (s[k] - s[lo]);
+                    fv[k] = f(s[k]);
+                    ++evals;
+                }
+            }
+        }
+    }
+    int best = 0;
+    for (int i = 1; i < 4; ++i)
+        if (fv[i] < fv[best]) best = i;
+    return {euler(s[best][0], s[best][1], s[best][2]) * Q0, fv[best]};
+}
+
+// Repeated Nelder-Mead from Q0 with shrinking initial steps until it stops improving.
+std::pair<Eigen::Matrix3d, double> minimise_from(const RectCost& cost, const Eigen::Matrix3d& Q0,
+                                                 int rounds, double xtol) {
+    Eigen::Matrix3d Q = Q0;
+    double fq = cost(Q);
+    double step = 0.3;
+    for (int r = 0; r < rounds; ++r) {
+        auto [Qn, fn] = nelder_mead(cost, Q, step, 600, 1e-15, xtol);
+        const bool improved = fn < fq - 1e-15;
+        if (fn <= fq) {
+            // Re-orthonormalise (the product of many rotations drifts by rounding).
+            Eigen::JacobiSVD<Eigen::Matrix3d> svd(Qn, Eigen::ComputeFullU | Eigen::ComputeFullV);
+            Q = svd.matrixU() * svd.matrixV().transpose();
+            fq = cost(Q);
+        }
+        if (!improved && r > 0) break;
+        step = std::max(step * 0.2, 1e-4);
+    }
+    return {Q, fq};
+}
+
+}  // namespace
+
+double projected_area_ratio(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const Eigen::Matrix3d& R) {
+    validate(V, F);
+    const Eigen::Matrix3Xd A = area_vectors(V, F);
+    const double total = A.colwise().norm().sum();
+    if (!(total > 0)) throw InputError("the mesh has zero surface area");
+    return RectCost{A, 1.0 / total}(R);
+}
+
+PoseNormalization normalize_pose(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const PoseOptions& options) {
+    validate(V, F);
+    if (options.restarts < 1) throw InputError("pose normalisation needs at least one rectilinearity start");
+    PoseNormalization out;
+    out.centre = V.colwise().mean();
+    Eigen::MatrixXd X = V.rowwise() - out.centre;
+    const double rmax = X.rowwise().norm().maxCoeff();
+    if (!(rmax > 0) || !std::isfinite(rmax)) throw InputError("all vertices of the mesh are at one point");
+    out.scale = 1.0 / rmax;
+    X *= out.scale;
+
+    const Eigen::Matrix3Xd A = area_vectors(X, F);
+    const double total = A.colwise().norm().sum();
+    if (!(total > 0)) throw InputError("the mesh has zero surface area");
+
+    // PCA candidate.
+    const Eigen::Matrix3d cov = (X.transpose() * X) / static_cast<double>(X.rows());
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(cov);
+    if (eig.info() != Eigen::Success) throw NumericalError("pose normalisation: the PCA eigen-decomposition failed");
+    Eigen::Matrix3d Rpca;
+    for (int k = 0; k < 3; ++k) Rpca.row(k) = eig.eigenvectors().col(2 - k).transpose();
+    Rpca = canonicalize_axes(Rpca, X);
+
+    // Rectilinearity candidate, optimised in the PCA frame.
+    const Eigen::Matrix3Xd Apca = Rpca * A;
+    const RectCost cost{Apca, 1.0 / total};
+    std::mt19937_64 gen(options.seed);
+    Eigen::Matrix3d best_Q = Eigen::Matrix3d::Identity();
+    double best_f = 1e300;
+    for (int k = 0; k < options.restarts; ++k) {
+        const Eigen::Matrix3d Q0 = k == 0 ? Eigen::Matrix3d::Identity() : random_rotation(gen);
+        auto [Q, fq] = minimise_from(cost, Q0, 3, 1e-6);  // coarse
+        if (fq < best_f) best_f = fq, best_Q = Q;
+    }
+    best_Q = minimise_from(cost, best_Q, 8, 1e-11).first;  // refine the winner
+    Eigen::Matrix3d Rrect = canonicalize_axes(best_Q * Rpca, X);
+
+    out.pca_projected_area = RectCost{A, 1.0 / total}(Rpca);
+    out.rect_projected_area = RectCost{A, 1.0 / total}(Rrect);
+    out.pca_cost = aabb_volume(X, Rpca);
+    out.rect_cost = aabb_volume(X, Rrect);
+    out.used_rectilinearity = out.rect_cost < out.pca_cost;
+    out.R = out.used_rectilinearity ? Rrect : Rpca;
+    return out;
+}
+
+Eigen::MatrixXd apply_pose(const PoseNormalization& pose, const Eigen::MatrixXd& V) {
+    if (V.cols() != 3) throw InputError("apply_pose needs a #V x 3 vertex matrix");
+    return ((V.rowwise() - pose.centre) * pose.scale) * pose.R.transpose();
+}
+
+}  // namespace views
+}  // namespace canonform

@@ -1,0 +1,65 @@
+#include "canonform/views/view_descriptor.h"
+
+#include "canonform/surface/mesh_topology.h"
+#include "canonform/views/view_directions.h"
+
+namespace canonform::views {
+
+std::vector<int> ViewSet::keypoint_counts() const {
+    std::vector<int> n;
+    for (const auto& f : features) n.push_back(static_cast<int>(f.rows()));
+    return n;
+}
+
+ViewSet compute_views(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const ViewDescriptorOptions& options) {
+    ValidationOptions vo;
+    vo.min_vertices = 4;
+    vo.require_single_component = false;  // a view of several parts is still a view
+    validate_mesh(V, F, vo);
+    ViewSet s;
+    s.pose = normalize_pose(V, F, options.pose);
+    const Eigen::MatrixXd X = apply_pose(s.pose, V);
+    for (const Eigen::Vector3d& d : view_directions()) {
+        s.images.push_back(render_depth(X, F, d, options.image_size));
+        s.features.push_back(sift_descriptors(s.images.back().gray(), options.image_size, options.sift));
+    }
+    return s;
+}
+
+std::vector<Histogram> view_histograms(const std::vector<SiftDescriptors>& features, const Codebook& codebook) {
+    std::vector<Histogram> h;
+    for (const auto& f : features) h.push_back(histogram(codebook.assign(f)));
+    return h;
+}
+
+ModelDescriptor make_descriptor(const std::vector<SiftDescriptors>& features, const Codebook* codebook,
+                                const std::string& source, int image_size) {
+    ModelDescriptor d;
+    d.source = source;
+    d.views = static_cast<int>(features.size());
+    d.image_size = image_size;
+    for (const auto& f : features) d.keypoints_per_view.push_back(static_cast<int>(f.rows()));
+    if (codebook) {
+        d.codebook_words = codebook->size();
+        d.histograms = view_histograms(features, *codebook);
+    } else {
+        d.raw = features;
+    }
+    return d;
+}
+
+SiftDescriptors stack_features(const std::vector<const std::vector<SiftDescriptors>*>& models) {
+    Eigen::Index rows = 0;
+    for (const auto* m : models)
+        for (const auto& f : *m) rows += f.rows();
+    SiftDescriptors all(rows, 128);
+    Eigen::Index r = 0;
+    for (const auto* m : models)
+        for (const auto& f : *m) {
+            all.middleRows(r, f.rows()) = f;
+            r += f.rows();
+        }
+    return all;
+}
+
+}  // namespace canonform::views

@@ -1,0 +1,60 @@
+// canonform: the view-based descriptor of Lian et al. (CM-BOF), end to end for one mesh.
+//
+// Reference: Z. Lian, A. Godil, X. Sun, J. Xiao, "CM-BOF: visual similarity-based 3D shape
+// retrieval using Clock Matching and Bag-of-Features", Machine Vision and Applications 2013; the
+// view-based retrieval Pickup et al. 2015 (Section 3.2) plug their canonical forms into.
+//
+//   pose normalisation (pose_normalization.h) -> 66 orthographic depth views
+//   (view_directions.h, depth_render.h) -> SIFT per view (sift_features.h) -> with a codebook
+//   (codebook.h), one bag-of-features histogram per view (bag_of_features.h).
+// Two models are compared by clock matching (bag_of_features.h, with rotation_view_maps()).
+#pragma once
+
+#include "canonform/views/bag_of_features.h"
+#include "canonform/views/codebook.h"
+#include "canonform/views/depth_render.h"
+#include "canonform/views/descriptor_file.h"
+#include "canonform/views/pose_normalization.h"
+#include "canonform/views/sift_features.h"
+
+#include <Eigen/Core>
+
+#include <vector>
+
+namespace canonform::views {
+
+/// Options of compute_views().
+struct ViewDescriptorOptions {
+    int image_size = 256;   ///< pixels per side of each depth view
+    PoseOptions pose;       ///< rectilinearity restarts and seed
+    SiftOptions sift;       ///< SIFT thresholds
+};
+
+/// The 66 views of a mesh: its pose, the depth images and their SIFT descriptors.
+struct ViewSet {
+    PoseNormalization pose;
+    std::vector<DepthImage> images;         ///< 66, in the order of view_directions()
+    std::vector<SiftDescriptors> features;  ///< 66, n_i x 128 each (n_i may be 0)
+    /// Keypoints per view.
+    std::vector<int> keypoint_counts() const;
+};
+
+/// Validates the mesh (InputError: empty, no faces, non-finite, degenerate faces, non-manifold
+/// edges - several components are allowed), normalises its pose and computes the 66 views.
+ViewSet compute_views(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const ViewDescriptorOptions& options = {});
+
+/// One bag-of-features histogram per view (a view without keypoints gives an empty histogram).
+std::vector<Histogram> view_histograms(const std::vector<SiftDescriptors>& features, const Codebook& codebook);
+inline std::vector<Histogram> view_histograms(const ViewSet& views, const Codebook& codebook) {
+    return view_histograms(views.features, codebook);
+}
+
+/// The descriptor file's contents for a model's view features (one per view): with a codebook its
+/// histograms, without one the raw SIFT features. `source` names the model (free text).
+ModelDescriptor make_descriptor(const std::vector<SiftDescriptors>& features, const Codebook* codebook,
+                                const std::string& source, int image_size = 256);
+
+/// The SIFT descriptors of many views stacked into one matrix (the training set of a codebook).
+SiftDescriptors stack_features(const std::vector<const std::vector<SiftDescriptors>*>& models);
+
+}  // namespace canonform::views

@@ -1,0 +1,72 @@
+"""The library's layout rules, checked on the sources and the built plugins.
+
+usage: /usr/bin/python3 tests/layout_test.py SOURCE_DIR [PLUGIN.so ...]
+
+- an area of src/canonform/ includes only the areas below it (no import circles);
+- a plugin folder includes nothing from the other plugin folder, and its CMakeLists.txt names no
+  file of it;
+- a plugin (.so) contains no code of the procedural-mesh library (test and example data only).
+"""
+import os
+import re
+import subprocess
+import sys
+
+ALLOWED = {
+    "common": set(),
+    "numerics": {"common"},
+    "surface": {"common", "numerics"},
+    "canonical": {"common", "numerics", "surface"},
+    "views": {"common", "numerics", "surface"},
+    "io": {"common"},
+    "retrieval": {"common", "numerics", "surface", "canonical", "views", "io"},
+    "procedural": {"common", "numerics", "surface"},
+    "meshlab": {"common"},
+}
+PLUGINS = ["filter_canonical", "filter_viewdescriptor"]
+INCLUDE = re.compile(r'#include\s+"([^"]+)"')
+
+root = sys.argv[1]
+problems = []
+lib = os.path.join(root, "src", "canonform")
+areas = sorted(d for d in os.listdir(lib) if os.path.isdir(os.path.join(lib, d)))
+for area in areas:
+    if area not in ALLOWED:
+        problems.append(f"src/canonform/{area}: an area without a rule in tests/layout_test.py")
+        continue
+    for name in sorted(os.listdir(os.path.join(lib, area))):
+        path = os.path.join(lib, area, name)
+        for inc in INCLUDE.findall(open(path, encoding="utf-8").read()):
+            m = re.match(r"canonform/([a-z_]+)/", inc)
+            if not m:
+                problems.append(f"src/canonform/{area}/{name}: includes \"{inc}\" outside the include root")
+            elif m.group(1) != area and m.group(1) not in ALLOWED[area]:
+                problems.append(f"src/canonform/{area}/{name}: {area} may not include {m.group(1)} (\"{inc}\")")
+
+for plugin in PLUGINS:
+    others = [p for p in PLUGINS if p != plugin]
+    folder = os.path.join(root, plugin)
+    for name in sorted(os.listdir(folder)):
+        path = os.path.join(folder, name)
+        if not os.path.isfile(path):
+            continue
+        text = open(path, encoding="utf-8").read()
+        for other in others:
+            if other + "/" in text or "../" + other in text:
+                problems.append(f"{plugin}/{name}: refers to {other}/")
+        if name.endswith((".h", ".cpp")):
+            for inc in INCLUDE.findall(text):
+                if not inc.startswith("canonform/") and not os.path.exists(os.path.join(folder, inc)):
+                    problems.append(f"{plugin}/{name}: includes \"{inc}\" from outside its folder and the library")
+
+for so in sys.argv[2:]:
+    symbols = subprocess.run(["nm", "-C", "--defined-only", so], capture_output=True, text=True, check=True).stdout
+    leaked = [line for line in symbols.splitlines() if "make_figure" in line or "make_icosphere" in line]
+    if leaked:
+        problems.append(f"{so}: contains procedural-mesh code ({leaked[0].split()[-1]} ...)")
+
+for p in problems:
+    print("layout:", p)
+print(f"layout: {len(areas)} areas, {len(PLUGINS)} plugin folders, {len(sys.argv) - 2} plugins checked; "
+      f"{len(problems)} problems")
+sys.exit(1 if problems else 0)

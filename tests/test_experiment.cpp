@@ -1,0 +1,124 @@
+// The retrieval Experiment on a small generated collection: outputs, cache, measures, and a
+// method added to the registry at run time.
+#include "canonform/io/csv.h"
+#include "canonform/io/distance_matrix_file.h"
+#include "canonform/io/files.h"
+#include "canonform/io/mesh_io.h"
+#include "canonform/procedural/procedural_meshes.h"
+#include "canonform/retrieval/experiment.h"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+
+using namespace canonform;
+namespace fs = std::filesystem;
+
+namespace {
+
+/// Six figures (two body types x three poses, 700 vertices) and their labels.
+std::string make_collection() {
+    static const std::string dir = [] {
+        const std::string d = (fs::temp_directory_path() / "canonform_test_experiment_data").string();
+        fs::remove_all(d);
+        io::make_directories(d + "/meshes");
+        std::string labels = "path,class\n";
+        for (const std::string cls : {"standard", "long-arms"})
+            for (int pose = 0; pose < 3; ++pose) {
+                const Figure f = make_figure(700, figure_pose(pose), figure_class(cls));
+                const std::string name = cls + "_" + std::to_string(pose) + ".ply";
+                io::write_ply(d + "/meshes/" + name, f.mesh.V, f.mesh.F);
+                labels += "meshes/" + name + "," + cls + "\n";
+            }
+        io::write_file_atomic(d + "/labels.csv", labels);
+        return d;
+    }();
+    return dir;
+}
+
+retrieval::ExperimentOptions options(const std::string& run, const std::vector<std::string>& methods) {
+    retrieval::ExperimentOptions o;
+    o.dataset = make_collection();
+    o.labels = o.dataset + "/labels.csv";
+    o.out = (fs::temp_directory_path() / run).string();
+    for (const auto& m : methods) o.methods.push_back(parse_method_spec(m));
+    o.words = 20;
+    o.threads = 2;
+    return o;
+}
+
+}  // namespace
+
+TEST(Experiment, WritesEveryOutputAndReusesItsCache) {
+    auto o = options("canonform_test_experiment_run", {"none", "euclidean-N:beta=65"});
+    fs::remove_all(o.out);
+    std::vector<std::string> log;
+    o.log = [&](const std::string& line) { log.push_back(line); };
+    const retrieval::Experiment e(o);
+    ASSERT_EQ(e.models().size(), 6u);
+    const auto first = e.run();
+    ASSERT_EQ(first.size(), 2u);
+    const std::string dir = o.out + "/euclidean-N_beta65";
+    EXPECT_EQ(first[1].folder, dir);
+    EXPECT_EQ(first[1].meshes, 6u);
+    EXPECT_EQ(first[1].cached, 0);
+    for (const char* f : {"/distances.bin", "/distances.csv", "/models.csv", "/metrics.json", "/pr.csv",
+                          "/failures.txt", "/forms/standard_0.ply", "/descriptors/long-arms_2.cfvd"})
+        EXPECT_TRUE(io::is_file(dir + f)) << f;
+    const Eigen::MatrixXd D = io::read_distance_matrix(dir + "/distances.bin");
+    ASSERT_EQ(D.rows(), 6);
+    EXPECT_EQ(D.diagonal().cwiseAbs().maxCoeff(), 0.0);
+    EXPECT_LT((D - D.transpose()).cwiseAbs().maxCoeff(), 1e-6);
+    const auto metrics = nlohmann::json::parse(io::read_file(dir + "/metrics.json"));
+    EXPECT_EQ(metrics["beta"], 65.0);
+    EXPECT_EQ(metrics["base"], "euclidean-N");
+    EXPECT_EQ(metrics["micro"]["queries"], 6);
+    EXPECT_NEAR(metrics["micro"]["nn"].get<double>(), first[1].evaluation.micro.nn, 1e-12);
+    EXPECT_EQ(io::read_csv(dir + "/pr.csv").size(), 21u);
+    // A second run reads every mesh from the cache and gives the same distances.
+    const std::string bytes = io::read_file(dir + "/distances.bin");
+    const auto second = retrieval::Experiment(o).run();
+    EXPECT_EQ(second[1].cached, 6);
+    EXPECT_EQ(io::read_file(dir + "/distances.bin"), bytes);
+    EXPECT_NE(std::find_if(log.begin(), log.end(),
+                           [](const std::string& l) { return l.find("(6 from the cache, 0 failed)") != std::string::npos; }),
+              log.end());
+    const std::string report = retrieval::report_markdown(o, 6, second, "");
+    EXPECT_NE(report.find("| euclidean-N_beta65 |"), std::string::npos);
+}
+
+TEST(Experiment, FailuresAreListedAndBadCollectionsRefused) {
+    auto o = options("canonform_test_experiment_bad", {"none"});
+    o.labels = o.out + "_labels.csv";
+    io::write_file_atomic(o.labels, "meshes/standard_0.ply,a\nmeshes/nothere.ply,a\n");
+    EXPECT_THROW(retrieval::Experiment{o}, InputError);  // a missing mesh
+    io::write_file_atomic(o.labels, "meshes/standard_0.ply,a\nmeshes/standard_1.ply,a\n");
+    EXPECT_THROW(retrieval::Experiment{o}, InputError);  // fewer than three meshes
+    o.methods.push_back(parse_method_spec("none"));
+    io::write_file_atomic(o.labels, "meshes/standard_0.ply,a\nmeshes/standard_1.ply,a\nmeshes/standard_2.ply,b\n");
+    EXPECT_THROW(retrieval::Experiment{o}, InputError);  // a method named twice
+}
+
+TEST(Experiment, AMethodAddedToTheRegistryRunsLikeTheOthers) {
+    // The mesh scaled about its centroid: the view descriptor normalises scale, so its distances
+    // equal those of `none`.
+    CanonicalMethod toy;
+    toy.name = "toy-scaled";
+    toy.label = "toy";
+    toy.parameters = {{"scale", "2", "scale factor", 0.1, 10}};
+    toy.run = [](const Eigen::MatrixXd& V, const Eigen::MatrixXi&, const MethodSettings& s, const MethodContext&) {
+        CanonicalForm r;
+        r.V = V * s.number("scale");
+        return r;
+    };
+    register_canonical_method(toy);
+    auto o = options("canonform_test_experiment_toy", {"none", "toy-scaled:scale=3"});
+    fs::remove_all(o.out);
+    const auto out = retrieval::Experiment(o).run();
+    unregister_canonical_method("toy-scaled");
+    const Eigen::MatrixXd a = io::read_distance_matrix(o.out + "/none/distances.bin");
+    const Eigen::MatrixXd b = io::read_distance_matrix(o.out + "/toy-scaled_scale3/distances.bin");
+    EXPECT_LT((a - b).cwiseAbs().maxCoeff(), 0.05);
+    EXPECT_EQ(out[1].spec.to_string(), "toy-scaled:scale=3");
+}

@@ -1,0 +1,277 @@
+// canonform tool: the commands on one mesh - conformal, features, canonical, simplify, generate,
+// picture.
+#include "cli.h"
+#include "picture.h"
+
+#include "canonform/canonical/method_registry.h"
+#include "canonform/io/files.h"
+#include "canonform/io/mesh_io.h"
+#include "canonform/procedural/procedural_meshes.h"
+#include "canonform/surface/conformal_factor.h"
+#include "canonform/surface/feature_points.h"
+#include "canonform/surface/simplify.h"
+
+#include <iostream>
+#include <map>
+#include <memory>
+#include <sstream>
+
+namespace canonform::cli {
+
+namespace {
+
+/// The conformal factor of a mesh already validated by validate_and_note().
+ConformalFactorResult conformal_of(const std::string& path, const Mesh& m) {
+    return on_input(path, [&] {
+        ConformalFactorOptions o;
+        o.validate = false;
+        return conformal_factor(m.V, m.F, o);
+    });
+}
+
+}  // namespace
+
+void add_conformal(CLI::App& app) {
+    struct Args {
+        std::string in, out;
+        bool raw = false, json = false;
+    };
+    auto a = std::make_shared<Args>();
+    auto* c = app.add_subcommand("conformal", "the conformal factor (eqs. 7-9) as vertex quality of a PLY");
+    add_in_out(c, a->in, a->out, "output PLY (conformal factor as vertex quality)");
+    c->add_flag("--raw", a->raw, "store the raw conformal factor (mean zero) instead of [0, 1]");
+    c->add_flag("--json", a->json, "print a JSON summary on stdout");
+    c->callback([a] {
+        const auto t0 = std::chrono::steady_clock::now();
+        const Mesh m = io::read_mesh(a->in);
+        validate_and_note(a->in, m, a->json);
+        const ConformalFactorResult cf = conformal_of(a->in, m);
+        io::write_ply(a->out, m.V, m.F, a->raw ? cf.raw : cf.normalized);
+        if (a->json)
+            print_json({{"vertices", m.V.rows()}, {"faces", m.F.rows()}, {"min", cf.raw.minCoeff()},
+                        {"max", cf.raw.maxCoeff()}, {"residual", cf.residual}, {"seconds", seconds_since(t0)}});
+    });
+}
+
+void add_features(CLI::App& app) {
+    struct Args {
+        std::string in, out, fill = "none";
+        int ring = 2;
+        std::uint64_t seed = 0;
+        bool json = false;
+    };
+    auto a = std::make_shared<Args>();
+    auto* c = app.add_subcommand("features", "the feature points (2-ring maxima of the conformal factor) as a point cloud");
+    add_in_out(c, a->in, a->out, "output PLY: the feature points (quality: conformal factor)");
+    c->add_option("--ring", a->ring, "k of the k-ring in which a feature point is a strict maximum")
+        ->check(CLI::Range(1, 10));
+    c->add_option("--fill", a->fill, "none: local maxima only (variant N); random: seeded random vertices up to "
+                                     "ceil(sqrt N) (variant A)")
+        ->check(CLI::IsMember({"none", "random"}));
+    c->add_option("--seed", a->seed, "seed of the random fill");
+    c->add_flag("--json", a->json, "print a JSON summary on stdout");
+    c->callback([a] {
+        const auto t0 = std::chrono::steady_clock::now();
+        const Mesh m = io::read_mesh(a->in);
+        FeaturePointOptions opt;
+        opt.ring = a->ring;
+        opt.fill = a->fill == "random" ? FeatureFill::Random : FeatureFill::None;
+        opt.seed = a->seed;
+        validate_and_note(a->in, m, a->json);
+        const ConformalFactorResult cf = conformal_of(a->in, m);
+        const FeaturePoints fp = feature_points(m.F, cf.normalized, opt);
+        Eigen::MatrixXd P(static_cast<Eigen::Index>(fp.indices.size()), 3);
+        Eigen::VectorXd q(P.rows());
+        for (size_t k = 0; k < fp.indices.size(); ++k) {
+            P.row(static_cast<Eigen::Index>(k)) = m.V.row(fp.indices[k]);
+            q(static_cast<Eigen::Index>(k)) = cf.normalized(fp.indices[k]);
+        }
+        io::write_ply(a->out, P, Eigen::MatrixXi(0, 3), q);
+        if (a->json)
+            print_json({{"vertices", m.V.rows()}, {"feature_points", fp.indices.size()}, {"maxima", fp.num_maxima},
+                        {"random", fp.num_random}, {"indices", fp.indices}, {"seconds", seconds_since(t0)}});
+    });
+}
+
+void add_canonical(CLI::App& app) {
+    // The options are the parameters of every method of the registry (a method's own options,
+    // checked by it), plus the choice of method and how to run it.
+    struct Args {
+        std::string in, out, method = "euclidean", variant = "N";
+        int threads = 0;
+        bool quiet = false, json = false;
+        std::map<std::string, std::string> values;  // parameter -> value as given
+        std::map<std::string, CLI::Option*> options;
+    };
+    auto a = std::make_shared<Args>();
+    std::string names = "euclidean (with --variant)";
+    for (const auto& m : canonical_methods()) names += ", " + m.name;
+    auto* c = app.add_subcommand("canonical", "the canonical form of a mesh, by any method of the registry");
+    add_in_out(c, a->in, a->out, "output PLY (the form; quality: the conformal factor where the method has one)");
+    c->add_option("--method", a->method, "the method: " + names);
+    c->add_option("--variant", a->variant, "with --method euclidean: A or N (the paper's variants)")
+        ->check(CLI::IsMember({"A", "N"}));
+    for (const auto& m : canonical_methods())
+        for (const auto& p : m.parameters) {
+            if (a->options.count(p.name)) continue;
+            std::string flags = "--" + p.name;
+            for (auto& ch : flags)
+                if (ch == '_') ch = '-';
+            if (!p.alias.empty()) flags = "--" + p.alias + "," + flags;
+            a->options[p.name] = c->add_option(flags, a->values[p.name], p.help + " (default " + p.default_value +
+                                                                             " for " + m.name + ")");
+        }
+    c->add_option("--threads", a->threads, "threads of the method's parallel loops (0: every core)");
+    c->add_flag("--quiet", a->quiet, "no progress and no summary line on stderr");
+    c->add_flag("--json", a->json, "print a JSON summary on stdout");
+    c->callback([a] {
+        const auto t0 = std::chrono::steady_clock::now();
+        MethodSpec spec;
+        spec.name = a->method == "euclidean" ? "euclidean-" + a->variant : a->method;
+        const CanonicalMethod& method = canonical_method(spec.name);
+        for (const auto& [name, option] : a->options) {
+            if (option->count() == 0) continue;
+            if (!method.parameter(name)) throw UsageError("--" + name + " is not an option of method " + method.name);
+            spec.given.emplace_back(name, a->values[name]);
+        }
+        MethodSettings settings;
+        try {
+            settings = spec.settings();  // checks every value
+        } catch (const InputError& e) {
+            throw UsageError(e.what());
+        }
+        MethodContext context;
+        context.threads = a->threads;
+        context.progress = terminal_progress(a->quiet || a->json);
+        const Mesh m = io::read_mesh(a->in);
+        const double read_seconds = seconds_since(t0);
+        validate_and_note(a->in, m, a->json || a->quiet);
+        context.validate = false;
+        const CanonicalForm r = on_input(a->in, [&] { return method.run(m.V, m.F, settings, context); });
+        io::write_ply(a->out, r.V, m.F, r.quality);
+        if (a->json) {
+            nlohmann::ordered_json j = {{"vertices", m.V.rows()}, {"faces", m.F.rows()}};
+            for (const auto& [key, value] : r.summary) std::visit([&, k = key](const auto& v) { j[k] = v; }, value);
+            j["read_seconds"] = read_seconds;
+            j["total_seconds"] = seconds_since(t0);
+            print_json(j);
+        } else if (!a->quiet) {
+            std::cerr << "canonical form (" << method.name << "): " << r.description << "\n";
+        }
+    });
+}
+
+void add_simplify(CLI::App& app) {
+    struct Args {
+        std::string in, out;
+        int vertices = 0;
+    };
+    auto a = std::make_shared<Args>();
+    auto* c = app.add_subcommand("simplify", "quadric edge collapse to about K vertices, as MeshLab's filter");
+    add_in_out(c, a->in, a->out, "output PLY");
+    c->add_option("--vertices", a->vertices, "target vertex count K")->required()->check(CLI::PositiveNumber);
+    c->callback([a] {
+        const Mesh m = io::read_mesh(a->in);
+        validate_and_note(a->in, m, false);
+        const Mesh s = on_input(a->in, [&] { return simplify_mesh(m, a->vertices); });
+        io::write_ply(a->out, s.V, s.F);
+        std::cerr << "simplified " << m.V.rows() << " -> " << s.V.rows() << " vertices\n";
+    });
+}
+
+namespace {
+
+FigureProportions class_proportions(const std::string& name) {
+    try {
+        return figure_class(name);
+    } catch (const std::invalid_argument& e) {
+        throw UsageError(e.what());
+    }
+}
+
+/// A labelled collection: every class (body type) in `poses` poses; pose k < 6 is named pose k
+/// (shared by the classes, as the poses of TOSCA's and FAUST's models are), later ones are random
+/// and differ between classes. DIR/meshes/CLASS_K.ply, DIR/labels.csv, DIR/corres/CLASS_K.vts
+/// (identity: every figure has the same vertex order, so these are exact correspondences).
+void generate_collection(const std::string& dir, int n, int poses, int seed, std::vector<std::string> classes) {
+    if (classes.empty()) classes = figure_class_names();
+    if (classes.size() < 2) throw UsageError("--classes needs at least two classes");
+    for (const auto& c : classes) class_proportions(c);
+    io::make_directories(dir + "/meshes");
+    io::make_directories(dir + "/corres");
+    std::ostringstream labels, ident;
+    labels << "path,class\n";
+    for (int v = 1; v <= n; ++v) ident << v << "\n";
+    for (size_t c = 0; c < classes.size(); ++c) {
+        const FigureProportions prop = class_proportions(classes[c]);
+        for (int k = 0; k < poses; ++k) {
+            const int pose_id = k < kFigureNamedPoses ? k : 1000 * (seed + 1) + 37 * static_cast<int>(c) + k;
+            const Figure fig = make_figure(n, figure_pose(pose_id), prop);
+            const std::string name = classes[c] + "_" + std::to_string(k);
+            io::write_ply(dir + "/meshes/" + name + ".ply", fig.mesh.V.cast<float>().cast<double>(), fig.mesh.F);
+            io::write_file_atomic(dir + "/corres/" + name + ".vts", ident.str());
+            labels << "meshes/" << name << ".ply," << classes[c] << "\n";
+        }
+    }
+    io::write_file_atomic(dir + "/labels.csv", labels.str());
+    std::cerr << "generate: " << classes.size() * static_cast<size_t>(poses) << " figures (" << classes.size()
+              << " classes x " << poses << " poses, " << n << " vertices) in " << dir << "\n";
+}
+
+}  // namespace
+
+void add_generate(CLI::App& app) {
+    struct Args {
+        std::string out, cls = "standard", collection, classes;
+        int vertices = 5000, pose = 0, poses = 10, seed = 0;
+    };
+    auto a = std::make_shared<Args>();
+    auto* c = app.add_subcommand("generate", "a procedural articulated figure, or a labelled collection of them");
+    c->add_option("OUT", a->out, "output PLY (one figure)");
+    c->add_option("--vertices", a->vertices, "vertices per figure")->check(CLI::Range(500, 2000000));
+    c->add_option("--pose", a->pose, "pose: 0-5 named poses, others seeded random ones");
+    c->add_option("--class", a->cls, "body type of the figure (standard, long-arms, short-legs, long-tail, stocky, "
+                                     "long-neck)");
+    c->add_option("--collection", a->collection, "write a labelled collection into this folder instead");
+    c->add_option("--poses", a->poses, "collection: poses per class")->check(CLI::Range(2, 1000));
+    c->add_option("--classes", a->classes, "collection: comma-separated body types (empty: all six)");
+    c->add_option("--seed", a->seed, "collection: seed of the random poses")->check(CLI::Range(0, 100000));
+    c->callback([a] {
+        if (!a->collection.empty()) {
+            if (!a->out.empty()) throw UsageError("generate takes OUT or --collection DIR, not both");
+            return generate_collection(a->collection, a->vertices, a->poses, a->seed, split_list(a->classes));
+        }
+        if (a->out.empty()) throw UsageError("generate needs OUT (or --collection DIR)");
+        const Figure fig = make_figure(a->vertices, figure_pose(a->pose), class_proportions(a->cls));
+        // Rounded to float, the precision MeshLab 2020.09 works in, so that the tool and MeshLab
+        // compute on exactly the same coordinates.
+        io::write_ply(a->out, fig.mesh.V.cast<float>().cast<double>(), fig.mesh.F);
+    });
+}
+
+void add_picture(CLI::App& app) {
+    struct Args {
+        std::string out, mesh, points, canonical;
+        int size = 420;
+    };
+    auto a = std::make_shared<Args>();
+    auto* c = app.add_subcommand("picture", "a picture of a mesh, its feature points and its canonical form");
+    c->add_option("OUT", a->out, "output PNG")->required();
+    c->add_option("MESH", a->mesh, "the mesh (PLY quality: its colour)")->required();
+    c->add_option("--points", a->points, "feature points (a point cloud file)");
+    c->add_option("--canonical", a->canonical, "canonical form (same vertex order as MESH)");
+    c->add_option("--size", a->size, "pixels per panel")->check(CLI::Range(32, 4096));
+    c->callback([a] {
+        PictureInputs in;
+        in.mesh = io::read_mesh(a->mesh);
+        in.mesh_quality = io::read_ply_quality(a->mesh);
+        if (!a->points.empty()) in.points = io::read_mesh(a->points).V;
+        if (!a->canonical.empty()) {
+            in.canonical = io::read_mesh(a->canonical);
+            in.canonical_quality = io::read_ply_quality(a->canonical);
+        }
+        write_picture(a->out, in, a->size);
+    });
+}
+
+}  // namespace canonform::cli

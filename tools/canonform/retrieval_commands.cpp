@@ -1,0 +1,162 @@
+// canonform tool: the retrieval commands - retrieve, evaluate, grid.
+#include "cli.h"
+#include "grid.h"
+
+#include "canonform/io/csv.h"
+#include "canonform/io/distance_matrix_file.h"
+#include "canonform/io/files.h"
+#include "canonform/retrieval/experiment.h"
+#include "canonform/retrieval/retrieval_measures.h"
+
+#include <cstdio>
+#include <cstdlib>
+#include <iostream>
+#include <memory>
+#include <sstream>
+
+namespace canonform::cli {
+
+namespace {
+
+/// RUN/pr.png: every method's precision-recall curve on one plot (tools/plot_pr.py, Debian's
+/// python3-matplotlib). Returns the report's line about it.
+std::string pr_plot(const std::string& run) {
+    const std::string plot = std::string(CANONFORM_TOOLS_DIR) + "/plot_pr.py";
+    const std::string cmd = "/usr/bin/python3 '" + plot + "' '" + run + "' > /dev/null 2>&1";
+    if (io::is_file(plot) && std::system(cmd.c_str()) == 0) return "\n![precision-recall](pr.png)\n";
+    return "\n(No precision-recall plot: run /usr/bin/python3 tools/plot_pr.py " + run + ".)\n";
+}
+
+/// RUN/grid.png: originals beside their canonical forms, one model per class (the paper's
+/// Fig. 8). Returns the report's line about it ("" if the run has only `none`).
+std::string grid_picture(const std::string& run, const std::vector<MethodSpec>& methods) {
+    GridOptions g;
+    g.run = run;
+    for (const MethodSpec& m : methods)
+        if (m.name != "none") g.methods.push_back(m.folder());
+    if (g.methods.empty()) return "";
+    g.panel = g.methods.size() > 4 ? 110 : 150;
+    try {
+        write_grid(run + "/grid.png", g);
+        return "\n![originals (first row) and their canonical forms, one model per class; colour = height "
+               "along the original's longest axis](grid.png)\n";
+    } catch (const std::exception& ex) {
+        std::fprintf(stderr, "retrieve: no grid picture: %s\n", ex.what());
+        return std::string("\n(No grid picture: ") + ex.what() + ")\n";
+    }
+}
+
+void print_row(std::ostream& o, const std::string& name, const retrieval::Measures& m) {
+    char buf[160];
+    std::snprintf(buf, sizeof buf, "| %s | %.3f | %.3f | %.3f | %.3f | %.3f | %d |\n", name.c_str(), m.nn,
+                  m.first_tier, m.second_tier, m.e_measure, m.dcg, m.queries);
+    o << buf;
+}
+
+}  // namespace
+
+void add_retrieve(CLI::App& app) {
+    struct Args {
+        retrieval::ExperimentOptions o;
+        std::string methods = "none,euclidean-N";
+    };
+    auto a = std::make_shared<Args>();
+    std::string names;
+    for (const auto& m : canonical_methods()) names += (names.empty() ? "" : ", ") + m.name;
+    auto* c = app.add_subcommand("retrieve", "a retrieval experiment over a labelled collection: forms, views, "
+                                             "codebook, distances and measures per method");
+    c->add_option("--dataset", a->o.dataset, "collection folder (label paths are relative to it)")->required();
+    c->add_option("--labels", a->o.labels, "labels file, rows path,class (default: DATASET/labels.csv)");
+    c->add_option("--out", a->o.out, "run folder")->required();
+    c->add_option("--method", a->methods, "comma-separated methods, each NAME[:KEY=VALUE...] (" + names +
+                                          "; e.g. euclidean-N:beta=65)");
+    c->add_option("--words", a->o.words, "codebook size")->check(CLI::PositiveNumber);
+    c->add_option("--codebook", a->o.codebook, "a given codebook instead of one trained per method");
+    c->add_option("--simplify", a->o.simplify, "simplify every mesh to this many vertices first (0: no)")
+        ->check(CLI::NonNegativeNumber);
+    c->add_option("--noise", a->o.noise, "vertex noise, as a fraction of the mean edge length")
+        ->check(CLI::NonNegativeNumber);
+    c->add_option("--seed", a->o.seed, "seed of the noise and the codebook");
+    c->add_option("--threads", a->o.threads, "meshes in parallel (0: every core)");
+    c->callback([a] {
+        retrieval::ExperimentOptions o = a->o;
+        if (o.labels.empty()) o.labels = o.dataset + "/labels.csv";
+        for (const std::string& m : split_list(a->methods)) o.methods.push_back(parse_method_spec(m));
+        o.log = [](const std::string& line) { std::cerr << line << "\n"; };
+        o.progress = [](const std::string& method) { return terminal_progress(false, method); };
+        const retrieval::Experiment experiment(o);
+        const std::vector<retrieval::MethodOutcome> outcomes = experiment.run();
+        const std::string report = retrieval::report_markdown(
+            o, experiment.models().size(), outcomes, pr_plot(o.out) + grid_picture(o.out, o.methods));
+        io::write_file_atomic(o.out + "/report.md", report);
+        std::cout << report;
+    });
+}
+
+void add_evaluate(CLI::App& app) {
+    struct Args {
+        std::string matrix, labels, pr;
+        bool json = false;
+    };
+    auto a = std::make_shared<Args>();
+    auto* c = app.add_subcommand("evaluate", "NN, first and second tier, E-measure and DCG of a distance matrix "
+                                             "(psbTable's definitions)");
+    c->add_option("MATRIX", a->matrix, "distance matrix: float32 row-major, or .csv")->required();
+    c->add_option("--labels", a->labels, "labels file, rows path,class in matrix order")->required();
+    c->add_flag("--json", a->json, "print the measures as JSON");
+    c->add_option("--pr", a->pr, "write the 20-point precision-recall curve to this CSV");
+    c->callback([a] {
+        const Eigen::MatrixXd D = io::read_distance_matrix(a->matrix);
+        std::vector<std::string> labels;
+        for (const auto& row : io::read_labels(a->labels)) labels.push_back(row.label);
+        const retrieval::Evaluation e = retrieval::evaluate(D, labels);
+        if (!a->pr.empty()) {
+            std::ostringstream pr;
+            pr << "recall,precision\n";
+            for (size_t k = 0; k < e.recall.size(); ++k) pr << e.recall[k] << "," << e.precision[k] << "\n";
+            io::write_file_atomic(a->pr, pr.str());
+        }
+        if (a->json) {
+            nlohmann::ordered_json classes = nlohmann::ordered_json::object();
+            for (size_t k = 0; k < e.classes.size(); ++k) classes[e.classes[k]] = retrieval::to_json(e.per_class[k]);
+            print_json({{"micro", retrieval::to_json(e.micro)},
+                        {"macro", retrieval::to_json(e.macro)},
+                        {"classes", classes},
+                        {"precision", e.precision}});
+            return;
+        }
+        std::cout << "| average | NN | 1-Tier | 2-Tier | E-measure | DCG | queries |\n|---|---|---|---|---|---|---|\n";
+        print_row(std::cout, "micro", e.micro);
+        print_row(std::cout, "macro", e.macro);
+        std::cout << "\n| class | NN | 1-Tier | 2-Tier | E-measure | DCG | queries |\n|---|---|---|---|---|---|---|\n";
+        for (size_t k = 0; k < e.classes.size(); ++k) print_row(std::cout, e.classes[k], e.per_class[k]);
+        if (!e.skipped_classes.empty()) {
+            std::cout << "\nleft out (two models or fewer):";
+            for (const auto& cls : e.skipped_classes) std::cout << " " << cls;
+            std::cout << "\n";
+        }
+    });
+}
+
+void add_grid(CLI::App& app) {
+    struct Args {
+        std::string out, methods;
+        GridOptions g;
+    };
+    auto a = std::make_shared<Args>();
+    auto* c = app.add_subcommand("grid", "originals beside their canonical forms from a retrieve run (Figs. 8, 9)");
+    c->add_option("OUT", a->out, "output PNG")->required();
+    c->add_option("RUN", a->g.run, "a `canonform retrieve` run folder")->required();
+    c->add_option("--methods", a->methods, "comma-separated method folders, each DIR[=LABEL] (default: all but none)");
+    c->add_option("--class", a->g.cls, "the models of this class (Fig. 9) instead of one per class (Fig. 8)");
+    c->add_option("--columns", a->g.columns, "at most this many columns")->check(CLI::PositiveNumber);
+    c->add_option("--size", a->g.panel, "pixels per panel")->check(CLI::Range(16, 2048));
+    c->callback([a] {
+        a->g.methods = split_list(a->methods);
+        const int n = write_grid(a->out, a->g);
+        std::cerr << "grid: " << n << " models, " << (a->g.methods.empty() ? std::string("every method") : a->methods)
+                  << " -> " << a->out << "\n";
+    });
+}
+
+}  // namespace canonform::cli
