@@ -37,7 +37,7 @@ state=$here/build/hosts/$suite
 
 # --- the root filesystem (made once, cached by suite and package list) -------------------------
 mapfile -t packages < <("$here/tools/setup.sh" --packages | sort -u)
-recipe="canonform host rootfs v1: mmdebstrap --variant=apt $suite main; ${packages[*]}"
+recipe="canonform host rootfs v2: mmdebstrap --variant=apt $suite main; meshlab's Recommends; ${packages[*]}"
 key=$(printf '%s\n' "$recipe" | sha256sum | cut -c1-16)
 lower=$cache/$suite-$key
 
@@ -66,13 +66,27 @@ make_rootfs() {
   case "$suite" in forky) opts+=(--aptopt='Acquire::Check-Valid-Until "false"') ;; esac
   log "making the $suite root filesystem in $lower (mmdebstrap, mirror $uri, ${#packages[@]} packages); this takes minutes"
   rm -rf "$lower.tmp"
+  # mmdebstrap installs no Recommends; a user's `apt install meshlab` does, and MeshLab's GUI
+  # complains about the plugins they serve (muparser, lib3ds, openctm, ...): install meshlab's own.
+  local hook
+  hook=$(mktemp)
+  cat > "$hook" <<'EOF'
+#!/bin/sh
+set -e
+recommends=$(chroot "$1" apt-cache depends meshlab | awk '/Recommends:/ { if (alt) { alt = 0; next }
+    if ($1 ~ /^\|/) alt = 1; gsub(/[<>]/, "", $2); print $2 }')
+chroot "$1" env DEBIAN_FRONTEND=noninteractive apt-get install -y -q --no-install-recommends $recommends
+EOF
+  chmod +x "$hook"
   if ! mmdebstrap --variant=apt --quiet "${opts[@]}" --include="$(IFS=,; echo "${packages[*]}")" \
-        --customize-hook='echo "$1" >/dev/null' \
+        --customize-hook="$hook" \
         "$suite" "$lower.tmp" "deb $uri $suite main" > "$cache/$suite-$key.log" 2>&1; then
+    rm -f "$hook"
     tail -n 30 "$cache/$suite-$key.log" >&2
     rm -rf "$lower.tmp"
     die "mmdebstrap failed (log: $cache/$suite-$key.log)"
   fi
+  rm -f "$hook"
   printf '%s\n' "$recipe" > "$lower.tmp/.canonform-recipe"
   touch "$lower.tmp/.canonform-complete"
   mv "$lower.tmp" "$lower"

@@ -77,7 +77,7 @@ struct FilterSpec {
     FilterKind kind;
     std::string info;         ///< HTML description shown by MeshLab (with the citation)
     std::vector<ParamSpec> params;
-    unsigned requires = kNothing;  ///< MeshData flags the mesh must have
+    unsigned needs = kNothing;     ///< MeshData flags the mesh must have (not `requires`: a C++20 keyword)
     unsigned changes = kNothing;   ///< MeshData flags the filter changes
 };
 

@@ -6,19 +6,6 @@ using canonform::plugin::FilterKind;
 using canonform::plugin::FilterSpec;
 using canonform::plugin::mesh_mask;
 
-TableFilterPlugin2020::TableFilterPlugin2020(QString plugin_name, const std::vector<FilterSpec>& table,
-                                             canonform::plugin::ApplyFn apply)
-    : name_(std::move(plugin_name)), table_(table), apply_(apply) {
-    for (const auto& f : table_) {
-        typeList << f.id;
-        actionList << new QAction(QString::fromUtf8(f.name), this);
-    }
-}
-
-const FilterSpec& TableFilterPlugin2020::spec(FilterIDType id) const {
-    return canonform::plugin::filter_spec(table_, id);
-}
-
 QString TableFilterPlugin2020::filterName(FilterIDType filter) const {
     return QString::fromUtf8(spec(filter).name);
 }
@@ -31,7 +18,7 @@ MeshFilterInterface::FilterClass TableFilterPlugin2020::getClass(QAction* a) {
     return canonform::plugin::filter_class<MeshFilterInterface>(spec(ID(a)).kind);
 }
 
-int TableFilterPlugin2020::getRequirements(QAction* a) { return mesh_mask<MeshModel>(spec(ID(a)).requires); }
+int TableFilterPlugin2020::getRequirements(QAction* a) { return mesh_mask<MeshModel>(spec(ID(a)).needs); }
 
 int TableFilterPlugin2020::postCondition(QAction* a) const { return mesh_mask<MeshModel>(spec(ID(a)).changes); }
 

@@ -3,25 +3,17 @@
 // and adds Qt's plugin metadata; everything else - names, classes, requirements, parameters,
 // errorMessage + Log() on failure, progress - is done here once for all plugins. MeshLab
 // 2022.02's FilterPlugin API (pymeshlab 2022.2) has the sibling meshlab2022_adapter.h over the
-// same tables and actions; what both share is in meshlab_adapter_common.h.
+// same tables and actions; what both share is in meshlab_adapter_common.h (TableAdapter).
 #pragma once
-
-#include "canonform/meshlab/filter_table.h"
 
 #include <common/interfaces.h>
 
-namespace canonform::plugin {
-/// Applies filter `id` of a table to the document (throws on failure, document unchanged).
-using ApplyFn = ActionOutputs (*)(int id, MeshDocument& md, const ParamValues& params,
-                                  const ActionContext& context);
-}  // namespace canonform::plugin
+#include "canonform/meshlab/meshlab_adapter_common.h"
 
-class TableFilterPlugin2020 : public QObject, public MeshFilterInterface {
+class TableFilterPlugin2020 : public canonform::plugin::TableAdapter<MeshFilterInterface> {
 public:
-    TableFilterPlugin2020(QString plugin_name, const std::vector<canonform::plugin::FilterSpec>& table,
-                          canonform::plugin::ApplyFn apply);
+    using TableAdapter::TableAdapter;
 
-    QString pluginName() const override { return name_; }
     QString filterName(FilterIDType filter) const override;
     QString filterInfo(FilterIDType filter) const override;
     FilterClass getClass(QAction* a) override;
@@ -31,10 +23,4 @@ public:
     int postCondition(QAction* a) const override;
     void initParameterSet(QAction* a, MeshModel& m, RichParameterList& par) override;
     bool applyFilter(QAction* a, MeshDocument& md, const RichParameterList& par, vcg::CallBackPos* cb) override;
-
-private:
-    const canonform::plugin::FilterSpec& spec(FilterIDType id) const;
-    QString name_;
-    const std::vector<canonform::plugin::FilterSpec>& table_;
-    canonform::plugin::ApplyFn apply_;
 };

@@ -32,19 +32,6 @@ std::map<std::string, QVariant> canonform::plugin::to_qvariant_map(const ActionO
     return out;
 }
 
-TableFilterPlugin2022::TableFilterPlugin2022(QString plugin_name, const std::vector<FilterSpec>& table,
-                                             canonform::plugin::ApplyFn apply)
-    : name_(std::move(plugin_name)), table_(table), apply_(apply) {
-    for (const auto& f : table_) {
-        typeList.push_back(f.id);
-        actionList.push_back(new QAction(QString::fromUtf8(f.name), this));
-    }
-}
-
-const FilterSpec& TableFilterPlugin2022::spec(ActionIDType id) const {
-    return canonform::plugin::filter_spec(table_, id);
-}
-
 QString TableFilterPlugin2022::filterName(ActionIDType filter) const { return QString::fromUtf8(spec(filter).name); }
 
 QString TableFilterPlugin2022::pythonFilterName(ActionIDType filter) const {
@@ -57,7 +44,7 @@ FilterPlugin::FilterClass TableFilterPlugin2022::getClass(const QAction* a) cons
     return canonform::plugin::filter_class<FilterPlugin>(spec(ID(a)).kind);
 }
 
-int TableFilterPlugin2022::getRequirements(const QAction* a) { return mesh_mask<MeshModel>(spec(ID(a)).requires); }
+int TableFilterPlugin2022::getRequirements(const QAction* a) { return mesh_mask<MeshModel>(spec(ID(a)).needs); }
 
 int TableFilterPlugin2022::postCondition(const QAction* a) const { return mesh_mask<MeshModel>(spec(ID(a)).changes); }
 

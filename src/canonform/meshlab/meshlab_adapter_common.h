@@ -1,11 +1,43 @@
-// canonform: what the MeshLab 2020.09 and 2022.02 adapters share, written once over the parts of
-// MeshLab's API that did not change between the two releases (MeshModel's data masks and
-// RichParameterList's getters). Included by meshlab2020_adapter.cpp and meshlab2022_adapter.cpp.
+// canonform: what the adapters of MeshLab 2020.09's and of the FilterPlugin API (2022.02, 2025.07)
+// share, written once over the parts of MeshLab's API that did not change between the releases (the
+// plugin's typeList/actionList, MeshModel's data masks, RichParameterList's getters and parameter
+// classes). Included by meshlab2020_adapter.h and meshlab2022_adapter.h after their MeshLab header.
 #pragma once
 
 #include "canonform/meshlab/filter_table.h"
 
+#include <QAction>
+#include <QObject>
+#include <QString>
+
+#include <vector>
+
 namespace canonform::plugin {
+
+/// Applies filter `id` of a table to the document (throws on failure, document unchanged).
+using ApplyFn = ActionOutputs (*)(int id, MeshDocument& md, const ParamValues& params,
+                                  const ActionContext& context);
+
+/// What an adapter of either API holds: the plugin's name, its table and its apply function, and
+/// MeshLab's list of filter ids and QActions made from the table.
+template <class Interface>
+class TableAdapter : public QObject, public Interface {
+public:
+    TableAdapter(QString plugin_name, const std::vector<FilterSpec>& table, ApplyFn apply)
+        : name_(std::move(plugin_name)), table_(table), apply_(apply) {
+        for (const auto& f : table_) {
+            this->typeList.push_back(f.id);
+            this->actionList.push_back(new QAction(QString::fromUtf8(f.name), this));
+        }
+    }
+    QString pluginName() const override { return name_; }
+
+protected:
+    const FilterSpec& spec(int id) const { return filter_spec(table_, id); }
+    QString name_;
+    const std::vector<FilterSpec>& table_;
+    ApplyFn apply_;
+};
 
 /// MeshLab's MeshModel data mask (MM_*) of MeshData flags.
 template <class MeshModelT>
