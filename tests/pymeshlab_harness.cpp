@@ -12,7 +12,12 @@
 // builds (tests/e2e/same_results_test.sh).
 //
 //   canonform_pymeshlab<YYYY>_harness --plugin P.so [--plugin P2.so ...] [--wrong-precision W.so]
-//       [--vertices N] [--pose K] [--codebook CB] --out DIR
+//       [--wrong-version W.so] [--vertices N] [--pose K] [--codebook CB] --out DIR
+//   canonform_pymeshlab<YYYY>_harness --serve
+// --serve answers one JSON request per line on stdin (load_plugin, load_new_mesh, mesh_number,
+// set_current_mesh, apply_filter) with one JSON line on stdout: the back end of the stand-in
+// pymeshlab module with which tests/readme_pymeshlab_test.py runs the README's examples as written.
+#include "canonform/io/mesh_io.h"
 #include "canonform/meshlab/meshlab_meshset.h"
 #include "canonform/procedural/procedural_meshes.h"
 
@@ -23,10 +28,13 @@
 #include <QDir>
 #include <QFileInfo>
 
+#include <nlohmann/json.hpp>
+
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <iostream>
 #include <iomanip>
 #include <string>
 #include <vector>
@@ -95,9 +103,52 @@ MeshModel* layer_named(MeshSet& ms, const QString& label) {
     return nullptr;
 }
 
+/// --serve: one JSON request per line, one JSON answer per line ({"error": message} on failure).
+int serve() {
+    MeshSet ms;
+    std::string line;
+    while (std::getline(std::cin, line)) {
+        nlohmann::json answer = nlohmann::json::object();
+        try {
+            const nlohmann::json r = nlohmann::json::parse(line);
+            const std::string op = r.at("op");
+            if (op == "load_plugin") {
+                load_plugin(r.at("path"));
+            } else if (op == "load_new_mesh") {  // pymeshlab reads it with its IO plugin; here our reader
+                const std::string path = r.at("path");
+                const canonform::Mesh m = canonform::io::read_mesh(path);
+                ms.add_mesh(m.V, m.F, QFileInfo(QString::fromStdString(path)).fileName());
+            } else if (op == "mesh_number") {
+                answer["value"] = ms.meshNumber();
+            } else if (op == "set_current_mesh") {
+                const int id = r.at("id");
+                if (ms.getMesh(static_cast<unsigned>(id)) == nullptr)
+                    throw MLException("Mesh with id " + QString::number(id) + " does not exist.");
+                ms.setCurrentMesh(id);
+            } else if (op == "apply_filter") {
+                Kwargs kwargs;
+                for (const auto& [k, v] : r.at("kwargs").items()) {
+                    if (v.is_boolean()) kwargs.emplace_back(k, v.get<bool>());
+                    else if (v.is_number_integer()) kwargs.emplace_back(k, v.get<int>());
+                    else if (v.is_number()) kwargs.emplace_back(k, v.get<double>());
+                    else kwargs.emplace_back(k, v.get<std::string>());
+                }
+                answer["value"] = nlohmann::json::parse(canonform::meshlab::to_json(ms.apply_filter(r.at("name"), kwargs)));
+            } else {
+                throw MLException(QString::fromStdString("unknown request " + op));
+            }
+        } catch (const std::exception& e) {
+            answer = {{"error", e.what()}};
+        }
+        std::cout << answer.dump() << std::endl;
+    }
+    return 0;
+}
+
 int usage() {
     std::fprintf(stderr, "usage: canonform_pymeshlab_harness --plugin P.so [--plugin ...] [--wrong-precision W.so]\n"
-                         "       [--wrong-version W.so] [--vertices N] [--pose K] [--codebook CB] --out DIR\n");
+                         "       [--wrong-version W.so] [--vertices N] [--pose K] [--codebook CB] --out DIR\n"
+                         "       canonform_pymeshlab_harness --serve\n");
     return 2;
 }
 
@@ -107,6 +158,7 @@ int main(int argc, char** argv) {
     std::vector<std::string> plugins;
     std::string wrong, wrong_version, out, codebook;
     int vertices = 2500, pose = 4;
+    if (argc == 2 && std::string(argv[1]) == "--serve") return serve();
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
         if (i + 1 >= argc) return usage();

@@ -1,0 +1,143 @@
+"""Runs the README's pymeshlab examples as written, as far as the pymeshlab harness can show.
+
+usage: readme_pymeshlab_test.py README WORKDIR CANONFORM [--release 2022.2|2025.7 HARNESS PLUGIN_DIR]...
+
+Each ```python block of the README whose first line is "# pymeshlab 2022.2" (or "# pymeshlab 2025.7")
+is executed by Python as written, with a stand-in for the `pymeshlab` module of that release:
+- it has exactly the module functions and MeshSet methods of that release (their names as that
+  release's bindings define them, below); any other name raises AttributeError, as pymeshlab would;
+- load_plugin, MeshSet.load_new_mesh, number_meshes / mesh_number, set_current_mesh and
+  apply_filter are answered by the harness of that release (tests/pymeshlab_harness.cpp --serve:
+  MeshLab's own meshlab-common of that release in double precision, as pymeshlab is), returned
+  vectors arriving as 1-D numpy arrays as both releases convert them; a failure raises
+  pymeshlab.PyMeshLabException with MeshLab's message;
+- the other methods raise NotImplementedError, and the test says so.
+What it cannot show: pymeshlab's own IO plugins (load_new_mesh reads the PLY with canonform's
+reader) and its Python packaging. The example's plugin folder '/path/to/canonform/build/...' is
+replaced by the build's; figure.ply and codebook.bin are generated in WORKDIR.
+"""
+import contextlib
+import io
+import json
+import os
+import re
+import subprocess
+import sys
+
+import numpy
+
+# MeshSet methods and module functions, as the bindings of each release define them
+# (src/pymeshlab/bindings/pymeshset.cpp and pymodule_functions.cpp of PyMeshLab v2022.2.post2, v2025.7).
+MESHSET_2022 = ["number_meshes", "number_rasters", "set_current_mesh", "current_mesh", "current_mesh_id",
+                "mesh_id_exists", "mesh", "set_current_mesh_visibility", "set_mesh_visibility",
+                "is_current_mesh_visible", "is_mesh_visible", "load_new_mesh", "save_current_mesh",
+                "load_new_raster", "add_mesh", "clear", "load_project", "save_project", "apply_filter",
+                "load_filter_script", "save_filter_script", "clear_filter_script", "apply_filter_script",
+                "print_status", "filter_parameter_values", "print_filter_script", "set_verbosity",
+                "set_parameter_verbosity"]
+METHODS = {"2022.2": MESHSET_2022, "2025.7": MESHSET_2022 + ["mesh_number", "raster_number"]}
+MODULE_FUNCTIONS = ["load_default_plugins", "print_pymeshlab_version", "filter_list", "number_plugins",
+                    "print_plugin_list", "print_plugin_filter_list", "print_filter_list",
+                    "print_filter_parameter_list", "search", "load_plugin"]
+
+
+class Harness:
+    def __init__(self, path):
+        self.p = subprocess.Popen([path, "--serve"], stdin=subprocess.PIPE, stdout=subprocess.PIPE,
+                                  stderr=subprocess.DEVNULL, text=True)
+
+    def ask(self, exception, **request):
+        self.p.stdin.write(json.dumps(request) + "\n")
+        self.p.stdin.flush()
+        answer = json.loads(self.p.stdout.readline())
+        if "error" in answer:
+            raise exception(answer["error"])
+        return answer.get("value")
+
+    def close(self):
+        self.p.stdin.close()
+        self.p.wait()
+
+
+def stand_in(release, harness):
+    """A module object with the names of that pymeshlab release."""
+    class PyMeshLabException(Exception):
+        pass
+
+    def unavailable(name):
+        def f(*args, **kwargs):
+            raise NotImplementedError(f"pymeshlab.{name}: not answered by the harness")
+        return f
+
+    def to_python(value):
+        if isinstance(value, dict):
+            return {k: numpy.array(v) if isinstance(v, list) else v for k, v in value.items()}
+        return value
+
+    served = {
+        "load_new_mesh": lambda self, path: harness.ask(PyMeshLabException, op="load_new_mesh",
+                                                        path=os.path.abspath(path)),
+        "number_meshes": lambda self: harness.ask(PyMeshLabException, op="mesh_number"),
+        "mesh_number": lambda self: harness.ask(PyMeshLabException, op="mesh_number"),
+        "set_current_mesh": lambda self, new_curr_id: harness.ask(PyMeshLabException, op="set_current_mesh",
+                                                                  id=new_curr_id),
+        "apply_filter": lambda self, filter_name, **kwargs: to_python(harness.ask(
+            PyMeshLabException, op="apply_filter", name=filter_name, kwargs=kwargs)),
+    }
+    meshset = type("MeshSet", (), {m: served.get(m, unavailable("MeshSet." + m)) for m in METHODS[release]})
+    module = type(sys)("pymeshlab")
+    module.MeshSet = meshset
+    module.PyMeshLabException = PyMeshLabException
+    for f in MODULE_FUNCTIONS:
+        setattr(module, f, unavailable(f))
+    module.load_plugin = lambda filename: harness.ask(PyMeshLabException, op="load_plugin", path=filename)
+    return module
+
+
+def main():
+    readme, work, canonform = sys.argv[1:4]
+    releases, args = {}, sys.argv[4:]
+    while args:
+        assert args[0] == "--release", args
+        releases[args[1]] = (args[2], args[3].rstrip("/") + "/")
+        args = args[4:]
+    os.makedirs(work, exist_ok=True)
+    os.chdir(work)
+    subprocess.run([canonform, "generate", "figure.ply", "--vertices", "2500", "--pose", "4"], check=True,
+                   stdout=subprocess.DEVNULL)
+    subprocess.run([canonform, "codebook", "codebook.bin", "figure.ply", "--words", "100"], check=True,
+                   stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    blocks = re.findall(r"```python\n(# pymeshlab (\d{4}\.\d+)\n.*?)```", open(readme).read(), re.S)
+    failures, seen = 0, set()
+    for code, release in blocks:
+        if release not in releases:
+            print(f"  FAIL a README example for pymeshlab {release}, which this build has no harness of")
+            failures += 1
+            continue
+        seen.add(release)
+        harness_path, plugins = releases[release]
+        code = re.sub(r"'/path/to/canonform/build/pymeshlab\d+/plugins/'", repr(plugins), code)
+        harness = Harness(harness_path)
+        sys.modules["pymeshlab"] = stand_in(release, harness)
+        out = io.StringIO()
+        try:
+            with contextlib.redirect_stdout(out):
+                exec(compile(code, f"README (pymeshlab {release})", "exec"), {})
+            print(f"  ok   the README's pymeshlab {release} example runs as written; it printed:")
+            for line in out.getvalue().splitlines():
+                print(f"         {line}")
+        except Exception as e:  # the example's own failure, as a user would see it
+            print(f"  FAIL the README's pymeshlab {release} example: {type(e).__name__}: {e}")
+            print(out.getvalue())
+            failures += 1
+        finally:
+            harness.close()
+            del sys.modules["pymeshlab"]
+    for release in sorted(set(releases) - seen):
+        print(f"  FAIL no README example for pymeshlab {release}")
+        failures += 1
+    print(f"{len(blocks) - failures} passed, {failures} failed")
+    sys.exit(1 if failures else 0)
+
+
+main()
