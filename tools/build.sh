@@ -6,7 +6,8 @@
 # CANONFORM_MESHLAB2025, both plugins for pymeshlab 2022.2 / 2025.7 (double, build/pymeshlab2022/
 # and build/pymeshlab2025/) with meshlab-common built here and the pymeshlab harness; and, as root,
 # CANONFORM_HOSTS, the tests in trixie's and forky's real MeshLab (tools/host.sh). Elsewhere these
-# are off unless set to 1. Runs tools/setup.sh first.
+# are off unless set to 1. CANONFORM_PLUGINS_ONLY=1 builds only what tools/package.sh packages (the
+# plugins and canonform-meshlab). Runs tools/setup.sh first.
 set -euo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 build=${CANONFORM_BUILD_DIR:-$here/build}
@@ -17,7 +18,13 @@ echo "[build] configuring and building in $build (log: $log)"
 onoff() { if [ "$1" = 1 ]; then echo ON; else echo OFF; fi; }
 if [ "$("$here/tools/setup.sh" --meshlab)" = 2020.09 ]; then def=1; else def=0; fi
 if [ "$(id -u)" -eq 0 ]; then root=$def; else root=0; fi
-opts=(-DCANONFORM_MESHLAB2022="$(onoff "${CANONFORM_MESHLAB2022:-$def}")"
+# CANONFORM_PLUGINS_ONLY=1: only what the Debian package holds (plugins, canonform-meshlab)
+if [ "${CANONFORM_PLUGINS_ONLY:-0}" = 1 ]; then
+  only=(-DCANONFORM_BUILD_TOOLS=OFF -DCANONFORM_BUILD_TESTS=OFF -DCANONFORM_BUILD_BENCH=OFF)
+else
+  only=(-DCANONFORM_BUILD_TOOLS=ON -DCANONFORM_BUILD_TESTS=ON -DCANONFORM_BUILD_BENCH=ON)
+fi
+opts=("${only[@]}" -DCANONFORM_MESHLAB2022="$(onoff "${CANONFORM_MESHLAB2022:-$def}")"
       -DCANONFORM_MESHLAB2025="$(onoff "${CANONFORM_MESHLAB2025:-$def}")"
       -DCANONFORM_HOSTS="$(onoff "${CANONFORM_HOSTS:-$root}")")
 if ! { cmake -S "$here" -B "$build" -DCMAKE_BUILD_TYPE=Release "${opts[@]}" ${CANONFORM_CMAKE_ARGS:-} &&

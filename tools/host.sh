@@ -14,9 +14,10 @@
 # 2. Each clone runs it through an overlay (its changes under build/hosts/SUITE/upper), with the
 #    project tree (at its own path) and /tmp bind-mounted, proc and dev mounted. All is unmounted
 #    when the script ends, also on failure or interruption.
-# 3. Inside, the README's commands for that system: tools/setup.sh, tools/build.sh (build dir
-#    build/hosts/SUITE/build), tools/package.sh, then `apt-get install ./canonform-plugins-*.deb`
-#    (only when the package changed). CANONFORM_HOST_PREPARE=0 skips this step.
+# 3. Inside, the README's commands for that system: tools/setup.sh, CANONFORM_PLUGINS_ONLY=1
+#    tools/build.sh (what the package holds; build dir build/hosts/SUITE/build), tools/package.sh,
+#    then `apt-get install ./canonform-plugins-*.deb` (only when the package changed).
+#    CANONFORM_HOST_PREPARE=0 skips this step.
 # 4. COMMAND runs inside as root, in the current directory if it is under the project tree or
 #    /tmp (else the project root); its exit status is the script's.
 # A second run costs seconds: the root filesystem is cached, the build is up to date.
@@ -158,7 +159,7 @@ inside() {  # runs its arguments inside, as root, with a clean environment
 # --- build and install the plugins inside, by the README's commands --------------------------
 if [ "${CANONFORM_HOST_PREPARE:-1}" != 0 ]; then
   t0=$SECONDS
-  if ! inside "$here" env CANONFORM_BUILD_DIR="$state/build" bash -c '
+  if ! inside "$here" env CANONFORM_BUILD_DIR="$state/build" CANONFORM_PLUGINS_ONLY=1 bash -c '
       set -e
       tools/build.sh >&2
       deb=$(tools/package.sh --build-dir "$CANONFORM_BUILD_DIR")

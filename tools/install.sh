@@ -31,7 +31,9 @@ if [ -z "$prefix" ]; then
     if [ -d "$scripts" ]; then install -d "$dest/$(basename "$scripts")"; install -m 0644 "$scripts"/*.mlx "$dest/$(basename "$scripts")/"; fi
   done
   install -m 0755 "$build/tools/canonform" /usr/local/bin/canonform
-  echo "installed: ${plugins[*]##*/} into $dest; canonform into /usr/local/bin"
+  runner="$build/tools/canonform-meshlab/canonform-meshlab"  # MeshLab 2022.02 and later
+  [ -x "$runner" ] && install -m 0755 "$runner" /usr/local/bin/canonform-meshlab
+  echo "installed: ${plugins[*]##*/} into $dest; canonform$([ -x "$runner" ] && echo " and canonform-meshlab") into /usr/local/bin"
 else
   "$here/tools/meshlab_prefix.sh" "$prefix" "${plugins[@]}"
   install -m 0755 "$build/tools/canonform" "$prefix/bin/canonform"

@@ -94,6 +94,10 @@ run dv fig.ply dv.ply --filter compute_depth_view_descriptor --param "output_fil
 check "compute_depth_view_descriptor: 66 views, 66 x 100 histogram values summing to the keypoints, file written" \
   bash -c "[ $rc -eq 0 ] && test -s dv.cfvd && json dv.json \"j['views'] == 66 and len(j['keypoints_per_view']) == 66 and len(j['descriptor']) == 66 * 100 and sum(j['descriptor']) == j['keypoints']\""
 
+run dec fig.ply dec.ply --filter meshing_decimation_quadric_edge_collapse --param targetfacenum=2000
+check "MeshLab's own filter too (meshing_decimation_quadric_edge_collapse, targetfacenum=2000): OUT has 2000 faces" \
+  bash -c "[ $rc -eq 0 ] && json <('$plycheck' dec.ply) \"j['faces'] == 2000\""
+
 # Bad input, bad parameters: exit 1, the reason, no OUT ------------------------------------------------
 /usr/bin/python3 -c "
 import random; random.seed(1)

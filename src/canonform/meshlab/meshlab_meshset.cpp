@@ -155,6 +155,9 @@ void set_from_kwarg(RichParameter& par, const std::string& key, const PyValue& v
     }
 }
 
+/// The progress callback (pymeshlab passes its own: some of MeshLab's filters call it unchecked).
+bool quiet_progress(const int, const char*) { return true; }
+
 FilterPlugin* plugin_of(const QString& meshlab_name, QAction*& action) {
     for (FilterPlugin* fp : ::meshlab::pluginManagerInstance().filterPluginIterator())
         for (QAction* a : fp->actions())
@@ -175,7 +178,7 @@ void MeshSet::add_mesh(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const
 void MeshSet::load_new_mesh(const std::string& path) {
     const QString file = QString::fromStdString(path);
     if (!QFileInfo::exists(file)) throw MLException("File " + file + " does not exist.");
-    ::meshlab::loadMeshWithStandardParameters(file, *this);
+    ::meshlab::loadMeshWithStandardParameters(file, *this, &quiet_progress);
 }
 
 void MeshSet::save_mesh(const std::string& path, MeshModel& m) {
@@ -193,7 +196,7 @@ void MeshSet::save_mesh(const std::string& path, MeshModel& m) {
                           io_mask::Mask::IOM_VERTTEXCOORD, io_mask::Mask::IOM_FACECOLOR, io_mask::Mask::IOM_FACEQUALITY,
                           io_mask::Mask::IOM_FACENORMAL, io_mask::Mask::IOM_WEDGTEXCOORD})
         if ((capability & bit) && m.hasDataMask(MeshModel::io2mm(bit))) mask |= bit;
-    io->save(extension, file, m, mask, io->initSaveParameter(extension, m), nullptr);
+    io->save(extension, file, m, mask, io->initSaveParameter(extension, m), &quiet_progress);
 }
 
 Dict MeshSet::apply_filter(const std::string& filtername, const Kwargs& kwargs) {
@@ -227,7 +230,7 @@ Dict MeshSet::apply_filter(const std::string& filtername, const Kwargs& kwargs) 
         meshDocStateData().clear();
         meshDocStateData().create(*this);
         unsigned int post_condition_mask = MeshModel::MM_UNKNOWN;
-        Dict out = fp->applyFilter(action, rpl, *this, post_condition_mask, nullptr);
+        Dict out = fp->applyFilter(action, rpl, *this, post_condition_mask, &quiet_progress);
 #if CANONFORM_MESHLAB_API >= 2025  // pymeshlab 2025.7 compacts every mesh after a filter
         for (MeshModel& m : meshIterator()) vcg::tri::Allocator<CMeshO>::CompactEveryVector(m.cm);
 #endif
