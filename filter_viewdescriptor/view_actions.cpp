@@ -6,7 +6,7 @@
 
 #include "canonform/meshlab/meshlab_document.h"
 
-#include <QDir>
+#include <filesystem>
 #include <QImage>
 
 #include <algorithm>
@@ -60,8 +60,9 @@ ActionOutputs depth_view_descriptor(MeshDocument& md, const ParamValues& p, cons
     const views::ModelDescriptor d = views::make_descriptor(vs.features, codebook, mm.fullName().toStdString(), size);
     const std::string views_dir = p.get_string("views_folder");
     if (!views_dir.empty()) {
-        if (!QDir().mkpath(QString::fromStdString(views_dir)))
-            throw InputError("cannot create the folder '" + views_dir + "'");
+        std::error_code ec;
+        std::filesystem::create_directories(views_dir, ec);
+        if (!std::filesystem::is_directory(views_dir)) throw InputError("cannot create the folder '" + views_dir + "'");
         for (size_t k = 0; k < vs.images.size(); ++k) {
             const auto g = vs.images[k].gray();
             QImage img(g.data(), size, size, size, QImage::Format_Grayscale8);

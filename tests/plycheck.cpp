@@ -5,6 +5,8 @@
 #include "canonform/numerics/rigid_alignment.h"
 #include "canonform/io/mesh_io.h"
 
+#include <nlohmann/json.hpp>
+
 #include <cstdio>
 #include <exception>
 
@@ -16,22 +18,23 @@ int main(int argc, char** argv) {
     try {
         const auto m = canonform::io::read_mesh(argv[1]);
         const Eigen::VectorXd q = canonform::io::read_ply_quality(argv[1]);
-        std::printf("{\"vertices\": %ld, \"faces\": %ld, \"has_quality\": %d", long(m.V.rows()), long(m.F.rows()),
-                    q.size() ? 1 : 0);
-        if (q.size()) std::printf(", \"quality_min\": %.9g, \"quality_max\": %.9g", q.minCoeff(), q.maxCoeff());
+        nlohmann::ordered_json j = {{"vertices", m.V.rows()}, {"faces", m.F.rows()}, {"has_quality", q.size() ? 1 : 0}};
+        if (q.size()) {
+            j["quality_min"] = q.minCoeff();
+            j["quality_max"] = q.maxCoeff();
+        }
         if (argc == 3) {
             const auto r = canonform::io::read_mesh(argv[2]);
             const Eigen::VectorXd rq = canonform::io::read_ply_quality(argv[2]);
             const bool same = r.V.rows() == m.V.rows();
-            std::printf(", \"same_vertex_count\": %d", same ? 1 : 0);
+            j["same_vertex_count"] = same ? 1 : 0;
             if (same) {
-                std::printf(", \"max_position_diff\": %.9g", (r.V - m.V).cwiseAbs().maxCoeff());
-                std::printf(", \"aligned_rms\": %.9g", canonform::align_rigid(m.V, r.V).rms);
-                if (q.size() && rq.size() == q.size())
-                    std::printf(", \"max_quality_diff\": %.9g", (rq - q).cwiseAbs().maxCoeff());
+                j["max_position_diff"] = (r.V - m.V).cwiseAbs().maxCoeff();
+                j["aligned_rms"] = canonform::align_rigid(m.V, r.V).rms;
+                if (q.size() && rq.size() == q.size()) j["max_quality_diff"] = (rq - q).cwiseAbs().maxCoeff();
             }
         }
-        std::printf("}\n");
+        std::printf("%s\n", j.dump().c_str());
     } catch (const std::exception& e) {
         std::fprintf(stderr, "canonform_plycheck: %s\n", e.what());
         return 1;

@@ -111,16 +111,27 @@ void add_canonical(CLI::App& app) {
     c->add_option("--method", a->method, "the method: " + names);
     c->add_option("--variant", a->variant, "with --method euclidean: A or N (the paper's variants)")
         ->check(CLI::IsMember({"A", "N"}));
+    // One option per parameter name; its help says which methods take it and their defaults.
+    std::map<std::string, std::pair<const MethodParameter*, std::vector<std::string>>> params;
+    std::vector<std::string> order;
     for (const auto& m : canonical_methods())
         for (const auto& p : m.parameters) {
-            if (a->options.count(p.name)) continue;
-            std::string flags = "--" + p.name;
-            for (auto& ch : flags)
-                if (ch == '_') ch = '-';
-            if (!p.alias.empty()) flags = "--" + p.alias + "," + flags;
-            a->options[p.name] = c->add_option(flags, a->values[p.name], p.help + " (default " + p.default_value +
-                                                                             " for " + m.name + ")");
+            auto& entry = params[p.name];
+            if (!entry.first) {
+                entry.first = &p;
+                order.push_back(p.name);
+            }
+            entry.second.push_back(m.name + " " + p.default_value);
         }
+    for (const std::string& name : order) {
+        const MethodParameter& p = *params[name].first;
+        std::string flags = "--" + p.name, defaults;
+        for (auto& ch : flags)
+            if (ch == '_') ch = '-';
+        if (!p.alias.empty()) flags = "--" + p.alias + "," + flags;
+        for (const std::string& d : params[name].second) defaults += (defaults.empty() ? "" : ", ") + d;
+        a->options[name] = c->add_option(flags, a->values[name], p.help + " (default: " + defaults + ")");
+    }
     c->add_option("--threads", a->threads, "threads of the method's parallel loops (0: every core)");
     c->add_flag("--quiet", a->quiet, "no progress and no summary line on stderr");
     c->add_flag("--json", a->json, "print a JSON summary on stdout");

@@ -18,7 +18,7 @@
 //    exactly X_k = B(X_{k-1}) X_{k-1} / N: no linear solve. (B X)_i = sum_{j != i} (D_ij / d_ij)
 //    (x_i - x_j) is accumulated pair by pair over the lower triangle (column i of D from row i+1,
 //    contiguous in memory) together with S(X), O(N^2 dim) per iteration without forming B; rows
-//    are split between std::thread workers (equal numbers of pairs, one private accumulator each).
+//    are split between workers (parallel_for; equal numbers of pairs, one private accumulator each).
 //    Start: classical MDS (default) or a given X0. Stop when (S_{k-1} - S_k) / S_{k-1} <
 //    tolerance or after max_iterations. Stress never increases across a Guttman step (tested).
 //    If the classical start has a (numerically) zero column - B has fewer than dim positive

@@ -113,7 +113,7 @@ struct GeodesicOptions {
 
 /// All-pairs distances, #V x #V, in the units of V: symmetric (the average of d(i,j) and d(j,i)),
 /// zero diagonal, +infinity between vertices of different components. One fast march per source,
-/// parallel over sources with std::thread. Results do not depend on the thread count. Throws
+/// parallel over sources (parallel_for). Results do not depend on the thread count. Throws
 /// InputError on bad input, Cancelled if progress returns false (the workers are stopped first).
 Eigen::MatrixXd all_pairs_geodesic_distances(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
                                              const GeodesicOptions& options = {});
