@@ -105,6 +105,20 @@ TEST(MeshRepair, EachStepOnAMeshThatNeedsIt) {
         << r.summary();
 }
 
+TEST(MeshRepair, FuzzSeedsOfTheCanonicalFormTarget) {
+    // tests/fuzz/fuzz_canonical_form.cpp: byte 0 = base mesh (bit 0), repair (bit 1), method (bits
+    // 2-4); then 8-byte edits. Seeds: each method untouched, a duplicated vertex with and without
+    // repair, a face index out of range, a NaN and a 1e200 coordinate.
+    for (int method = 0; method < 6; ++method) test::fuzz_seed("canonical_form", "method" + std::to_string(method), std::string(1, char(method << 2)));
+    const std::string dup = std::string("\x01\x05\x09\0\0\0\0\0", 8), bad_index = std::string("\x02\x03\x01\x01\x40\x42\x0f\0", 8);
+    test::fuzz_seed("canonical_form", "duplicate_vertex", std::string(1, char(1 << 2)) + dup);
+    test::fuzz_seed("canonical_form", "duplicate_vertex_repaired", std::string(1, char((1 << 2) | 2)) + dup);
+    test::fuzz_seed("canonical_form", "index_out_of_range", std::string(1, char(1 << 2)) + bad_index);
+    test::fuzz_seed("canonical_form", "nan", std::string(1, char(3 << 2)) + std::string("\x00\x02\x01\x06\0\0\0\0", 8));
+    test::fuzz_seed("canonical_form", "huge", std::string(1, char(1 << 2)) + std::string("\x00\x02\x01\x03\0\0\0\0", 8));
+    SUCCEED();
+}
+
 TEST(MeshRepair, AGoodMeshIsLeftAsItIsAndWhatCannotBeRepairedStaysAnError) {
     const Mesh s = make_torus(20, 10);
     const MeshRepair r = repair_mesh(s.V, s.F);
