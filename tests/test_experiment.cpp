@@ -13,16 +13,20 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <map>
 
 using namespace canonform;
 namespace fs = std::filesystem;
 
 namespace {
 
-/// Six figures (two body types x three poses, 700 vertices) and their labels.
-std::string make_collection() {
-    static const std::string dir = [] {
-        const std::string d = (fs::temp_directory_path() / "canonform_test_experiment_data").string();
+/// Six figures (two body types x three poses, 700 vertices) and their labels, in a folder of
+/// their own per `tag` (ctest runs the tests of this file in parallel processes).
+std::string make_collection(const std::string& tag = "data") {
+    static std::map<std::string, std::string> made;
+    if (made.count(tag)) return made[tag];
+    const std::string dir = [&] {
+        const std::string d = (fs::temp_directory_path() / ("canonform_test_experiment_" + tag)).string();
         fs::remove_all(d);
         io::make_directories(d + "/meshes");
         std::string labels = "path,class\n";
@@ -36,7 +40,7 @@ std::string make_collection() {
         io::write_file_atomic(d + "/labels.csv", labels);
         return d;
     }();
-    return dir;
+    return made[tag] = dir;
 }
 
 retrieval::ExperimentOptions options(const std::string& run, const std::vector<std::string>& methods) {
@@ -128,10 +132,11 @@ TEST(Experiment, AMethodAddedToTheRegistryRunsLikeTheOthers) {
 TEST(Experiment, BrokenCollectionsFailPerMeshNotAsAWhole) {
     // Issue 11: a labels row naming a missing file stopped the run; a corrupt cache entry failed
     // on every re-run; classes of two models were computed in full, then "nothing to evaluate".
-    const std::string data = make_collection();
+    const std::string data = make_collection("broken_data");
     const std::string labels = data + "/labels_broken.csv";
     io::write_file_atomic(labels, io::read_file(data + "/labels.csv") + "meshes/missing.ply,standard\n");
     auto o = options("canonform_test_experiment_broken", {"none"});
+    o.dataset = data;
     o.labels = labels;
     fs::remove_all(o.out);
     std::vector<std::string> log;

@@ -45,7 +45,10 @@ awk 'NR <= 2 { print; if (NR == 2) n = $1; next } NR <= n + 2 { print "1 1 1"; n
 "$cf" features fig.off cloud.ply > /dev/null 2>&1
 # 5 zero-area faces: 5 faces (a, b, c) split at the midpoint M of (a, b) into (a, M, c), (M, b, c)
 # plus the sliver (b, a, M) - the T-junction filler CAD exports leave (a closed, manifold mesh).
-awk 'NR == 2 { n = $1; f = $2; next } NR <= n + 2 { v[NR - 3] = $0; next } { face[NR - n - 3] = $0 }
+# Coordinates on a 2^-10 grid, so that M is exactly collinear in float (MeshLab) as in double.
+awk 'function q(x) { return (x >= 0 ? int(x * 1024 + 0.5) : -int(-x * 1024 + 0.5)) / 1024 }
+  NR == 2 { n = $1; f = $2; next } NR <= n + 2 { v[NR - 3] = sprintf("%.17g %.17g %.17g", q($1), q($2), q($3)); next }
+  { face[NR - n - 3] = $0 }
   END { nv = n; nf = f; out = 0
         for (s = 0; s < 5; s++) { k = int(s * f / 5) + 1; split(face[k], t, " "); a = t[2]; b = t[3]; c = t[4]
           split(v[a], pa, " "); split(v[b], pb, " ")

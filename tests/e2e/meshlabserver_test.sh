@@ -150,8 +150,11 @@ rc=$?
 check "beta = -1: non-zero exit ($rc) naming the parameter and value" \
   bash -c "[ $rc -ne 0 ] && grep -q \"beta must be a positive number (or 0 for the default), got '-1'\" bad_beta.log && [ ! -e bad_beta.ply ]"
 # Repair (issue 11): a mesh with 5 zero-area faces is refused by default, let through with repair ----
+# (the construction of tests/e2e/bad_input_test.sh: coordinates on a 2^-10 grid, exact midpoints)
 "$cf" generate fig1200.off --vertices 1200 --pose 1
-awk 'NR == 2 { n = $1; f = $2; next } NR <= n + 2 { v[NR - 3] = $0; next } { face[NR - n - 3] = $0 }
+awk 'function q(x) { return (x >= 0 ? int(x * 1024 + 0.5) : -int(-x * 1024 + 0.5)) / 1024 }
+  NR == 2 { n = $1; f = $2; next } NR <= n + 2 { v[NR - 3] = sprintf("%.17g %.17g %.17g", q($1), q($2), q($3)); next }
+  { face[NR - n - 3] = $0 }
   END { nv = n; nf = f
         for (s = 0; s < 5; s++) { k = int(s * f / 5) + 1; split(face[k], t, " "); a = t[2]; b = t[3]; c = t[4]
           split(v[a], pa, " "); split(v[b], pb, " ")
