@@ -41,7 +41,7 @@ struct FilterInput {
 
 FilterInput filter_input(MeshModel& mm, const ParamValues& p, const ActionContext& ctx) {
     FilterInput in{to_eigen(mm.cm), {}};
-    if (p.get_bool("repair")) {
+    if (p.values.count("repair") && p.get_bool("repair")) {  // scripts written before it have no "repair": off
         MeshRepair r = repair_mesh(in.b.V, in.b.F);
         ctx.log("'" + mm.label().toStdString() + "': " + r.summary());
         if (r.changed()) in.repair = std::move(r);
