@@ -42,14 +42,14 @@ void validate_and_note(const std::string& path, const Mesh& m, bool quiet) {
                   << " boundary edges); boundary curvature uses pi instead of 2 pi (eq. 8)\n";
 }
 
-Mesh read_input_mesh(const std::string& path, bool repair, bool quiet) {
+Mesh read_input_mesh(const std::string& path, bool repair, bool quiet, bool validate) {
     Mesh m = io::read_mesh(path);
     if (repair) {
         const MeshRepair r = on_input(path, [&] { return repair_mesh(m.V, m.F); });
         std::cerr << "canonform: '" << path << "': " << r.summary() << "\n";
         m = r.mesh;
     }
-    validate_and_note(path, m, quiet);
+    if (validate) validate_and_note(path, m, quiet);
     return m;
 }
 

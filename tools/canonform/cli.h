@@ -37,9 +37,10 @@ void print_json(const nlohmann::ordered_json& j);
 void validate_and_note(const std::string& path, const Mesh& m, bool quiet);
 
 /// Reads the input mesh `path`; with `repair`, repairs it (surface/mesh_repair.h) and prints the
-/// repair's one-line summary on stderr (always: what changed is never silent); then validates it
-/// as validate_and_note().
-Mesh read_input_mesh(const std::string& path, bool repair, bool quiet);
+/// repair's one-line summary on stderr (always: what changed is never silent); then, if
+/// `validate`, validates it as validate_and_note() (the view commands leave that to
+/// compute_views(), which accepts several components).
+Mesh read_input_mesh(const std::string& path, bool repair, bool quiet, bool validate = true);
 
 /// Adds --repair (default off: strict) to a command that reads meshes.
 void add_repair_flag(CLI::App* command, bool& repair);

@@ -40,7 +40,7 @@ struct ViewArgs {
         return v;
     }
     views::ViewSet views_of(const std::string& path) const {
-        const Mesh m = read_input_mesh(path, repair, true);
+        const Mesh m = read_input_mesh(path, repair, true, false);  // compute_views() validates
         return on_input(path, [&] { return views::compute_views(m.V, m.F, options()); });
     }
 };
