@@ -40,8 +40,13 @@ std::vector<FilterSpec> make_filter_table() {
                  {{"normalize", K::Bool, 1, "Normalise to [0, 1]",
                    "Store (phi - min) / (max - min) instead of the raw conformal factor (mean zero).", {}},
                   {"colorize", K::Bool, 1, "Colour vertices",
-                   "Also colour the vertices by the conformal factor (red-green-blue ramp).", {}}},
-                 kVertexQuality | kVertexColor, kVertexQuality | kVertexColor});
+                   "Also colour the vertices by the conformal factor (red-green-blue ramp).", {}},
+                  {"repair", K::Bool, 0, "Repair the mesh first",
+                   "Off (default): refuse a mesh with zero-area or duplicate faces, duplicate or unreferenced "
+                   "vertices or several components, naming the problem. On: merge duplicate vertices, remove "
+                   "zero-area and duplicate faces, keep the largest component, drop unreferenced vertices - in "
+                   "the current mesh, once the computation has succeeded - and log what changed.", {}}},
+                 kVertexQuality | kVertexColor, kVertexQuality | kVertexColor | kTopology | kNormals});
     t.push_back({int(FilterId::FeaturePoints), "Feature points", "compute_feature_points", "feature_points.mlx",
                  FilterKind::Selection,
                  "Selects the feature points of Pickup et al. 2015: the ceil(sqrt(N)) vertices with the "
@@ -57,8 +62,13 @@ std::vector<FilterSpec> make_filter_table() {
                    {"none", "random"}},
                   {"seed", K::Int, 0, "Random seed", "Seed of the random fill.", {}},
                   {"add_layer", K::Bool, 0, "Add a point-cloud layer",
-                   "Add a new layer holding the feature points, with the conformal factor as vertex quality.", {}}},
-                 kVertexQuality, kVertexQuality | kVertexSelection});
+                   "Add a new layer holding the feature points, with the conformal factor as vertex quality.", {}},
+                  {"repair", K::Bool, 0, "Repair the mesh first",
+                   "Off (default): refuse a mesh with zero-area or duplicate faces, duplicate or unreferenced "
+                   "vertices or several components, naming the problem. On: merge duplicate vertices, remove "
+                   "zero-area and duplicate faces, keep the largest component, drop unreferenced vertices - in "
+                   "the current mesh, once the computation has succeeded - and log what changed.", {}}},
+                 kVertexQuality, kVertexQuality | kVertexSelection | kTopology | kNormals});
     t.push_back({int(FilterId::EuclideanCanonicalForm), "Euclidean canonical form", "generate_euclidean_canonical_form",
                  "euclidean_canonical_form.mlx", FilterKind::Smoothing,
                  "Computes the pose-invariant canonical form of Pickup et al. 2015: SMACOF keeps the mesh "
@@ -82,8 +92,13 @@ std::vector<FilterSpec> make_filter_table() {
                   {"max_iterations", K::Int, 1000, "Maximum iterations", "SMACOF iteration cap.", {}},
                   {"new_layer", K::Bool, 1, "Result in a new layer",
                    "Put the canonical form in a new layer named after the source mesh; off: replace the "
-                   "vertex positions of the current mesh.", {}}},
-                 kVertexQuality, kVertexQuality | kVertexSelection | kVertexCoordinates | kNormals});
+                   "vertex positions of the current mesh.", {}},
+                  {"repair", K::Bool, 0, "Repair the mesh first",
+                   "Off (default): refuse a mesh with zero-area or duplicate faces, duplicate or unreferenced "
+                   "vertices or several components, naming the problem. On: merge duplicate vertices, remove "
+                   "zero-area and duplicate faces, keep the largest component, drop unreferenced vertices - in "
+                   "the current mesh, once the computation has succeeded - and log what changed.", {}}},
+                 kVertexQuality, kVertexQuality | kVertexSelection | kVertexCoordinates | kNormals | kTopology});
     t.push_back({int(FilterId::GeodesicCanonicalForm), "Geodesic canonical form", "generate_geodesic_canonical_form",
                  "geodesic_canonical_form.mlx", FilterKind::Smoothing,
                  "Computes the canonical form of Elad and Kimmel (IEEE TPAMI 2003), the baseline of Pickup et "
@@ -104,8 +119,13 @@ std::vector<FilterSpec> make_filter_table() {
                    "Refuse meshes whose estimated computing time exceeds this.", {}},
                   {"new_layer", K::Bool, 1, "Result in a new layer",
                    "Put the canonical form in a new layer named after the source mesh; off: replace the "
-                   "vertex positions of the current mesh.", {}}},
-                 kNothing, kVertexCoordinates | kNormals});
+                   "vertex positions of the current mesh.", {}},
+                  {"repair", K::Bool, 0, "Repair the mesh first",
+                   "Off (default): refuse a mesh with zero-area or duplicate faces, duplicate or unreferenced "
+                   "vertices or several components, naming the problem. On: merge duplicate vertices, remove "
+                   "zero-area and duplicate faces, keep the largest component, drop unreferenced vertices - in "
+                   "the current mesh, once the computation has succeeded - and log what changed.", {}}},
+                 kNothing, kVertexCoordinates | kNormals | kTopology});
     for (auto& f : t) f.info += kCitation;
     return t;
 }

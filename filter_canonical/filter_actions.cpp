@@ -5,6 +5,7 @@
 #include "canonform/meshlab/meshlab_document.h"
 #include "canonform/meshlab/vcg_bridge.h"
 #include "canonform/surface/feature_points.h"
+#include "canonform/surface/mesh_repair.h"
 #include "canonform/surface/mesh_topology.h"
 
 #include <vcg/complex/algorithms/update/bounding.h>
@@ -12,9 +13,11 @@
 #include <vcg/complex/algorithms/update/normal.h>
 #include <vcg/complex/algorithms/update/selection.h>
 #include <vcg/complex/append.h>
+#include <vcg/complex/algorithms/update/topology.h>
 
 #include <QFileInfo>
 
+#include <optional>
 #include <sstream>
 #include <type_traits>
 #include <variant>
@@ -26,6 +29,61 @@ namespace {
 MeshModel& current_mesh(MeshDocument& md) {
     if (md.mm() == nullptr) throw InputError("there is no current mesh");
     return *md.mm();
+}
+
+/// The mesh a filter computes on: the current mesh bridged, or with the "repair" parameter its
+/// repaired copy (surface/mesh_repair.h; the summary is logged). The document itself is repaired
+/// by commit_repair() only once the computation has succeeded, so a failure leaves it unchanged.
+struct FilterInput {
+    BridgedMesh<CMeshO> b;              ///< what to compute on (repaired if asked)
+    std::optional<MeshRepair> repair;   ///< the repair, if it changed something
+};
+
+FilterInput filter_input(MeshModel& mm, const ParamValues& p, const ActionContext& ctx) {
+    FilterInput in{to_eigen(mm.cm), {}};
+    if (p.values.count("repair") && p.get_bool("repair")) {  // scripts written before it have no "repair": off
+        MeshRepair r = repair_mesh(in.b.V, in.b.F);
+        ctx.log("'" + mm.label().toStdString() + "': " + r.summary());
+        if (r.changed()) in.repair = std::move(r);
+    }
+    if (in.repair) {
+        in.b.V = in.repair->mesh.V;
+        in.b.F = in.repair->mesh.F;
+    }
+    return in;
+}
+
+/// Applies the repair of `in` (if any) to the current mesh - faces removed or rewired to the kept
+/// copy of a duplicate vertex, vertices removed, vectors compacted, topology, normals and box
+/// updated - and returns the current mesh bridged again: its rows are those of in.b.
+BridgedMesh<CMeshO> commit_repair(MeshModel& mm, FilterInput& in) {
+    if (!in.repair) return std::move(in.b);
+    const MeshRepair& r = *in.repair;
+    CMeshO& m = mm.cm;
+    std::vector<CMeshO::FacePointer> faces;
+    for (auto& f : m.face)
+        if (!f.IsD()) faces.push_back(&f);
+    std::vector<char> keep_face(faces.size(), 0), keep_vertex(in.b.vertices.size(), 0);
+    for (size_t k = 0; k < r.face_source.size(); ++k) {
+        CMeshO::FacePointer f = faces[static_cast<size_t>(r.face_source[k])];
+        keep_face[static_cast<size_t>(r.face_source[k])] = 1;
+        for (int c = 0; c < 3; ++c)
+            f->V(c) = in.b.vertices[static_cast<size_t>(r.vertex_source[static_cast<size_t>(r.mesh.F(static_cast<Eigen::Index>(k), c))])];
+    }
+    for (int v : r.vertex_source) keep_vertex[static_cast<size_t>(v)] = 1;
+    for (size_t f = 0; f < faces.size(); ++f)
+        if (!keep_face[f]) vcg::tri::Allocator<CMeshO>::DeleteFace(m, *faces[f]);
+    for (size_t v = 0; v < keep_vertex.size(); ++v)
+        if (!keep_vertex[v]) vcg::tri::Allocator<CMeshO>::DeleteVertex(m, *in.b.vertices[v]);
+    vcg::tri::Allocator<CMeshO>::CompactEveryVector(m);
+    if (vcg::tri::HasFFAdjacency(m)) vcg::tri::UpdateTopology<CMeshO>::FaceFace(m);
+    if (vcg::tri::HasVFAdjacency(m)) vcg::tri::UpdateTopology<CMeshO>::VertexFace(m);
+    vcg::tri::UpdateNormal<CMeshO>::PerVertexNormalizedPerFaceNormalized(m);
+    vcg::tri::UpdateBounding<CMeshO>::Box(m);
+    BridgedMesh<CMeshO> out = to_eigen(m);
+    if (out.V.rows() != r.mesh.V.rows() || out.F != r.mesh.F)
+        throw NumericalError("internal error: the repaired document does not match the repaired mesh");
+    return out;
 }
 
 /// Validates the mesh (InputError names any problem) and logs what the user should know about
@@ -63,9 +121,10 @@ void check_ring(int ring) {
 
 ActionOutputs conformal_factor_action(MeshDocument& md, const ParamValues& p, const ActionContext& ctx) {
     MeshModel& mm = current_mesh(md);
-    const auto b = to_eigen(mm.cm);
-    const ConformalFactorResult cf = validated_conformal_factor(b, ctx);
+    FilterInput in = filter_input(mm, p, ctx);
+    const ConformalFactorResult cf = validated_conformal_factor(in.b, ctx);
     const bool normalized = p.get_bool("normalize");
+    const auto b = commit_repair(mm, in);  // everything computed: now change the document
     mm.updateDataMask(MeshModel::MM_VERTQUALITY);
     write_quality(b, normalized ? cf.normalized : cf.raw);
     if (p.get_bool("colorize")) {
@@ -85,15 +144,16 @@ ActionOutputs feature_points_action(MeshDocument& md, const ParamValues& p, cons
     MeshModel& mm = current_mesh(md);
     const int ring = p.get_int("ring");
     check_ring(ring);
-    const auto b = to_eigen(mm.cm);
-    const ConformalFactorResult cf = validated_conformal_factor(b, ctx);
+    FilterInput in = filter_input(mm, p, ctx);
+    const ConformalFactorResult cf = validated_conformal_factor(in.b, ctx);
     FeaturePointOptions opt;
     opt.ring = ring;
     opt.fill = p.get_int("fill") == 1 ? FeatureFill::Random : FeatureFill::None;
     opt.seed = static_cast<std::uint64_t>(p.get_int("seed"));
-    const FeaturePoints fp = feature_points(b.F, cf.normalized, opt);
+    const FeaturePoints fp = feature_points(in.b.F, cf.normalized, opt);
 
     // Everything computed: now change the document.
+    const auto b = commit_repair(mm, in);
     vcg::tri::UpdateSelection<CMeshO>::VertexClear(mm.cm);
     for (int v : fp.indices) b.vertices[static_cast<size_t>(v)]->SetS();
     mm.updateDataMask(MeshModel::MM_VERTQUALITY);
@@ -175,12 +235,14 @@ ActionOutputs canonical_form_action(FilterId id, MeshDocument& md, const ParamVa
     const CanonicalMethod& method = *methods[static_cast<size_t>(choice)];
     const MethodSettings settings = method_settings(method, spec, p);
 
-    const auto b = to_eigen(mm.cm);
-    validate_and_note(b, ctx);
+    FilterInput in = filter_input(mm, p, ctx);
+    validate_and_note(in.b, ctx);
     MethodContext context;
     context.progress = ctx.progress;
     context.validate = false;  // validate_and_note() above
-    const CanonicalForm r = method.run(b.V, b.F, settings, context);
+    const CanonicalForm r = method.run(in.b.V, in.b.F, settings, context);
+    if (!r.V.allFinite()) throw NumericalError(method.name + " gave a form with NaN or infinite coordinates");
+    const auto b = commit_repair(mm, in);  // everything computed: now change the document
     write_canonical_form(md, mm, b, r.V, r.quality.size() ? &r.quality : nullptr,
                          r.features.empty() ? nullptr : &r.features, p.get_bool("new_layer"));
     ctx.log(std::string(spec.name) + " of '" + mm.label().toStdString() + "': " + r.description);

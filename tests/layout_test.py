@@ -17,7 +17,7 @@ ALLOWED = {
     "numerics": {"common"},
     "surface": {"common", "numerics"},
     "canonical": {"common", "numerics", "surface"},
-    "views": {"common", "numerics", "surface"},
+    "views": {"common", "numerics", "surface", "io"},
     "io": {"common"},
     "retrieval": {"common", "numerics", "surface", "canonical", "views", "io"},
     "procedural": {"common", "numerics", "surface"},

@@ -358,6 +358,20 @@ int main(int argc, char** argv) {
                   contains(bad_mesh, "Euclidean canonical form: ") && contains(bad_mesh, "point cloud") &&
                   cloud.meshNumber() == 1,
               "a point cloud: MLException with the reason, no new layer");
+        // A mesh with two duplicate faces and an unreferenced vertex (issue 11): refused by
+        // default with the reason, document unchanged; repair=True repairs the document and runs.
+        Eigen::MatrixXd Vd(V.rows() + 1, 3);
+        Vd << V, Eigen::RowVector3d(9, 9, 9);
+        Eigen::MatrixXi Fd(fig.mesh.F.rows() + 2, 3);
+        Fd << fig.mesh.F, fig.mesh.F.row(0), fig.mesh.F.row(1);
+        MeshSet dup;
+        dup.add_mesh(Vd, Fd, "dup.ply");
+        const std::string strict = error_of([&] { dup.apply_filter("compute_conformal_factor", {}); }, "unrepaired mesh");
+        check(contains(strict, "non-manifold") && dup.mm()->cm.fn == Fd.rows() && dup.mm()->cm.vn == Vd.rows(),
+              "duplicate faces: MLException with the reason, mesh unchanged: " + strict.substr(0, 120));
+        Dict fixed = dup.apply_filter("compute_conformal_factor", {{"repair", true}});
+        check(dup.mm()->cm.fn == fig.mesh.F.rows() && dup.mm()->cm.vn == V.rows() && is_double(fixed, "residual"),
+              "repair=True: the 2 duplicate faces and the unreferenced vertex removed from the document, then computed");
     } catch (const std::exception& e) {
         check(false, std::string("unexpected exception: ") + e.what());
     }

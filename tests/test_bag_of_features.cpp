@@ -6,6 +6,8 @@
 #include "canonform/views/descriptor_file.h"
 #include "canonform/views/sift_features.h"
 
+#include "test_util.h"
+
 #include <gtest/gtest.h>
 
 #include <unistd.h>
@@ -317,6 +319,10 @@ TEST(Codebook, SaveLoadBitExactAndRejectsBadFiles) {
 
     const std::string good = read_bytes(path);
     EXPECT_EQ(good.size(), 16u + 50u * 128u * 4u);
+    canonform::test::fuzz_seed("codebook", "50_words.cfcb", good);
+    canonform::test::fuzz_seed("codebook", "3_words.cfcb", good.substr(0, 8) + std::string("\x03\0\0\0", 4) +
+                                                          good.substr(12, 4 + 3 * 128 * 4));
+    canonform::test::fuzz_seed("codebook", "truncated.cfcb", good.substr(0, 100));
     const std::string bad = temp_path("bad.cfcb");
     write_bytes(bad, good.substr(0, good.size() - 3));  // truncated data
     EXPECT_THROW(Codebook::load(bad), InputError);
@@ -388,6 +394,7 @@ TEST(DescriptorFile, HistogramRoundTrip) {
     const std::string path = temp_path("model.cfvd");
     write_descriptor(path, d);
     const ModelDescriptor r = read_descriptor(path);
+    canonform::test::fuzz_seed("descriptor", "histograms.cfvd", read_bytes(path));
     EXPECT_EQ(r.version, 1);
     EXPECT_EQ(r.source, d.source);
     EXPECT_EQ(r.views, 66);
@@ -463,6 +470,7 @@ TEST(DescriptorFile, RawRoundTrip) {
     const std::string path = temp_path("raw.cfvd");
     write_descriptor(path, d);
     const ModelDescriptor r = read_descriptor(path);
+    canonform::test::fuzz_seed("descriptor", "raw.cfvd", read_bytes(path));
     EXPECT_EQ(r.views, 4);
     EXPECT_EQ(r.image_size, 128);
     EXPECT_EQ(r.codebook_words, 0);
@@ -474,4 +482,14 @@ TEST(DescriptorFile, RawRoundTrip) {
     bad.histograms.push_back({{0, 1.f}});  // both kinds of content
     EXPECT_THROW(write_descriptor(temp_path("bad_raw.cfvd"), bad), InputError);
     std::filesystem::remove(path);
+}
+
+TEST(DescriptorFile, AFolderGivenAsADescriptorOrCodebookIsNamedAsOne) {
+    // Issue 11: a folder given as a descriptor or codebook file was "truncated, 0 bytes".
+    const std::string dir = canonform::test::scratch_dir("folder_descriptor");
+    std::filesystem::create_directories(dir + "/d.cfvd");
+    std::filesystem::create_directories(dir + "/c.cfcb");
+    EXPECT_NE(canonform::test::message_of([&] { read_descriptor(dir + "/d.cfvd"); }).find("is a folder"), std::string::npos);
+    EXPECT_NE(canonform::test::message_of([&] { Codebook::load(dir + "/c.cfcb"); }).find("is a folder"), std::string::npos);
+    EXPECT_NE(canonform::test::message_of([&] { read_descriptor(dir + "/none.cfvd"); }).find("no such file"), std::string::npos);
 }

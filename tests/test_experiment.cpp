@@ -1,5 +1,6 @@
 // The retrieval Experiment on a small generated collection: outputs, cache, measures, and a
 // method added to the registry at run time.
+#include "canonform/common/errors.h"
 #include "canonform/io/csv.h"
 #include "canonform/io/distance_matrix_file.h"
 #include "canonform/io/files.h"
@@ -10,17 +11,22 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <filesystem>
+#include <map>
 
 using namespace canonform;
 namespace fs = std::filesystem;
 
 namespace {
 
-/// Six figures (two body types x three poses, 700 vertices) and their labels.
-std::string make_collection() {
-    static const std::string dir = [] {
-        const std::string d = (fs::temp_directory_path() / "canonform_test_experiment_data").string();
+/// Six figures (two body types x three poses, 700 vertices) and their labels, in a folder of
+/// their own per `tag` (ctest runs the tests of this file in parallel processes).
+std::string make_collection(const std::string& tag = "data") {
+    static std::map<std::string, std::string> made;
+    if (made.count(tag)) return made[tag];
+    const std::string dir = [&] {
+        const std::string d = (fs::temp_directory_path() / ("canonform_test_experiment_" + tag)).string();
         fs::remove_all(d);
         io::make_directories(d + "/meshes");
         std::string labels = "path,class\n";
@@ -34,7 +40,7 @@ std::string make_collection() {
         io::write_file_atomic(d + "/labels.csv", labels);
         return d;
     }();
-    return dir;
+    return made[tag] = dir;
 }
 
 retrieval::ExperimentOptions options(const std::string& run, const std::vector<std::string>& methods) {
@@ -121,4 +127,51 @@ TEST(Experiment, AMethodAddedToTheRegistryRunsLikeTheOthers) {
     const Eigen::MatrixXd b = io::read_distance_matrix(o.out + "/toy-scaled_scale3/distances.bin");
     EXPECT_LT((a - b).cwiseAbs().maxCoeff(), 0.05);
     EXPECT_EQ(out[1].spec.to_string(), "toy-scaled:scale=3");
+}
+
+TEST(Experiment, BrokenCollectionsFailPerMeshNotAsAWhole) {
+    // Issue 11: a labels row naming a missing file stopped the run; a corrupt cache entry failed
+    // on every re-run; classes of two models were computed in full, then "nothing to evaluate".
+    const std::string data = make_collection("broken_data");
+    const std::string labels = data + "/labels_broken.csv";
+    io::write_file_atomic(labels, io::read_file(data + "/labels.csv") + "meshes/missing.ply,standard\n");
+    auto o = options("canonform_test_experiment_broken", {"none"});
+    o.dataset = data;
+    o.labels = labels;
+    fs::remove_all(o.out);
+    std::vector<std::string> log;
+    o.log = [&](const std::string& line) { log.push_back(line); };
+    const auto first = retrieval::Experiment(o).run();
+    EXPECT_EQ(first[0].meshes, 6u);
+    EXPECT_EQ(first[0].failed, 1u);
+    EXPECT_NE(io::read_file(o.out + "/none/failures.txt").find("missing: cannot read"), std::string::npos);
+    // Corrupt every cache entry: each is recomputed, and said so.
+    for (const auto& e : fs::directory_iterator(o.out + "/cache"))
+        if (e.path().extension() == ".cfvd") io::write_file_atomic(e.path().string(), "garbage");
+    log.clear();
+    const auto second = retrieval::Experiment(o).run();
+    EXPECT_EQ(second[0].meshes, 6u);
+    EXPECT_EQ(second[0].cached, 0);
+    EXPECT_EQ(std::count_if(log.begin(), log.end(),
+                            [](const std::string& l) { return l.find("corrupt cache entry recomputed") != std::string::npos; }),
+              6);
+    // Two models per class: said before any work; distances written; no measures, and why.
+    io::write_file_atomic(labels, "path,class\nmeshes/standard_0.ply,a\nmeshes/standard_1.ply,a\n"
+                                  "meshes/long-arms_0.ply,b\nmeshes/long-arms_1.ply,b\n");
+    log.clear();
+    const auto pairs = retrieval::Experiment(o).run();
+    ASSERT_FALSE(log.empty());
+    EXPECT_NE(log.front().find("no class of"), std::string::npos) << log.front();
+    EXPECT_NE(pairs[0].no_measures.find("no class has more than two models"), std::string::npos);
+    EXPECT_EQ(io::read_distance_matrix(o.out + "/none/distances.bin").rows(), 4);
+    const auto metrics = nlohmann::json::parse(io::read_file(o.out + "/none/metrics.json"));
+    EXPECT_TRUE(metrics["micro"].is_null());
+    EXPECT_NE(retrieval::report_markdown(o, 4, pairs, "").find("No measures for none"), std::string::npos);
+    // Checked before any work: rows without a class, two models of one name.
+    fs::remove_all(o.out);
+    io::write_file_atomic(labels, "path,class\nmeshes/standard_0.ply,a\nmeshes/standard_1.ply,\n");
+    EXPECT_THROW(retrieval::Experiment{o}, InputError);
+    io::write_file_atomic(labels, "path,class\nmeshes/standard_0.ply,a\nother/standard_0.ply,b\nmeshes/standard_1.ply,b\n");
+    EXPECT_THROW(retrieval::Experiment{o}, InputError);
+    EXPECT_FALSE(fs::exists(o.out));  // nothing was started
 }

@@ -3,12 +3,14 @@
 #include "canonform/io/csv.h"
 #include "canonform/io/distance_matrix_file.h"
 #include "canonform/io/files.h"
-#include "canonform/io/mesh_io.h"
 #include "canonform/procedural/procedural_meshes.h"
+
+#include "test_util.h"
 
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <limits>
 
 using namespace canonform;
 namespace fs = std::filesystem;
@@ -93,24 +95,43 @@ TEST(DistanceMatrixFile, BinaryAndCsvRoundTripAndRefusals) {
     io::write_file_atomic(d + "/bad.bin", std::string(20, '\0'));
     EXPECT_NE(message_of([&] { io::read_distance_matrix(d + "/bad.bin"); }).find("not a square"), std::string::npos);
     io::write_file_atomic(d + "/bad.csv", "0,1\n1\n");
-    EXPECT_NE(message_of([&] { io::read_distance_matrix(d + "/bad.csv"); }).find("different lengths"),
-              std::string::npos);
+    EXPECT_NE(message_of([&] { io::read_distance_matrix(d + "/bad.csv"); }).find("not a square"), std::string::npos);
 }
 
-TEST(MeshIo, PlyOffObjRoundTrip) {
-    const std::string d = scratch("meshes");
-    const Mesh m = make_icosphere(2, 1.0);
-    Eigen::VectorXd q = m.V.col(2);
-    io::write_ply(d + "/s.ply", m.V, m.F, q);
-    const Mesh r = io::read_mesh(d + "/s.ply");
-    EXPECT_EQ(r.F, m.F);
-    EXPECT_LT((r.V - m.V).cwiseAbs().maxCoeff(), 1e-12);
-    EXPECT_LT((io::read_ply_quality(d + "/s.ply") - q).cwiseAbs().maxCoeff(), 1e-12);
-    std::string off = "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
-    io::write_file_atomic(d + "/t.off", off);
-    EXPECT_EQ(io::read_mesh(d + "/t.off").F.rows(), 1);
-    io::write_file_atomic(d + "/t.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 3 4\n");
-    const Mesh quad = io::read_mesh(d + "/t.obj");
-    EXPECT_EQ(quad.F.rows(), 2);  // the quad fan-triangulated
-    EXPECT_THROW(io::read_mesh(d + "/missing.ply"), InputError);
+TEST(Files, EveryReaderSaysAFolderIsAFolder) {
+    // Issue 11: a folder given as a matrix or labels file was "truncated, 0 bytes".
+    const std::string d = scratch("folder_inputs");
+    io::make_directories(d + "/D.bin");
+    io::make_directories(d + "/D.csv");
+    io::make_directories(d + "/labels.csv");
+    for (const std::string& m : {message_of([&] { io::read_distance_matrix(d + "/D.bin"); }),
+                                 message_of([&] { io::read_distance_matrix(d + "/D.csv"); }),
+                                 message_of([&] { io::read_labels(d + "/labels.csv"); })})
+        EXPECT_NE(m.find("is a folder"), std::string::npos) << m;
+}
+
+TEST(Csv, LabelsRefuseRowsWithoutAClassAndEmptyFiles) {
+    EXPECT_NE(message_of([] { io::parse_labels("path,class\na.off,\n", "l.csv"); }).find("row 2 has no class"),
+              std::string::npos);
+    EXPECT_NE(message_of([] { io::parse_labels("path,class\n", "l.csv"); }).find("no labels"), std::string::npos);
+    EXPECT_EQ(io::parse_labels("a.off,\"q\\\"x\n", "l.csv")[0].label, "\"q\\\"x");  // any bytes are a class name
+    test::fuzz_seed("labels", "header_and_rows.csv", "path,class\noff/a,b.off,cat\nonly_class\nx.off,dog\r\n");
+    test::fuzz_seed("labels", "no_class.csv", "path,class\na.off,\n");
+}
+
+TEST(DistanceMatrixFile, RefusesNonNumbersAndNonFiniteEntries) {
+    EXPECT_NE(message_of([] { io::parse_distance_matrix("0,1x\n1,0\n", true, "D.csv"); }).find("not a number: '1x'"),
+              std::string::npos);
+    EXPECT_NE(message_of([] { io::parse_distance_matrix("0,nan\n1,0\n", true, "D.csv"); }).find("not a finite"),
+              std::string::npos);
+    EXPECT_NE(message_of([] { io::parse_distance_matrix("", true, "D.csv"); }).find("no rows"), std::string::npos);
+    const float bad[4] = {0, std::numeric_limits<float>::infinity(), 1, 0};
+    const std::string bytes(reinterpret_cast<const char*>(bad), sizeof bad);
+    EXPECT_NE(message_of([&] { io::parse_distance_matrix(bytes, false, "D.bin"); }).find("(1, 2) is not a finite"),
+              std::string::npos);
+    const float good[9] = {0, 1, 2, 1, 0, 3, 2, 3, 0};
+    test::fuzz_seed("matrix_bin", "3x3.bin", std::string(reinterpret_cast<const char*>(good), sizeof good));
+    test::fuzz_seed("matrix_bin", "inf.bin", bytes);
+    test::fuzz_seed("matrix_csv", "3x3.csv", "0,1,2\n1,0,3\n2,3,0\n");
+    test::fuzz_seed("matrix_csv", "ragged.csv", "0,1\n1\n");
 }

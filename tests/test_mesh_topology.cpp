@@ -99,3 +99,29 @@ TEST(MeshTopology, EveryKindOfBadInputIsNamed) {
     F(2, 1) = 1000;
     EXPECT_TRUE(contains(problem(s.V, F), "out of range"));
 }
+
+TEST(MeshTopology, TinyAndHugeCoordinatesAreNotDegenerateFaces) {
+    // Issue 11: a mesh with coordinates of 1e200 or 1e-200 was refused for "5996 degenerate faces"
+    // (the area test squared the bounding-box diagonal: inf or 0).
+    const Mesh s = make_icosphere(2);
+    for (double scale : {1e200, 1e-200, 1e-300, 1e250}) {
+        const MeshReport r = validate_mesh(s.V * scale, s.F);
+        EXPECT_EQ(r.faces, s.F.rows()) << scale;
+    }
+    EXPECT_TRUE(contains(problem(s.V * 1e300, s.F), "coordinates reach"));  // beyond what sums and squares hold
+    EXPECT_TRUE(contains(problem(Eigen::MatrixXd::Zero(s.V.rows(), 3), s.F), "are at one point"));
+    Eigen::MatrixXd V = s.V * 1e-200;  // a real zero-area face among tiny ones is still one
+    V.row(s.F(0, 2)) = 0.5 * (V.row(s.F(0, 0)) + V.row(s.F(0, 1)));
+    EXPECT_TRUE(contains(problem(V, s.F), "1 degenerate faces"));
+}
+
+TEST(MeshTopology, FaceIndicesAreCheckedBeforeAnyUseAndNamed) {
+    const Mesh s = make_icosphere(1);
+    for (int bad : {-1, static_cast<int>(s.V.rows()), 100000000}) {
+        Eigen::MatrixXi F = s.F;
+        F(5, 1) = bad;
+        const std::string m = problem(s.V, F);
+        EXPECT_TRUE(contains(m, "out of range: face 5 is")) << m;
+        EXPECT_TRUE(contains(m, std::to_string(bad))) << m;
+    }
+}

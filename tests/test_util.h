@@ -6,7 +6,9 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include <functional>
 #include <random>
+#include <string>
 
 namespace canonform::test {
 
@@ -44,5 +46,16 @@ double aligned_rms(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b);
 
 /// The same, also allowing a reflection (MDS determines a configuration only up to one).
 double aligned_rms_or_mirrored(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b);
+
+/// A fresh, empty folder under the temporary directory ("canonform_test_NAME").
+std::string scratch_dir(const std::string& name);
+
+/// The what() of the exception fn() throws ("" if none).
+std::string message_of(const std::function<void()>& fn);
+
+/// Writes `bytes` as the seed NAME of fuzz target TARGET (tests/fuzz) when the environment
+/// variable CANONFORM_FUZZ_SEEDS names a folder (the fuzz build's ctest sets it): the fuzz corpora
+/// start from the files the tests build, valid and broken.
+void fuzz_seed(const std::string& target, const std::string& name, const std::string& bytes);
 
 }  // namespace canonform::test

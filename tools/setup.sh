@@ -30,6 +30,9 @@ PACKAGES=(
   xvfb xauth x11-utils xdotool imagemagick
   python3-matplotlib python3-numpy bc
 )
+# The sanitizer and fuzz tests (tools/sanitizer_tests.sh): clang with its ASan, UBSan and libFuzzer
+# runtimes, and llvm-symbolizer for readable reports.
+PACKAGES+=(clang libclang-rt-14-dev llvm)
 
 codename=$(. /etc/os-release && echo "${VERSION_CODENAME:-bookworm}")
 

@@ -142,4 +142,47 @@ check "broken file: no output file" test ! -e bad_broken.ply
 mls comps.log -i comps.off -o bad_comps.ply -m vq -s "$scripts/feature_points.mlx"
 rc=$?
 check "several components: non-zero exit ($rc) with the reason" bash -c "[ $rc -ne 0 ] && grep -q 'connected components' comps.log"
+# A bad parameter value is named (the registry checks filter parameters as the tool's options) --
+sed 's/name="beta" type="RichFloat" value="0"/name="beta" type="RichFloat" value="-1"/' \
+  "$scripts/euclidean_canonical_form.mlx" > ecf_bad_beta.mlx
+mls bad_beta.log -i fig.ply -o bad_beta.ply -l 1 -s ecf_bad_beta.mlx
+rc=$?
+check "beta = -1: non-zero exit ($rc) naming the parameter and value" \
+  bash -c "[ $rc -ne 0 ] && grep -q \"beta must be a positive number (or 0 for the default), got '-1'\" bad_beta.log && [ ! -e bad_beta.ply ]"
+# Repair (issue 11): a mesh with 5 zero-area faces is refused by default, let through with repair ----
+# (the construction of tests/e2e/bad_input_test.sh: coordinates on a 2^-10 grid, exact midpoints)
+"$cf" generate fig1200.off --vertices 1200 --pose 1
+awk 'function q(x) { return (x >= 0 ? int(x * 1024 + 0.5) : -int(-x * 1024 + 0.5)) / 1024 }
+  NR == 2 { n = $1; f = $2; next } NR <= n + 2 { v[NR - 3] = sprintf("%.17g %.17g %.17g", q($1), q($2), q($3)); next }
+  { face[NR - n - 3] = $0 }
+  END { nv = n; nf = f
+        for (s = 0; s < 5; s++) { k = int(s * f / 5) + 1; split(face[k], t, " "); a = t[2]; b = t[3]; c = t[4]
+          split(v[a], pa, " "); split(v[b], pb, " ")
+          v[nv] = sprintf("%.17g %.17g %.17g", (pa[1] + pb[1]) / 2, (pa[2] + pb[2]) / 2, (pa[3] + pb[3]) / 2)
+          face[k] = "3 " a " " nv " " c; face[nf++] = "3 " nv " " b " " c; face[nf++] = "3 " b " " a " " nv; nv++ }
+        print "OFF"; print nv, nf, 0; for (i = 0; i < nv; i++) print v[i]; for (i = 0; i < nf; i++) print face[i] }' \
+  fig1200.off > slivers.off
+cp slivers.off ml_slivers.off
+mls slivers.log -i ml_slivers.off -o bad_slivers.ply -l 1 -s "$scripts/euclidean_canonical_form.mlx"
+rc=$?
+check "5 zero-area faces: refused by default ($rc), naming them" \
+  bash -c "[ $rc -ne 0 ] && grep -q '5 degenerate faces' slivers.log && [ ! -e bad_slivers.ply ]"
+sed 's/name="repair" type="RichBool" value="false"/name="repair" type="RichBool" value="true"/' \
+  "$scripts/euclidean_canonical_form.mlx" > ecf_repair.mlx
+mls repair.log -i ml_slivers.off -o ml_repaired.ply -l 0 -o ml_repaired_form.ply -l 1 -s ecf_repair.mlx
+check "repair = true: succeeds and logs what it removed" \
+  bash -c "[ $? -eq 0 ] && grep -q 'repair: 5 zero-area or repeated-vertex faces removed' repair.log"
+"$cf" canonical ml_slivers.off ref_repaired.ply --repair --quiet 2> /dev/null
+"$plycheck" ml_repaired_form.ply ref_repaired.ply > repair.json
+check "repair = true: the document's mesh is repaired and the form equals the tool's --repair (float precision)" \
+  json repair.json "j['same_vertex_count'] and j['aligned_rms'] < 1e-3"
+# MeshLab 2020.09's own OFF loader on an out-of-range face index (the README's bad-input section) --
+{ echo OFF; echo "12 12 0"; for k in 0 1 2 3 4 5 6 7 8 9 10 11; do echo "$k $((k * k % 7)) $((k % 4))"; done
+  echo "3 0 100000000 10"; for k in 1 2 3 4 5 6 7 8 9 10 11; do echo "3 $k $(((k + 1) % 12)) $(((k + 2) % 12))"; done; } > index.off
+mls index.log -i index.off -o bad_index.ply
+rc=$?
+check "MeshLab 2020.09's OFF loader crashes on face index 100000000 before any filter (exit $rc, as the README says)" \
+  bash -c "[ $rc -eq 139 ] || grep -q 'Segmentation fault' index.log"
+"$cf" conformal index.off bad_index.ply > index_cf.log 2>&1
+check "the canonform tool names the line instead" grep -q "face index 100000000 on line 15 is out of range" index_cf.log
 finish

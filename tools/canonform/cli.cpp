@@ -1,10 +1,14 @@
 #include "cli.h"
 
+#include "canonform/io/mesh_io.h"
+#include "canonform/surface/mesh_repair.h"
 #include "canonform/surface/mesh_topology.h"
 
 #include <unistd.h>
 
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <iostream>
 #include <memory>
 #include <sstream>
@@ -27,7 +31,9 @@ ProgressFn terminal_progress(bool quiet, const std::string& label) {
     };
 }
 
-void print_json(const nlohmann::ordered_json& j) { std::cout << j.dump() << "\n"; }
+void print_json(const nlohmann::ordered_json& j) {
+    std::cout << j.dump(-1, ' ', false, nlohmann::ordered_json::error_handler_t::replace) << "\n";
+}
 
 void validate_and_note(const std::string& path, const Mesh& m, bool quiet) {
     const MeshReport r = on_input(path, [&] { return validate_mesh(m.V, m.F); });
@@ -36,9 +42,61 @@ void validate_and_note(const std::string& path, const Mesh& m, bool quiet) {
                   << " boundary edges); boundary curvature uses pi instead of 2 pi (eq. 8)\n";
 }
 
-void add_in_out(CLI::App* command, std::string& in, std::string& out, const std::string& out_help) {
+Mesh read_input_mesh(const std::string& path, bool repair, bool quiet, bool validate) {
+    Mesh m = io::read_mesh(path);
+    if (repair) {
+        const MeshRepair r = on_input(path, [&] { return repair_mesh(m.V, m.F); });
+        std::cerr << "canonform: '" << path << "': " << r.summary() << "\n";
+        m = r.mesh;
+    }
+    if (validate) validate_and_note(path, m, quiet);
+    return m;
+}
+
+void add_repair_flag(CLI::App* command, bool& repair) {
+    command->add_flag("--repair", repair,
+                      "repair the input first: merge duplicate vertices, remove zero-area and duplicate faces, keep "
+                      "the largest component, drop unreferenced vertices (one line on stderr says what changed); "
+                      "default: refuse such meshes");
+}
+
+CLI::Validator mesh_output(bool faces) {
+    return CLI::Validator(
+        [faces](std::string& path) -> std::string {
+            try {
+                const io::MeshFormat f = io::output_mesh_format(path);
+                if (!faces && f == io::MeshFormat::Stl)
+                    return "cannot write '" + path + "': an STL file cannot hold a point cloud (name it .ply, .off or .obj)";
+            } catch (const std::exception& e) {
+                return e.what();
+            }
+            return "";
+        },
+        "MESH FILE (.ply, .off, .obj, .stl)");
+}
+
+CLI::Validator finite_range(double min, double max) {
+    std::ostringstream d;
+    d << "NUMBER in [" << min << ", " << max << "]";
+    return CLI::Validator(
+        [min, max](std::string& text) -> std::string {
+            char* end = nullptr;
+            const double v = std::strtod(text.c_str(), &end);
+            if (text.empty() || *end != '\0' || !std::isfinite(v) || v < min || v > max) {
+                std::ostringstream m;
+                m << "value '" << text << "' is not a finite number in [" << min << ", " << max << "]";
+                return m.str();
+            }
+            return "";
+        },
+        d.str());
+}
+
+void add_in_out(CLI::App* command, std::string& in, std::string& out, const std::string& out_help, bool mesh_out,
+                bool faces) {
     command->add_option("IN", in, "input mesh (OFF, PLY, OBJ, STL)")->required();
-    command->add_option("OUT", out, out_help)->required();
+    auto* o = command->add_option("OUT", out, out_help)->required();
+    if (mesh_out) o->check(mesh_output(faces));
 }
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {

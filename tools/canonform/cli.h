@@ -28,12 +28,30 @@ struct UsageError : std::runtime_error {
 /// A progress line on stderr while stderr is a terminal ("[stage] 42%  12 s left"); empty otherwise.
 ProgressFn terminal_progress(bool quiet, const std::string& label = "");
 
-/// Prints `j` on stdout, one line.
+/// Prints `j` on stdout, one line (invalid UTF-8 in a string, e.g. a class name, is replaced by
+/// U+FFFD: the output is always valid JSON).
 void print_json(const nlohmann::ordered_json& j);
 
 /// Validates the mesh read from `path` (InputError naming the file and the problem) and notes an
 /// open surface on stderr unless `quiet`.
 void validate_and_note(const std::string& path, const Mesh& m, bool quiet);
+
+/// Reads the input mesh `path`; with `repair`, repairs it (surface/mesh_repair.h) and prints the
+/// repair's one-line summary on stderr (always: what changed is never silent); then, if
+/// `validate`, validates it as validate_and_note() (the view commands leave that to
+/// compute_views(), which accepts several components).
+Mesh read_input_mesh(const std::string& path, bool repair, bool quiet, bool validate = true);
+
+/// Adds --repair (default off: strict) to a command that reads meshes.
+void add_repair_flag(CLI::App* command, bool& repair);
+
+/// A validator of an output mesh name: .ply, .off, .obj, .stl or none (PLY); `faces` false for a
+/// point cloud (not .stl). A usage error (exit 2) before any work.
+CLI::Validator mesh_output(bool faces = true);
+
+/// A validator of a number in [min, max] that refuses NaN and infinities (CLI11's Range lets NaN
+/// through); its message names the option's value.
+CLI::Validator finite_range(double min, double max);
 
 /// Runs fn(); an InputError it throws is re-thrown with the input's path in front.
 template <class Fn>
@@ -47,8 +65,10 @@ auto on_input(const std::string& path, Fn fn) -> decltype(fn()) {
     }
 }
 
-/// The positional arguments IN (an input mesh) and OUT (`out_help`), both required.
-void add_in_out(CLI::App* command, std::string& in, std::string& out, const std::string& out_help);
+/// The positional arguments IN (an input mesh) and OUT (`out_help`), both required; OUT is checked
+/// by mesh_output(faces) when `mesh_out` (a mesh file), else left to the command.
+void add_in_out(CLI::App* command, std::string& in, std::string& out, const std::string& out_help,
+                bool mesh_out = true, bool faces = true);
 
 /// Seconds since `t0`.
 double seconds_since(std::chrono::steady_clock::time_point t0);

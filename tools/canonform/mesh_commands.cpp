@@ -34,19 +34,19 @@ ConformalFactorResult conformal_of(const std::string& path, const Mesh& m) {
 void add_conformal(CLI::App& app) {
     struct Args {
         std::string in, out;
-        bool raw = false, json = false;
+        bool raw = false, json = false, repair = false;
     };
     auto a = std::make_shared<Args>();
     auto* c = app.add_subcommand("conformal", "the conformal factor (eqs. 7-9) as vertex quality of a PLY");
-    add_in_out(c, a->in, a->out, "output PLY (conformal factor as vertex quality)");
+    add_in_out(c, a->in, a->out, "output mesh (PLY: conformal factor as vertex quality; .off/.obj/.stl: geometry only)");
     c->add_flag("--raw", a->raw, "store the raw conformal factor (mean zero) instead of [0, 1]");
     c->add_flag("--json", a->json, "print a JSON summary on stdout");
+    add_repair_flag(c, a->repair);
     c->callback([a] {
         const auto t0 = std::chrono::steady_clock::now();
-        const Mesh m = io::read_mesh(a->in);
-        validate_and_note(a->in, m, a->json);
+        const Mesh m = read_input_mesh(a->in, a->repair, a->json);
         const ConformalFactorResult cf = conformal_of(a->in, m);
-        io::write_ply(a->out, m.V, m.F, a->raw ? cf.raw : cf.normalized);
+        io::write_mesh(a->out, m.V, m.F, a->raw ? cf.raw : cf.normalized);
         if (a->json)
             print_json({{"vertices", m.V.rows()}, {"faces", m.F.rows()}, {"min", cf.raw.minCoeff()},
                         {"max", cf.raw.maxCoeff()}, {"residual", cf.residual}, {"seconds", seconds_since(t0)}});
@@ -58,26 +58,27 @@ void add_features(CLI::App& app) {
         std::string in, out, fill = "none";
         int ring = 2;
         std::uint64_t seed = 0;
-        bool json = false;
+        bool json = false, repair = false;
     };
     auto a = std::make_shared<Args>();
     auto* c = app.add_subcommand("features", "the feature points (2-ring maxima of the conformal factor) as a point cloud");
-    add_in_out(c, a->in, a->out, "output PLY: the feature points (quality: conformal factor)");
+    add_in_out(c, a->in, a->out, "output point cloud: the feature points (PLY quality: conformal factor; or .off, .obj)",
+               true, false);
     c->add_option("--ring", a->ring, "k of the k-ring in which a feature point is a strict maximum")
         ->check(CLI::Range(1, 10));
     c->add_option("--fill", a->fill, "none: local maxima only (variant N); random: seeded random vertices up to "
                                      "ceil(sqrt N) (variant A)")
         ->check(CLI::IsMember({"none", "random"}));
-    c->add_option("--seed", a->seed, "seed of the random fill");
+    c->add_option("--seed", a->seed, "seed of the random fill")->check(finite_range(0, 4294967295.0));
     c->add_flag("--json", a->json, "print a JSON summary on stdout");
+    add_repair_flag(c, a->repair);
     c->callback([a] {
         const auto t0 = std::chrono::steady_clock::now();
-        const Mesh m = io::read_mesh(a->in);
+        const Mesh m = read_input_mesh(a->in, a->repair, a->json);
         FeaturePointOptions opt;
         opt.ring = a->ring;
         opt.fill = a->fill == "random" ? FeatureFill::Random : FeatureFill::None;
         opt.seed = a->seed;
-        validate_and_note(a->in, m, a->json);
         const ConformalFactorResult cf = conformal_of(a->in, m);
         const FeaturePoints fp = feature_points(m.F, cf.normalized, opt);
         Eigen::MatrixXd P(static_cast<Eigen::Index>(fp.indices.size()), 3);
@@ -86,7 +87,7 @@ void add_features(CLI::App& app) {
             P.row(static_cast<Eigen::Index>(k)) = m.V.row(fp.indices[k]);
             q(static_cast<Eigen::Index>(k)) = cf.normalized(fp.indices[k]);
         }
-        io::write_ply(a->out, P, Eigen::MatrixXi(0, 3), q);
+        io::write_mesh(a->out, P, Eigen::MatrixXi(0, 3), q);
         if (a->json)
             print_json({{"vertices", m.V.rows()}, {"feature_points", fp.indices.size()}, {"maxima", fp.num_maxima},
                         {"random", fp.num_random}, {"indices", fp.indices}, {"seconds", seconds_since(t0)}});
@@ -99,7 +100,7 @@ void add_canonical(CLI::App& app) {
     struct Args {
         std::string in, out, method = "euclidean", variant = "N";
         int threads = 0;
-        bool quiet = false, json = false;
+        bool quiet = false, json = false, repair = false;
         std::map<std::string, std::string> values;  // parameter -> value as given
         std::map<std::string, CLI::Option*> options;
     };
@@ -107,7 +108,7 @@ void add_canonical(CLI::App& app) {
     std::string names = "euclidean (with --variant)";
     for (const auto& m : canonical_methods()) names += ", " + m.name;
     auto* c = app.add_subcommand("canonical", "the canonical form of a mesh, by any method of the registry");
-    add_in_out(c, a->in, a->out, "output PLY (the form; quality: the conformal factor where the method has one)");
+    add_in_out(c, a->in, a->out, "output mesh (the form; PLY quality: the conformal factor where the method has one)");
     c->add_option("--method", a->method, "the method: " + names);
     c->add_option("--variant", a->variant, "with --method euclidean: A or N (the paper's variants)")
         ->check(CLI::IsMember({"A", "N"}));
@@ -130,11 +131,16 @@ void add_canonical(CLI::App& app) {
             if (ch == '_') ch = '-';
         if (!p.alias.empty()) flags = "--" + p.alias + "," + flags;
         for (const std::string& d : params[name].second) defaults += (defaults.empty() ? "" : ", ") + d;
-        a->options[name] = c->add_option(flags, a->values[name], p.help + " (default: " + defaults + ")");
+        // The value is checked by the method (MethodParameter::check: finite, in range) once the
+        // method is known; the type name shows it is a number.
+        a->options[name] = c->add_option(flags, a->values[name], p.help + " (default: " + defaults + ")")
+                               ->type_name(!p.choices.empty() ? "TEXT" : p.integer ? "INT" : "FLOAT");
     }
-    c->add_option("--threads", a->threads, "threads of the method's parallel loops (0: every core)");
+    c->add_option("--threads", a->threads, "threads of the method's parallel loops (0: every core)")
+        ->check(CLI::Range(0, 1024));
     c->add_flag("--quiet", a->quiet, "no progress and no summary line on stderr");
     c->add_flag("--json", a->json, "print a JSON summary on stdout");
+    add_repair_flag(c, a->repair);
     c->callback([a] {
         const auto t0 = std::chrono::steady_clock::now();
         MethodSpec spec;
@@ -154,12 +160,13 @@ void add_canonical(CLI::App& app) {
         MethodContext context;
         context.threads = a->threads;
         context.progress = terminal_progress(a->quiet || a->json);
-        const Mesh m = io::read_mesh(a->in);
+        const Mesh m = read_input_mesh(a->in, a->repair, a->json || a->quiet);
         const double read_seconds = seconds_since(t0);
-        validate_and_note(a->in, m, a->json || a->quiet);
         context.validate = false;
         const CanonicalForm r = on_input(a->in, [&] { return method.run(m.V, m.F, settings, context); });
-        io::write_ply(a->out, r.V, m.F, r.quality);
+        if (!r.V.allFinite())
+            throw NumericalError("'" + a->in + "': method " + method.name + " gave a form with NaN or infinite coordinates");
+        io::write_mesh(a->out, r.V, m.F, r.quality);
         if (a->json) {
             nlohmann::ordered_json j = {{"vertices", m.V.rows()}, {"faces", m.F.rows()}};
             for (const auto& [key, value] : r.summary) std::visit([&, k = key](const auto& v) { j[k] = v; }, value);
@@ -176,16 +183,17 @@ void add_simplify(CLI::App& app) {
     struct Args {
         std::string in, out;
         int vertices = 0;
+        bool repair = false;
     };
     auto a = std::make_shared<Args>();
     auto* c = app.add_subcommand("simplify", "quadric edge collapse to about K vertices, as MeshLab's filter");
-    add_in_out(c, a->in, a->out, "output PLY");
-    c->add_option("--vertices", a->vertices, "target vertex count K")->required()->check(CLI::PositiveNumber);
+    add_in_out(c, a->in, a->out, "output mesh");
+    c->add_option("--vertices", a->vertices, "target vertex count K")->required()->check(CLI::Range(4, 100000000));
+    add_repair_flag(c, a->repair);
     c->callback([a] {
-        const Mesh m = io::read_mesh(a->in);
-        validate_and_note(a->in, m, false);
+        const Mesh m = read_input_mesh(a->in, a->repair, false);
         const Mesh s = on_input(a->in, [&] { return simplify_mesh(m, a->vertices); });
-        io::write_ply(a->out, s.V, s.F);
+        io::write_mesh(a->out, s.V, s.F);
         std::cerr << "simplified " << m.V.rows() << " -> " << s.V.rows() << " vertices\n";
     });
 }
@@ -238,9 +246,9 @@ void add_generate(CLI::App& app) {
     };
     auto a = std::make_shared<Args>();
     auto* c = app.add_subcommand("generate", "a procedural articulated figure, or a labelled collection of them");
-    c->add_option("OUT", a->out, "output PLY (one figure)");
+    c->add_option("OUT", a->out, "output mesh (one figure)")->check(mesh_output());
     c->add_option("--vertices", a->vertices, "vertices per figure")->check(CLI::Range(500, 2000000));
-    c->add_option("--pose", a->pose, "pose: 0-5 named poses, others seeded random ones");
+    c->add_option("--pose", a->pose, "pose: 0-5 named poses, others seeded random ones")->check(CLI::Range(0, 1000000000));
     c->add_option("--class", a->cls, "body type of the figure (standard, long-arms, short-legs, long-tail, stocky, "
                                      "long-neck)");
     c->add_option("--collection", a->collection, "write a labelled collection into this folder instead");
@@ -256,7 +264,7 @@ void add_generate(CLI::App& app) {
         const Figure fig = make_figure(a->vertices, figure_pose(a->pose), class_proportions(a->cls));
         // Rounded to float, the precision MeshLab 2020.09 works in, so that the tool and MeshLab
         // compute on exactly the same coordinates.
-        io::write_ply(a->out, fig.mesh.V.cast<float>().cast<double>(), fig.mesh.F);
+        io::write_mesh(a->out, fig.mesh.V.cast<float>().cast<double>(), fig.mesh.F);
     });
 }
 
@@ -271,15 +279,26 @@ void add_picture(CLI::App& app) {
     c->add_option("MESH", a->mesh, "the mesh (PLY quality: its colour)")->required();
     c->add_option("--points", a->points, "feature points (a point cloud file)");
     c->add_option("--canonical", a->canonical, "canonical form (same vertex order as MESH)");
-    c->add_option("--size", a->size, "pixels per panel")->check(CLI::Range(32, 4096));
+    c->add_option("--size", a->size, "pixels per panel")->check(CLI::Range(64, 4096));
     c->callback([a] {
         PictureInputs in;
-        in.mesh = io::read_mesh(a->mesh);
-        in.mesh_quality = io::read_ply_quality(a->mesh);
-        if (!a->points.empty()) in.points = io::read_mesh(a->points).V;
+        io::MeshFile f = io::read_mesh_file(a->mesh);
+        in.mesh = std::move(f.mesh);
+        in.mesh_quality = std::move(f.quality);
+        check_drawable(a->mesh, in.mesh, in.mesh_quality);
+        if (!a->points.empty()) {
+            in.points = io::read_mesh(a->points).V;
+            check_points(a->points, in.points);
+        }
         if (!a->canonical.empty()) {
-            in.canonical = io::read_mesh(a->canonical);
-            in.canonical_quality = io::read_ply_quality(a->canonical);
+            f = io::read_mesh_file(a->canonical);
+            in.canonical = std::move(f.mesh);
+            in.canonical_quality = std::move(f.quality);
+            check_drawable(a->canonical, in.canonical, in.canonical_quality);
+            if (in.canonical.V.rows() != in.mesh.V.rows())
+                throw InputError("'" + a->canonical + "' has " + std::to_string(in.canonical.V.rows()) +
+                                 " vertices, the mesh '" + a->mesh + "' " + std::to_string(in.mesh.V.rows()) +
+                                 ": a canonical form keeps the vertices of its mesh");
         }
         write_picture(a->out, in, a->size);
     });

@@ -3,6 +3,8 @@
 #include "qt_image.h"
 #include "render.h"
 
+#include "canonform/common/errors.h"
+
 #include <QFont>
 #include <QImage>
 #include <QPainter>
@@ -54,6 +56,23 @@ Eigen::MatrixXd map_points(const Mesh& mesh, const Eigen::MatrixXd& points, cons
 }
 
 }  // namespace
+
+void check_drawable(const std::string& path, const Mesh& m, const Eigen::VectorXd& quality) {
+    const std::string where = "'" + path + "': ";
+    if (m.V.rows() == 0) throw InputError(where + "the mesh is empty: it has no vertices, nothing to draw");
+    if (m.F.rows() == 0)
+        throw InputError(where + "the mesh has " + std::to_string(m.V.rows()) +
+                         " vertices and no faces (a point cloud): the picture draws a triangle mesh");
+    if (!m.V.allFinite()) throw InputError(where + "the mesh has NaN or infinite coordinates");
+    if (!((m.V.colwise().maxCoeff() - m.V.colwise().minCoeff()).stableNorm() > 0))
+        throw InputError(where + "all " + std::to_string(m.V.rows()) + " vertices are at one point: nothing to draw");
+    if (quality.size() && !quality.allFinite()) throw InputError(where + "the vertex quality has NaN or infinite values");
+}
+
+void check_points(const std::string& path, const Eigen::MatrixXd& P) {
+    if (P.rows() == 0) throw InputError("'" + path + "': no feature points in the file");
+    if (!P.allFinite()) throw InputError("'" + path + "': feature points with NaN or infinite coordinates");
+}
 
 void write_picture(const std::string& path, const PictureInputs& in, int panel) {
     if (panel < 64 || panel > 4096) throw std::runtime_error("the panel size must be between 64 and 4096 pixels");

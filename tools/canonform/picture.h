@@ -18,6 +18,14 @@ struct PictureInputs {
     Eigen::VectorXd canonical_quality; ///< colour of the canonical form, or empty
 };
 
+/// Refuses a mesh the picture cannot draw, naming `path` and the cause: no vertices, no faces (a
+/// point cloud), NaN or infinite coordinates, all vertices at one point, or a quality with NaN or
+/// infinite values.
+void check_drawable(const std::string& path, const Mesh& m, const Eigen::VectorXd& quality);
+
+/// Refuses feature points that cannot be drawn (none, or NaN or infinite coordinates).
+void check_points(const std::string& path, const Eigen::MatrixXd& P);
+
 /// Renders up to three labelled panels of `panel` x `panel` pixels (mesh coloured by quality;
 /// mesh with the feature points; canonical form with the feature points) into a PNG at `path`,
 /// written atomically. Needs no X server (Qt's offscreen platform is used for the labels).

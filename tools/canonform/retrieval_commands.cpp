@@ -70,14 +70,15 @@ void add_retrieve(CLI::App& app) {
     c->add_option("--out", a->o.out, "run folder")->required();
     c->add_option("--method", a->methods, "comma-separated methods, each NAME[:KEY=VALUE...] (" + names +
                                           "; e.g. euclidean-N:beta=65)");
-    c->add_option("--words", a->o.words, "codebook size")->check(CLI::PositiveNumber);
+    c->add_option("--words", a->o.words, "codebook size")->check(CLI::Range(1, 1000000));
     c->add_option("--codebook", a->o.codebook, "a given codebook instead of one trained per method");
     c->add_option("--simplify", a->o.simplify, "simplify every mesh to this many vertices first (0: no)")
-        ->check(CLI::NonNegativeNumber);
+        ->check(CLI::Range(0, 100000000));
     c->add_option("--noise", a->o.noise, "vertex noise, as a fraction of the mean edge length")
-        ->check(CLI::NonNegativeNumber);
-    c->add_option("--seed", a->o.seed, "seed of the noise and the codebook");
-    c->add_option("--threads", a->o.threads, "meshes in parallel (0: every core)");
+        ->check(finite_range(0, 10));
+    c->add_option("--seed", a->o.seed, "seed of the noise and the codebook")->check(finite_range(0, 4294967295.0));
+    c->add_option("--threads", a->o.threads, "meshes in parallel (0: every core)")->check(CLI::Range(0, 1024));
+    add_repair_flag(c, a->o.repair);
     c->callback([a] {
         retrieval::ExperimentOptions o = a->o;
         if (o.labels.empty()) o.labels = o.dataset + "/labels.csv";
@@ -149,7 +150,7 @@ void add_grid(CLI::App& app) {
     c->add_option("RUN", a->g.run, "a `canonform retrieve` run folder")->required();
     c->add_option("--methods", a->methods, "comma-separated method folders, each DIR[=LABEL] (default: all but none)");
     c->add_option("--class", a->g.cls, "the models of this class (Fig. 9) instead of one per class (Fig. 8)");
-    c->add_option("--columns", a->g.columns, "at most this many columns")->check(CLI::PositiveNumber);
+    c->add_option("--columns", a->g.columns, "at most this many columns")->check(CLI::Range(1, 10000));
     c->add_option("--size", a->g.panel, "pixels per panel")->check(CLI::Range(16, 2048));
     c->callback([a] {
         a->g.methods = split_list(a->methods);

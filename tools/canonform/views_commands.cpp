@@ -25,10 +25,13 @@ namespace {
 struct ViewArgs {
     int image_size = 256;
     std::uint64_t seed = 0;
+    bool repair = false;
 
     void add(CLI::App* c) {
         c->add_option("--size", image_size, "pixels per side of each depth view")->check(CLI::Range(32, 2048));
-        c->add_option("--seed", seed, "seed of the rectilinearity restarts (and of the codebook)");
+        c->add_option("--seed", seed, "seed of the rectilinearity restarts (and of the codebook)")
+            ->check(finite_range(0, 4294967295.0));
+        add_repair_flag(c, repair);
     }
     views::ViewDescriptorOptions options() const {
         views::ViewDescriptorOptions v;
@@ -37,7 +40,7 @@ struct ViewArgs {
         return v;
     }
     views::ViewSet views_of(const std::string& path) const {
-        const Mesh m = io::read_mesh(path);
+        const Mesh m = read_input_mesh(path, repair, true, false);  // compute_views() validates
         return on_input(path, [&] { return views::compute_views(m.V, m.F, options()); });
     }
 };
@@ -55,7 +58,7 @@ void add_views(CLI::App& app) {
     };
     auto a = std::make_shared<Args>();
     auto* c = app.add_subcommand("views", "the 66 depth views of a mesh as PNG, and a contact sheet of them");
-    add_in_out(c, a->in, a->dir, "output folder");
+    add_in_out(c, a->in, a->dir, "output folder", false);
     a->add(c);
     c->callback([a] {
         const views::ViewSet vs = a->views_of(a->in);
@@ -94,7 +97,7 @@ void add_codebook(CLI::App& app) {
     auto* c = app.add_subcommand("codebook", "a codebook of visual words trained on the SIFT features of meshes");
     c->add_option("OUT", a->out, "output codebook file")->required();
     c->add_option("MESH", a->meshes, "meshes to train on")->required();
-    c->add_option("--words", a->words, "visual words")->check(CLI::PositiveNumber);
+    c->add_option("--words", a->words, "visual words")->check(CLI::Range(1, 1000000));
     c->add_flag("--random", a->random, "random training descriptors as words instead of k-means");
     a->add(c);
     c->callback([a] {
@@ -126,7 +129,7 @@ void add_descriptor(CLI::App& app) {
     };
     auto a = std::make_shared<Args>();
     auto* c = app.add_subcommand("descriptor", "the view descriptor file of a mesh (histograms, or raw SIFT features)");
-    add_in_out(c, a->in, a->out, "output descriptor file (.cfvd)");
+    add_in_out(c, a->in, a->out, "output descriptor file (.cfvd)", false);
     c->add_option("--codebook", a->codebook, "codebook file (without: raw SIFT features)");
     c->add_flag("--json", a->json, "print a JSON summary on stdout");
     a->add(c);
@@ -155,7 +158,7 @@ void add_distance(CLI::App& app) {
     auto* c = app.add_subcommand("distance", "the clock-matching distance matrix of descriptor files");
     c->add_option("OUT", a->out, "output matrix: float32 row-major (and OUT.csv as text)")->required();
     c->add_option("DESC", a->descriptors, "descriptor files made with a codebook (two or more)")->required()->expected(2, -1);
-    c->add_option("--threads", a->threads, "threads (0: every core)");
+    c->add_option("--threads", a->threads, "threads (0: every core)")->check(CLI::Range(0, 1024));
     c->callback([a] {
         std::vector<std::vector<views::Histogram>> models;
         int words = -1;

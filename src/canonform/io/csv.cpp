@@ -1,5 +1,6 @@
 #include "canonform/io/csv.h"
 
+#include "canonform/common/errors.h"
 #include "canonform/io/files.h"
 
 #include <sstream>
@@ -28,15 +29,22 @@ std::vector<std::vector<std::string>> parse_csv(const std::string& text) {
 
 std::vector<std::vector<std::string>> read_csv(const std::string& path) { return parse_csv(read_file(path)); }
 
-std::vector<LabelRow> read_labels(const std::string& path) {
+std::vector<LabelRow> read_labels(const std::string& path) { return parse_labels(read_file(path), path); }
+
+std::vector<LabelRow> parse_labels(const std::string& text, const std::string& path) {
     std::vector<LabelRow> out;
-    for (const auto& cells : read_csv(path)) {
+    const auto rows = parse_csv(text);
+    for (size_t k = 0; k < rows.size(); ++k) {
+        const auto& cells = rows[k];
         LabelRow r;
         r.label = cells.back();
-        for (size_t k = 0; k + 1 < cells.size(); ++k) r.path += (k ? "," : "") + cells[k];
-        if (out.empty() && r.label == "class" && (r.path == "path" || r.path.empty())) continue;  // header
+        for (size_t c = 0; c + 1 < cells.size(); ++c) r.path += (c ? "," : "") + cells[c];
+        if (k == 0 && r.label == "class" && (r.path == "path" || r.path.empty())) continue;  // header
+        if (r.label.empty())
+            throw InputError("'" + path + "': row " + std::to_string(k + 1) + " has no class (rows are path,class)");
         out.push_back(std::move(r));
     }
+    if (out.empty()) throw InputError("'" + path + "': no labels (rows are path,class)");
     return out;
 }
 

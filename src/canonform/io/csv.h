@@ -23,7 +23,11 @@ struct LabelRow {
 
 /// A labels file: rows "path,class" (the class is the last cell, the path the cells before it; a
 /// row of one cell is a class alone), in order; a first row with class "class" is a header and
-/// skipped.
+/// skipped. InputError naming the file if it cannot be read, has no rows, or a row has an empty
+/// class.
 std::vector<LabelRow> read_labels(const std::string& path);
+
+/// The labels of a labels file's text (as read_labels(); `path` names it in messages).
+std::vector<LabelRow> parse_labels(const std::string& text, const std::string& path);
 
 }  // namespace canonform::io

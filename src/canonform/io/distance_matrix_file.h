@@ -14,7 +14,12 @@ namespace canonform::io {
 void write_distance_matrix(const Eigen::MatrixXf& D, const std::string& bin_path, const std::string& csv_path);
 
 /// Reads a distance matrix: CSV if the name ends in .csv, else binary. InputError naming the file
-/// and the cause (not square, rows of different lengths, a cell that is not a number).
+/// and the cause (missing, a folder, empty, not square, a cell that is not a number, a NaN or
+/// infinite entry).
 Eigen::MatrixXd read_distance_matrix(const std::string& path);
+
+/// Parses the bytes of a distance-matrix file (CSV text if `csv`, else binary) as
+/// read_distance_matrix(); `path` names it in messages.
+Eigen::MatrixXd parse_distance_matrix(const std::string& bytes, bool csv, const std::string& path);
 
 }  // namespace canonform::io

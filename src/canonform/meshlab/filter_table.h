@@ -66,6 +66,7 @@ enum MeshData : unsigned {
     kVertexSelection = 4,
     kVertexCoordinates = 8,
     kNormals = 16,
+    kTopology = 32,  ///< vertices or faces added or removed (a filter's "repair")
 };
 
 /// One filter: menu name (also the .mlx name), Python name, class, description, parameters.

@@ -48,6 +48,7 @@ int mesh_mask(unsigned flags) {
     if (flags & kVertexSelection) m |= MeshModelT::MM_VERTFLAGSELECT;
     if (flags & kVertexCoordinates) m |= MeshModelT::MM_VERTCOORD;
     if (flags & kNormals) m |= MeshModelT::MM_VERTNORMAL | MeshModelT::MM_FACENORMAL;
+    if (flags & kTopology) m |= MeshModelT::MM_VERTNUMBER | MeshModelT::MM_FACENUMBER;
     return m;
 }
 

@@ -6,6 +6,7 @@
 #include "canonform/io/files.h"
 #include "canonform/io/mesh_io.h"
 #include "canonform/numerics/rigid_alignment.h"
+#include "canonform/surface/mesh_repair.h"
 #include "canonform/surface/mesh_topology.h"
 #include "canonform/surface/simplify.h"
 #include "canonform/views/view_directions.h"
@@ -16,6 +17,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <map>
 #include <random>
 #include <sstream>
 
@@ -54,13 +56,22 @@ void log_line(const ExperimentOptions& o, const std::string& line) {
 
 std::vector<Model> read_collection(const std::string& dataset, const std::string& labels) {
     std::vector<Model> models;
+    std::map<std::string, std::string> names;  // name -> path
     for (const io::LabelRow& row : io::read_labels(labels)) {
         if (row.path.empty()) continue;
         Model m;
         m.path = dataset + "/" + row.path;
         m.label = row.label;
         m.name = io::stem(m.path);
-        m.hash = io::fnv1a(io::read_file(m.path));
+        const auto [it, fresh] = names.emplace(m.name, m.path);
+        if (!fresh)
+            throw InputError("'" + labels + "': two models are named '" + m.name + "' ('" + it->second + "' and '" +
+                             m.path + "'): their forms and descriptors would overwrite each other");
+        try {
+            m.hash = io::fnv1a(io::read_file(m.path));
+        } catch (const InputError& e) {
+            m.error = e.what();  // listed as a failure of every method, not a stop
+        }
         models.push_back(m);
     }
     return models;
@@ -74,7 +85,22 @@ Experiment::Experiment(ExperimentOptions options) : options_(std::move(options))
             if (o.methods[j].folder() == o.methods[k].folder())
                 throw InputError("method '" + o.methods[k].to_string() + "' is named twice");
     models_ = read_collection(o.dataset, o.labels);
-    if (models_.size() < 3) throw InputError("the collection needs at least three meshes");
+    if (models_.size() < 3) throw InputError("'" + o.labels + "': the collection needs at least three meshes");
+    // The measures average over the classes of three or more models (psbTable's rule); say before
+    // any work when no class qualifies: the distances are still computed and written.
+    std::map<std::string, int> sizes;
+    for (const Model& m : models_) ++sizes[m.label];
+    std::string small;
+    int measurable = 0;
+    for (const auto& [label, count] : sizes) {
+        if (count > 2) ++measurable;
+        else small += (small.empty() ? "" : ", ") + label + " (" + std::to_string(count) + ")";
+    }
+    if (measurable == 0)
+        log_line(o, "note: no class of '" + o.labels + "' has more than two models (" + small +
+                        "): the retrieval measures need three; the distances will be written, the measures left out");
+    else if (!small.empty())
+        log_line(o, "note: classes with two models or fewer are left out of the measures: " + small);
     io::make_directories(o.out + "/cache");
     // The collection as this run read it (name, class, mesh), for `canonform grid`.
     std::ostringstream c;
@@ -89,25 +115,44 @@ MeshFeatures Experiment::mesh_features(const MethodSpec& method, std::size_t k) 
     MeshFeatures r;
     std::ostringstream params;
     params << method.cache_key() << "|simplify=" << o.simplify << "|noise=" << o.noise << "|seed=" << o.seed
-           << "|views=v1";
+           << "|views=v1" << (o.repair ? "|repair" : "");
     const std::string key = o.out + "/cache/" + io::hex(io::fnv1a(params.str(), model.hash));
     const std::string cached_descriptor = key + ".cfvd", cached_form = key + ".ply";
     const std::string form = o.out + "/" + method.folder() + "/forms/" + model.name + ".ply";
-    try {
-        // A cache hit also restores the form (forms/ may hold one of other parameters, or none,
-        // and the pose consistency and the grid read it); an entry without its form is recomputed.
-        if (io::is_file(cached_descriptor) && io::is_file(cached_form)) {
-            io::write_file_atomic(form, io::read_file(cached_form));
+    if (!model.error.empty()) {
+        r.error = model.error;
+        return r;
+    }
+    // A cache hit also restores the form (forms/ may hold one of other parameters, or none, and
+    // the pose consistency and the grid read it); an entry without its form is recomputed, and
+    // so is one that cannot be read (a corrupt or truncated file).
+    if (io::is_file(cached_descriptor) && io::is_file(cached_form)) {
+        try {
+            const std::string form_bytes = io::read_file(cached_form);
+            const Mesh cached = io::parse_mesh(form_bytes, io::MeshFormat::Ply, cached_form).mesh;
+            if (!cached.V.allFinite()) throw InputError("'" + cached_form + "': NaN or infinite coordinates");
             r.features = views::read_descriptor(cached_descriptor).raw;
+            io::write_file_atomic(form, form_bytes);
             r.ok = r.cached = true;
             return r;
+        } catch (const std::exception& e) {
+            r.features.clear();
+            r.note = std::string("corrupt cache entry recomputed (") + e.what() + ")";
         }
+    }
+    try {
         Mesh m = io::read_mesh(model.path);
+        if (o.repair) {
+            const MeshRepair fix = repair_mesh(m.V, m.F);
+            if (fix.changed()) r.note += (r.note.empty() ? "" : "; ") + fix.summary();
+            m = fix.mesh;
+        }
         if (o.simplify > 0 && m.V.rows() > o.simplify) m = simplify_mesh(m, o.simplify);
         if (o.noise > 0) add_noise(m, o.noise, o.seed ^ model.hash);
         MethodContext context;
         context.threads = 1;  // the meshes run in parallel
         const Eigen::MatrixXd X = method.method().run(m.V, m.F, method.settings(), context).V;
+        if (!X.allFinite()) throw NumericalError("the method gave a form with NaN or infinite coordinates");
         io::write_ply(form, X, m.F);
         io::write_file_atomic(cached_form, io::read_file(form));
         const views::ViewSet vs = views::compute_views(X, m.F, o.views);
@@ -169,6 +214,7 @@ MethodOutcome Experiment::run_method(const MethodSpec& spec) const {
     std::vector<size_t> good;
     std::ostringstream failures;
     for (size_t k = 0; k < models_.size(); ++k) {
+        if (!results[k].note.empty()) log_line(o, "[" + method + "] " + models_[k].name + ": " + results[k].note);
         if (results[k].ok) {
             good.push_back(k);
             out.cached += results[k].cached;
@@ -205,7 +251,15 @@ MethodOutcome Experiment::run_method(const MethodSpec& spec) const {
     const Eigen::MatrixXf D = views::distance_matrix(hist, views::rotation_view_maps(), o.threads);
     io::write_distance_matrix(D, dir + "/distances.bin", dir + "/distances.csv");
     io::write_file_atomic(dir + "/models.csv", "name,class\n" + order.str());
-    out.evaluation = evaluate(D.cast<double>(), labels);
+    std::map<std::string, int> class_sizes;
+    for (const std::string& l : labels) ++class_sizes[l];
+    bool measurable = false;
+    for (const auto& [label, count] : class_sizes) measurable = measurable || count > 2;
+    if (measurable)
+        out.evaluation = evaluate(D.cast<double>(), labels);
+    else
+        out.no_measures = "no class has more than two models among the " + std::to_string(good.size()) +
+                          " meshes that succeeded: the measures need three; the distances are in distances.bin";
     out.distances_seconds = since(t0);
     // Pose consistency against ground-truth correspondences (where the collection has them), on
     // the forms this run wrote; the correspondences name vertices of the original meshes, so not
@@ -223,23 +277,33 @@ MethodOutcome Experiment::run_method(const MethodSpec& spec) const {
     js["beta"] = spec.method().parameter("beta") ? settings.number("beta") : 0.0;
     js["meshes"] = out.meshes;
     js["failed"] = out.failed;
-    js["micro"] = to_json(out.evaluation.micro);
-    js["macro"] = to_json(out.evaluation.macro);
+    if (out.no_measures.empty()) {
+        js["micro"] = to_json(out.evaluation.micro);
+        js["macro"] = to_json(out.evaluation.macro);
+    } else {
+        js["micro"] = nullptr;
+        js["macro"] = nullptr;
+        js["no_measures"] = out.no_measures;
+    }
     js["pose_consistency"] = out.pose_consistency;
     js["pose_consistency_pairs"] = out.pose_consistency_pairs;
     js["seconds"] = {{"forms_and_views", out.forms_seconds},
                      {"codebook", out.codebook_seconds},
                      {"distances_and_measures", out.distances_seconds}};
-    io::write_file_atomic(dir + "/metrics.json", js.dump() + "\n");
+    io::write_file_atomic(dir + "/metrics.json", js.dump(-1, ' ', false, nlohmann::ordered_json::error_handler_t::replace) + "\n");
     std::ostringstream pr;
     pr << "recall,precision\n";
     for (size_t k = 0; k < out.evaluation.recall.size(); ++k)
         pr << out.evaluation.recall[k] << "," << out.evaluation.precision[k] << "\n";
     io::write_file_atomic(dir + "/pr.csv", pr.str());
     const Measures& e = out.evaluation.micro;
-    std::snprintf(line, sizeof line, "[%s] NN %.3f, 1-tier %.3f, 2-tier %.3f, E %.3f, DCG %.3f", method.c_str(), e.nn,
-                  e.first_tier, e.second_tier, e.e_measure, e.dcg);
-    log_line(o, line);
+    if (out.no_measures.empty()) {
+        std::snprintf(line, sizeof line, "[%s] NN %.3f, 1-tier %.3f, 2-tier %.3f, E %.3f, DCG %.3f", method.c_str(),
+                      e.nn, e.first_tier, e.second_tier, e.e_measure, e.dcg);
+        log_line(o, line);
+    } else {
+        log_line(o, "[" + method + "] no measures: " + out.no_measures);
+    }
     return out;
 }
 
@@ -261,11 +325,18 @@ std::string report_markdown(const ExperimentOptions& o, std::size_t meshes, cons
         const Measures& e = m.evaluation.micro;
         char row[400], cons[32] = "-";
         if (m.pose_consistency >= 0) std::snprintf(cons, sizeof cons, "%.3f", m.pose_consistency);
-        std::snprintf(row, sizeof row, "| %s | %.3f | %.3f | %.3f | %.3f | %.3f | %s | %zu | %zu | %.1f | %.1f | %.1f |\n",
-                      m.spec.folder().c_str(), e.nn, e.first_tier, e.second_tier, e.e_measure, e.dcg, cons, m.meshes,
-                      m.failed, m.forms_seconds, m.codebook_seconds, m.distances_seconds);
+        if (m.no_measures.empty())
+            std::snprintf(row, sizeof row, "| %s | %.3f | %.3f | %.3f | %.3f | %.3f | %s | %zu | %zu | %.1f | %.1f | %.1f |\n",
+                          m.spec.folder().c_str(), e.nn, e.first_tier, e.second_tier, e.e_measure, e.dcg, cons,
+                          m.meshes, m.failed, m.forms_seconds, m.codebook_seconds, m.distances_seconds);
+        else
+            std::snprintf(row, sizeof row, "| %s | - | - | - | - | - | %s | %zu | %zu | %.1f | %.1f | %.1f |\n",
+                          m.spec.folder().c_str(), cons, m.meshes, m.failed, m.forms_seconds, m.codebook_seconds,
+                          m.distances_seconds);
         report << row;
     }
+    for (const MethodOutcome& m : outcomes)
+        if (!m.no_measures.empty()) report << "\nNo measures for " << m.spec.folder() << ": " << m.no_measures << ".\n";
     report << pictures;
     report << "\nPose consistency: mean over same-class pairs with ground-truth correspondences (corres/*.vts) of "
               "the RMS distance between corresponding vertices after the best rigid motion (or mirror image), "

@@ -31,10 +31,13 @@ struct Model {
     std::string label;       ///< its class
     std::string name;        ///< file name without folder and extension (names its outputs)
     std::uint64_t hash = 0;  ///< FNV-1a of the file's bytes (the cache key's content part)
+    std::string error;       ///< why the file cannot be read ("" if it can): the model is a listed failure
 };
 
 /// The collection of a labels file ("path,class" rows, paths relative to `dataset`), in order.
-/// InputError naming the file if a mesh cannot be read.
+/// InputError naming the labels file if it cannot be read or a row is malformed, and naming the
+/// models if two share a name (their outputs would overwrite each other); a mesh file that cannot
+/// be read is kept with its `error` (a failure of the run, not a stop).
 std::vector<Model> read_collection(const std::string& dataset, const std::string& labels);
 
 /// What an experiment runs.
@@ -49,6 +52,7 @@ struct ExperimentOptions {
     double noise = 0;                 ///< vertex noise, as a fraction of the mean edge length
     std::uint64_t seed = 0;           ///< seeds of the noise and the codebook
     int threads = 0;                  ///< meshes in parallel (0 = every core)
+    bool repair = false;              ///< repair every mesh first (surface/mesh_repair.h; logged per mesh)
     views::ViewDescriptorOptions views;                ///< image size, pose and SIFT settings
     std::function<void(const std::string&)> log;       ///< one line per finished stage (may be empty)
     std::function<ProgressFn(const std::string& method)> progress;  ///< per-mesh progress of a method (may be empty)
@@ -59,6 +63,7 @@ struct MeshFeatures {
     bool ok = false;
     bool cached = false;                          ///< read from the run's cache
     std::string error;                            ///< why it failed (if !ok)
+    std::string note;                             ///< what the run should log for it (a repair, a recomputed cache entry)
     std::vector<views::SiftDescriptors> features; ///< one matrix per view
 };
 
@@ -67,6 +72,7 @@ struct MethodOutcome {
     MethodSpec spec;
     std::string folder;                ///< RUN/METHOD
     Evaluation evaluation;
+    std::string no_measures;           ///< why there are no measures ("" if there are): classes too small
     double pose_consistency = -1;      ///< -1: not measured (no correspondences, or simplified)
     int pose_consistency_pairs = 0;
     std::size_t meshes = 0, failed = 0;
@@ -74,8 +80,9 @@ struct MethodOutcome {
     double forms_seconds = 0, codebook_seconds = 0, distances_seconds = 0;
 };
 
-/// A retrieval run. The constructor reads the collection and prepares the run folder; the stage
-/// functions can be called one by one (benchmarks, tests) or all at once by run().
+/// A retrieval run. The constructor reads and checks the collection before any work (the labels,
+/// at least three models, distinct names; classes too small for the measures are logged) and
+/// prepares the run folder; the stage functions can be called one by one (benchmarks, tests) or all at once by run().
 class Experiment {
 public:
     explicit Experiment(ExperimentOptions options);

@@ -14,7 +14,7 @@ namespace canonform {
 Eigen::MatrixXd normalize_scale(const Eigen::MatrixXd& V, Eigen::RowVector3d* centroid, double* scale) {
     const Eigen::RowVector3d c = V.colwise().mean();
     Eigen::MatrixXd X = V.rowwise() - c;
-    const double r = X.rowwise().norm().maxCoeff();
+    const double r = X.rowwise().stableNorm().maxCoeff();  // no over- or underflow for 1e200 or 1e-200
     if (!(r > 0)) throw InputError("all vertices of the mesh coincide");
     X /= r;
     if (centroid) *centroid = c;

@@ -84,8 +84,16 @@ MeshReport validate_mesh(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
             throw InputError(msg.str());
         }
     }
-    if (F.minCoeff() < 0 || F.maxCoeff() >= V.rows()) {
-        msg << "face indices out of range: they must lie in [0, " << V.rows() - 1 << "]";
+    // Indices before anything uses F: a negative one or one >= #V would read outside V.
+    const Eigen::Index first_bad = [&] {
+        for (Eigen::Index f = 0; f < F.rows(); ++f)
+            for (int c = 0; c < 3; ++c)
+                if (F(f, c) < 0 || F(f, c) >= V.rows()) return f;
+        return Eigen::Index(-1);
+    }();
+    if (first_bad >= 0) {
+        msg << "face indices out of range: face " << first_bad << " is (" << F(first_bad, 0) << ", "
+            << F(first_bad, 1) << ", " << F(first_bad, 2) << "), but they must lie in [0, " << V.rows() - 1 << "]";
         throw InputError(msg.str());
     }
     if (V.rows() < options.min_vertices) {
@@ -93,16 +101,29 @@ MeshReport validate_mesh(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
             << " are needed";
         throw InputError(msg.str());
     }
-    // Degenerate faces: a repeated vertex, or an area that is zero at the scale of the mesh.
-    const double diag = (V.colwise().maxCoeff() - V.colwise().minCoeff()).norm();
-    const double min_area = options.degenerate_area * diag * diag;
+    // Size: the computations square and sum coordinates in double precision.
+    const double largest = V.cwiseAbs().maxCoeff();
+    if (largest > options.max_coordinate) {
+        msg << "the mesh's coordinates reach " << largest << ", beyond the " << options.max_coordinate
+            << " that the computation handles in double precision: rescale the mesh (e.g. MeshLab's "
+               "'Transform: Scale, Normalize')";
+        throw InputError(msg.str());
+    }
+    // Degenerate faces: a repeated vertex, or an area that is zero at the scale of the mesh
+    // (measured in units of the bounding-box diagonal, so that neither tiny nor huge coordinates
+    // over- or underflow).
+    const double diag = (V.colwise().maxCoeff() - V.colwise().minCoeff()).stableNorm();
+    if (!(diag > 0)) {
+        msg << "all " << V.rows() << " vertices of the mesh are at one point";
+        throw InputError(msg.str());
+    }
     int degenerate = 0, first_degenerate = -1;
     for (int f = 0; f < F.rows(); ++f) {
         const int a = F(f, 0), b = F(f, 1), c = F(f, 2);
         bool bad = (a == b || b == c || a == c);
         if (!bad) {
-            const Eigen::Vector3d e1 = V.row(b) - V.row(a), e2 = V.row(c) - V.row(a);
-            bad = !(0.5 * e1.cross(e2).norm() > min_area);
+            const Eigen::Vector3d e1 = (V.row(b) - V.row(a)) / diag, e2 = (V.row(c) - V.row(a)) / diag;
+            bad = !(0.5 * e1.cross(e2).norm() > options.degenerate_area);
         }
         if (bad) {
             if (first_degenerate < 0) first_degenerate = f;
@@ -112,8 +133,8 @@ MeshReport validate_mesh(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
     if (degenerate > 0) {
         msg << "the mesh has " << degenerate
             << " degenerate faces (zero area or a repeated vertex; first: face " << first_degenerate
-            << "); remove them first, e.g. with MeshLab's 'Remove Zero Area Faces' and 'Remove "
-               "Duplicate Vertices'";
+            << "); remove them first, e.g. with --repair (the tool, retrieve) or the filters' 'Repair' "
+               "parameter, or MeshLab's 'Remove Zero Area Faces' and 'Remove Duplicate Vertices'";
         throw InputError(msg.str());
     }
     // Edges: count incident faces per undirected edge.

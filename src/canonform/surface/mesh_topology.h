@@ -37,11 +37,14 @@ struct ValidationOptions {
     int min_vertices = 10;              ///< fewer vertices is an error
     bool require_single_component = true;
     double degenerate_area = 1e-14;     ///< a face with area below this * (bbox diagonal)^2 is degenerate
+    double max_coordinate = 1e250;      ///< larger |coordinates| are an error (sums and squares must not overflow)
 };
 
 /// Checks a triangle mesh and throws InputError with a message naming the first problem found:
-/// no vertices, no faces (a point cloud), non-finite coordinates, face indices out of range,
-/// fewer than `min_vertices` vertices, faces with a repeated vertex or (near) zero area,
+/// no vertices, no faces (a point cloud), non-finite coordinates, face indices out of range (checked
+/// before F is used), fewer than `min_vertices` vertices, coordinates beyond `max_coordinate`, all
+/// vertices at one point, faces with a repeated vertex or (near) zero area relative to the
+/// bounding-box diagonal (so 1e-200 and 1e200 coordinates are judged as 1 would be),
 /// non-manifold edges (more than two faces), unreferenced vertices, several connected components.
 /// Boundaries are allowed (the methods handle them) and reported.
 MeshReport validate_mesh(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,

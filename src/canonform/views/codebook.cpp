@@ -1,14 +1,13 @@
 #include "canonform/views/codebook.h"
 
 #include "canonform/common/parallel.h"
+#include "canonform/io/files.h"
 
-#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
-#include <fstream>
 #include <iterator>
 #include <limits>
 #include <numeric>
@@ -38,35 +37,6 @@ float get_f32(const unsigned char* p) {
     float f;
     std::memcpy(&f, &v, 4);
     return f;
-}
-
-void write_atomically(const std::string& path, const std::string& bytes, const char* what) {
-    static std::atomic<unsigned> counter{0};
-    const std::string tmp = path + ".tmp-" + std::to_string(::getpid()) + "-" + std::to_string(counter++);
-    {
-        std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
-        if (!f) throw InputError(std::string("Cannot write the ") + what + " file '" + path + "' (cannot create '" + tmp + "').");
-        f.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-        f.flush();
-        if (!f) {
-            f.close();
-            std::remove(tmp.c_str());
-            throw InputError(std::string("Cannot write the ") + what + " file '" + path + "' (write failed; disk full?).");
-        }
-    }
-    if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-        std::remove(tmp.c_str());
-        throw InputError(std::string("Cannot write the ") + what + " file '" + path + "' (rename of the temporary file failed).");
-    }
-}
-
-std::string read_all(const std::string& path, const char* what) {
-    std::ifstream f(path, std::ios::binary);
-    if (!f) throw InputError(std::string("Cannot open the ") + what + " file '" + path + "'.");
-    std::ostringstream ss;
-    ss << f.rdbuf();
-    if (f.bad()) throw InputError(std::string("Cannot read the ") + what + " file '" + path + "'.");
-    return ss.str();
 }
 
 // ---- random numbers (platform independent for a seed) ---------------------------------------------
@@ -228,13 +198,13 @@ void Codebook::save(const std::string& path) const {
     put_u32(out, kDim);
     for (Eigen::Index r = 0; r < words_.rows(); ++r)
         for (int c = 0; c < kDim; ++c) put_f32(out, words_(r, c));
-    write_atomically(path, out, "codebook");
+    io::write_file_atomic(path, out);
 }
 
-Codebook Codebook::load(const std::string& path) {
-    const std::string bytes = read_all(path, "codebook");
+Codebook Codebook::load(const std::string& path) { return parse(io::read_file(path), "Codebook file '" + path + "': "); }
+
+Codebook Codebook::parse(const std::string& bytes, const std::string& where) {
     const auto* p = reinterpret_cast<const unsigned char*>(bytes.data());
-    const std::string where = "Codebook file '" + path + "': ";
     if (bytes.size() < 16) {
         if (bytes.size() >= 4 && std::memcmp(p, "CFCB", 4) != 0)
             throw InputError(where + "wrong magic (not a canonform codebook).");

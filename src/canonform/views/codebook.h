@@ -70,12 +70,15 @@ public:
     /// empty codebook. Multi-threaded over blocks of descriptors for large inputs.
     std::vector<int> assign(const DescriptorMatrix& descriptors) const;
 
-    /// Writes the binary file described above (atomic). Throws InputError if it cannot be written.
+    /// Writes the binary file described above (atomic). Throws if it cannot be written.
     void save(const std::string& path) const;
 
-    /// Reads a file written by save(). Throws InputError naming the problem (cannot open, wrong
-    /// magic, unsupported version, bad dimension, truncated, trailing bytes, non-finite values).
+    /// Reads a file written by save(). Throws InputError naming the problem (missing, a folder,
+    /// unreadable, wrong magic, unsupported version, bad dimension, truncated, trailing bytes,
+    /// non-finite values).
     static Codebook load(const std::string& path);
+    /// Parses the bytes of a codebook file (as load()); `where` starts every message.
+    static Codebook parse(const std::string& bytes, const std::string& where);
 
     /// The words, size() x 128.
     const DescriptorMatrix& words() const { return words_; }

@@ -1,13 +1,12 @@
 #include "canonform/views/descriptor_file.h"
 
-#include <unistd.h>
+#include "canonform/io/files.h"
 
-#include <atomic>
+
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
-#include <fstream>
 #include <limits>
 #include <sstream>
 
@@ -143,36 +142,14 @@ void write_descriptor(const std::string& path, const ModelDescriptor& d) {
         }
     }
 
-    static std::atomic<unsigned> counter{0};
-    const std::string tmp = path + ".tmp-" + std::to_string(::getpid()) + "-" + std::to_string(counter++);
-    {
-        std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
-        if (!f) throw InputError("Cannot write the descriptor file '" + path + "' (cannot create '" + tmp + "').");
-        f.write(out.data(), static_cast<std::streamsize>(out.size()));
-        f.flush();
-        if (!f) {
-            f.close();
-            std::remove(tmp.c_str());
-            throw InputError("Cannot write the descriptor file '" + path + "' (write failed; disk full?).");
-        }
-    }
-    if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-        std::remove(tmp.c_str());
-        throw InputError("Cannot write the descriptor file '" + path + "' (rename of the temporary file failed).");
-    }
+    io::write_file_atomic(path, out);
 }
 
 ModelDescriptor read_descriptor(const std::string& path) {
-    std::string bytes;
-    {
-        std::ifstream f(path, std::ios::binary);
-        if (!f) throw InputError("Cannot open the descriptor file '" + path + "'.");
-        std::ostringstream ss;
-        ss << f.rdbuf();
-        if (f.bad()) throw InputError("Cannot read the descriptor file '" + path + "'.");
-        bytes = ss.str();
-    }
-    const std::string where = "Descriptor file '" + path + "': ";
+    return parse_descriptor(io::read_file(path), "Descriptor file '" + path + "': ");
+}
+
+ModelDescriptor parse_descriptor(const std::string& bytes, const std::string& where) {
     Reader in(bytes, where);
     if (bytes.size() >= 4 && std::memcmp(bytes.data(), "CFVD", 4) != 0)
         in.fail("wrong magic (not a canonform view-descriptor file).");

@@ -61,7 +61,11 @@ struct ModelDescriptor {
 /// file cannot be written.
 void write_descriptor(const std::string& path, const ModelDescriptor& d);
 
-/// Reads and validates a file written by write_descriptor().
+/// Reads and validates a file written by write_descriptor() (InputError naming the file and the
+/// cause: missing, a folder, unreadable, or any of the problems above).
 ModelDescriptor read_descriptor(const std::string& path);
+
+/// Parses and validates the bytes of a descriptor file; `where` starts every message.
+ModelDescriptor parse_descriptor(const std::string& bytes, const std::string& where);
 
 }  // namespace canonform::views

@@ -201,7 +201,7 @@ PoseNormalization normalize_pose(const Eigen::MatrixXd& V, const Eigen::MatrixXi
     PoseNormalization out;
     out.centre = V.colwise().mean();
     Eigen::MatrixXd X = V.rowwise() - out.centre;
-    const double rmax = X.rowwise().norm().maxCoeff();
+    const double rmax = X.rowwise().stableNorm().maxCoeff();  // no over- or underflow for 1e200 or 1e-200
     if (!(rmax > 0) || !std::isfinite(rmax)) throw InputError("all vertices of the mesh are at one point");
     out.scale = 1.0 / rmax;
     X *= out.scale;

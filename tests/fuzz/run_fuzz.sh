@@ -1,0 +1,24 @@
+#!/usr/bin/env bash
+# Runs one libFuzzer target for a bounded time on the seeds the unit tests wrote and its own
+# corpus, and fails on any finding (crash, sanitizer report, leak, timeout, out-of-memory), whose
+# input is kept in FINDINGS/ with the report.
+#   run_fuzz.sh TARGET SEEDS CORPUS FINDINGS SECONDS [libFuzzer options...]
+set -u
+target=$1 seeds=$2 corpus=$3 findings=$4 seconds=$5
+shift 5
+mkdir -p "$seeds" "$corpus" "$findings"
+log="$findings/last_run.log"
+# -rss_limit_mb: a reader that allocates what a lying header claims is a finding; -timeout: a hang is.
+# Leaks are findings too (LeakSanitizer, on by default with ASan).
+ASAN_OPTIONS=${ASAN_OPTIONS:-abort_on_error=1:detect_leaks=1} UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1} \
+  "$target" -max_total_time="$seconds" -timeout=20 -rss_limit_mb=2048 -max_len=65536 -print_final_stats=1 \
+  -artifact_prefix="$findings/" "$@" "$corpus" "$seeds" > "$log" 2>&1
+rc=$?
+runs=$(grep -o 'stat::number_of_executed_units: *[0-9]*' "$log" | grep -o '[0-9]*$')
+cov=$(grep -o 'cov: [0-9]*' "$log" | tail -1)
+if [ $rc -ne 0 ]; then
+  grep -E "ERROR|SUMMARY|==[0-9]+==|runtime error|fuzz:" "$log" | head -20
+  echo "$(basename "$target"): FINDING after ${runs:-?} runs (exit $rc); input and report in $findings/"
+  exit 1
+fi
+echo "$(basename "$target"): ${runs:-?} runs in ${seconds} s, ${cov:-cov ?}, $(ls "$seeds" | wc -l) seeds, no finding"

@@ -1,0 +1,35 @@
+#!/usr/bin/env bash
+# The unit and end-to-end tests of the library and the canonform tool again in an
+# AddressSanitizer + UndefinedBehaviorSanitizer build (clang, any report fails the test), and every
+# libFuzzer target for a bounded time on the seeds the unit tests write (tests/fuzz). Called by
+# tools/run_tests.sh (so CI runs it); builds in ./build-san (or $CANONFORM_SAN_BUILD_DIR) only what
+# these tests need: no plugins (they run inside the non-instrumented meshlabserver; see the README,
+# "Tests"), no benchmarks.
+#   tools/sanitizer_tests.sh [ctest arguments]     CANONFORM_FUZZ_SECONDS=N (default 15 per target)
+set -euo pipefail
+here=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+build=${CANONFORM_SAN_BUILD_DIR:-$here/build-san}
+mkdir -p "$build"
+log="$build/build.log"
+t0=$(date +%s)
+echo "[sanitizers] clang ASan+UBSan+libFuzzer build in $build (log: $log)"
+if ! { CC=clang CXX=clang++ cmake -S "$here" -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+         "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -gline-tables-only" -DCANONFORM_SANITIZE=address,undefined \
+         -DCANONFORM_FUZZ=ON -DCANONFORM_FUZZ_SECONDS="${CANONFORM_FUZZ_SECONDS:-15}" -DCANONFORM_BUILD_PLUGINS=OFF \
+         -DCANONFORM_BUILD_BENCH=OFF -DCANONFORM_MESHLAB2022=OFF &&
+       targets=$(cmake --build "$build" --target help | grep -oE '(canonform_tests|canonform_plycheck|canonform|fuzz_[a-z_]+)$' | sort -u) &&
+       cmake --build "$build" -j"$(nproc)" --target $targets; } > "$log" 2>&1; then
+  grep -E -B2 -A8 "error|Error" "$log" | head -80
+  echo "[sanitizers] build FAILED (full log: $log)" >&2
+  exit 1
+fi
+t1=$(date +%s)
+echo "[sanitizers] built in $((t1 - t0)) s"
+cd "$build"
+# Reports are failures; leaks too (LeakSanitizer), except those of the libraries below us that we
+# cannot fix (tests/sanitizer_suppressions.txt).
+export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=1:strict_string_checks=1:detect_stack_use_after_return=1}
+export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
+export LSAN_OPTIONS=${LSAN_OPTIONS:-suppressions=$here/tests/sanitizer_suppressions.txt:print_suppressions=0}
+ctest --output-on-failure -j"$(nproc)" "$@"
+echo "[sanitizers] tests in $(( $(date +%s) - t1 )) s"
