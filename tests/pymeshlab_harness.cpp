@@ -215,12 +215,12 @@ int main(int argc, char** argv) {
         }
         const pymeshlab::FunctionSet& fs = pymeshlab::functionSetInstance();
         const std::map<std::string, std::vector<std::string>> expected = {
-            {"compute_conformal_factor", {"normalize", "colorize"}},
-            {"compute_feature_points", {"ring", "fill", "seed", "add_layer"}},
+            {"compute_conformal_factor", {"normalize", "colorize", "repair"}},
+            {"compute_feature_points", {"ring", "fill", "seed", "add_layer", "repair"}},
             {"generate_euclidean_canonical_form",
-             {"variant", "alpha", "beta", "ring", "seed", "tolerance", "max_iterations", "new_layer"}},
+             {"variant", "alpha", "beta", "ring", "seed", "tolerance", "max_iterations", "new_layer", "repair"}},
             {"generate_geodesic_canonical_form",
-             {"method", "tolerance", "max_iterations", "max_memory_gib", "max_seconds", "new_layer"}},
+             {"method", "tolerance", "max_iterations", "max_memory_gib", "max_seconds", "new_layer", "repair"}},
             {"compute_depth_view_descriptor", {"output_file", "codebook_file", "image_size", "views_folder", "seed"}}};
         for (const auto& [name, params] : expected) {
             const bool has = fs.containsFilterFunction(QString::fromStdString(name));

@@ -14,7 +14,8 @@
 # (elsewhere these are off unless set to 1).
 #
 #   tools/setup.sh                 # as root (or with sudo available)
-#   tools/setup.sh --packages      # print the apt packages it installs, one a line, and exit
+#   tools/setup.sh --packages      # print the apt packages every system needs, one a line, and exit
+#                                  # (bookworm adds mmdebstrap and the sanitizer tests' clang)
 #   tools/setup.sh --meshlab       # print the installed MeshLab's version (2020.09, 2022.02, 2025.07)
 #   MESHLAB_SRC=/path tools/setup.sh   # use an existing MeshLab 2020.09 source tree instead
 #
@@ -30,9 +31,6 @@ PACKAGES=(
   xvfb xauth x11-utils xdotool imagemagick
   python3-matplotlib python3-numpy bc
 )
-# The sanitizer and fuzz tests (tools/sanitizer_tests.sh): clang with its ASan, UBSan and libFuzzer
-# runtimes, and llvm-symbolizer for readable reports.
-PACKAGES+=(clang libclang-rt-14-dev llvm)
 
 codename=$(. /etc/os-release && echo "${VERSION_CODENAME:-bookworm}")
 
@@ -55,6 +53,11 @@ esac
 # bookworm (the tests run there); not needed inside those root filesystems.
 if [ "$codename" = bookworm ] && [ "${CANONFORM_HOSTS:-1}" != 0 ]; then
   PACKAGES+=(mmdebstrap)
+fi
+# The sanitizer and fuzz tests (tools/sanitizer_tests.sh) run on bookworm too: clang with its ASan,
+# UBSan and libFuzzer runtimes (libclang-rt-dev, the default clang's), llvm-symbolizer for reports.
+if [ "$codename" = bookworm ] && [ "${CANONFORM_SANITIZER_TESTS:-1}" != 0 ]; then
+  PACKAGES+=(clang libclang-rt-dev llvm)
 fi
 
 log() { printf '[setup] %s\n' "$*"; }
