@@ -103,7 +103,10 @@ CanonicalMethod euclidean_method(CanonicalVariant variant) {
                      {"final_stress", e.final_stress},
                      {"solver", std::string(to_string(e.linear_solver))},
                      {"mean_relative_edge_change", e.mean_relative_edge_change},
-                     {"seconds", e.seconds}};
+                     {"seconds", e.seconds},
+                     {"conformal_factor_seconds", e.conformal_factor_seconds},
+                     {"setup_seconds", e.setup_seconds},
+                     {"smacof_seconds", e.smacof_seconds}};
         std::ostringstream d;
         d << "variant " << (variant == CanonicalVariant::A ? "A" : "N") << ", alpha " << o.alpha << ", beta "
           << e.beta << ": " << V.rows() << " vertices, " << e.features.size() << " feature points ("
