@@ -206,7 +206,7 @@ int main(int argc, char** argv) {
                 Figure f = make_figure(n, figure_pose(p));
                 meshes.push_back({"pose" + std::to_string(p), "figure", f.mesh.V, f.mesh.F});
             }
-            run_set("procedural-" + std::to_string(n), meshes, repeats, "");
+            run_set("procedural-" + std::to_string(n) + (variant == "A" ? "-A" : ""), meshes, repeats, "");
         }
         for (size_t d = 0; d < datasets.size(); ++d) {
             std::vector<Mesh1> meshes;

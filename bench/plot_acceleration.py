@@ -9,7 +9,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 
-rows = [r for r in csv.DictReader(open(sys.argv[1])) if r["set"].startswith("procedural-")]
+rows = [r for r in csv.DictReader(open(sys.argv[1])) if r["set"].startswith("procedural-") and r["variant"] == "N"]
 methods = list(dict.fromkeys(r["acceleration"] for r in rows))
 fig, ax = plt.subplots(1, 2, figsize=(10, 4))
 for m in methods:
