@@ -57,11 +57,13 @@ void GuttmanAccelerator::rejected() {
 
 Eigen::MatrixXd GuttmanAccelerator::propose(const Eigen::MatrixXd& X, const Eigen::MatrixXd& Y, bool* extrapolated) {
     *extrapolated = false;
+    const bool forced = plain_next_;
+    plain_next_ = false;
     switch (method_) {
         case SmacofAcceleration::None: return Y;
         case SmacofAcceleration::Relaxed:
             // Every other step: the relaxed update alone oscillates on the fast modes (see the header).
-            relax_next_ = !relax_next_;
+            relax_next_ = !relax_next_ && !forced;
             if (!relax_next_) return Y;
             *extrapolated = true;
             return 2 * Y - X;
@@ -113,7 +115,7 @@ Eigen::MatrixXd GuttmanAccelerator::propose(const Eigen::MatrixXd& X, const Eige
             }
             f_prev_ = f;
             g_prev_ = Y;
-            if (dF_.empty()) return Y;
+            if (dF_.empty() || forced) return Y;
             const int m = static_cast<int>(dF_.size());
             Eigen::MatrixXd G(m, m);
             Eigen::VectorXd b(m);

@@ -44,14 +44,15 @@
 //   MPE: gamma = (c, 1) / sum (c, 1), c = argmin |U_{0..K-1} c + u_K|.
 //   Departures: the sum uses x_{j+1} (one Guttman step further than Sidi's x_j, which costs
 //   nothing: G(x_K) is known); the small Gram systems U^T U are solved with a ridge of 1e-12 of
-//   their trace (pivoted LDL^T); the stopping rule is tested on the plain steps only.
+//   their trace (LDL^T).
 // - anderson: D. G. Anderson, "Iterative procedures for nonlinear integral equations", 1965, type
 //   II with memory m = acceleration_depth (H. F. Walker and P. Ni, SIAM J. Numer. Anal. 2011):
 //   f_k = G(x_k) - x_k, x_{k+1} = G(x_k) - dG gamma with gamma = argmin |f_k - dF gamma| over the
 //   last m differences; history cleared when the safeguard fires.
 // Monotone safeguard, every method: an extrapolated point whose stress exceeds the stress of the
 // current iterate is rejected and the plain Guttman step taken instead, so S never increases
-// (tested per method). Every evaluation of S and B(X) X (one pass over the pairs and one solve),
+// (tested per method). The stopping rule is tested on plain steps only (an extrapolation that
+// gains less than the tolerance is followed by a plain step). Every evaluation of S and B(X) X (one pass over the pairs and one solve),
 // rejected ones included, counts as an iteration, so iteration counts compare costs.
 #pragma once
 
@@ -127,9 +128,8 @@ public:
     Eigen::MatrixXd propose(const Eigen::MatrixXd& X, const Eigen::MatrixXd& Y, bool* extrapolated);
     /// The last extrapolation raised the stress and was replaced by the plain step.
     void rejected();
-    /// Whether the stopping rule is tested after an accepted extrapolation (RRE/MPE: no, only
-    /// after plain steps).
-    bool test_after_extrapolation() const { return method_ == SmacofAcceleration::Anderson; }
+    /// The next proposal is the plain step (the stopping rule is tested on plain steps only).
+    void plain_next() { plain_next_ = true; }
 
 private:
     SmacofAcceleration method_;
@@ -140,6 +140,7 @@ private:
     std::vector<Eigen::MatrixXd> dF_, dG_;   // Anderson: differences of f and G
     Eigen::MatrixXd f_prev_, g_prev_;        // Anderson: the previous f and G(x)
     bool relax_next_ = false;                // relaxed: this step relaxes
+    bool plain_next_ = false;                // plain_next() was called
 };
 
 /// What run_guttman() returns.
@@ -156,7 +157,7 @@ struct GuttmanRun {
 
 /// The SMACOF iteration shared by SmacofSolver::solve and least_squares_mds (mds.h): from a
 /// centred start X, `step(X, &s)` returns the Guttman transform of X and sets s = S(X). Stops when
-/// S_{k-1} - S_k < tolerance * S_{k-1} (RRE/MPE: on a plain step) or after max_iterations
+/// S_{k-1} - S_k < tolerance * S_{k-1} on a plain step, or after max_iterations
 /// evaluations of `step` after the first (none if <= 0). Accelerated by `acceleration` with the
 /// monotone safeguard (top of this header). Progress goes from `progress_from` to 1. `what` names
 /// the solver in error messages.
@@ -200,8 +201,11 @@ GuttmanRun run_guttman(const Step& step, Eigen::MatrixXd X, double tolerance, in
         }
         if (record_history) r.history.push_back(s);
         r.final_stress = s;
-        const bool test = !extrapolated || accelerator.test_after_extrapolation();
-        r.converged = s_x <= 0 || (test && (s_x - s) < tolerance * s_x);
+        // The stopping rule is tested on plain steps only: an extrapolation that gains less than
+        // the tolerance is followed by a plain step, which decides.
+        const bool small = (s_x - s) < tolerance * s_x;
+        r.converged = s_x <= 0 || (!extrapolated && small);
+        if (extrapolated && small) accelerator.plain_next();
         X = std::move(Z);
         Y = std::move(GZ);
         s_x = s;
