@@ -31,11 +31,15 @@
 // Stress never increases across a Guttman step (tested).
 //
 // Acceleration (SmacofAcceleration; every SMACOF run: Euclidean canonical forms and least-squares
-// MDS). The Guttman iteration converges linearly, slowly on meshes (~100-170 steps). Methods:
+// MDS). The Guttman iteration converges linearly, slowly on meshes (README). Methods:
 // - none: plain Guttman steps, eq. (2).
 // - relaxed: J. de Leeuw and W. Heiser, "Convergence of correction matrix algorithms for
 //   multidimensional scaling", 1980: X + 2 (G(X) - X). The majorising quadratic tau(., X) is
 //   symmetric about its minimiser G(X), so S(2G(X) - X) <= tau(X, X) = S(X).
+//   Departure: applied every other step, a plain step between. Alone it maps an error mode with
+//   Guttman rate lambda to rate 2 lambda - 1, which is about -1 for the fast modes: they never
+//   decay, and the stress stalled far above the plain run's (the sparse problem of
+//   tests/test_smacof.cpp; figures in README). Alternating gives lambda (2 lambda - 1), in [-1/8, 1].
 // - rre, mpe: G. Rosman, A. M. Bronstein, M. M. Bronstein, R. Kimmel, "Fast multidimensional
 //   scaling using vector extrapolation", 2008 (after A. Sidi's reduced-rank and minimal-polynomial
 //   extrapolation): every `acceleration_depth` + 1 plain steps x_0..x_K, x_{K+1} = G(x_K), with
@@ -52,8 +56,9 @@
 // Monotone safeguard, every method: an extrapolated point whose stress exceeds the stress of the
 // current iterate is rejected and the plain Guttman step taken instead, so S never increases
 // (tested per method). The stopping rule is tested on plain steps only (an extrapolation that
-// gains less than the tolerance is followed by a plain step). Every evaluation of S and B(X) X (one pass over the pairs and one solve),
-// rejected ones included, counts as an iteration, so iteration counts compare costs.
+// gains less than the tolerance is followed by a plain step). Every evaluation of S and B(X) X
+// (one pass over the pairs and one solve), rejected ones included, counts as an iteration, so
+// iteration counts compare costs.
 #pragma once
 
 #include "canonform/numerics/algebraic_multigrid.h"
@@ -84,8 +89,8 @@ struct StressPairs {
 /// How the Guttman iteration is accelerated (see the top of this header).
 enum class SmacofAcceleration { None, Relaxed, Rre, Mpe, Anderson };
 
-/// The default acceleration of every SMACOF run (chosen by bench/bench_canonical_form.cpp
-/// --acceleration-sweep: see README).
+/// The default acceleration of every SMACOF run (chosen by bench/run_bench_acceleration.sh: see
+/// README, "SMACOF acceleration").
 constexpr SmacofAcceleration kDefaultSmacofAcceleration = SmacofAcceleration::Rre;
 /// Default depth: RRE/MPE plain steps per extrapolation minus one; Anderson memory.
 constexpr int kDefaultAccelerationDepth = 2;
