@@ -1,6 +1,7 @@
 #include "canonical_filter_table.h"
 
 #include "canonform/canonical/method_registry.h"
+#include "canonform/numerics/smacof.h"
 
 namespace canonform::plugin {
 
@@ -42,6 +43,23 @@ double method_index(MethodFamily family, const std::string& name) {
     for (size_t k = 0; k < methods.size(); ++k)
         if (methods[k]->name == name) return static_cast<double>(k);
     return 0;
+}
+
+/// The enum index of the default SMACOF acceleration.
+double acceleration_index() {
+    const auto names = smacof_acceleration_names();
+    for (size_t k = 0; k < names.size(); ++k)
+        if (names[k] == to_string(kDefaultSmacofAcceleration)) return static_cast<double>(k);
+    return 0;
+}
+
+/// The Euclidean filter's acceleration parameter (the geodesic filter's says "least squares only").
+ParamSpec acceleration_param() {
+    return {"acceleration", ParamKind::Enum, acceleration_index(), "SMACOF acceleration",
+            "none: plain Guttman steps; relaxed: X + 2(G(X) - X) (de Leeuw); rre / mpe: reduced-rank / "
+            "minimal-polynomial vector extrapolation (Rosman et al. 2008); anderson: Anderson acceleration. "
+            "A step that would raise the stress is replaced by the plain step.",
+            smacof_acceleration_names()};
 }
 
 }  // namespace
@@ -100,6 +118,7 @@ std::vector<FilterSpec> make_filter_table() {
                   {"seed", K::Int, 0, "Random seed", "Seed of variant A's random feature points.", {}},
                   tolerance_param(),
                   {"max_iterations", K::Int, 1000, "Maximum iterations", "SMACOF iteration cap.", {}},
+                  acceleration_param(),
                   new_layer_param(),
                   repair_param()},
                  kVertexQuality, kVertexQuality | kVertexSelection | kVertexCoordinates | kNormals | kTopology});
@@ -116,6 +135,11 @@ std::vector<FilterSpec> make_filter_table() {
                    method_labels(MethodFamily::Geodesic)},
                   tolerance_param(),
                   {"max_iterations", K::Int, 500, "Maximum iterations", "SMACOF iteration cap.", {}},
+                  {"acceleration", K::Enum, acceleration_index(), "SMACOF acceleration",
+                   "Least squares only. none: plain Guttman steps; relaxed: X + 2(G(X) - X) (de Leeuw); rre / mpe: reduced-rank / "
+                   "minimal-polynomial vector extrapolation (Rosman et al. 2008); anderson: Anderson acceleration. "
+                   "A step that would raise the stress is replaced by the plain step.",
+                   smacof_acceleration_names()},
                   {"max_memory_gib", K::Float, 4, "Memory limit (GiB)",
                    "Refuse meshes whose estimated memory (an N x N distance matrix) exceeds this.", {}},
                   {"max_seconds", K::Float, 600, "Time limit (s)",

@@ -214,8 +214,14 @@ MethodSettings method_settings(const CanonicalMethod& method, const FilterSpec& 
         if (!method.parameter(fp.name)) continue;
         std::ostringstream v;
         v.precision(17);
-        if (fp.kind == ParamKind::String)
+        const MethodParameter* mp = method.parameter(fp.name);
+        if (fp.kind == ParamKind::String) {
             v << p.get_string(fp.name);
+        } else if (fp.kind == ParamKind::Enum && !mp->choices.empty()) {  // the enum's index names a choice
+            const int k = p.get_int(fp.name);
+            if (k < 0 || k >= static_cast<int>(mp->choices.size())) throw InputError(std::string("unknown ") + fp.name + " choice");
+            v << mp->choices[static_cast<size_t>(k)];
+        }
         else
             v << p.get(fp.name);
         given.emplace_back(fp.name, v.str());

@@ -218,9 +218,11 @@ int main(int argc, char** argv) {
             {"compute_conformal_factor", {"normalize", "colorize", "repair"}},
             {"compute_feature_points", {"ring", "fill", "seed", "add_layer", "repair"}},
             {"generate_euclidean_canonical_form",
-             {"variant", "alpha", "beta", "ring", "seed", "tolerance", "max_iterations", "new_layer", "repair"}},
+             {"variant", "alpha", "beta", "ring", "seed", "tolerance", "max_iterations", "acceleration", "new_layer",
+              "repair"}},
             {"generate_geodesic_canonical_form",
-             {"method", "tolerance", "max_iterations", "max_memory_gib", "max_seconds", "new_layer", "repair"}},
+             {"method", "tolerance", "max_iterations", "acceleration", "max_memory_gib", "max_seconds", "new_layer",
+              "repair"}},
             {"compute_depth_view_descriptor", {"output_file", "codebook_file", "image_size", "views_folder", "seed"}}};
         for (const auto& [name, params] : expected) {
             const bool has = fs.containsFilterFunction(QString::fromStdString(name));

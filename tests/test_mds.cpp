@@ -161,6 +161,7 @@ TEST(Mds, LeastSquaresStressNeverIncreasesOnGeodesicDistances) {
     opt.tolerance = 0;
     opt.max_iterations = 150;
     opt.record_history = true;
+    opt.acceleration = SmacofAcceleration::None;  // plain Guttman steps (accelerations: below)
     const MdsResult r = least_squares_mds(D, opt);
     // With tolerance 0 it runs until the stress stops decreasing in floating point (~50 steps).
     ASSERT_EQ(r.stress_history.size(), static_cast<size_t>(r.iterations) + 1);
@@ -177,6 +178,25 @@ TEST(Mds, LeastSquaresStressNeverIncreasesOnGeodesicDistances) {
     EXPECT_TRUE(d.converged);
     EXPECT_LT(d.iterations, 500);
     EXPECT_LT(d.final_stress, 0.9 * c.final_stress);
+}
+
+TEST(Mds, LeastSquaresWithEveryAccelerationNeverRaisesTheStressAndReachesThePlainStress) {
+    const MatrixXd D = great_circle_distances(sphere_points(300, 8));
+    MdsOptions opt;
+    opt.acceleration = SmacofAcceleration::None;
+    const MdsResult plain = least_squares_mds(D, opt);
+    for (SmacofAcceleration a : {SmacofAcceleration::Relaxed, SmacofAcceleration::Rre, SmacofAcceleration::Mpe,
+                                 SmacofAcceleration::Anderson}) {
+        SCOPED_TRACE(to_string(a));
+        opt.acceleration = a;
+        opt.record_history = true;
+        const MdsResult r = least_squares_mds(D, opt);
+        for (size_t k = 1; k < r.stress_history.size(); ++k)
+            ASSERT_LE(r.stress_history[k], r.stress_history[k - 1] * (1 + 1e-12)) << "iterate " << k;
+        EXPECT_TRUE(r.converged);
+        EXPECT_LE(r.final_stress, plain.final_stress * 1.002);
+        EXPECT_NEAR(r.final_stress, raw_stress(D, r.X), 1e-9 * r.final_stress);
+    }
 }
 
 TEST(Mds, ClassicalOnSphereGeodesicsIsRoughlyASphere) {

@@ -82,6 +82,32 @@ TEST(MethodRegistry, BadSpecsNameTheProblem) {
     EXPECT_NE(message_of([] { parse_method_spec("geodesic-ls:beta=5"); }).find("only euclidean-A and euclidean-N take"),
               std::string::npos);
     EXPECT_NE(message_of([] { parse_method_spec("euclidean-N:beta"); }).find("KEY=VALUE"), std::string::npos);
+    EXPECT_NE(message_of([] { parse_method_spec("geodesic-ls:acceleration=fast"); })
+                  .find("none, relaxed, rre, mpe, anderson"),
+              std::string::npos);
+}
+
+TEST(MethodRegistry, EverySmacofMethodTakesAnAcceleration) {
+    for (const char* name : {"euclidean-A", "euclidean-N", "geodesic-ls"}) {
+        const MethodParameter* p = canonical_method(name).parameter("acceleration");
+        ASSERT_NE(p, nullptr) << name;
+        EXPECT_EQ(p->default_value, "rre");
+        EXPECT_EQ(p->choices, smacof_acceleration_names());
+        EXPECT_TRUE(p->affects_result);
+    }
+    // Part of the cache key where it changes the result; not for MDS without SMACOF.
+    EXPECT_NE(parse_method_spec("euclidean-N:acceleration=none").cache_key(), parse_method_spec("euclidean-N").cache_key());
+    EXPECT_EQ(parse_method_spec("euclidean-N:acceleration=rre").cache_key(), parse_method_spec("euclidean-N").cache_key());
+    EXPECT_EQ(parse_method_spec("geodesic-fast:acceleration=none").cache_key(),
+              parse_method_spec("geodesic-fast").cache_key());
+    // The run reads it: plain steps give the direct call's plain result.
+    const Figure fig = make_figure(800, figure_pose(1));
+    const CanonicalForm r = canonical_method("euclidean-N").run(
+        fig.mesh.V, fig.mesh.F, parse_method_spec("euclidean-N:acceleration=none").settings(), {});
+    EuclideanCanonicalFormOptions o;
+    o.acceleration = SmacofAcceleration::None;
+    const EuclideanCanonicalFormResult e = euclidean_canonical_form(fig.mesh.V, fig.mesh.F, o);
+    EXPECT_EQ((r.V - e.V).cwiseAbs().maxCoeff(), 0.0);
 }
 
 TEST(MethodRegistry, RunsMatchTheDirectCall) {

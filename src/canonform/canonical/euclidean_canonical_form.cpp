@@ -56,6 +56,7 @@ EuclideanCanonicalFormResult euclidean_canonical_form(const Eigen::MatrixXd& V0,
     if (options.progress)
         cf_opt.progress = [&](double f, const char* s) { return options.progress(0.08 * f, s); };
     const ConformalFactorResult cf = conformal_factor(V, F, cf_opt);
+    const auto t1 = std::chrono::steady_clock::now();
 
     const Eigen::MatrixXi E = report.edge_list.rows() ? report.edge_list : unique_edges(F);
     const VertexAdjacency adj = vertex_adjacency(static_cast<int>(V.rows()), E);
@@ -76,9 +77,13 @@ EuclideanCanonicalFormResult euclidean_canonical_form(const Eigen::MatrixXd& V0,
     sm_opt.tolerance = options.tolerance;
     sm_opt.max_iterations = options.max_iterations;
     sm_opt.record_history = options.record_history;
+    sm_opt.acceleration = options.acceleration;
+    sm_opt.acceleration_depth = options.acceleration_depth;
+    const auto t2 = std::chrono::steady_clock::now();
     if (options.progress)
         sm_opt.progress = [&](double f, const char* s) { return options.progress(0.1 + 0.9 * f, s); };
     SmacofResult sm = solver.solve(V, sm_opt);
+    const auto t3 = std::chrono::steady_clock::now();
 
     EuclideanCanonicalFormResult r;
     r.mean_relative_edge_change = mean_relative_edge_change(V, sm.X, E);
@@ -89,6 +94,8 @@ EuclideanCanonicalFormResult euclidean_canonical_form(const Eigen::MatrixXd& V0,
     r.num_random = fp.num_random;
     r.iterations = sm.iterations;
     r.converged = sm.converged;
+    r.extrapolations = sm.extrapolations;
+    r.rejections = sm.rejections;
     r.initial_stress = sm.initial_stress;
     r.final_stress = sm.final_stress;
     r.beta = options.effective_beta();
@@ -96,6 +103,9 @@ EuclideanCanonicalFormResult euclidean_canonical_form(const Eigen::MatrixXd& V0,
     r.stress_history = std::move(sm.stress_history);
     report_progress(options.progress, 1.0, "done");
     r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    r.conformal_factor_seconds = std::chrono::duration<double>(t1 - t0).count();
+    r.setup_seconds = std::chrono::duration<double>(t2 - t1).count();
+    r.smacof_seconds = std::chrono::duration<double>(t3 - t2).count();
     return r;
 }
 

@@ -58,6 +58,8 @@ struct EuclideanCanonicalFormOptions {
     std::uint64_t seed = 0;       ///< seed of variant A's random fill
     double tolerance = 1e-5;      ///< SMACOF relative stress-decrease tolerance
     int max_iterations = 1000;    ///< SMACOF iteration cap
+    SmacofAcceleration acceleration = kDefaultSmacofAcceleration;  ///< SMACOF acceleration (smacof.h)
+    int acceleration_depth = kDefaultAccelerationDepth;            ///< RRE/MPE cycle - 1, Anderson memory
     LinearSolver linear_solver = LinearSolver::Auto;  ///< conformal factor's and SMACOF's solver
     bool restore_scale = true;    ///< return the result in the input's units and position
     bool record_history = false;  ///< keep the stress of every iteration
@@ -77,6 +79,8 @@ struct EuclideanCanonicalFormResult {
     int num_random = 0;                  ///< random fill among `features`
     int iterations = 0;                  ///< SMACOF iterations
     bool converged = false;              ///< SMACOF stopped by the tolerance
+    int extrapolations = 0;              ///< SMACOF accelerated points accepted
+    int rejections = 0;                  ///< SMACOF accelerated points rejected by the safeguard
     double initial_stress = 0;           ///< S(X_0) (unit-radius frame)
     double final_stress = 0;             ///< S(X_final)
     double mean_relative_edge_change = 0;///< mean over edges of |d_ij - delta_ij| / delta_ij
@@ -84,6 +88,9 @@ struct EuclideanCanonicalFormResult {
     LinearSolver linear_solver = LinearSolver::Direct;  ///< solver used (Direct or Multigrid)
     std::vector<double> stress_history;  ///< if record_history
     double seconds = 0;                  ///< wall time of the whole computation
+    double conformal_factor_seconds = 0; ///< of which: the conformal factor
+    double setup_seconds = 0;            ///< of which: feature points, pairs, factor / multigrid of V
+    double smacof_seconds = 0;           ///< of which: the SMACOF iterations
 };
 
 /// Computes the canonical form of the mesh (V #V x 3, F #F x 3). Throws InputError on bad input

@@ -81,6 +81,8 @@ GeodesicCanonicalFormResult geodesic_canonical_form(const Eigen::MatrixXd& V0, c
     MdsOptions mo;
     mo.tolerance = options.tolerance;
     mo.max_iterations = options.max_iterations;
+    mo.acceleration = options.acceleration;
+    mo.acceleration_depth = options.acceleration_depth;
     mo.threads = options.threads;
     mo.check_input = false;  // symmetric with zero diagonal by construction
     if (options.progress) mo.progress = [&](double f, const char* s) { return options.progress(0.7 + 0.3 * f, s); };

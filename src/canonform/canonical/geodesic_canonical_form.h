@@ -33,6 +33,8 @@ struct GeodesicCanonicalFormOptions {
     MdsMethod method = MdsMethod::LeastSquares;  ///< step 3: the paper's LS, C and F (landmark MDS)
     double tolerance = 1e-5;         ///< SMACOF relative stress-decrease tolerance (LS only)
     int max_iterations = 500;        ///< SMACOF iteration cap (LS only)
+    SmacofAcceleration acceleration = kDefaultSmacofAcceleration;  ///< SMACOF acceleration (LS only, smacof.h)
+    int acceleration_depth = kDefaultAccelerationDepth;            ///< RRE/MPE cycle - 1, Anderson memory
     int threads = 0;                 ///< threads for the geodesics and SMACOF; 0 = all cores
     double max_memory_gib = 4.0;     ///< refuse when the estimate exceeds this (GiB)
     double max_seconds = 600.0;      ///< refuse when the estimated time exceeds this (s)

@@ -16,10 +16,15 @@ namespace {
 
 // --- the built-in methods -------------------------------------------------------------------------
 
-std::vector<MethodParameter> smacof_parameters(const char* max_iterations) {
+/// `smacof`: the method runs SMACOF (else the parameters are accepted and do not change the result).
+std::vector<MethodParameter> smacof_parameters(const char* max_iterations, bool smacof = true) {
     return {{"tolerance", "1e-5", "SMACOF stops when an iteration lowers the stress by less than this fraction",
              0, 1, false, {}, true, false, "tol"},
-            {"max_iterations", max_iterations, "SMACOF iteration cap", 1, 1e7, true, {}, true, false, "max-iter"}};
+            {"max_iterations", max_iterations, "SMACOF iteration cap", 1, 1e7, true, {}, true, false, "max-iter"},
+            {"acceleration", to_string(kDefaultSmacofAcceleration),
+             "SMACOF acceleration: none (plain Guttman steps), relaxed, rre, mpe (vector extrapolation), anderson; "
+             "every method keeps the stress from increasing",
+             0, 0, false, smacof_acceleration_names(), smacof}};
 }
 
 /// The SMACOF settings every SMACOF-based method reads.
@@ -27,6 +32,7 @@ template <class Options>
 void read_smacof_settings(const MethodSettings& s, Options* o) {
     o->tolerance = s.number("tolerance");
     o->max_iterations = s.integer("max_iterations");
+    o->acceleration = parse_smacof_acceleration(s.text("acceleration"));
 }
 
 CanonicalMethod none_method() {
@@ -89,16 +95,23 @@ CanonicalMethod euclidean_method(CanonicalVariant variant) {
                      {"maxima", e.num_maxima},
                      {"random", e.num_random},
                      {"iterations", e.iterations},
+                     {"acceleration", std::string(to_string(o.acceleration))},
+                     {"extrapolations", e.extrapolations},
+                     {"rejections", e.rejections},
                      {"converged", e.converged},
                      {"initial_stress", e.initial_stress},
                      {"final_stress", e.final_stress},
                      {"solver", std::string(to_string(e.linear_solver))},
                      {"mean_relative_edge_change", e.mean_relative_edge_change},
-                     {"seconds", e.seconds}};
+                     {"seconds", e.seconds},
+                     {"conformal_factor_seconds", e.conformal_factor_seconds},
+                     {"setup_seconds", e.setup_seconds},
+                     {"smacof_seconds", e.smacof_seconds}};
         std::ostringstream d;
         d << "variant " << (variant == CanonicalVariant::A ? "A" : "N") << ", alpha " << o.alpha << ", beta "
           << e.beta << ": " << V.rows() << " vertices, " << e.features.size() << " feature points ("
-          << e.num_maxima << " maxima, " << e.num_random << " random), " << e.iterations << " SMACOF iterations"
+          << e.num_maxima << " maxima, " << e.num_random << " random), " << e.iterations << " SMACOF iterations ("
+          << to_string(o.acceleration) << ")"
           << (e.converged ? "" : " (iteration cap reached)") << ", stress " << e.initial_stress << " -> "
           << e.final_stress << ", mean relative edge-length change " << e.mean_relative_edge_change << ", "
           << e.seconds << " s";
@@ -128,7 +141,7 @@ CanonicalMethod geodesic_method(MdsMethod mds) {
         m.help = "geodesic canonical form, fast (landmark) MDS (the paper's F)";
         break;
     }
-    m.parameters = smacof_parameters("500");
+    m.parameters = smacof_parameters("500", mds == MdsMethod::LeastSquares);
     m.parameters.push_back({"max_memory_gib", "4", "refuse meshes whose estimated memory exceeds this (GiB)", 0, 1e6,
                             false, {}, false});
     m.parameters.push_back({"max_seconds", "600", "refuse meshes whose estimated time exceeds this (s)", 0, 1e9, false,
@@ -148,6 +161,7 @@ CanonicalMethod geodesic_method(MdsMethod mds) {
         r.V = std::move(g.V);
         r.summary = {{"method", name},
                      {"iterations", g.iterations},
+                     {"acceleration", std::string(mds == MdsMethod::LeastSquares ? to_string(o.acceleration) : "none")},
                      {"initial_stress", g.initial_stress},
                      {"final_stress", g.final_stress},
                      {"mean_relative_edge_change", g.mean_relative_edge_change},

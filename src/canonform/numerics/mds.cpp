@@ -485,7 +485,8 @@ MdsResult least_squares_mds(const MatrixXd& D, const MdsOptions& options, const 
         return Y;
     };
     GuttmanRun g = run_guttman(step, X, options.tolerance, options.max_iterations, options.record_history,
-                               options.progress, 0.1, "least-squares MDS");
+                               options.progress, 0.1, "least-squares MDS", options.acceleration,
+                               options.acceleration_depth);
     MdsResult r;
     move_run_into(std::move(g), r);
     return r;

@@ -56,6 +56,7 @@
 #pragma once
 
 #include "canonform/common/errors.h"
+#include "canonform/numerics/smacof.h"
 
 #include <Eigen/Core>
 
@@ -72,6 +73,8 @@ struct MdsOptions {
     int dim = 3;                        ///< embedding dimension (>= 1)
     double tolerance = 1e-5;            ///< SMACOF: relative stress decrease below which it stops
     int max_iterations = 500;           ///< SMACOF: Guttman step cap
+    SmacofAcceleration acceleration = kDefaultSmacofAcceleration;  ///< SMACOF: acceleration (smacof.h)
+    int acceleration_depth = kDefaultAccelerationDepth;            ///< SMACOF: RRE/MPE cycle - 1, Anderson memory
     int landmarks = 0;                  ///< landmark MDS: L in [dim+1, N]; 0 = clamp(3 ceil(sqrt N), dim+1, N)
     std::uint64_t seed = 0;             ///< subspace-iteration start, first landmark, degenerate-start noise
     int threads = 0;                    ///< worker threads; 0 = every hardware thread (thread_count())
@@ -89,6 +92,8 @@ struct MdsResult {
     Eigen::MatrixXd X;                   ///< #N x dim configuration, centred at the origin
     int iterations = 0;                  ///< SMACOF: Guttman steps; classical: subspace iterations; landmark: 0
     bool converged = false;              ///< SMACOF: stopped by tolerance; classical/landmark: true
+    int extrapolations = 0;              ///< SMACOF: accelerated points accepted
+    int rejections = 0;                  ///< SMACOF: accelerated points rejected by the safeguard
     double initial_stress = 0;           ///< S(X_0) (SMACOF start); classical/landmark: S(X), NaN if not computed
     double final_stress = 0;             ///< S(X) of the returned X (NaN if not computed)
     std::vector<double> stress_history;  ///< SMACOF with record_history: S(X_0), S(X_1), ...

@@ -2,11 +2,137 @@
 
 #include "canonform/numerics/graph.h"
 
+#include <Eigen/Dense>
+
 #include <algorithm>
 #include <cmath>
 #include <sstream>
 
 namespace canonform {
+
+const char* to_string(SmacofAcceleration a) {
+    switch (a) {
+        case SmacofAcceleration::None: return "none";
+        case SmacofAcceleration::Relaxed: return "relaxed";
+        case SmacofAcceleration::Rre: return "rre";
+        case SmacofAcceleration::Mpe: return "mpe";
+        case SmacofAcceleration::Anderson: return "anderson";
+    }
+    return "?";
+}
+
+std::vector<std::string> smacof_acceleration_names() { return {"none", "relaxed", "rre", "mpe", "anderson"}; }
+
+SmacofAcceleration parse_smacof_acceleration(const std::string& name) {
+    for (SmacofAcceleration a : {SmacofAcceleration::None, SmacofAcceleration::Relaxed, SmacofAcceleration::Rre,
+                                 SmacofAcceleration::Mpe, SmacofAcceleration::Anderson})
+        if (name == to_string(a)) return a;
+    throw InputError("unknown SMACOF acceleration '" + name + "' (none, relaxed, rre, mpe, anderson)");
+}
+
+namespace {
+
+double dot(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
+    return (a.array() * b.array()).sum();
+}
+
+/// Solves the small symmetric positive semi-definite system G x = b with a ridge of 1e-12 trace(G).
+Eigen::VectorXd solve_gram(Eigen::MatrixXd G, const Eigen::VectorXd& b) {
+    const double ridge = 1e-12 * std::max(G.trace(), 1e-300);
+    G.diagonal().array() += ridge;
+    return G.ldlt().solve(b);
+}
+
+}  // namespace
+
+GuttmanAccelerator::GuttmanAccelerator(SmacofAcceleration method, int depth)
+    : method_(method), depth_(depth) {
+    if (depth_ < 1) throw InputError("SMACOF: the acceleration depth must be at least 1");
+}
+
+void GuttmanAccelerator::rejected() {
+    dF_.clear();
+    dG_.clear();
+}
+
+Eigen::MatrixXd GuttmanAccelerator::propose(const Eigen::MatrixXd& X, const Eigen::MatrixXd& Y, bool* extrapolated) {
+    *extrapolated = false;
+    const bool forced = plain_next_;
+    plain_next_ = false;
+    switch (method_) {
+        case SmacofAcceleration::None: return Y;
+        case SmacofAcceleration::Relaxed:
+            // Every other step: the relaxed update alone oscillates on the fast modes (see the header).
+            relax_next_ = !relax_next_ && !forced;
+            if (!relax_next_) return Y;
+            *extrapolated = true;
+            return 2 * Y - X;
+        case SmacofAcceleration::Rre:
+        case SmacofAcceleration::Mpe: {
+            // Inside a cycle every step is plain: x_{j+1} = G(x_j), u_j = G(x_j) - x_j.
+            if (U_.empty()) x0_ = X;
+            U_.push_back(Y - X);
+            const int k = static_cast<int>(U_.size()) - 1;
+            gram_.conservativeResize(k + 1, k + 1);
+            for (int a = 0; a <= k; ++a) gram_(a, k) = gram_(k, a) = dot(U_[static_cast<size_t>(a)], U_[static_cast<size_t>(k)]);
+            if (k < depth_) return Y;
+            const int K = depth_;  // u_0 .. u_K
+            Eigen::VectorXd gamma(K + 1);
+            if (method_ == SmacofAcceleration::Rre) {
+                gamma = solve_gram(gram_, Eigen::VectorXd::Ones(K + 1));
+            } else {
+                gamma.head(K) = solve_gram(gram_.topLeftCorner(K, K), -gram_.col(K).head(K));
+                gamma(K) = 1;
+            }
+            const double sum = gamma.sum();
+            Eigen::MatrixXd Z;
+            if (gamma.allFinite() && std::isfinite(sum) && std::abs(sum) > 1e-300) {
+                gamma /= sum;
+                // sum_j gamma_j x_{j+1} = x_0 + sum_i (sum_{j >= i} gamma_j) u_i
+                Z = x0_;
+                double tail = 0;
+                for (int i = K; i >= 0; --i) {
+                    tail += gamma(i);
+                    Z += tail * U_[static_cast<size_t>(i)];
+                }
+                *extrapolated = true;
+            } else {
+                Z = Y;
+            }
+            U_.clear();
+            gram_.resize(0, 0);
+            return Z;
+        }
+        case SmacofAcceleration::Anderson: {
+            Eigen::MatrixXd f = Y - X;
+            if (f_prev_.size()) {
+                dF_.push_back(f - f_prev_);
+                dG_.push_back(Y - g_prev_);
+                if (static_cast<int>(dF_.size()) > depth_) {
+                    dF_.erase(dF_.begin());
+                    dG_.erase(dG_.begin());
+                }
+            }
+            f_prev_ = f;
+            g_prev_ = Y;
+            if (dF_.empty() || forced) return Y;
+            const int m = static_cast<int>(dF_.size());
+            Eigen::MatrixXd G(m, m);
+            Eigen::VectorXd b(m);
+            for (int a = 0; a < m; ++a) {
+                b(a) = dot(dF_[static_cast<size_t>(a)], f);
+                for (int c = a; c < m; ++c) G(a, c) = G(c, a) = dot(dF_[static_cast<size_t>(a)], dF_[static_cast<size_t>(c)]);
+            }
+            const Eigen::VectorXd gamma = solve_gram(G, b);
+            if (!gamma.allFinite()) return Y;
+            Eigen::MatrixXd Z = Y;
+            for (int a = 0; a < m; ++a) Z -= gamma(a) * dG_[static_cast<size_t>(a)];
+            *extrapolated = true;
+            return Z;
+        }
+    }
+    return Y;
+}
 
 SmacofSolver::SmacofSolver(int num_points, StressPairs pairs, const SmacofSolverOptions& options)
     : n_(num_points), pairs_(std::move(pairs)), options_(options) {
@@ -115,7 +241,8 @@ SmacofResult SmacofSolver::solve(const Eigen::MatrixXd& X0, const SmacofOptions&
     if (!X0.allFinite()) throw InputError("SMACOF: the start has non-finite coordinates");
     GuttmanRun g = run_guttman([this](const Eigen::MatrixXd& X, double* s) { return guttman(X, s); },
                                X0.rowwise() - X0.colwise().mean(), options.tolerance, options.max_iterations,
-                               options.record_history, options.progress, 0.0, "SMACOF");
+                               options.record_history, options.progress, 0.0, "SMACOF", options.acceleration,
+                               options.acceleration_depth);
     SmacofResult r;
     move_run_into(std::move(g), r);
     return r;

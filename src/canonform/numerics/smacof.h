@@ -29,6 +29,36 @@
 // - The stopping rule is relative: stop when (S_{k-1} - S_k) / S_{k-1} < tolerance, or after
 //   max_iterations; the paper's absolute rule S_{k-1} - S_k < e depends on the mesh's scale.
 // Stress never increases across a Guttman step (tested).
+//
+// Acceleration (SmacofAcceleration; every SMACOF run: Euclidean canonical forms and least-squares
+// MDS). The Guttman iteration converges linearly, slowly on meshes (README). Methods:
+// - none: plain Guttman steps, eq. (2).
+// - relaxed: J. de Leeuw and W. Heiser, "Convergence of correction matrix algorithms for
+//   multidimensional scaling", 1980: X + 2 (G(X) - X). The majorising quadratic tau(., X) is
+//   symmetric about its minimiser G(X), so S(2G(X) - X) <= tau(X, X) = S(X).
+//   Departure: applied every other step, a plain step between. Alone it maps an error mode with
+//   Guttman rate lambda to rate 2 lambda - 1, which is about -1 for the fast modes: they never
+//   decay, and the stress stalled far above the plain run's (the sparse problem of
+//   tests/test_smacof.cpp; figures in README). Alternating gives lambda (2 lambda - 1), in [-1/8, 1].
+// - rre, mpe: G. Rosman, A. M. Bronstein, M. M. Bronstein, R. Kimmel, "Fast multidimensional
+//   scaling using vector extrapolation", 2008 (after A. Sidi's reduced-rank and minimal-polynomial
+//   extrapolation): every `acceleration_depth` + 1 plain steps x_0..x_K, x_{K+1} = G(x_K), with
+//   u_j = x_{j+1} - x_j and U = [u_0 .. u_K], the next point is sum_j gamma_j x_{j+1} with
+//   RRE: gamma = argmin |U gamma| subject to sum gamma = 1, i.e. (U^T U)^-1 1 normalised;
+//   MPE: gamma = (c, 1) / sum (c, 1), c = argmin |U_{0..K-1} c + u_K|.
+//   Departures: the sum uses x_{j+1} (one Guttman step further than Sidi's x_j, which costs
+//   nothing: G(x_K) is known); the small Gram systems U^T U are solved with a ridge of 1e-12 of
+//   their trace (LDL^T).
+// - anderson: D. G. Anderson, "Iterative procedures for nonlinear integral equations", 1965, type
+//   II with memory m = acceleration_depth (H. F. Walker and P. Ni, SIAM J. Numer. Anal. 2011):
+//   f_k = G(x_k) - x_k, x_{k+1} = G(x_k) - dG gamma with gamma = argmin |f_k - dF gamma| over the
+//   last m differences; history cleared when the safeguard fires.
+// Monotone safeguard, every method: an extrapolated point whose stress exceeds the stress of the
+// current iterate is rejected and the plain Guttman step taken instead, so S never increases
+// (tested per method). The stopping rule is tested on plain steps only (an extrapolation that
+// gains less than the tolerance is followed by a plain step). Every evaluation of S and B(X) X
+// (one pass over the pairs and one solve), rejected ones included, counts as an iteration, so
+// iteration counts compare costs.
 #pragma once
 
 #include "canonform/numerics/algebraic_multigrid.h"
@@ -56,10 +86,28 @@ struct StressPairs {
     size_t size() const { return i.size(); }
 };
 
+/// How the Guttman iteration is accelerated (see the top of this header).
+enum class SmacofAcceleration { None, Relaxed, Rre, Mpe, Anderson };
+
+/// The default acceleration of every SMACOF run (chosen by bench/run_bench_acceleration.sh: see
+/// README, "SMACOF acceleration").
+constexpr SmacofAcceleration kDefaultSmacofAcceleration = SmacofAcceleration::Rre;
+/// Default depth: RRE/MPE plain steps per extrapolation minus one; Anderson memory.
+constexpr int kDefaultAccelerationDepth = 2;
+
+/// "none", "relaxed", "rre", "mpe", "anderson".
+const char* to_string(SmacofAcceleration a);
+/// The inverse of to_string(); InputError listing the names for anything else.
+SmacofAcceleration parse_smacof_acceleration(const std::string& name);
+/// Every method's name, in enum order.
+std::vector<std::string> smacof_acceleration_names();
+
 /// Options of SmacofSolver::solve().
 struct SmacofOptions {
     double tolerance = 1e-5;      ///< relative stress decrease below which iteration stops
-    int max_iterations = 1000;    ///< iteration cap
+    int max_iterations = 1000;    ///< iteration cap (every stress evaluation counts)
+    SmacofAcceleration acceleration = kDefaultSmacofAcceleration;  ///< see the top of this header
+    int acceleration_depth = kDefaultAccelerationDepth;            ///< RRE/MPE cycle - 1, Anderson memory (>= 1)
     bool record_history = false;  ///< keep S(X_k) for every k in SmacofResult::stress_history
     ProgressFn progress;          ///< called every few iterations (fraction of max_iterations)
 };
@@ -71,7 +119,33 @@ struct SmacofResult {
     double initial_stress = 0;          ///< S(X_0)
     double final_stress = 0;            ///< S(X_final)
     bool converged = false;             ///< stopped by the tolerance, not by the cap
-    std::vector<double> stress_history; ///< S(X_0), S(X_1), ... if requested
+    int extrapolations = 0;             ///< accelerated points accepted
+    int rejections = 0;                 ///< accelerated points replaced by the plain step (safeguard)
+    std::vector<double> stress_history; ///< S of every accepted iterate X_0, X_1, ... if requested
+};
+
+/// Proposes the next point of an accelerated Guttman iteration (see the top of this header).
+class GuttmanAccelerator {
+public:
+    GuttmanAccelerator(SmacofAcceleration method, int depth);
+    /// The next point to evaluate after iterate X with Guttman transform Y = G(X): Y itself
+    /// (*extrapolated = false) or an extrapolation (true).
+    Eigen::MatrixXd propose(const Eigen::MatrixXd& X, const Eigen::MatrixXd& Y, bool* extrapolated);
+    /// The last extrapolation raised the stress and was replaced by the plain step.
+    void rejected();
+    /// The next proposal is the plain step (the stopping rule is tested on plain steps only).
+    void plain_next() { plain_next_ = true; }
+
+private:
+    SmacofAcceleration method_;
+    int depth_;
+    Eigen::MatrixXd x0_;                     // RRE/MPE: x_0 of the current cycle
+    std::vector<Eigen::MatrixXd> U_;         // RRE/MPE: u_j = x_{j+1} - x_j of the current cycle
+    Eigen::MatrixXd gram_;                   // RRE/MPE: U^T U, grown a row per step
+    std::vector<Eigen::MatrixXd> dF_, dG_;   // Anderson: differences of f and G
+    Eigen::MatrixXd f_prev_, g_prev_;        // Anderson: the previous f and G(x)
+    bool relax_next_ = false;                // relaxed: this step relaxes
+    bool plain_next_ = false;                // plain_next() was called
 };
 
 /// What run_guttman() returns.
@@ -81,35 +155,66 @@ struct GuttmanRun {
     bool converged = false;             ///< stopped by the tolerance, not by the cap
     double initial_stress = 0;
     double final_stress = 0;
-    std::vector<double> history;        ///< S(X_0), S(X_1), ... if requested
+    int extrapolations = 0;             ///< accelerated points accepted
+    int rejections = 0;                 ///< accelerated points rejected by the safeguard
+    std::vector<double> history;        ///< S(X_0), S(X_1), ... (accepted iterates) if requested
 };
 
 /// The SMACOF iteration shared by SmacofSolver::solve and least_squares_mds (mds.h): from a
 /// centred start X, `step(X, &s)` returns the Guttman transform of X and sets s = S(X). Stops when
-/// S_{k-1} - S_k < tolerance * S_{k-1} or after max_iterations (none if <= 0). Progress goes from
-/// `progress_from` to 1. `what` names the solver in error messages.
+/// S_{k-1} - S_k < tolerance * S_{k-1} on a plain step, or after max_iterations
+/// evaluations of `step` after the first (none if <= 0). Accelerated by `acceleration` with the
+/// monotone safeguard (top of this header). Progress goes from `progress_from` to 1. `what` names
+/// the solver in error messages.
 template <class Step>
 GuttmanRun run_guttman(const Step& step, Eigen::MatrixXd X, double tolerance, int max_iterations,
-                       bool record_history, const ProgressFn& progress, double progress_from, const char* what) {
+                       bool record_history, const ProgressFn& progress, double progress_from, const char* what,
+                       SmacofAcceleration acceleration = SmacofAcceleration::None,
+                       int acceleration_depth = kDefaultAccelerationDepth) {
     GuttmanRun r;
-    double s_prev = 0;
-    Eigen::MatrixXd Y = step(X, &s_prev);
-    r.initial_stress = r.final_stress = s_prev;
-    if (record_history) r.history.push_back(s_prev);
-    for (int k = 1; k <= max_iterations; ++k) {
-        X.swap(Y);
-        r.iterations = k;
-        double s = 0;
-        Y = step(X, &s);  // S(X_k) comes with the next step's B(X_k) X_k
-        if (!std::isfinite(s) || !Y.allFinite())
+    GuttmanAccelerator accelerator(acceleration, acceleration_depth);
+    const auto evaluate = [&](const Eigen::MatrixXd& Z, double* s) {
+        Eigen::MatrixXd G = step(Z, s);  // S(Z) comes with the step's B(Z) Z
+        if (!std::isfinite(*s) || !G.allFinite())
             throw NumericalError(std::string(what) + ": non-finite stress or coordinates after a Guttman step");
+        ++r.iterations;
+        if (r.iterations % 10 == 0)
+            report_progress(progress, progress_from + (1 - progress_from) * r.iterations / max_iterations,
+                            "SMACOF iterations");
+        return G;
+    };
+    double s_x = 0;
+    Eigen::MatrixXd Y = step(X, &s_x);
+    if (!std::isfinite(s_x) || !Y.allFinite())
+        throw NumericalError(std::string(what) + ": non-finite stress or coordinates after a Guttman step");
+    r.initial_stress = r.final_stress = s_x;
+    if (record_history) r.history.push_back(s_x);
+    while (r.iterations < max_iterations) {
+        bool extrapolated = false;
+        Eigen::MatrixXd Z = accelerator.propose(X, Y, &extrapolated);
+        double s = 0;
+        Eigen::MatrixXd GZ = evaluate(Z, &s);
+        if (extrapolated && !(s <= s_x)) {  // safeguard: the plain step instead
+            accelerator.rejected();
+            ++r.rejections;
+            extrapolated = false;
+            if (r.iterations >= max_iterations) break;
+            Z = std::move(Y);
+            GZ = evaluate(Z, &s);
+        } else if (extrapolated) {
+            ++r.extrapolations;
+        }
         if (record_history) r.history.push_back(s);
         r.final_stress = s;
-        r.converged = s_prev <= 0 || (s_prev - s) < tolerance * s_prev;
+        // The stopping rule is tested on plain steps only: an extrapolation that gains less than
+        // the tolerance is followed by a plain step, which decides.
+        const bool small = (s_x - s) < tolerance * s_x;
+        r.converged = s_x <= 0 || (!extrapolated && small);
+        if (extrapolated && small) accelerator.plain_next();
+        X = std::move(Z);
+        Y = std::move(GZ);
+        s_x = s;
         if (r.converged) break;
-        s_prev = s;
-        if (k % 10 == 0)
-            report_progress(progress, progress_from + (1 - progress_from) * k / max_iterations, "SMACOF iterations");
     }
     r.X = std::move(X);  // Y (one step further) is discarded so that final_stress is exactly S(r.X)
     return r;
@@ -123,6 +228,8 @@ void move_run_into(GuttmanRun&& g, Result& r) {
     r.converged = g.converged;
     r.initial_stress = g.initial_stress;
     r.final_stress = g.final_stress;
+    r.extrapolations = g.extrapolations;
+    r.rejections = g.rejections;
     r.stress_history = std::move(g.history);
 }
 
