@@ -9,6 +9,7 @@
 #include "canonform/retrieval/experiment.h"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
@@ -26,7 +27,10 @@ std::string make_collection(const std::string& tag = "data") {
     static std::map<std::string, std::string> made;
     if (made.count(tag)) return made[tag];
     const std::string dir = [&] {
-        const std::string d = (fs::temp_directory_path() / ("canonform_test_experiment_" + tag)).string();
+        // Per process too: ctest runs the tests of this file in parallel processes, and each
+        // writes the collection anew.
+        const std::string d =
+            (fs::temp_directory_path() / ("canonform_test_experiment_" + tag + "_" + std::to_string(getpid()))).string();
         fs::remove_all(d);
         io::make_directories(d + "/meshes");
         std::string labels = "path,class\n";

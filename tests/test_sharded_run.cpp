@@ -190,6 +190,7 @@ TEST(ShardedRun, AFailedStageLeavesItsMessageUntilItSucceeds) {
     ShardedPlan p;
     p.experiment = options(data, run, 0);
     p.experiment.codebook = run + "_missing_codebook.bin";
+    fs::remove(p.experiment.codebook);
     p.shards = 1;
     init_sharded_run(p);
     const ShardedRun r(run, 2);

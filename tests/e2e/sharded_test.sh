@@ -48,4 +48,12 @@ check "the result is unchanged" cmp -s run/none/distances.bin one/none/distances
 check "a shard out of range: exit 1" bash -c "[ $? -eq 1 ] && grep -q 'parts 0 to 2' bad.out"
 "$cf" status nothere > bad2.out 2>&1
 check "status of a folder that is no run: exit 1" bash -c "[ $? -eq 1 ] && grep -q 'not a sharded run' bad2.out"
+
+# canonform slurm without --submit: the scripts only (the cluster run is tests/e2e/slurm_test.sh).
+"$cf" slurm --dataset coll --out sl --shards 4 --blocks 2 --method none --partition short --time 00:05:00 \
+  --cpus-per-task 2 --mem 3G --max-parallel 2 > sl.out 2> sl.err
+check "slurm: one script per stage" bash -c "ls sl/slurm/{features,codebook,histograms,distances,merge}.sbatch > /dev/null"
+check "slurm: features as a job array over the shards, with the options" bash -c "grep -qx '#SBATCH --array=0-3%2' sl/slurm/features.sbatch && grep -qx '#SBATCH --partition=short' sl/slurm/features.sbatch && grep -qx '#SBATCH --cpus-per-task=2' sl/slurm/features.sbatch && grep -qx '#SBATCH --mem=3G' sl/slurm/features.sbatch && grep -q 'stage features .* --shard \"\$SLURM_ARRAY_TASK_ID\"' sl/slurm/features.sbatch"
+check "slurm: distances over the blocks, merge a single job" bash -c "grep -qx '#SBATCH --array=0-1%2' sl/slurm/distances.sbatch && ! grep -q 'array' sl/slurm/merge.sbatch"
+check "slurm: the scripts are valid bash" bash -c "for f in sl/slurm/*.sbatch; do bash -n \$f || exit 1; done"
 finish

@@ -5,8 +5,11 @@
 #include "canonform/retrieval/sharded_run.h"
 
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
 #include <memory>
+#include <sstream>
+#include <algorithm>
 
 namespace canonform::cli {
 
@@ -16,6 +19,42 @@ std::string join(const std::vector<int>& v) {
     std::string s;
     for (int i : v) s += (s.empty() ? "" : ",") + std::to_string(i);
     return s.empty() ? "-" : s;
+}
+
+/// The options of a sharded run's plan (stage init, slurm).
+void add_plan_options(CLI::App* c, retrieval::ShardedPlan& plan, std::string& methods) {
+    auto& o = plan.experiment;
+    c->add_option("--dataset", o.dataset, "collection folder (label paths are relative to it)")->required();
+    c->add_option("--labels", o.labels, "labels file, rows path,class (default: DATASET/labels.csv)");
+    c->add_option("--out", o.out, "run folder (on a filesystem every machine shares)")->required();
+    c->add_option("--shards", plan.shards, "mesh shards")->check(CLI::Range(1, 1000000));
+    c->add_option("--blocks", plan.blocks, "row blocks of the distance matrix (0: as many as shards)")
+        ->check(CLI::Range(0, 1000000));
+    c->add_option("--method", methods, "comma-separated methods, each NAME[:KEY=VALUE...]");
+    c->add_option("--words", o.words, "codebook size")->check(CLI::Range(1, 1000000));
+    c->add_option("--codebook", o.codebook, "a given codebook instead of one trained per method");
+    c->add_option("--codebook-sample", o.codebook_sample,
+                  "train the codebook on a seeded sample of this many descriptors (0: all)")
+        ->check(finite_range(0, 1e15));
+    c->add_option("--simplify", o.simplify, "simplify every mesh to this many vertices first (0: no)")
+        ->check(CLI::Range(0, 100000000));
+    c->add_option("--noise", o.noise, "vertex noise, as a fraction of the mean edge length")->check(finite_range(0, 10));
+    c->add_option("--seed", o.seed, "seed of the noise and the codebook")->check(finite_range(0, 4294967295.0));
+    add_repair_flag(c, o.repair);
+}
+
+/// init_sharded_run() of the parsed plan (absolute run folder and dataset: jobs run elsewhere).
+retrieval::ShardedPlan start_run(retrieval::ShardedPlan p, const std::string& methods) {
+    auto& o = p.experiment;
+    o.dataset = std::filesystem::absolute(o.dataset).lexically_normal().string();
+    o.out = std::filesystem::absolute(o.out).lexically_normal().string();
+    while (o.out.size() > 1 && o.out.back() == '/') o.out.pop_back();
+    while (o.dataset.size() > 1 && o.dataset.back() == '/') o.dataset.pop_back();
+    o.labels = o.labels.empty() ? o.dataset + "/labels.csv" : std::filesystem::absolute(o.labels).lexically_normal().string();
+    for (const std::string& m : split_list(methods)) o.methods.push_back(parse_method_spec(m));
+    o.log = [](const std::string& line) { std::cerr << line << "\n"; };
+    retrieval::init_sharded_run(p);
+    return p;
 }
 
 }  // namespace
@@ -34,29 +73,9 @@ void add_stage(CLI::App& app) {
     c->require_subcommand(1);
 
     auto* init = c->add_subcommand("init", "start a sharded run: the plan and the collection, read once");
-    auto& o = a->plan.experiment;
-    init->add_option("--dataset", o.dataset, "collection folder (label paths are relative to it)")->required();
-    init->add_option("--labels", o.labels, "labels file, rows path,class (default: DATASET/labels.csv)");
-    init->add_option("--out", o.out, "run folder (on a filesystem every machine shares)")->required();
-    init->add_option("--shards", a->plan.shards, "mesh shards")->check(CLI::Range(1, 1000000));
-    init->add_option("--blocks", a->plan.blocks, "row blocks of the distance matrix (0: as many as shards)")
-        ->check(CLI::Range(0, 1000000));
-    init->add_option("--method", a->methods, "comma-separated methods, each NAME[:KEY=VALUE...]");
-    init->add_option("--words", o.words, "codebook size")->check(CLI::Range(1, 1000000));
-    init->add_option("--codebook", o.codebook, "a given codebook instead of one trained per method");
-    init->add_option("--codebook-sample", o.codebook_sample,
-                     "train the codebook on a seeded sample of this many descriptors (0: all)");
-    init->add_option("--simplify", o.simplify, "simplify every mesh to this many vertices first (0: no)")
-        ->check(CLI::Range(0, 100000000));
-    init->add_option("--noise", o.noise, "vertex noise, as a fraction of the mean edge length")->check(finite_range(0, 10));
-    init->add_option("--seed", o.seed, "seed of the noise and the codebook")->check(finite_range(0, 4294967295.0));
-    add_repair_flag(init, o.repair);
+    add_plan_options(init, a->plan, a->methods);
     init->callback([a] {
-        retrieval::ShardedPlan p = a->plan;
-        if (p.experiment.labels.empty()) p.experiment.labels = p.experiment.dataset + "/labels.csv";
-        for (const std::string& m : split_list(a->methods)) p.experiment.methods.push_back(parse_method_spec(m));
-        p.experiment.log = [](const std::string& line) { std::cerr << line << "\n"; };
-        retrieval::init_sharded_run(p);
+        const retrieval::ShardedPlan p = start_run(a->plan, a->methods);
         std::cerr << "stage init: " << p.experiment.out << " (" << p.shards << " shards)\n";
     });
 
@@ -149,6 +168,130 @@ void add_status(CLI::App& app) {
             std::cout << ")";
         }
         std::cout << "\n";
+    });
+}
+
+namespace {
+
+/// `text` in single quotes for bash.
+std::string quoted(const std::string& text) {
+    std::string q = "'";
+    for (char ch : text) q += ch == '\'' ? std::string("'\\''") : std::string(1, ch);
+    return q + "'";
+}
+
+/// What `canonform slurm` asks of the scheduler.
+struct SlurmOptions {
+    std::string partition, time = "01:00:00", mem, account, canonform;
+    int cpus = 1, max_parallel = 0;
+    bool submit = false;
+};
+
+/// The batch script of one stage: a job array over its parts (or one job), running
+/// `canonform stage STAGE RUN [--shard $SLURM_ARRAY_TASK_ID]` with the job's CPUs.
+std::string sbatch_script(const retrieval::ShardedRun& run, retrieval::Stage stage, const SlurmOptions& s,
+                          const std::string& exe) {
+    const std::string name = retrieval::stage_name(stage);
+    const std::string& dir = run.plan().experiment.out;
+    const int parts = run.parts(stage);
+    const bool array = stage == retrieval::Stage::Features || stage == retrieval::Stage::Histograms ||
+                       stage == retrieval::Stage::Distances;
+    std::ostringstream o;
+    o << "#!/bin/bash\n# canonform: stage '" << name << "' of the sharded run " << dir << " (written by `canonform slurm`).\n"
+      << "#SBATCH --job-name=cf-" << name << "\n";
+    if (array) o << "#SBATCH --array=0-" << parts - 1 << (s.max_parallel > 0 ? "%" + std::to_string(s.max_parallel) : "") << "\n";
+    o << "#SBATCH --cpus-per-task=" << s.cpus << "\n#SBATCH --time=" << s.time << "\n";
+    if (!s.partition.empty()) o << "#SBATCH --partition=" << s.partition << "\n";
+    if (!s.mem.empty()) o << "#SBATCH --mem=" << s.mem << "\n";
+    if (!s.account.empty()) o << "#SBATCH --account=" << s.account << "\n";
+    o << "#SBATCH --output=" << dir << "/slurm/logs/" << name << (array ? "_%a" : "") << "_%j.out\n"
+      << "#SBATCH --kill-on-invalid-dep=yes\n"
+      << "set -eu\n"
+      << "exec " << quoted(exe) << " stage " << name << " " << quoted(dir)
+      << (array ? " --shard \"$SLURM_ARRAY_TASK_ID\"" : "") << " --threads \"${SLURM_CPUS_PER_TASK:-" << s.cpus << "}\"\n";
+    return o.str();
+}
+
+/// Runs `command`, returns its standard output (UsageError-free: an Error naming it on failure).
+std::string run_command(const std::string& command) {
+    FILE* p = popen(command.c_str(), "r");
+    if (!p) throw std::runtime_error("cannot run: " + command);
+    std::string out;
+    char buf[512];
+    while (std::fgets(buf, sizeof buf, p)) out += buf;
+    const int rc = pclose(p);
+    if (rc != 0) throw std::runtime_error("'" + command + "' failed (exit status " + std::to_string(rc) + "): " + out);
+    return out;
+}
+
+}  // namespace
+
+void add_slurm(CLI::App& app) {
+    struct Args {
+        retrieval::ShardedPlan plan;
+        std::string methods = "none,euclidean-N";
+        SlurmOptions s;
+    };
+    auto a = std::make_shared<Args>();
+    auto* c = app.add_subcommand(
+        "slurm", "a sharded retrieval run on a Slurm cluster: writes one sbatch script per stage (job arrays over the "
+                 "shards, each stage after the one before: afterok) into RUN/slurm/, and with --submit submits "
+                 "them; again after a failure, it submits only the parts not done");
+    add_plan_options(c, a->plan, a->methods);
+    c->add_option("--partition", a->s.partition, "Slurm partition (default: the cluster's)");
+    c->add_option("--time", a->s.time, "time limit of each job (Slurm's format)");
+    c->add_option("--cpus-per-task", a->s.cpus, "CPUs of each job (its --threads)")->check(CLI::Range(1, 1024));
+    c->add_option("--mem", a->s.mem, "memory of each job (Slurm's format, e.g. 8G; default: the cluster's)");
+    c->add_option("--account", a->s.account, "Slurm account");
+    c->add_option("--max-parallel", a->s.max_parallel, "at most this many parts of a stage at once (0: no limit)")
+        ->check(CLI::Range(0, 1000000));
+    c->add_option("--canonform", a->s.canonform, "the canonform executable on the nodes (default: this one)");
+    c->add_flag("--submit", a->s.submit, "submit the scripts (sbatch --parsable), only the parts not done yet");
+    c->callback([a] {
+        const retrieval::ShardedPlan p = start_run(a->plan, a->methods);
+        const std::string& dir = p.experiment.out;
+        const retrieval::ShardedRun run(dir);
+        std::string exe = a->s.canonform;
+        if (exe.empty()) exe = std::filesystem::read_symlink("/proc/self/exe").string();
+        io::make_directories(dir + "/slurm/logs");
+        const retrieval::Stage stages[] = {retrieval::Stage::Features, retrieval::Stage::Codebook,
+                                           retrieval::Stage::Histograms, retrieval::Stage::Distances,
+                                           retrieval::Stage::Merge};
+        for (const auto st : stages)
+            io::write_file_atomic(dir + "/slurm/" + retrieval::stage_name(st) + ".sbatch", sbatch_script(run, st, a->s, exe));
+        if (!a->s.submit) {
+            std::cout << dir << "/slurm/: features.sbatch codebook.sbatch histograms.sbatch distances.sbatch "
+                         "merge.sbatch (submit with --submit)\n";
+            return;
+        }
+        // Only what is not done: a stage whose parts are all done is left out, a job array covers
+        // only the parts left; each job waits for the one before it (afterok).
+        std::string previous;
+        nlohmann::ordered_json jobs = nlohmann::ordered_json::array();
+        for (const auto& s : run.status()) {
+            std::vector<int> todo = s.pending;
+            todo.insert(todo.end(), s.failed.begin(), s.failed.end());
+            std::sort(todo.begin(), todo.end());
+            if (todo.empty()) continue;
+            const std::string name = retrieval::stage_name(s.stage);
+            std::string cmd = "sbatch --parsable";
+            if (s.parts > 1 || s.stage == retrieval::Stage::Features || s.stage == retrieval::Stage::Histograms ||
+                s.stage == retrieval::Stage::Distances) {
+                cmd += " --array=" + join(todo);
+                if (a->s.max_parallel > 0) cmd += "%" + std::to_string(a->s.max_parallel);
+            }
+            if (!previous.empty()) cmd += " --dependency=afterok:" + previous;
+            cmd += " " + quoted(dir + "/slurm/" + name + ".sbatch");
+            std::string id = run_command(cmd + " 2>&1");
+            id = id.substr(0, id.find_first_of(";\n"));
+            if (id.empty() || id.find_first_not_of("0123456789") != std::string::npos)
+                throw std::runtime_error("sbatch gave no job id for stage " + name + ": " + id);
+            previous = id;
+            jobs.push_back({{"stage", name}, {"job", id}, {"parts", todo}});
+            std::cout << name << " " << id << " " << join(todo) << "\n";
+        }
+        if (jobs.empty()) std::cout << "nothing to submit: the run is complete\n";
+        io::write_file_atomic(dir + "/slurm/jobs.json", jobs.dump(1) + "\n");
     });
 }
 
