@@ -49,6 +49,21 @@ check "a shard out of range: exit 1" bash -c "[ $? -eq 1 ] && grep -q 'parts 0 t
 "$cf" status nothere > bad2.out 2>&1
 check "status of a folder that is no run: exit 1" bash -c "[ $? -eq 1 ] && grep -q 'not a sharded run' bad2.out"
 
+# index and query: a member of the collection finds itself first, in the matrix row's order.
+check "index the sharded run" "$cf" index run
+m=$(ls coll/*.ply coll/*/*.ply 2>/dev/null | head -2 | tail -1)
+name=$(basename "${m%.*}")
+"$cf" query run "$m" --top 4 --json > q.json 2> q.err
+check "query: the member itself first, at distance 0, then three others" json q.json "j['matches'][0]['name'] == '$name' and j['matches'][0]['distance'] == 0 and len(j['matches']) == 4 and j['models'] == 6"
+check "query: the order of the distance matrix row" /usr/bin/python3 -c "
+import json, struct, sys
+q = json.load(open('q.json')); names = [l.split(',')[0] for l in open('run/none/models.csv').read().split()[1:]]
+n = len(names); d = struct.unpack('%df' % (n * n), open('run/none/distances.bin', 'rb').read())
+k = names.index('$name'); row = sorted(range(n), key=lambda c: (d[k * n + c], c))
+sys.exit(0 if [names[c] for c in row[:4]] == [x['name'] for x in q['matches']] else 1)"
+"$cf" query run "$m" --top 2 > q.txt
+check "query: a text answer" grep -q "^   1  $name " q.txt
+
 # canonform slurm without --submit: the scripts only (the cluster run is tests/e2e/slurm_test.sh).
 "$cf" slurm --dataset coll --out sl --shards 4 --blocks 2 --method none --partition short --time 00:05:00 \
   --cpus-per-task 2 --mem 3G --max-parallel 2 > sl.out 2> sl.err

@@ -26,7 +26,7 @@ const Command kCommands[] = {
     {"descriptor", add_descriptor}, {"distance", add_distance}, {"retrieve", add_retrieve},
     {"evaluate", add_evaluate},     {"grid", add_grid},         {"generate", add_generate},
     {"picture", add_picture},       {"stage", add_stage},       {"status", add_status},
-    {"slurm", add_slurm},
+    {"slurm", add_slurm},           {"index", add_index},       {"query", add_query},
 };
 
 bool known(const char* name) {

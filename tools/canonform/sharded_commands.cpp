@@ -2,7 +2,10 @@
 #include "cli.h"
 
 #include "canonform/io/files.h"
+#include "canonform/retrieval/collection_index.h"
 #include "canonform/retrieval/sharded_run.h"
+#include "canonform/surface/simplify.h"
+#include "canonform/views/view_descriptor.h"
 
 #include <cstdio>
 #include <filesystem>
@@ -292,6 +295,115 @@ void add_slurm(CLI::App& app) {
         }
         if (jobs.empty()) std::cout << "nothing to submit: the run is complete\n";
         io::write_file_atomic(dir + "/slurm/jobs.json", jobs.dump(1) + "\n");
+    });
+}
+
+void add_index(CLI::App& app) {
+    struct Args {
+        std::string run, methods;
+        int simplify = -1;
+    };
+    auto a = std::make_shared<Args>();
+    auto* c = app.add_subcommand("index", "pack the histograms of a retrieval run for queries (METHOD/index.cfci, "
+                                          "one per method): `canonform query` reads it");
+    c->add_option("RUN", a->run, "a run folder (`canonform retrieve` or a sharded run, finished)")->required();
+    c->add_option("--method", a->methods, "comma-separated methods, as the run's --method (default: a sharded "
+                                          "run's methods, else every method folder of the run)");
+    c->add_option("--simplify", a->simplify, "the run's --simplify, for the queries (default: a sharded run's, else 0)")
+        ->check(CLI::Range(-1, 100000000));
+    c->callback([a] {
+        std::vector<MethodSpec> methods;
+        int simplify = std::max(a->simplify, 0);
+        if (io::is_file(a->run + "/sharded.json")) {
+            const retrieval::ShardedRun r(a->run);
+            methods = r.plan().experiment.methods;
+            if (a->simplify < 0) simplify = r.plan().experiment.simplify;
+        }
+        if (!a->methods.empty()) {
+            methods.clear();
+            for (const std::string& m : split_list(a->methods)) methods.push_back(parse_method_spec(m));
+        }
+        if (methods.empty())
+            for (const auto& m : canonical_methods()) {
+                const MethodSpec spec = parse_method_spec(m.name);
+                if (io::is_file(a->run + "/" + spec.folder() + "/models.csv")) methods.push_back(spec);
+            }
+        if (methods.empty()) throw InputError("'" + a->run + "': no method folder with models.csv: name --method");
+        for (const MethodSpec& m : methods) {
+            const auto t0 = std::chrono::steady_clock::now();
+            const std::string folder = a->run + "/" + m.folder();
+            const retrieval::CollectionIndex x = retrieval::index_method_folder(folder, m.to_string(), simplify);
+            x.save(folder + "/index.cfci");
+            char line[300];
+            std::snprintf(line, sizeof line, "index: %s/index.cfci: %zu models, %.1f MiB of histograms, %.2f s\n",
+                          folder.c_str(), x.size(), static_cast<double>(x.bytes()) / (1 << 20), seconds_since(t0));
+            std::cerr << line;
+        }
+    });
+}
+
+void add_query(CLI::App& app) {
+    struct Args {
+        std::string run, method;
+        std::vector<std::string> meshes;
+        std::size_t top = 10;
+        int threads = 0;
+        bool json = false, repair = false;
+    };
+    auto a = std::make_shared<Args>();
+    auto* c = app.add_subcommand("query", "the K nearest models of an indexed run (`canonform index`) to each mesh: "
+                                          "only the query's form and descriptor are computed");
+    c->add_option("RUN", a->run, "an indexed run folder")->required();
+    c->add_option("MESH", a->meshes, "query meshes")->required();
+    c->add_option("--top", a->top, "K: models per query")->check(CLI::Range(1, 100000000));
+    c->add_option("--method", a->method, "the method folder to search (default: the run's only index)");
+    c->add_option("--threads", a->threads, "models scored in parallel (0: every core)")->check(CLI::Range(0, 1024));
+    c->add_flag("--json", a->json, "print the answers as JSON");
+    add_repair_flag(c, a->repair);
+    c->callback([a] {
+        std::string folder = a->method;
+        if (folder.empty()) {
+            std::vector<std::string> found;
+            for (const auto& e : std::filesystem::directory_iterator(a->run))
+                if (io::is_file(e.path().string() + "/index.cfci")) found.push_back(e.path().filename().string());
+            if (found.size() != 1)
+                throw InputError("'" + a->run + "': " + std::to_string(found.size()) +
+                                 " method folders have an index.cfci: name one with --method (run `canonform index` first)");
+            folder = found[0];
+        }
+        const retrieval::CollectionIndex x = retrieval::CollectionIndex::load(a->run + "/" + folder + "/index.cfci");
+        const MethodSpec spec = parse_method_spec(x.method());
+        nlohmann::ordered_json all = nlohmann::ordered_json::array();
+        for (const std::string& path : a->meshes) {
+            const auto t0 = std::chrono::steady_clock::now();
+            Mesh m = read_input_mesh(path, a->repair, true, false);
+            if (x.simplify() > 0 && m.V.rows() > x.simplify()) m = simplify_mesh(m, x.simplify());
+            MethodContext context;
+            context.threads = a->threads;
+            const Eigen::MatrixXd X = on_input(path, [&] { return spec.method().run(m.V, m.F, spec.settings(), context).V; });
+            const views::ViewSet vs = on_input(path, [&] { return views::compute_views(X, m.F); });
+            const auto hist = views::view_histograms(vs.features, x.codebook());
+            const double describe = seconds_since(t0);
+            const auto t1 = std::chrono::steady_clock::now();
+            const auto matches = x.top(hist, a->top, a->threads);
+            const double search = seconds_since(t1);
+            nlohmann::ordered_json list = nlohmann::ordered_json::array();
+            for (const auto& mt : matches)
+                list.push_back({{"name", mt.name}, {"class", mt.cls}, {"distance", mt.distance}});
+            all.push_back({{"query", path}, {"method", folder}, {"models", x.size()}, {"matches", list},
+                           {"describe_seconds", describe}, {"search_seconds", search}});
+            if (!a->json) {
+                std::cout << path << " (" << folder << ", " << x.size() << " models):\n";
+                int rank = 1;
+                for (const auto& mt : matches) {
+                    char line[400];
+                    std::snprintf(line, sizeof line, "%4d  %-30s %-20s %.6f\n", rank++, mt.name.c_str(), mt.cls.c_str(),
+                                  static_cast<double>(mt.distance));
+                    std::cout << line;
+                }
+            }
+        }
+        if (a->json) print_json(all.size() == 1 ? all[0] : all);
     });
 }
 

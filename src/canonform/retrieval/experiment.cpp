@@ -252,6 +252,7 @@ MethodOutcome Experiment::run_method(const MethodSpec& spec) const {
     // 2. Codebook.
     t0 = Clock::now();
     const views::Codebook cb = codebook(spec, results, good);
+    cb.save(dir + "/codebook.bin");  // the queries of an indexed collection (collection_index.h) need it
     out.codebook_seconds = since(t0);
 
     // 3. Descriptors, distances, measures.

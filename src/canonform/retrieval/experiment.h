@@ -9,7 +9,7 @@
 //       recall, and pose consistency where the collection has ground-truth correspondences
 //
 // Everything lives in the run folder RUN: cache/ (per-mesh features and forms, codebooks),
-// collection.csv, and per method METHOD/ (METHOD = MethodSpec::folder()): forms/, descriptors/,
+// collection.csv, and per method METHOD/ (METHOD = MethodSpec::folder()): forms/, descriptors/, codebook.bin,
 // distances.bin (+ .csv, models.csv), metrics.json (the measures only: equal for equal inputs),
 // timings.json (stage seconds), pr.csv, failures.txt. A second run with the
 // same inputs recomputes nothing; an added method computes only its own work.
