@@ -59,19 +59,39 @@ struct Scratch {
     std::vector<double> msum, pair, rot;
 };
 
-/// Accumulates, for model view j, the intersections with every query view (lanes) - the hot loop.
+/// 16 lanes of 16-bit counts (one AVX2 register; two SSE2 ones in the default build).
+typedef std::uint16_t Lanes __attribute__((vector_size(32)));
+static_assert(kLanes == 5 * 16, "five registers of lanes");
+
+/// Accumulates, for model view j, the intersections with every query view (lanes) - the hot loop:
+/// per entry (word w, count c) acc += min(query counts of w, c), in registers.
 __attribute__((target_clones("avx2", "default"))) void accumulate(const std::uint16_t* entries, std::uint64_t begin,
                                                                    std::uint64_t end, const std::uint16_t* qt,
                                                                    std::uint16_t* acc, double* sum) {
-    std::uint16_t a[kLanes] = {};
+    Lanes a0 = {}, a1 = {}, a2 = {}, a3 = {}, a4 = {};
     std::uint32_t s = 0;
     for (std::uint64_t e = begin; e < end; ++e) {
         const std::uint16_t c = entries[2 * e + 1];
         const std::uint16_t* q = qt + static_cast<std::size_t>(entries[2 * e]) * kLanes;
         s += c;
-        for (int l = 0; l < kLanes; ++l) a[l] = static_cast<std::uint16_t>(a[l] + std::min(q[l], c));
+        const Lanes cv = Lanes{} + c;
+        Lanes q0, q1, q2, q3, q4;
+        std::memcpy(&q0, q, 32);
+        std::memcpy(&q1, q + 16, 32);
+        std::memcpy(&q2, q + 32, 32);
+        std::memcpy(&q3, q + 48, 32);
+        std::memcpy(&q4, q + 64, 32);
+        a0 += q0 < cv ? q0 : cv;
+        a1 += q1 < cv ? q1 : cv;
+        a2 += q2 < cv ? q2 : cv;
+        a3 += q3 < cv ? q3 : cv;
+        a4 += q4 < cv ? q4 : cv;
     }
-    std::memcpy(acc, a, sizeof a);
+    std::memcpy(acc, &a0, 32);
+    std::memcpy(acc + 16, &a1, 32);
+    std::memcpy(acc + 32, &a2, 32);
+    std::memcpy(acc + 48, &a3, 32);
+    std::memcpy(acc + 64, &a4, 32);
     *sum = s;
 }
 
@@ -88,8 +108,10 @@ void score(const std::vector<std::uint64_t>& offsets, const std::vector<std::uin
                    qt.data(), s.acc.data() + static_cast<std::size_t>(j) * kLanes, &s.msum[static_cast<std::size_t>(j)]);
     for (std::size_t k = 0; k < plan.pi.size(); ++k) {
         const int i = plan.pi[k], j = plan.pj[k];
-        s.pair[k] = distance_from(s.acc[static_cast<std::size_t>(j) * kLanes + static_cast<std::size_t>(i)],
-                                  qsum[static_cast<std::size_t>(i)], s.msum[static_cast<std::size_t>(j)]);
+        const std::uint16_t inter = s.acc[static_cast<std::size_t>(j) * kLanes + static_cast<std::size_t>(i)];
+        const double qs = qsum[static_cast<std::size_t>(i)], ms = s.msum[static_cast<std::size_t>(j)];
+        // No common word: distance_from() is exactly 1 (0 if both views are empty), no division.
+        s.pair[k] = inter == 0 ? (qs <= 0 && ms <= 0 ? 0.0 : 1.0) : distance_from(inter, qs, ms);
     }
     // Per rotation the sum over views in view order (as distance_matrix()), rotations side by side.
     std::fill(s.rot.begin(), s.rot.end(), 0.0);
