@@ -10,6 +10,25 @@ const char* kCitation =
     "<br><br>P. Pickup, X. Sun, P. L. Rosin, R. R. Martin, <b>\"Euclidean-distance-based canonical "
     "forms for non-rigid 3D shape retrieval\"</b>, Pattern Recognition 48(8), 2015.";
 
+// Parameters several filters share (one keyword, default and help); functions rather than globals, so
+// that the table may be built during another translation unit's static initialisation.
+ParamSpec repair_param() {
+    return {"repair", ParamKind::Bool, 0, "Repair the mesh first",
+            "Off (default): refuse a mesh with zero-area or duplicate faces, duplicate or unreferenced "
+            "vertices or several components, naming the problem. On: merge duplicate vertices, remove "
+            "zero-area and duplicate faces, keep the largest component, drop unreferenced vertices - in "
+            "the current mesh, once the computation has succeeded - and log what changed.", {}};
+}
+ParamSpec new_layer_param() {
+    return {"new_layer", ParamKind::Bool, 1, "Result in a new layer",
+            "Put the canonical form in a new layer named after the source mesh; off: replace the "
+            "vertex positions of the current mesh.", {}};
+}
+ParamSpec tolerance_param() {
+    return {"tolerance", ParamKind::Float, 1e-5, "Tolerance",
+            "SMACOF stops when the relative stress decrease of an iteration falls below this.", {}};
+}
+
 /// The labels of a filter's methods (its enum), from the registry.
 std::vector<std::string> method_labels(MethodFamily family) {
     std::vector<std::string> labels;
@@ -41,11 +60,7 @@ std::vector<FilterSpec> make_filter_table() {
                    "Store (phi - min) / (max - min) instead of the raw conformal factor (mean zero).", {}},
                   {"colorize", K::Bool, 1, "Colour vertices",
                    "Also colour the vertices by the conformal factor (red-green-blue ramp).", {}},
-                  {"repair", K::Bool, 0, "Repair the mesh first",
-                   "Off (default): refuse a mesh with zero-area or duplicate faces, duplicate or unreferenced "
-                   "vertices or several components, naming the problem. On: merge duplicate vertices, remove "
-                   "zero-area and duplicate faces, keep the largest component, drop unreferenced vertices - in "
-                   "the current mesh, once the computation has succeeded - and log what changed.", {}}},
+                  repair_param()},
                  kVertexQuality | kVertexColor, kVertexQuality | kVertexColor | kTopology | kNormals});
     t.push_back({int(FilterId::FeaturePoints), "Feature points", "compute_feature_points", "feature_points.mlx",
                  FilterKind::Selection,
@@ -63,11 +78,7 @@ std::vector<FilterSpec> make_filter_table() {
                   {"seed", K::Int, 0, "Random seed", "Seed of the random fill.", {}},
                   {"add_layer", K::Bool, 0, "Add a point-cloud layer",
                    "Add a new layer holding the feature points, with the conformal factor as vertex quality.", {}},
-                  {"repair", K::Bool, 0, "Repair the mesh first",
-                   "Off (default): refuse a mesh with zero-area or duplicate faces, duplicate or unreferenced "
-                   "vertices or several components, naming the problem. On: merge duplicate vertices, remove "
-                   "zero-area and duplicate faces, keep the largest component, drop unreferenced vertices - in "
-                   "the current mesh, once the computation has succeeded - and log what changed.", {}}},
+                  repair_param()},
                  kVertexQuality, kVertexQuality | kVertexSelection | kTopology | kNormals});
     t.push_back({int(FilterId::EuclideanCanonicalForm), "Euclidean canonical form", "generate_euclidean_canonical_form",
                  "euclidean_canonical_form.mlx", FilterKind::Smoothing,
@@ -87,17 +98,10 @@ std::vector<FilterSpec> make_filter_table() {
                    "Edge-length preservation weight; 0 uses 10 for variant A and 130 for variant N.", {}},
                   {"ring", K::Int, 2, "Ring size (k)", "k-ring of the conformal-factor maxima (1, 2 or 3).", {}},
                   {"seed", K::Int, 0, "Random seed", "Seed of variant A's random feature points.", {}},
-                  {"tolerance", K::Float, 1e-5, "Tolerance",
-                   "SMACOF stops when the relative stress decrease of an iteration falls below this.", {}},
+                  tolerance_param(),
                   {"max_iterations", K::Int, 1000, "Maximum iterations", "SMACOF iteration cap.", {}},
-                  {"new_layer", K::Bool, 1, "Result in a new layer",
-                   "Put the canonical form in a new layer named after the source mesh; off: replace the "
-                   "vertex positions of the current mesh.", {}},
-                  {"repair", K::Bool, 0, "Repair the mesh first",
-                   "Off (default): refuse a mesh with zero-area or duplicate faces, duplicate or unreferenced "
-                   "vertices or several components, naming the problem. On: merge duplicate vertices, remove "
-                   "zero-area and duplicate faces, keep the largest component, drop unreferenced vertices - in "
-                   "the current mesh, once the computation has succeeded - and log what changed.", {}}},
+                  new_layer_param(),
+                  repair_param()},
                  kVertexQuality, kVertexQuality | kVertexSelection | kVertexCoordinates | kNormals | kTopology});
     t.push_back({int(FilterId::GeodesicCanonicalForm), "Geodesic canonical form", "generate_geodesic_canonical_form",
                  "geodesic_canonical_form.mlx", FilterKind::Smoothing,
@@ -110,21 +114,14 @@ std::vector<FilterSpec> make_filter_table() {
                    "least squares: SMACOF on all pairs (Elad-Kimmel, the paper's LS); classical: double "
                    "centring and the top three eigenvectors (C); fast: landmark MDS (F).",
                    method_labels(MethodFamily::Geodesic)},
-                  {"tolerance", K::Float, 1e-5, "Tolerance",
-                   "SMACOF stops when the relative stress decrease of an iteration falls below this.", {}},
+                  tolerance_param(),
                   {"max_iterations", K::Int, 500, "Maximum iterations", "SMACOF iteration cap.", {}},
                   {"max_memory_gib", K::Float, 4, "Memory limit (GiB)",
                    "Refuse meshes whose estimated memory (an N x N distance matrix) exceeds this.", {}},
                   {"max_seconds", K::Float, 600, "Time limit (s)",
                    "Refuse meshes whose estimated computing time exceeds this.", {}},
-                  {"new_layer", K::Bool, 1, "Result in a new layer",
-                   "Put the canonical form in a new layer named after the source mesh; off: replace the "
-                   "vertex positions of the current mesh.", {}},
-                  {"repair", K::Bool, 0, "Repair the mesh first",
-                   "Off (default): refuse a mesh with zero-area or duplicate faces, duplicate or unreferenced "
-                   "vertices or several components, naming the problem. On: merge duplicate vertices, remove "
-                   "zero-area and duplicate faces, keep the largest component, drop unreferenced vertices - in "
-                   "the current mesh, once the computation has succeeded - and log what changed.", {}}},
+                  new_layer_param(),
+                  repair_param()},
                  kNothing, kVertexCoordinates | kNormals | kTopology});
     for (auto& f : t) f.info += kCitation;
     return t;

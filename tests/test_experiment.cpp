@@ -9,12 +9,15 @@
 #include "canonform/retrieval/experiment.h"
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <atomic>
+#include <limits>
 #include <filesystem>
 #include <map>
+
+#include <unistd.h>
 
 using namespace canonform;
 namespace fs = std::filesystem;
@@ -22,15 +25,14 @@ namespace fs = std::filesystem;
 namespace {
 
 /// Six figures (two body types x three poses, 700 vertices) and their labels, in a folder of
-/// their own per `tag` (ctest runs the tests of this file in parallel processes).
+/// their own per `tag` and process (ctest runs the tests of this file in parallel processes, and
+/// each process writes the folders it uses afresh: a shared folder was removed under another test).
 std::string make_collection(const std::string& tag = "data") {
     static std::map<std::string, std::string> made;
     if (made.count(tag)) return made[tag];
     const std::string dir = [&] {
-        // Per process too: ctest runs the tests of this file in parallel processes, and each
-        // writes the collection anew.
-        const std::string d =
-            (fs::temp_directory_path() / ("canonform_test_experiment_" + tag + "_" + std::to_string(getpid()))).string();
+        const std::string d = (fs::temp_directory_path() /
+                               ("canonform_test_experiment_" + tag + "_" + std::to_string(::getpid()))).string();
         fs::remove_all(d);
         io::make_directories(d + "/meshes");
         std::string labels = "path,class\n";
@@ -178,4 +180,39 @@ TEST(Experiment, BrokenCollectionsFailPerMeshNotAsAWhole) {
     io::write_file_atomic(labels, "path,class\nmeshes/standard_0.ply,a\nother/standard_0.ply,b\nmeshes/standard_1.ply,b\n");
     EXPECT_THROW(retrieval::Experiment{o}, InputError);
     EXPECT_FALSE(fs::exists(o.out));  // nothing was started
+}
+
+TEST(Experiment, AFormWithNanCoordinatesIsAFailureNotAResult) {
+    // Issue 11: retrieve kept a form with NaN coordinates. A method that breaks on two meshes (a
+    // NaN coordinate) fails those two, named, and the others are evaluated.
+    static std::atomic<int> calls{0};
+    calls = 0;
+    CanonicalMethod broken;
+    broken.name = "toy-nan";
+    broken.label = "toy nan";
+    broken.run = [](const Eigen::MatrixXd& V, const Eigen::MatrixXi&, const MethodSettings&, const MethodContext&) {
+        CanonicalForm r;
+        r.V = V;
+        if (calls++ < 2) r.V(0, 0) = std::numeric_limits<double>::quiet_NaN();
+        return r;
+    };
+    register_canonical_method(broken);
+    auto o = options("canonform_test_experiment_nan", {"toy-nan"});
+    fs::remove_all(o.out);
+    const auto out = retrieval::Experiment(o).run();
+    unregister_canonical_method("toy-nan");
+    ASSERT_EQ(out.size(), 1u);
+    const std::string failures = io::read_file(o.out + "/toy-nan/failures.txt");
+    EXPECT_NE(failures.find("NaN or infinite coordinates"), std::string::npos) << failures;
+    EXPECT_EQ(out[0].failed, 2u);
+    EXPECT_EQ(out[0].meshes, 4u);  // the evaluated ones
+    EXPECT_EQ(io::read_distance_matrix(o.out + "/toy-nan/distances.bin").rows(), 4);
+    // No form with NaN is left in the run folder.
+    int forms = 0;
+    for (const auto& e : fs::recursive_directory_iterator(o.out)) {
+        if (e.path().extension() != ".ply") continue;
+        ++forms;
+        EXPECT_TRUE(io::read_mesh(e.path().string()).V.allFinite()) << e.path();
+    }
+    EXPECT_EQ(forms, 8);  // forms/ and cache/, of the four good meshes
 }

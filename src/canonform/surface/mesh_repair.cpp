@@ -8,8 +8,8 @@
 #include <array>
 #include <cmath>
 #include <cstring>
-#include <map>
 #include <numeric>
+#include <set>
 #include <sstream>
 #include <unordered_map>
 
@@ -133,16 +133,13 @@ MeshRepair repair_mesh(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const
         source.push_back(f);
     }
 
-    // 3. Duplicate faces (the same vertex set) -> the first.
-    {
-        std::map<std::array<int, 3>, int> seen;
+    // Keeps the faces (and their source indices) for which keep(face) holds; counts the others.
+    const auto keep_faces = [&faces, &source](int* removed, const auto& keep) {
         std::vector<std::array<int, 3>> kept;
         std::vector<int> kept_source;
         for (size_t k = 0; k < faces.size(); ++k) {
-            std::array<int, 3> key = faces[k];
-            std::sort(key.begin(), key.end());
-            if (!seen.emplace(key, static_cast<int>(k)).second) {
-                ++r.duplicate_faces;
+            if (!keep(faces[k])) {
+                ++*removed;
                 continue;
             }
             kept.push_back(faces[k]);
@@ -150,7 +147,14 @@ MeshRepair repair_mesh(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const
         }
         faces.swap(kept);
         source.swap(kept_source);
-    }
+    };
+
+    // 3. Duplicate faces (the same vertex set) -> the first.
+    std::set<std::array<int, 3>> seen;
+    keep_faces(&r.duplicate_faces, [&seen](std::array<int, 3> key) {
+        std::sort(key.begin(), key.end());
+        return seen.insert(key).second;
+    });
 
     // 4. The largest component (by faces).
     if (options.keep_largest_component && !faces.empty()) {
@@ -169,18 +173,7 @@ MeshRepair repair_mesh(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const
         for (int root : order)
             if (count[root] > count[best]) best = root;
         r.removed_components = static_cast<int>(order.size()) - 1;
-        std::vector<std::array<int, 3>> kept;
-        std::vector<int> kept_source;
-        for (size_t k = 0; k < faces.size(); ++k) {
-            if (cc.find(faces[k][0]) != best) {
-                ++r.component_faces;
-                continue;
-            }
-            kept.push_back(faces[k]);
-            kept_source.push_back(source[k]);
-        }
-        faces.swap(kept);
-        source.swap(kept_source);
+        keep_faces(&r.component_faces, [&cc, best](const std::array<int, 3>& t) { return cc.find(t[0]) == best; });
     }
 
     // 5. Unreferenced vertices (merged ones included) dropped; order kept.
