@@ -8,6 +8,7 @@
 #include "canonform/retrieval/sharded_run.h"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <filesystem>
@@ -19,9 +20,15 @@ namespace fs = std::filesystem;
 
 namespace {
 
+/// A folder in the temporary directory, of this process (ctest runs tests in parallel processes,
+/// and other checkouts' tests may run on the same machine).
+std::string temp(const std::string& name) {
+    return (fs::temp_directory_path() / (name + "_" + std::to_string(getpid()))).string();
+}
+
 /// Seven figures (two body types, 600 vertices) in a folder of their own per `tag`.
 std::string make_collection(const std::string& tag) {
-    const std::string d = (fs::temp_directory_path() / ("canonform_test_sharded_" + tag)).string();
+    const std::string d = temp("canonform_test_sharded_" + tag);
     fs::remove_all(d);
     io::make_directories(d + "/meshes");
     std::string labels = "path,class\n";
@@ -76,7 +83,7 @@ TEST(ShardedRun, SampleRowsAreSortedDistinctAndSeeded) {
 
 TEST(ShardedRun, BlocksAreBalancedAndCoverEveryRow) {
     const std::string data = make_collection("blocks");
-    const std::string run = (fs::temp_directory_path() / "canonform_test_sharded_blocks_run").string();
+    const std::string run = temp("canonform_test_sharded_blocks_run");
     fs::remove_all(run);
     ShardedPlan p;
     p.experiment = options(data, run, 0);
@@ -121,8 +128,8 @@ TEST(ShardedRun, SameBytesAsTheOneMachineRunAndRedoesOnlyWhatIsMissing) {
     for (const std::size_t sample : {std::size_t{0}, std::size_t{400}}) {
         SCOPED_TRACE("codebook sample " + std::to_string(sample));
         const std::string tag = std::to_string(sample);
-        const std::string one = (fs::temp_directory_path() / ("canonform_test_sharded_one_" + tag)).string();
-        const std::string run = (fs::temp_directory_path() / ("canonform_test_sharded_run_" + tag)).string();
+        const std::string one = temp("canonform_test_sharded_one_" + tag);
+        const std::string run = temp("canonform_test_sharded_run_" + tag);
         fs::remove_all(one);
         fs::remove_all(run);
         Experiment(options(data, one, sample)).run();
@@ -185,7 +192,7 @@ TEST(ShardedRun, SameBytesAsTheOneMachineRunAndRedoesOnlyWhatIsMissing) {
 
 TEST(ShardedRun, AFailedStageLeavesItsMessageUntilItSucceeds) {
     const std::string data = make_collection("failed");
-    const std::string run = (fs::temp_directory_path() / "canonform_test_sharded_failed_run").string();
+    const std::string run = temp("canonform_test_sharded_failed_run");
     fs::remove_all(run);
     ShardedPlan p;
     p.experiment = options(data, run, 0);
