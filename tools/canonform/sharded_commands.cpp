@@ -301,7 +301,8 @@ void add_slurm(CLI::App& app) {
 void add_index(CLI::App& app) {
     struct Args {
         std::string run, methods;
-        int simplify = -1;
+        int simplify = 0;
+        CLI::Option* simplify_option = nullptr;
     };
     auto a = std::make_shared<Args>();
     auto* c = app.add_subcommand("index", "pack the histograms of a retrieval run for queries (METHOD/index.cfci, "
@@ -309,15 +310,16 @@ void add_index(CLI::App& app) {
     c->add_option("RUN", a->run, "a run folder (`canonform retrieve` or a sharded run, finished)")->required();
     c->add_option("--method", a->methods, "comma-separated methods, as the run's --method (default: a sharded "
                                           "run's methods, else every method folder of the run)");
-    c->add_option("--simplify", a->simplify, "the run's --simplify, for the queries (default: a sharded run's, else 0)")
-        ->check(CLI::Range(-1, 100000000));
+    a->simplify_option =
+        c->add_option("--simplify", a->simplify, "the run's --simplify, for the queries (default: a sharded run's, else 0)")
+            ->check(CLI::Range(0, 100000000));
     c->callback([a] {
         std::vector<MethodSpec> methods;
-        int simplify = std::max(a->simplify, 0);
+        int simplify = a->simplify;
         if (io::is_file(a->run + "/sharded.json")) {
             const retrieval::ShardedRun r(a->run);
             methods = r.plan().experiment.methods;
-            if (a->simplify < 0) simplify = r.plan().experiment.simplify;
+            if (a->simplify_option->count() == 0) simplify = r.plan().experiment.simplify;
         }
         if (!a->methods.empty()) {
             methods.clear();
