@@ -53,7 +53,8 @@ retrieval::ExperimentOptions options(const std::string& run, const std::vector<s
     retrieval::ExperimentOptions o;
     o.dataset = make_collection();
     o.labels = o.dataset + "/labels.csv";
-    o.out = (fs::temp_directory_path() / run).string();
+    // Per process: other checkouts' tests (and the sanitizer build's) run on the same machine.
+    o.out = (fs::temp_directory_path() / (run + "_" + std::to_string(::getpid()))).string();
     for (const auto& m : methods) o.methods.push_back(parse_method_spec(m));
     o.words = 20;
     o.threads = 2;

@@ -54,6 +54,11 @@ esac
 if [ "$codename" = bookworm ] && [ "${CANONFORM_HOSTS:-1}" != 0 ]; then
   PACKAGES+=(mmdebstrap)
 fi
+# The Slurm test cluster (tools/slurm_cluster.sh: `canonform slurm` end to end) runs on bookworm:
+# a one-node slurmctld + slurmd with munge authentication; not needed in the host root filesystems.
+if [ "$codename" = bookworm ] && [ "${CANONFORM_SLURM_TESTS:-1}" != 0 ]; then
+  PACKAGES+=(slurm-wlm munge)
+fi
 # The sanitizer and fuzz tests (tools/sanitizer_tests.sh) run on bookworm too: clang with its ASan,
 # UBSan and libFuzzer runtimes (libclang-rt-dev, the default clang's), llvm-symbolizer for reports.
 if [ "$codename" = bookworm ] && [ "${CANONFORM_SANITIZER_TESTS:-1}" != 0 ]; then

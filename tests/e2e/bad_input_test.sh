@@ -127,8 +127,10 @@ options_checked=0
 declare -A positional=([conformal]="fig.off out.ply" [features]="fig.off out.ply" [canonical]="fig.off out.ply"
   [simplify]="fig.off out.ply" [generate]="out.ply" [picture]="out.png fig.off" [views]="fig.off out_views"
   [codebook]="out.bin fig.off" [descriptor]="fig.off out.cfvd" [distance]="out.bin a.cfvd b.cfvd"
-  [retrieve]="--dataset coll --out out_run" [evaluate]="six.csv --labels labels3.csv" [grid]="out.png run")
-for cmd in conformal features canonical simplify generate picture views codebook descriptor distance retrieve evaluate grid; do
+  [retrieve]="--dataset coll --out out_run" [evaluate]="six.csv --labels labels3.csv" [grid]="out.png run"
+  [slurm]="--dataset coll --out out_slurm" [index]="run" [query]="run fig.off")
+for cmd in conformal features canonical simplify generate picture views codebook descriptor distance retrieve evaluate grid \
+           slurm index query; do
   # Options with a numeric type in the command's --help (CLI11 prints INT, UINT or FLOAT).
   for opt in $("$cf" $cmd --help 2>/dev/null | grep -oE '^ +(-[a-z], ?)?--[a-z-]+(, ?--[a-z-]+)? (INT|UINT|FLOAT)' | grep -oE -- '--[a-z-]+' | sort -u); do
     # A method parameter is checked by the method that takes it: use the first method its help names.

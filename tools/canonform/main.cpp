@@ -25,7 +25,8 @@ const Command kCommands[] = {
     {"simplify", add_simplify},     {"views", add_views},       {"codebook", add_codebook},
     {"descriptor", add_descriptor}, {"distance", add_distance}, {"retrieve", add_retrieve},
     {"evaluate", add_evaluate},     {"grid", add_grid},         {"generate", add_generate},
-    {"picture", add_picture},
+    {"picture", add_picture},       {"stage", add_stage},       {"status", add_status},
+    {"slurm", add_slurm},           {"index", add_index},       {"query", add_query},
 };
 
 bool known(const char* name) {

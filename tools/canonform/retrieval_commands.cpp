@@ -72,6 +72,9 @@ void add_retrieve(CLI::App& app) {
                                           "; e.g. euclidean-N:beta=65)");
     c->add_option("--words", a->o.words, "codebook size")->check(CLI::Range(1, 1000000));
     c->add_option("--codebook", a->o.codebook, "a given codebook instead of one trained per method");
+    c->add_option("--codebook-sample", a->o.codebook_sample,
+                  "train the codebook on a seeded sample of this many descriptors (0: all)")
+        ->check(finite_range(0, 1e15));
     c->add_option("--simplify", a->o.simplify, "simplify every mesh to this many vertices first (0: no)")
         ->check(CLI::Range(0, 100000000));
     c->add_option("--noise", a->o.noise, "vertex noise, as a fraction of the mean edge length")

@@ -13,6 +13,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -20,6 +21,7 @@
 #include <map>
 #include <random>
 #include <sstream>
+#include <unordered_set>
 
 namespace canonform::retrieval {
 
@@ -77,14 +79,17 @@ std::vector<Model> read_collection(const std::string& dataset, const std::string
     return models;
 }
 
-Experiment::Experiment(ExperimentOptions options) : options_(std::move(options)) {
+Experiment::Experiment(ExperimentOptions options)
+    : Experiment(options, options.methods.empty() ? std::vector<Model>{} : read_collection(options.dataset, options.labels)) {}
+
+Experiment::Experiment(ExperimentOptions options, std::vector<Model> models)
+    : options_(std::move(options)), models_(std::move(models)) {
     const ExperimentOptions& o = options_;
     if (o.methods.empty()) throw InputError("name at least one --method");
     for (size_t k = 0; k < o.methods.size(); ++k)
         for (size_t j = 0; j < k; ++j)
             if (o.methods[j].folder() == o.methods[k].folder())
                 throw InputError("method '" + o.methods[k].to_string() + "' is named twice");
-    models_ = read_collection(o.dataset, o.labels);
     if (models_.size() < 3) throw InputError("'" + o.labels + "': the collection needs at least three meshes");
     // The measures average over the classes of three or more models (psbTable's rule); say before
     // any work when no class qualifies: the distances are still computed and written.
@@ -109,14 +114,19 @@ Experiment::Experiment(ExperimentOptions options) : options_(std::move(options))
     io::write_file_atomic(o.out + "/collection.csv", c.str());
 }
 
+std::string Experiment::cache_entry(const MethodSpec& method, std::size_t k) const {
+    const ExperimentOptions& o = options_;
+    std::ostringstream params;
+    params << method.cache_key() << "|simplify=" << o.simplify << "|noise=" << o.noise << "|seed=" << o.seed
+           << "|views=v1" << (o.repair ? "|repair" : "");
+    return o.out + "/cache/" + io::hex(io::fnv1a(params.str(), models_[k].hash));
+}
+
 MeshFeatures Experiment::mesh_features(const MethodSpec& method, std::size_t k) const {
     const ExperimentOptions& o = options_;
     const Model& model = models_[k];
     MeshFeatures r;
-    std::ostringstream params;
-    params << method.cache_key() << "|simplify=" << o.simplify << "|noise=" << o.noise << "|seed=" << o.seed
-           << "|views=v1" << (o.repair ? "|repair" : "");
-    const std::string key = o.out + "/cache/" + io::hex(io::fnv1a(params.str(), model.hash));
+    const std::string key = cache_entry(method, k);
     const std::string cached_descriptor = key + ".cfvd", cached_form = key + ".ply";
     const std::string form = o.out + "/" + method.folder() + "/forms/" + model.name + ".ply";
     if (!model.error.empty()) {
@@ -182,7 +192,8 @@ views::Codebook Experiment::codebook(const MethodSpec& method, const std::vector
                                      const std::vector<std::size_t>& good) const {
     const ExperimentOptions& o = options_;
     if (!o.codebook.empty()) return views::Codebook::load(o.codebook);
-    std::uint64_t h = io::fnv1a(method.cache_key() + "|words=" + std::to_string(o.words) + "|seed=" + std::to_string(o.seed));
+    std::uint64_t h = io::fnv1a(method.cache_key() + "|words=" + std::to_string(o.words) + "|seed=" + std::to_string(o.seed) +
+                                (o.codebook_sample ? "|sample=" + std::to_string(o.codebook_sample) : std::string()));
     std::vector<const std::vector<views::SiftDescriptors>*> sets;
     for (size_t k : good) {
         h = io::fnv1a(io::hex(models_[k].hash), h);
@@ -193,7 +204,14 @@ views::Codebook Experiment::codebook(const MethodSpec& method, const std::vector
     views::CodebookOptions co;
     co.words = o.words;
     co.seed = o.seed;
-    views::Codebook cb = views::Codebook::train(views::stack_features(sets), co);
+    views::SiftDescriptors training = views::stack_features(sets);
+    const std::vector<size_t> rows = sample_rows(static_cast<size_t>(training.rows()), o.codebook_sample, o.seed);
+    if (rows.size() < static_cast<size_t>(training.rows())) {
+        views::SiftDescriptors sample(static_cast<Eigen::Index>(rows.size()), 128);
+        for (size_t r = 0; r < rows.size(); ++r) sample.row(static_cast<Eigen::Index>(r)) = training.row(static_cast<Eigen::Index>(rows[r]));
+        training = std::move(sample);
+    }
+    views::Codebook cb = views::Codebook::train(training, co);
     cb.save(path);
     return cb;
 }
@@ -234,21 +252,35 @@ MethodOutcome Experiment::run_method(const MethodSpec& spec) const {
     // 2. Codebook.
     t0 = Clock::now();
     const views::Codebook cb = codebook(spec, results, good);
+    cb.save(dir + "/codebook.bin");  // the queries of an indexed collection (collection_index.h) need it
     out.codebook_seconds = since(t0);
 
     // 3. Descriptors, distances, measures.
     t0 = Clock::now();
     std::vector<std::vector<views::Histogram>> hist;
-    std::vector<std::string> labels;
-    std::ostringstream order;
     for (size_t k : good) {
         views::ModelDescriptor d = views::make_descriptor(results[k].features, &cb, models_[k].path);
         views::write_descriptor(dir + "/descriptors/" + models_[k].name + ".cfvd", d);
         hist.push_back(std::move(d.histograms));
+    }
+    const Eigen::MatrixXf D = views::distance_matrix(hist, views::rotation_view_maps(), o.threads);
+    out.distances_seconds = since(t0);
+    finish_method(out, good, D);
+    return out;
+}
+
+void Experiment::finish_method(MethodOutcome& out, const std::vector<size_t>& good, const Eigen::MatrixXf& D) const {
+    const ExperimentOptions& o = options_;
+    const auto t0 = Clock::now();
+    const MethodSpec& spec = out.spec;
+    const std::string method = spec.folder();
+    const std::string& dir = out.folder;
+    std::vector<std::string> labels;
+    std::ostringstream order;
+    for (size_t k : good) {
         labels.push_back(models_[k].label);
         order << models_[k].name << "," << models_[k].label << "\n";
     }
-    const Eigen::MatrixXf D = views::distance_matrix(hist, views::rotation_view_maps(), o.threads);
     io::write_distance_matrix(D, dir + "/distances.bin", dir + "/distances.csv");
     io::write_file_atomic(dir + "/models.csv", "name,class\n" + order.str());
     std::map<std::string, int> class_sizes;
@@ -260,7 +292,6 @@ MethodOutcome Experiment::run_method(const MethodSpec& spec) const {
     else
         out.no_measures = "no class has more than two models among the " + std::to_string(good.size()) +
                           " meshes that succeeded: the measures need three; the distances are in distances.bin";
-    out.distances_seconds = since(t0);
     // Pose consistency against ground-truth correspondences (where the collection has them), on
     // the forms this run wrote; the correspondences name vertices of the original meshes, so not
     // on simplified ones.
@@ -287,16 +318,21 @@ MethodOutcome Experiment::run_method(const MethodSpec& spec) const {
     }
     js["pose_consistency"] = out.pose_consistency;
     js["pose_consistency_pairs"] = out.pose_consistency_pairs;
-    js["seconds"] = {{"forms_and_views", out.forms_seconds},
-                     {"codebook", out.codebook_seconds},
-                     {"distances_and_measures", out.distances_seconds}};
     io::write_file_atomic(dir + "/metrics.json", js.dump(-1, ' ', false, nlohmann::ordered_json::error_handler_t::replace) + "\n");
     std::ostringstream pr;
     pr << "recall,precision\n";
     for (size_t k = 0; k < out.evaluation.recall.size(); ++k)
         pr << out.evaluation.recall[k] << "," << out.evaluation.precision[k] << "\n";
     io::write_file_atomic(dir + "/pr.csv", pr.str());
+    out.distances_seconds += since(t0);
+    // The timings apart from the measures, so that metrics.json is equal for equal inputs.
+    const nlohmann::ordered_json timings = {{"method", method},
+                                            {"seconds", {{"forms_and_views", out.forms_seconds},
+                                                         {"codebook", out.codebook_seconds},
+                                                         {"distances_and_measures", out.distances_seconds}}}};
+    io::write_file_atomic(dir + "/timings.json", timings.dump() + "\n");
     const Measures& e = out.evaluation.micro;
+    char line[300];
     if (out.no_measures.empty()) {
         std::snprintf(line, sizeof line, "[%s] NN %.3f, 1-tier %.3f, 2-tier %.3f, E %.3f, DCG %.3f", method.c_str(),
                       e.nn, e.first_tier, e.second_tier, e.e_measure, e.dcg);
@@ -304,13 +340,33 @@ MethodOutcome Experiment::run_method(const MethodSpec& spec) const {
     } else {
         log_line(o, "[" + method + "] no measures: " + out.no_measures);
     }
-    return out;
 }
 
 std::vector<MethodOutcome> Experiment::run() const {
     std::vector<MethodOutcome> outcomes;
     for (const MethodSpec& m : options_.methods) outcomes.push_back(run_method(m));
     return outcomes;
+}
+
+std::vector<size_t> sample_rows(size_t total, size_t sample, std::uint64_t seed) {
+    std::vector<size_t> rows;
+    if (sample == 0 || sample >= total) {
+        rows.resize(total);
+        for (size_t r = 0; r < total; ++r) rows[r] = r;
+        return rows;
+    }
+    // Floyd's algorithm: `sample` distinct rows in O(sample) draws, then sorted.
+    std::mt19937_64 rng(seed);
+    std::vector<size_t> picked;
+    std::unordered_set<size_t> seen;
+    for (size_t j = total - sample; j < total; ++j) {
+        const size_t t = std::uniform_int_distribution<size_t>(0, j)(rng);
+        const size_t pick = seen.count(t) ? j : t;
+        seen.insert(pick);
+        picked.push_back(pick);
+    }
+    std::sort(picked.begin(), picked.end());
+    return picked;
 }
 
 std::string report_markdown(const ExperimentOptions& o, std::size_t meshes, const std::vector<MethodOutcome>& outcomes,

@@ -9,8 +9,9 @@
 //       recall, and pose consistency where the collection has ground-truth correspondences
 //
 // Everything lives in the run folder RUN: cache/ (per-mesh features and forms, codebooks),
-// collection.csv, and per method METHOD/ (METHOD = MethodSpec::folder()): forms/, descriptors/,
-// distances.bin (+ .csv, models.csv), metrics.json, pr.csv, failures.txt. A second run with the
+// collection.csv, and per method METHOD/ (METHOD = MethodSpec::folder()): forms/, descriptors/, codebook.bin,
+// distances.bin (+ .csv, models.csv), metrics.json (the measures only: equal for equal inputs),
+// timings.json (stage seconds), pr.csv, failures.txt. A second run with the
 // same inputs recomputes nothing; an added method computes only its own work.
 #pragma once
 
@@ -48,6 +49,7 @@ struct ExperimentOptions {
     std::vector<MethodSpec> methods;  ///< canonical-form methods, in order (folders must differ)
     int words = 1500;                 ///< codebook size (trained on each method's features)
     std::string codebook;             ///< a given codebook instead ("" = train)
+    std::size_t codebook_sample = 0;  ///< train on a seeded sample of this many descriptors (0 = all; sample_rows())
     int simplify = 0;                 ///< simplify every mesh to this many vertices first (0 = no)
     double noise = 0;                 ///< vertex noise, as a fraction of the mean edge length
     std::uint64_t seed = 0;           ///< seeds of the noise and the codebook
@@ -86,6 +88,8 @@ struct MethodOutcome {
 class Experiment {
 public:
     explicit Experiment(ExperimentOptions options);
+    /// The same on a collection already read (read_collection(); a sharded run reads it once).
+    Experiment(ExperimentOptions options, std::vector<Model> models);
 
     const ExperimentOptions& options() const { return options_; }
     const std::vector<Model>& models() const { return models_; }
@@ -94,11 +98,19 @@ public:
     /// the SIFT features of its 66 views, from the cache when it has them. Never throws: a failure
     /// is returned with its reason.
     MeshFeatures mesh_features(const MethodSpec& method, std::size_t model) const;
+    /// The cache entry of one mesh under one method: RUN/cache/KEY, with KEY from the file's
+    /// content and the parameters; mesh_features() keeps KEY.cfvd (the features) and KEY.ply (the form).
+    std::string cache_entry(const MethodSpec& method, std::size_t model) const;
     /// Stage 1 for every mesh, in parallel, with progress.
     std::vector<MeshFeatures> features(const MethodSpec& method) const;
     /// Stage 2: the given codebook, or one trained on the features of the meshes `good` (cached).
     views::Codebook codebook(const MethodSpec& method, const std::vector<MeshFeatures>& features,
                              const std::vector<std::size_t>& good) const;
+    /// The last stage of a method from its distances D between the meshes `good` (in order):
+    /// writes distances.bin (+ .csv), models.csv, metrics.json, timings.json (out's seconds, plus
+    /// this stage's), pr.csv; fills out.evaluation / no_measures and the pose consistency. `out`
+    /// carries spec, folder, meshes, failed and the seconds of the earlier stages.
+    void finish_method(MethodOutcome& out, const std::vector<std::size_t>& good, const Eigen::MatrixXf& D) const;
     /// Every stage of one method; writes its folder.
     MethodOutcome run_method(const MethodSpec& method) const;
     /// Every method, in order.
@@ -108,6 +120,11 @@ private:
     ExperimentOptions options_;
     std::vector<Model> models_;
 };
+
+/// The rows of a codebook's training sample among `total` stacked descriptors (models in
+/// collection order, views in order, rows in order): every row if `sample` is 0 or >= total, else
+/// `sample` distinct rows drawn uniformly with std::mt19937_64(seed), in increasing order.
+std::vector<std::size_t> sample_rows(std::size_t total, std::size_t sample, std::uint64_t seed);
 
 /// RUN/report.md of a run: the collection, one table row per method, then `pictures` (markdown
 /// lines: the precision-recall plot, the grid) and the notes on the measures.

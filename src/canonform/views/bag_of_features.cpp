@@ -180,10 +180,14 @@ double clock_matching_distance(const std::vector<Histogram>& a, const std::vecto
     return best;
 }
 
-Eigen::MatrixXf distance_matrix(const std::vector<std::vector<Histogram>>& models,
-                                const std::vector<std::vector<int>>& maps, int threads) {
+Eigen::MatrixXf distance_rows(const std::vector<std::vector<Histogram>>& models,
+                              const std::vector<std::vector<int>>& maps, std::size_t row_begin, std::size_t row_end,
+                              int threads) {
     const std::size_t n = models.size();
-    Eigen::MatrixXf D = Eigen::MatrixXf::Zero(static_cast<Eigen::Index>(n), static_cast<Eigen::Index>(n));
+    if (row_begin > row_end || row_end > n)
+        throw InputError("Distance matrix: rows [" + std::to_string(row_begin) + ", " + std::to_string(row_end) +
+                         ") are outside the " + std::to_string(n) + " models.");
+    Eigen::MatrixXf D = Eigen::MatrixXf::Zero(static_cast<Eigen::Index>(row_end - row_begin), static_cast<Eigen::Index>(n));
     if (n == 0) return D;
     const std::size_t views = models[0].size();
     if (views == 0) throw InputError("Distance matrix: model 0 has no views.");
@@ -204,21 +208,27 @@ Eigen::MatrixXf distance_matrix(const std::vector<std::vector<Histogram>>& model
     // Rows in parallel (row r computes the pairs (r, c > r)); dense scratch per worker.
     ParallelOptions par;
     par.threads = threads;
-    const int workers = parallel_workers(static_cast<std::ptrdiff_t>(n), par);
+    const auto rows = static_cast<std::ptrdiff_t>(row_end - row_begin);
+    const int workers = parallel_workers(rows, par);
     std::vector<DenseModel> dense(static_cast<std::size_t>(workers));
     std::vector<std::vector<double>> scratch(static_cast<std::size_t>(workers));
-    parallel_for(static_cast<std::ptrdiff_t>(n), [&](std::ptrdiff_t row, int worker) {
-        const auto r = static_cast<std::size_t>(row);
+    parallel_for(rows, [&](std::ptrdiff_t row, int worker) {
+        const auto r = row_begin + static_cast<std::size_t>(row);
         if (r + 1 >= n) return;
         DenseModel& A = dense[static_cast<std::size_t>(worker)];
         densify(models[r], std::max(width, 1), A);
-        for (std::size_t c = r + 1; c < n; ++c) {
-            const float d = static_cast<float>(
+        for (std::size_t c = r + 1; c < n; ++c)
+            D(static_cast<Eigen::Index>(row), static_cast<Eigen::Index>(c)) = static_cast<float>(
                 clock_dense(A, models[c], sums[c], plan, scratch[static_cast<std::size_t>(worker)]));
-            D(static_cast<Eigen::Index>(r), static_cast<Eigen::Index>(c)) = d;
-            D(static_cast<Eigen::Index>(c), static_cast<Eigen::Index>(r)) = d;
-        }
     }, par);
+    return D;
+}
+
+Eigen::MatrixXf distance_matrix(const std::vector<std::vector<Histogram>>& models,
+                                const std::vector<std::vector<int>>& maps, int threads) {
+    Eigen::MatrixXf D = distance_rows(models, maps, 0, models.size(), threads);
+    for (Eigen::Index r = 0; r < D.rows(); ++r)
+        for (Eigen::Index c = r + 1; c < D.cols(); ++c) D(c, r) = D(r, c);
     return D;
 }
 

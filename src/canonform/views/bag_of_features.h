@@ -55,4 +55,12 @@ double clock_matching_distance(const std::vector<Histogram>& a, const std::vecto
 Eigen::MatrixXf distance_matrix(const std::vector<std::vector<Histogram>>& models,
                                 const std::vector<std::vector<int>>& maps, int threads = 0);
 
+/// Rows [row_begin, row_end) of distance_matrix()'s upper triangle, as a (row_end - row_begin) x N
+/// block: entry (r - row_begin, c) = D(models[r], models[c]) for c > r, 0 for c <= r - the same
+/// floats as distance_matrix() (a row block of a sharded run; mirror the blocks to get the matrix).
+/// Throws InputError like distance_matrix() and on a row range outside [0, N].
+Eigen::MatrixXf distance_rows(const std::vector<std::vector<Histogram>>& models,
+                              const std::vector<std::vector<int>>& maps, std::size_t row_begin, std::size_t row_end,
+                              int threads = 0);
+
 }  // namespace canonform::views
