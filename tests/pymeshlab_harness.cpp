@@ -221,7 +221,7 @@ int main(int argc, char** argv) {
              {"variant", "alpha", "beta", "ring", "seed", "tolerance", "max_iterations", "new_layer", "repair"}},
             {"generate_geodesic_canonical_form",
              {"method", "tolerance", "max_iterations", "max_memory_gib", "max_seconds", "new_layer", "repair"}},
-            {"compute_depth_view_descriptor", {"output_file", "codebook_file", "image_size", "views_folder", "seed"}}};
+            {"compute_depth_view_descriptor", {"output_file", "codebook_file", "image_size", "views_folder", "seed", "sift"}}};
         for (const auto& [name, params] : expected) {
             const bool has = fs.containsFilterFunction(QString::fromStdString(name));
             std::string missing;

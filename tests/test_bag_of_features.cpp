@@ -295,6 +295,51 @@ TEST(Codebook, KMeansDeterministicAndBetterThanRandom) {
     EXPECT_LT(distortion(X, a), distortion(X, r1));
 }
 
+TEST(Codebook, EveryMethodDeterministicAndKMeansBeatsRandom) {
+    std::mt19937_64 rng(19);
+    const DescriptorMatrix X = random_descriptors(rng, 6000, 60);
+    CodebookOptions o;
+    o.words = 60;
+    o.seed = 5;
+    o.method = CodebookOptions::Method::Random;
+    const double random = distortion(X, Codebook::train(X, o));
+    for (const char* name : {"kmeans", "lloyd"}) {
+        o.method = parse_codebook_method(name);
+        EXPECT_EQ(codebook_method_name(o.method), name);
+        const Codebook a = Codebook::train(X, o), b = Codebook::train(X, o);
+        EXPECT_TRUE(a.words() == b.words()) << name;
+        // Both k-means reach a similar distortion, well below random words.
+        EXPECT_LT(distortion(X, a), 0.8 * random) << name;
+    }
+    EXPECT_THROW(parse_codebook_method("kmedoids"), InputError);
+}
+
+TEST(Codebook, TrainsOnASeededSample) {
+    std::mt19937_64 rng(20);
+    const DescriptorMatrix X = random_descriptors(rng, 4000, 40);
+    CodebookOptions o;
+    o.words = 40;
+    o.method = CodebookOptions::Method::Random;
+    o.sample = 500;
+    const Codebook a = Codebook::train(X, o), b = Codebook::train(X, o);
+    EXPECT_TRUE(a.words() == b.words());
+    // Every word is a training descriptor.
+    for (Eigen::Index w = 0; w < a.size(); ++w) {
+        bool found = false;
+        for (Eigen::Index i = 0; i < X.rows() && !found; ++i) found = X.row(i) == a.words().row(w);
+        EXPECT_TRUE(found) << "word " << w;
+    }
+    o.sample = 0;  // all descriptors: another draw
+    EXPECT_FALSE(Codebook::train(X, o).words() == a.words());
+    o.method = CodebookOptions::Method::KMeans;
+    o.sample = 800;
+    const Codebook k1 = Codebook::train(X, o), k2 = Codebook::train(X, o);
+    EXPECT_TRUE(k1.words() == k2.words());
+    EXPECT_LT(distortion(X, k1), distortion(X, a));  // k-means on a sample still beats random words
+    o.sample = -1;
+    EXPECT_THROW(Codebook::train(X, o), InputError);
+}
+
 TEST(Codebook, FewerDescriptorsThanWordsUsesAll) {
     std::mt19937_64 rng(10);
     const DescriptorMatrix X = random_descriptors(rng, 37);

@@ -15,6 +15,7 @@
 #pragma once
 
 #include "canonform/canonical/method_registry.h"
+#include "canonform/retrieval/fused_distances.h"
 #include "canonform/retrieval/retrieval_measures.h"
 #include "canonform/views/view_descriptor.h"
 
@@ -46,8 +47,12 @@ struct ExperimentOptions {
     std::string labels;               ///< labels file ("path,class")
     std::string out;                  ///< run folder
     std::vector<MethodSpec> methods;  ///< canonical-form methods, in order (folders must differ)
+    /// Fused methods (fused_distances.h), run after `methods`; a member not among `methods` is
+    /// added to them.
+    std::vector<FusedSpec> fused;
     int words = 1500;                 ///< codebook size (trained on each method's features)
     std::string codebook;             ///< a given codebook instead ("" = train)
+    views::CodebookOptions codebook_training;  ///< method, sample, iterations (words, seed: the fields here)
     int simplify = 0;                 ///< simplify every mesh to this many vertices first (0 = no)
     double noise = 0;                 ///< vertex noise, as a fraction of the mean edge length
     std::uint64_t seed = 0;           ///< seeds of the noise and the codebook
@@ -70,6 +75,7 @@ struct MeshFeatures {
 /// The outcome of one method.
 struct MethodOutcome {
     MethodSpec spec;
+    std::string label;                 ///< a fused method's folder name ("" for a canonical-form method)
     std::string folder;                ///< RUN/METHOD
     Evaluation evaluation;
     std::string no_measures;           ///< why there are no measures ("" if there are): classes too small
@@ -101,7 +107,10 @@ public:
                              const std::vector<std::size_t>& good) const;
     /// Every stage of one method; writes its folder.
     MethodOutcome run_method(const MethodSpec& method) const;
-    /// Every method, in order.
+    /// A fused method from its members' distance matrices (RUN/MEMBER/distances.bin, written by
+    /// run_method()) over the models every member has; writes its folder like run_method().
+    MethodOutcome run_fused(const FusedSpec& fused) const;
+    /// Every method, in order, then every fused method.
     std::vector<MethodOutcome> run() const;
 
 private:
