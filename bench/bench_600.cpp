@@ -8,7 +8,7 @@
 // real histograms on 2 threads. Every stage reports wall seconds and CPU seconds (all threads):
 // the machine may be shared, and CPU seconds are what an extrapolation to 2 idle cores needs.
 // Prints one JSON line per stage.
-//   canonform_bench_600 MESH... [--models 600] [--words 1500] [--sample 150000] [--threads 2] [--all]
+//   canonform_bench_600 MESH... [--models 600] [--words 1500] [--sample 100000] [--threads 2] [--all]
 // (--all: also FAISS k-means on every descriptor, no sample)
 #include "canonform/views/bag_of_features.h"
 #include "canonform/views/codebook.h"
@@ -89,7 +89,7 @@ int main(int argc, char** argv) {
         }
     }
     if (meshes.empty() || models < 2 || words < 1 || sample < words || threads < 1) {
-        std::fprintf(stderr, "usage: canonform_bench_600 MESH... [--models 600] [--words 1500] [--sample 150000] [--threads 2] [--all]\n");
+        std::fprintf(stderr, "usage: canonform_bench_600 MESH... [--models 600] [--words 1500] [--sample 100000] [--threads 2] [--all]\n");
         return 2;
     }
     std::vector<double> n_wall, n_cpu, a_wall, a_cpu, v_wall, v_cpu, kp;

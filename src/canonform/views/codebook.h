@@ -9,7 +9,7 @@
 // Training (every method draws from its own std::mt19937_64 stream seeded by `seed`; no global RNG):
 // - The training set is a seeded random sample of `sample` distinct descriptors (all of them if
 //   there are fewer, or if sample == 0). Measured on the 600 x 10k plan's 1.2 M descriptors
-//   (README, "Codebook"): k-means on a 150k sample scores within noise of k-means on all of them
+//   (README, "Codebook"): k-means on a 100k sample scores within noise of k-means on all of them
 //   on TOSCA, at a fraction of the cost.
 // - Method::KMeans (default): FAISS's k-means (faiss::Clustering with an exact L2 index; Debian's
 //   libfaiss-dev): words initialised as distinct random sample points (FAISS's own seeded choice,
@@ -53,7 +53,7 @@ namespace canonform::views {
 using DescriptorMatrix = Eigen::Matrix<float, Eigen::Dynamic, 128, Eigen::RowMajor>;
 
 /// Default training sample (descriptors); chosen by measurement (README, "Codebook").
-inline constexpr std::int64_t kDefaultCodebookSample = 150000;
+inline constexpr std::int64_t kDefaultCodebookSample = 100000;
 
 /// Options of Codebook::train().
 struct CodebookOptions {
