@@ -9,10 +9,19 @@ using namespace canonform::retrieval;
 TEST(FusedDistances, ParsesMembersAndWeights) {
     const FusedSpec a = parse_fused_spec("fused:none+euclidean-N");
     ASSERT_EQ(a.members, (std::vector<std::string>{"none", "euclidean-N"}));
-    EXPECT_DOUBLE_EQ(a.weights[0], 0.5);
-    EXPECT_DOUBLE_EQ(a.weights[1], 0.5);
+    EXPECT_TRUE(a.default_weights);
+    EXPECT_DOUBLE_EQ(a.weights[0], kFusedNoneWeight);  // the original meshes weigh less by default
+    EXPECT_DOUBLE_EQ(a.weights[1], 1 - kFusedNoneWeight);
     EXPECT_EQ(a.to_string(), "fused:none+euclidean-N");
     EXPECT_EQ(a.folder({"none", "euclidean-N"}), "fused_none+euclidean-N");
+    const FusedSpec e = parse_fused_spec("fused:euclidean-A+euclidean-N+none");
+    EXPECT_DOUBLE_EQ(e.weights[0], (1 - kFusedNoneWeight) / 2);
+    EXPECT_DOUBLE_EQ(e.weights[2], kFusedNoneWeight);
+    const FusedSpec q = parse_fused_spec("fused:euclidean-A+euclidean-N");
+    EXPECT_DOUBLE_EQ(q.weights[0], 0.5);
+    const FusedSpec h = parse_fused_spec("fused:none*0.5+euclidean-N*0.5");
+    EXPECT_FALSE(h.default_weights);
+    EXPECT_EQ(h.folder({"none", "euclidean-N"}), "fused_none0.5+euclidean-N0.5");
     const FusedSpec b = parse_fused_spec("fused:none*0.3+euclidean-N:beta=65*0.7+euclidean-A*2");
     ASSERT_EQ(b.members.size(), 3u);
     EXPECT_EQ(b.members[1], "euclidean-N:beta=65");

@@ -198,6 +198,7 @@ views::Codebook Experiment::codebook(const MethodSpec& method, const std::vector
     if (co.method != views::CodebookOptions::Method::Lloyd || co.sample != 0 || co.kmeans_iterations != 10)
         key += "|" + views::codebook_method_name(co.method) + "|sample=" + std::to_string(co.sample) +
                "|iterations=" + std::to_string(co.kmeans_iterations);  // (the old key is Lloyd's on all)
+    if (o.views.sift.backend != views::SiftBackend::OpenCV) key += "|sift=" + views::sift_backend_name(o.views.sift.backend);
     std::uint64_t h = io::fnv1a(key);
     std::vector<const std::vector<views::SiftDescriptors>*> sets;
     for (size_t k : good) {

@@ -16,11 +16,7 @@ std::string number(double w) {
     return buf;
 }
 
-bool equal_weights(const FusedSpec& s) {
-    for (double w : s.weights)
-        if (std::abs(w - 1.0 / static_cast<double>(s.weights.size())) > 1e-12) return false;
-    return true;
-}
+bool equal_weights(const FusedSpec& s) { return s.default_weights; }
 
 }  // namespace
 
@@ -73,8 +69,13 @@ FusedSpec parse_fused_spec(const std::string& text) {
         throw InputError("'" + text + "': a member is named twice");
     if (weighted != 0 && weighted != static_cast<int>(s.members.size()))
         throw InputError("'" + text + "': give a weight to every member or to none");
-    if (weighted == 0)
-        for (double& w : s.weights) w = 1.0 / static_cast<double>(s.members.size());
+    if (weighted == 0) {
+        s.default_weights = true;
+        const bool has_none = std::find(s.members.begin(), s.members.end(), "none") != s.members.end();
+        const double others = static_cast<double>(s.members.size()) - (has_none ? 1.0 : 0.0);
+        for (size_t k = 0; k < s.members.size(); ++k)
+            s.weights[k] = !has_none ? 1.0 / others : s.members[k] == "none" ? kFusedNoneWeight : (1.0 - kFusedNoneWeight) / others;
+    }
     return s;
 }
 
