@@ -9,6 +9,7 @@
 // the machine may be shared, and CPU seconds are what an extrapolation to 2 idle cores needs.
 // Prints one JSON line per stage.
 //   canonform_bench_600 MESH... [--models 600] [--words 1500] [--sample 100000] [--threads 2] [--all]
+//       [--sift opencv|opencv-half|vlfeat]
 // (--all: also FAISS k-means on every descriptor, no sample)
 #include "canonform/views/bag_of_features.h"
 #include "canonform/views/codebook.h"
@@ -73,10 +74,13 @@ int main(int argc, char** argv) {
     int models = 600, words = 1500, threads = 2;
     long sample = long(kDefaultCodebookSample);
     bool all_too = false;
+    ViewDescriptorOptions view_options;
     for (int k = 1; k < argc; ++k) {
         const std::string a = argv[k];
         if (a == "--all") {
             all_too = true;
+        } else if (a == "--sift" && k + 1 < argc) {
+            view_options.sift.backend = parse_sift_backend(argv[++k]);
         } else if (a.rfind("--", 0) == 0 && k + 1 < argc) {
             const long v = std::atol(argv[++k]);
             if (a == "--models") models = int(v);
@@ -109,7 +113,7 @@ int main(int argc, char** argv) {
         a_wall.push_back(s.wall());
         a_cpu.push_back(s.cpu_s());
         s = Stopwatch();
-        sets.push_back(compute_views(r.V, m.F));
+        sets.push_back(compute_views(r.V, m.F, view_options));
         v_wall.push_back(s.wall());
         v_cpu.push_back(s.cpu_s());
         long n = 0;
@@ -119,8 +123,8 @@ int main(int argc, char** argv) {
     std::printf("{\"stage\": \"canonical_form_N\", \"meshes\": %zu, \"mean_vertices\": %ld, \"median_wall_s\": %.3f, \"median_cpu_s\": %.3f}\n",
                 meshes.size(), vertices / long(meshes.size()), median(n_wall), median(n_cpu));
     std::printf("{\"stage\": \"canonical_form_A\", \"median_wall_s\": %.3f, \"median_cpu_s\": %.3f}\n", median(a_wall), median(a_cpu));
-    std::printf("{\"stage\": \"views_and_sift\", \"median_wall_s\": %.3f, \"median_cpu_s\": %.3f, \"median_keypoints\": %.0f}\n",
-                median(v_wall), median(v_cpu), median(kp));
+    std::printf("{\"stage\": \"views_and_sift\", \"sift\": \"%s\", \"median_wall_s\": %.3f, \"median_cpu_s\": %.3f, \"median_keypoints\": %.0f}\n",
+                sift_backend_name(view_options.sift.backend).c_str(), median(v_wall), median(v_cpu), median(kp));
     std::fflush(stdout);
 
     // The 600-model descriptor pool: the real descriptors, repeated.
