@@ -20,6 +20,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <map>
 #include <numeric>
 #include <random>
 #include <string>
@@ -401,6 +402,34 @@ TEST(Sift, BlankImageHasNoDescriptors) {
     EXPECT_EQ(sift_descriptors(std::vector<std::uint8_t>(64 * 64, 200), 64).rows(), 0);
     EXPECT_THROW(sift_descriptors(std::vector<std::uint8_t>(10, 0), 256), InputError);
     EXPECT_THROW(sift_descriptors({}, 0), InputError);
+}
+
+TEST(Sift, EveryBackendFindsKeypointsDeterministically) {
+    const auto bumpy = synthetic_depth(true);
+    std::vector<float> depth(bumpy.size());
+    for (size_t i = 0; i < bumpy.size(); ++i) depth[i] = bumpy[i] / 255.f;
+    std::map<std::string, long> counts;
+    for (const char* name : {"opencv", "opencv-half", "vlfeat"}) {
+        SiftOptions o;
+        o.backend = parse_sift_backend(name);
+        EXPECT_EQ(sift_backend_name(o.backend), name);
+        const SiftDescriptors d = depth_sift_descriptors(depth, 256, o);
+        counts[name] = static_cast<long>(d.rows());
+        EXPECT_GE(d.rows(), 5) << name;
+        EXPECT_TRUE(d.allFinite()) << name;
+        EXPECT_GE(d.minCoeff(), 0.f) << name;
+        EXPECT_LE(d.maxCoeff(), 255.f) << name;
+        // Descriptors of the scale OpenCV uses (norm about 512) for every backend.
+        EXPECT_NEAR(d.row(0).norm(), 512.f, 100.f) << name;
+        EXPECT_TRUE(d == depth_sift_descriptors(depth, 256, o)) << name;  // deterministic
+        EXPECT_EQ(depth_sift_descriptors(std::vector<float>(256 * 256, 0.3f), 256, o).rows(), 0) << name;  // blank
+        EXPECT_THROW(depth_sift_descriptors(depth, 255, o), InputError) << name;
+    }
+    std::printf("[sift] bumpy sphere keypoints: opencv %ld, opencv-half %ld, vlfeat %ld\n", counts["opencv"],
+                counts["opencv-half"], counts["vlfeat"]);
+    // The 8-bit and the float input agree for OpenCV (the float depth is rounded to the same bytes).
+    EXPECT_TRUE(depth_sift_descriptors(depth, 256, {}) == sift_descriptors(bumpy, 256));
+    EXPECT_THROW(parse_sift_backend("surf"), InputError);
 }
 
 TEST(Sift, SyntheticDepthKeypointCounts) {
