@@ -8,9 +8,9 @@
 //
 // Training (every method draws from its own std::mt19937_64 stream seeded by `seed`; no global RNG):
 // - The training set is a seeded random sample of `sample` distinct descriptors (all of them if
-//   there are fewer, or if sample == 0). Measured on the 600 x 10k plan's 1.2 M descriptors
-//   (README, "Codebook"): k-means on a 100k sample scores within noise of k-means on all of them
-//   on TOSCA, at a fraction of the cost.
+//   there are fewer, or if sample == 0). Measured (README, "Codebook"): on TOSCA, k-means on a
+//   100k sample scores within noise of the previous codebook (Lloyd on every descriptor); on the
+//   600 x 10k plan's 1.2 M descriptors it costs a twelfth.
 // - Method::KMeans (default): FAISS's k-means (faiss::Clustering with an exact L2 index; Debian's
 //   libfaiss-dev): words initialised as distinct random sample points (FAISS's own seeded choice,
 //   not k-means++), kmeans_iterations Lloyd iterations whose nearest-word search is a BLAS sgemm,
