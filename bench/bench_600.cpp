@@ -8,7 +8,9 @@
 // real histograms on 2 threads. Every stage reports wall seconds and CPU seconds (all threads):
 // the machine may be shared, and CPU seconds are what an extrapolation to 2 idle cores needs.
 // Prints one JSON line per stage.
-//   canonform_bench_600 MESH... [--models 600] [--words 1500] [--sample 200000] [--threads 2]
+//   canonform_bench_600 MESH... [--models 600] [--words 1500] [--sample 100000] [--threads 2] [--all]
+//       [--sift opencv|opencv-half|vlfeat]
+// (--all: also FAISS k-means on every descriptor, no sample)
 #include "canonform/views/bag_of_features.h"
 #include "canonform/views/codebook.h"
 #include "canonform/canonical/euclidean_canonical_form.h"
@@ -32,6 +34,24 @@ namespace {
 using canonform::bench::Clock;
 using canonform::bench::median;
 
+/// The BLAS library this process has loaded (from /proc/self/maps), e.g. openblas-pthread/libblas.so.3.
+std::string loaded_blas() {
+    std::FILE* f = std::fopen("/proc/self/maps", "r");
+    if (!f) return "?";
+    char line[4096];
+    std::string found;
+    while (std::fgets(line, sizeof line, f)) {
+        const std::string l = line;
+        const auto p = l.find('/');
+        if (p == std::string::npos) continue;
+        const std::string path = l.substr(p, l.find_last_not_of("\n") + 1 - p);
+        if ((path.find("blas") != std::string::npos) && found.find(path) == std::string::npos)
+            found += (found.empty() ? "" : " ") + path;
+    }
+    std::fclose(f);
+    return found.empty() ? "none" : found;
+}
+
 /// Wall and process CPU seconds of a stage.
 struct Stopwatch {
     Clock::time_point w0 = Clock::now();
@@ -52,10 +72,16 @@ int main(int argc, char** argv) {
     using namespace canonform::views;
     std::vector<std::string> meshes;
     int models = 600, words = 1500, threads = 2;
-    long sample = 200000;
+    long sample = long(kDefaultCodebookSample);
+    bool all_too = false;
+    ViewDescriptorOptions view_options;
     for (int k = 1; k < argc; ++k) {
         const std::string a = argv[k];
-        if (a.rfind("--", 0) == 0 && k + 1 < argc) {
+        if (a == "--all") {
+            all_too = true;
+        } else if (a == "--sift" && k + 1 < argc) {
+            view_options.sift.backend = parse_sift_backend(argv[++k]);
+        } else if (a.rfind("--", 0) == 0 && k + 1 < argc) {
             const long v = std::atol(argv[++k]);
             if (a == "--models") models = int(v);
             else if (a == "--words") words = int(v);
@@ -67,7 +93,7 @@ int main(int argc, char** argv) {
         }
     }
     if (meshes.empty() || models < 2 || words < 1 || sample < words || threads < 1) {
-        std::fprintf(stderr, "usage: canonform_bench_600 MESH... [--models 600] [--words 1500] [--sample 200000] [--threads 2]\n");
+        std::fprintf(stderr, "usage: canonform_bench_600 MESH... [--models 600] [--words 1500] [--sample 100000] [--threads 2] [--all]\n");
         return 2;
     }
     std::vector<double> n_wall, n_cpu, a_wall, a_cpu, v_wall, v_cpu, kp;
@@ -87,7 +113,7 @@ int main(int argc, char** argv) {
         a_wall.push_back(s.wall());
         a_cpu.push_back(s.cpu_s());
         s = Stopwatch();
-        sets.push_back(compute_views(r.V, m.F));
+        sets.push_back(compute_views(r.V, m.F, view_options));
         v_wall.push_back(s.wall());
         v_cpu.push_back(s.cpu_s());
         long n = 0;
@@ -97,8 +123,8 @@ int main(int argc, char** argv) {
     std::printf("{\"stage\": \"canonical_form_N\", \"meshes\": %zu, \"mean_vertices\": %ld, \"median_wall_s\": %.3f, \"median_cpu_s\": %.3f}\n",
                 meshes.size(), vertices / long(meshes.size()), median(n_wall), median(n_cpu));
     std::printf("{\"stage\": \"canonical_form_A\", \"median_wall_s\": %.3f, \"median_cpu_s\": %.3f}\n", median(a_wall), median(a_cpu));
-    std::printf("{\"stage\": \"views_and_sift\", \"median_wall_s\": %.3f, \"median_cpu_s\": %.3f, \"median_keypoints\": %.0f}\n",
-                median(v_wall), median(v_cpu), median(kp));
+    std::printf("{\"stage\": \"views_and_sift\", \"sift\": \"%s\", \"median_wall_s\": %.3f, \"median_cpu_s\": %.3f, \"median_keypoints\": %.0f}\n",
+                sift_backend_name(view_options.sift.backend).c_str(), median(v_wall), median(v_cpu), median(kp));
     std::fflush(stdout);
 
     // The 600-model descriptor pool: the real descriptors, repeated.
@@ -115,34 +141,26 @@ int main(int argc, char** argv) {
             all.middleRows(r, f.rows()) = f;
             r += f.rows();
         }
-    CodebookOptions co;
-    co.words = words;
-    co.kmeans_iterations = 1;
-    Stopwatch s;
-    Codebook::train(all, co);  // seeding + one Lloyd iteration over every descriptor
-    std::printf("{\"stage\": \"codebook_full_one_iteration\", \"descriptors\": %ld, \"words\": %d, \"wall_s\": %.2f, \"cpu_s\": %.2f}\n",
-                rows, words, s.wall(), s.cpu_s());
-    std::fflush(stdout);
-    co.kmeans_iterations = 0;
-    s = Stopwatch();
-    Codebook::train(all, co);  // seeding only (k-means++ on 20 * words descriptors)
-    const double seed_wall = s.wall(), seed_cpu = s.cpu_s();
-    std::printf("{\"stage\": \"codebook_seeding\", \"wall_s\": %.2f, \"cpu_s\": %.2f}\n", seed_wall, seed_cpu);
-    std::fflush(stdout);
-    // Training on a random sample (10 Lloyd iterations, the default).
-    std::mt19937_64 rng(1);
-    const long m = std::min(sample, rows);
-    SiftDescriptors sub(m, 128);
-    for (long i = 0; i < m; ++i) sub.row(i) = all.row(long(rng() % std::uint64_t(rows)));
-    co.kmeans_iterations = 10;
-    s = Stopwatch();
-    const Codebook cb = Codebook::train(sub, co);
-    std::printf("{\"stage\": \"codebook_sample_10_iterations\", \"descriptors\": %ld, \"wall_s\": %.2f, \"cpu_s\": %.2f}\n", m,
-                s.wall(), s.cpu_s());
-    std::fflush(stdout);
+    // The codebook by every method on the same seeded sample (10 iterations, the default), and
+    // FAISS k-means on every descriptor for the cost of not sampling.
+    Codebook cb;
+    for (const char* method : {"kmeans", "lloyd", "random", "kmeans-all"}) {
+        CodebookOptions co;
+        co.words = words;
+        co.sample = std::string(method) == "kmeans-all" ? 0 : sample;
+        co.method = parse_codebook_method(std::string(method) == "kmeans-all" ? "kmeans" : method);
+        if (std::string(method) == "kmeans-all" && !all_too) continue;
+        Stopwatch s;
+        Codebook c = Codebook::train(all, co);
+        std::printf("{\"stage\": \"codebook\", \"method\": \"%s\", \"descriptors\": %ld, \"sample\": %ld, "
+                    "\"words\": %d, \"iterations\": %d, \"wall_s\": %.2f, \"cpu_s\": %.2f, \"blas\": \"%s\"}\n",
+                    method, rows, long(co.sample), words, co.kmeans_iterations, s.wall(), s.cpu_s(), loaded_blas().c_str());
+        std::fflush(stdout);
+        if (std::string(method) == "kmeans") cb = c;
+    }
 
     // Histograms: every descriptor of the 600 models assigned to its word.
-    s = Stopwatch();
+    Stopwatch s;
     std::vector<std::vector<Histogram>> hist(sets.size());
     for (size_t k = 0; k < sets.size(); ++k)
         for (const auto& f : sets[k].features) hist[k].push_back(histogram(cb.assign(f)));

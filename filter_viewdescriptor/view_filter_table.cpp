@@ -24,7 +24,12 @@ const std::vector<FilterSpec>& view_filter_table() {
                       {"image_size", K::Int, 256, "Image size (pixels)", "Side of each depth image.", {}},
                       {"views_folder", K::String, 0, "Write the views to (optional)",
                        "A folder for the 66 depth images as PNG; empty: do not write them.", {}, ""},
-                      {"seed", K::Int, 0, "Random seed", "Seed of the rectilinearity restarts.", {}}},
+                      {"seed", K::Int, 0, "Random seed", "Seed of the rectilinearity restarts.", {}},
+                      {"sift", K::Enum, 0, "SIFT extractor",
+                       "opencv: OpenCV's SIFT on the 8-bit view (default); opencv-half: the same with its first "
+                       "octave at the view's resolution (faster); vlfeat: VLFeat's SIFT at its defaults on the "
+                       "float depth. A codebook must come from the same extractor.",
+                       {"opencv", "opencv-half", "vlfeat"}}},
                      kNothing, kNothing});
         return t;
     }();

@@ -223,7 +223,8 @@ int main(int argc, char** argv) {
             {"generate_geodesic_canonical_form",
              {"method", "tolerance", "max_iterations", "acceleration", "max_memory_gib", "max_seconds", "new_layer",
               "repair"}},
-            {"compute_depth_view_descriptor", {"output_file", "codebook_file", "image_size", "views_folder", "seed"}}};
+            {"compute_depth_view_descriptor",
+             {"output_file", "codebook_file", "image_size", "views_folder", "seed", "sift"}}};
         for (const auto& [name, params] : expected) {
             const bool has = fs.containsFilterFunction(QString::fromStdString(name));
             std::string missing;

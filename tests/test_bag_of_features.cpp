@@ -20,6 +20,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <map>
 #include <numeric>
 #include <random>
 #include <string>
@@ -295,6 +296,51 @@ TEST(Codebook, KMeansDeterministicAndBetterThanRandom) {
     EXPECT_LT(distortion(X, a), distortion(X, r1));
 }
 
+TEST(Codebook, EveryMethodDeterministicAndKMeansBeatsRandom) {
+    std::mt19937_64 rng(19);
+    const DescriptorMatrix X = random_descriptors(rng, 6000, 60);
+    CodebookOptions o;
+    o.words = 60;
+    o.seed = 5;
+    o.method = CodebookOptions::Method::Random;
+    const double random = distortion(X, Codebook::train(X, o));
+    for (const char* name : {"kmeans", "lloyd"}) {
+        o.method = parse_codebook_method(name);
+        EXPECT_EQ(codebook_method_name(o.method), name);
+        const Codebook a = Codebook::train(X, o), b = Codebook::train(X, o);
+        EXPECT_TRUE(a.words() == b.words()) << name;
+        // Both k-means reach a similar distortion, well below random words.
+        EXPECT_LT(distortion(X, a), 0.8 * random) << name;
+    }
+    EXPECT_THROW(parse_codebook_method("kmedoids"), InputError);
+}
+
+TEST(Codebook, TrainsOnASeededSample) {
+    std::mt19937_64 rng(20);
+    const DescriptorMatrix X = random_descriptors(rng, 4000, 40);
+    CodebookOptions o;
+    o.words = 40;
+    o.method = CodebookOptions::Method::Random;
+    o.sample = 500;
+    const Codebook a = Codebook::train(X, o), b = Codebook::train(X, o);
+    EXPECT_TRUE(a.words() == b.words());
+    // Every word is a training descriptor.
+    for (Eigen::Index w = 0; w < a.size(); ++w) {
+        bool found = false;
+        for (Eigen::Index i = 0; i < X.rows() && !found; ++i) found = X.row(i) == a.words().row(w);
+        EXPECT_TRUE(found) << "word " << w;
+    }
+    o.sample = 0;  // all descriptors: another draw
+    EXPECT_FALSE(Codebook::train(X, o).words() == a.words());
+    o.method = CodebookOptions::Method::KMeans;
+    o.sample = 800;
+    const Codebook k1 = Codebook::train(X, o), k2 = Codebook::train(X, o);
+    EXPECT_TRUE(k1.words() == k2.words());
+    EXPECT_LT(distortion(X, k1), distortion(X, a));  // k-means on a sample still beats random words
+    o.sample = -1;
+    EXPECT_THROW(Codebook::train(X, o), InputError);
+}
+
 TEST(Codebook, FewerDescriptorsThanWordsUsesAll) {
     std::mt19937_64 rng(10);
     const DescriptorMatrix X = random_descriptors(rng, 37);
@@ -356,6 +402,34 @@ TEST(Sift, BlankImageHasNoDescriptors) {
     EXPECT_EQ(sift_descriptors(std::vector<std::uint8_t>(64 * 64, 200), 64).rows(), 0);
     EXPECT_THROW(sift_descriptors(std::vector<std::uint8_t>(10, 0), 256), InputError);
     EXPECT_THROW(sift_descriptors({}, 0), InputError);
+}
+
+TEST(Sift, EveryBackendFindsKeypointsDeterministically) {
+    const auto bumpy = synthetic_depth(true);
+    std::vector<float> depth(bumpy.size());
+    for (size_t i = 0; i < bumpy.size(); ++i) depth[i] = bumpy[i] / 255.f;
+    std::map<std::string, long> counts;
+    for (const char* name : {"opencv", "opencv-half", "vlfeat"}) {
+        SiftOptions o;
+        o.backend = parse_sift_backend(name);
+        EXPECT_EQ(sift_backend_name(o.backend), name);
+        const SiftDescriptors d = depth_sift_descriptors(depth, 256, o);
+        counts[name] = static_cast<long>(d.rows());
+        EXPECT_GE(d.rows(), 5) << name;
+        EXPECT_TRUE(d.allFinite()) << name;
+        EXPECT_GE(d.minCoeff(), 0.f) << name;
+        EXPECT_LE(d.maxCoeff(), 255.f) << name;
+        // Descriptors of the scale OpenCV uses (norm about 512) for every backend.
+        EXPECT_NEAR(d.row(0).norm(), 512.f, 100.f) << name;
+        EXPECT_TRUE(d == depth_sift_descriptors(depth, 256, o)) << name;  // deterministic
+        EXPECT_EQ(depth_sift_descriptors(std::vector<float>(256 * 256, 0.3f), 256, o).rows(), 0) << name;  // blank
+        EXPECT_THROW(depth_sift_descriptors(depth, 255, o), InputError) << name;
+    }
+    std::printf("[sift] bumpy sphere keypoints: opencv %ld, opencv-half %ld, vlfeat %ld\n", counts["opencv"],
+                counts["opencv-half"], counts["vlfeat"]);
+    // The 8-bit and the float input agree for OpenCV (the float depth is rounded to the same bytes).
+    EXPECT_TRUE(depth_sift_descriptors(depth, 256, {}) == sift_descriptors(bumpy, 256));
+    EXPECT_THROW(parse_sift_backend("surf"), InputError);
 }
 
 TEST(Sift, SyntheticDepthKeypointCounts) {

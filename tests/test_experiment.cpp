@@ -217,3 +217,26 @@ TEST(Experiment, AFormWithNanCoordinatesIsAFailureNotAResult) {
     }
     EXPECT_EQ(forms, 8);  // forms/ and cache/, of the four good meshes
 }
+
+TEST(Experiment, FusedMethodSumsItsMembersNormalisedDistances) {
+    auto o = options("canonform_test_experiment_fused", {"none"});
+    o.dataset = make_collection("fused_data");  // its own copy: ctest runs this file's tests in parallel
+    o.labels = o.dataset + "/labels.csv";
+    fs::remove_all(o.out);
+    o.fused.push_back(retrieval::parse_fused_spec("fused:none*0.4+euclidean-N:beta=65*0.6"));
+    const auto out = retrieval::Experiment(o).run();  // euclidean-N:beta=65 is added as a member
+    ASSERT_EQ(out.size(), 3u);
+    EXPECT_EQ(out[1].spec.folder(), "euclidean-N_beta65");
+    EXPECT_EQ(out[2].label, "fused_none0.4+euclidean-N_beta650.6");
+    const std::string dir = o.out + "/" + out[2].label;
+    for (const char* f : {"/distances.bin", "/models.csv", "/metrics.json", "/pr.csv"})
+        EXPECT_TRUE(io::is_file(dir + f)) << f;
+    const Eigen::MatrixXf A = io::read_distance_matrix(o.out + "/none/distances.bin").cast<float>();
+    const Eigen::MatrixXf B = io::read_distance_matrix(o.out + "/euclidean-N_beta65/distances.bin").cast<float>();
+    const Eigen::MatrixXf F = io::read_distance_matrix(dir + "/distances.bin").cast<float>();
+    EXPECT_TRUE(F.isApprox(retrieval::fuse_distances({A, B}, {0.4, 0.6}), 1e-5f));
+    EXPECT_EQ(out[2].meshes, 6u);
+    EXPECT_EQ(out[2].evaluation.micro.queries, 6);
+    const std::string report = retrieval::report_markdown(o, 6, out, "");
+    EXPECT_NE(report.find("| fused_none0.4+euclidean-N_beta650.6 |"), std::string::npos);
+}

@@ -52,7 +52,7 @@ ExperimentOptions options(const std::string& dataset, const std::string& out, st
     o.methods = {parse_method_spec("none")};
     o.words = 24;
     o.seed = 7;
-    o.codebook_sample = sample;
+    o.codebook_training.sample = static_cast<std::int64_t>(sample);
     o.threads = 2;
     return o;
 }
@@ -63,23 +63,6 @@ const char* const kCompared[] = {"/none/distances.bin", "/none/metrics.json", "/
 fs::file_time_type mtime(const std::string& p) { return fs::last_write_time(p); }
 
 }  // namespace
-
-TEST(ShardedRun, SampleRowsAreSortedDistinctAndSeeded) {
-    const auto all = sample_rows(10, 0, 1);
-    ASSERT_EQ(all.size(), 10u);
-    for (std::size_t k = 0; k < all.size(); ++k) EXPECT_EQ(all[k], k);
-    EXPECT_EQ(sample_rows(10, 20, 1).size(), 10u);
-    const auto s = sample_rows(100000, 500, 3);
-    ASSERT_EQ(s.size(), 500u);
-    EXPECT_TRUE(std::is_sorted(s.begin(), s.end()));
-    EXPECT_EQ(std::set<std::size_t>(s.begin(), s.end()).size(), 500u);
-    EXPECT_LT(s.back(), 100000u);
-    EXPECT_EQ(sample_rows(100000, 500, 3), s);
-    EXPECT_NE(sample_rows(100000, 500, 4), s);
-    // Spread over the range, not bunched at one end.
-    EXPECT_LT(s.front(), 2000u);
-    EXPECT_GT(s.back(), 98000u);
-}
 
 TEST(ShardedRun, BlocksAreBalancedAndCoverEveryRow) {
     const std::string data = make_collection("blocks");

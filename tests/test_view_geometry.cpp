@@ -409,4 +409,22 @@ TEST(PoseNormalization, RejectsBadInput) {
     vw::PoseOptions o;
     o.restarts = 0;
     EXPECT_THROW(vw::normalize_pose(s.V, s.F, o), cf::InputError);
+    o.restarts = 8;
+    o.direction_bins = -1;
+    EXPECT_THROW(vw::normalize_pose(s.V, s.F, o), cf::InputError);
+}
+
+TEST(PoseNormalization, BinnedCoarseSearchFindsTheSameRectilinearity) {
+    // The coarse restarts on direction-binned area vectors, refined on every face, reach the
+    // projected-area minimum of the search over every face (within the refinement's tolerance).
+    for (int pose = 0; pose < 4; ++pose) {
+        const cf::Figure fig = cf::make_figure(3000, cf::figure_pose(pose));
+        vw::PoseOptions exact;
+        exact.direction_bins = 0;
+        const vw::PoseNormalization a = vw::normalize_pose(fig.mesh.V, fig.mesh.F);
+        const vw::PoseNormalization b = vw::normalize_pose(fig.mesh.V, fig.mesh.F, exact);
+        EXPECT_NEAR(a.rect_projected_area, b.rect_projected_area, 1e-3 * b.rect_projected_area) << "pose " << pose;
+        EXPECT_DOUBLE_EQ(a.pca_cost, b.pca_cost);
+        EXPECT_LE(a.rect_projected_area, a.pca_projected_area + 1e-12);
+    }
 }

@@ -9,6 +9,8 @@
 #include "canonform/common/errors.h"
 #include "canonform/common/mesh.h"
 
+#include "canonform/retrieval/experiment.h"
+
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
@@ -75,6 +77,19 @@ double seconds_since(std::chrono::steady_clock::time_point t0);
 
 /// "a,b,,c" -> {"a", "b", "c"}.
 std::vector<std::string> split_list(const std::string& text);
+
+/// The options of a retrieval run that `retrieve`, `stage init` and `slurm` share (dataset, labels,
+/// out, method, words, codebook, codebook-sample, simplify, noise, seed, sift, repair), written as
+/// text into `methods` and `sift` and read by finish_experiment_options().
+struct ExperimentArgs {
+    retrieval::ExperimentOptions o;
+    std::string methods = "none,euclidean-N";
+    std::string sift = "opencv";
+};
+void add_experiment_options(CLI::App* command, ExperimentArgs& args);
+/// The options parsed: labels default, SIFT backend, codebook method or file, methods (fused ones
+/// only if `fused`, else a usage error).
+retrieval::ExperimentOptions finish_experiment_options(const ExperimentArgs& args, bool fused);
 
 /// A command: adds its subcommand (options, defaults, help, callback) to the app.
 using AddCommand = void(CLI::App& app);

@@ -55,37 +55,66 @@ void print_row(std::ostream& o, const std::string& name, const retrieval::Measur
 
 }  // namespace
 
-void add_retrieve(CLI::App& app) {
-    struct Args {
-        retrieval::ExperimentOptions o;
-        std::string methods = "none,euclidean-N";
-    };
-    auto a = std::make_shared<Args>();
+void add_experiment_options(CLI::App* c, ExperimentArgs& a) {
     std::string names;
     for (const auto& m : canonical_methods()) names += (names.empty() ? "" : ", ") + m.name;
+    c->add_option("--dataset", a.o.dataset, "collection folder (label paths are relative to it)")->required();
+    c->add_option("--labels", a.o.labels, "labels file, rows path,class (default: DATASET/labels.csv)");
+    c->add_option("--out", a.o.out, "run folder (for a sharded run on a filesystem every machine shares)")->required();
+    c->add_option("--method", a.methods, "comma-separated methods, each NAME[:KEY=VALUE...] (" + names +
+                                         "; e.g. euclidean-N:beta=65), or fused:A+B[+C...] with optional weights "
+                                         "fused:A*0.5+B*0.5: the sum of the members' distance matrices, each divided "
+                                         "by its median off-diagonal distance (members are added if not listed)");
+    c->add_option("--words", a.o.words, "codebook size")->check(CLI::Range(1, 1000000));
+    c->add_option("--codebook", a.o.codebook, "how the codebook is made per method: kmeans (FAISS k-means, "
+                                              "default), lloyd (our k-means++ and Lloyd), random (random training "
+                                              "descriptors as words), or a codebook FILE used for every method");
+    c->add_option("--codebook-sample", a.o.codebook_training.sample,
+                  "train the codebook on this many descriptors drawn from the method's features (0: all)")
+        ->check(CLI::Range(0L, 2000000000L));
+    c->add_option("--simplify", a.o.simplify, "simplify every mesh to this many vertices first (0: no)")
+        ->check(CLI::Range(0, 100000000));
+    c->add_option("--noise", a.o.noise, "vertex noise, as a fraction of the mean edge length")
+        ->check(finite_range(0, 10));
+    c->add_option("--seed", a.o.seed, "seed of the noise and the codebook")->check(finite_range(0, 4294967295.0));
+    c->add_option("--sift", a.sift, "SIFT extractor: opencv (default), opencv-half (first octave at the view's "
+                                    "resolution) or vlfeat (VLFeat's defaults on the float depth)")
+        ->check(CLI::IsMember({"opencv", "opencv-half", "vlfeat"}));
+    add_repair_flag(c, a.o.repair);
+}
+
+retrieval::ExperimentOptions finish_experiment_options(const ExperimentArgs& a, bool fused) {
+    retrieval::ExperimentOptions o = a.o;
+    o.views.sift.backend = views::parse_sift_backend(a.sift);
+    if (o.labels.empty()) o.labels = o.dataset + "/labels.csv";
+    if (o.codebook == "kmeans" || o.codebook == "lloyd" || o.codebook == "random") {
+        o.codebook_training.method = views::parse_codebook_method(o.codebook);
+        o.codebook.clear();
+    }
+    for (const std::string& m : split_list(a.methods)) {
+        if (!retrieval::is_fused_spec(m))
+            o.methods.push_back(parse_method_spec(m));
+        else if (fused)
+            o.fused.push_back(retrieval::parse_fused_spec(m));
+        else
+            throw UsageError("--method " + m + ": fused methods are computed by `retrieve` from the members' "
+                             "distance matrices, not by a sharded run (run retrieve on the merged run folder)");
+    }
+    return o;
+}
+
+void add_retrieve(CLI::App& app) {
+    struct Args : ExperimentArgs {
+        int threads = 0;
+    };
+    auto a = std::make_shared<Args>();
     auto* c = app.add_subcommand("retrieve", "a retrieval experiment over a labelled collection: forms, views, "
                                              "codebook, distances and measures per method");
-    c->add_option("--dataset", a->o.dataset, "collection folder (label paths are relative to it)")->required();
-    c->add_option("--labels", a->o.labels, "labels file, rows path,class (default: DATASET/labels.csv)");
-    c->add_option("--out", a->o.out, "run folder")->required();
-    c->add_option("--method", a->methods, "comma-separated methods, each NAME[:KEY=VALUE...] (" + names +
-                                          "; e.g. euclidean-N:beta=65)");
-    c->add_option("--words", a->o.words, "codebook size")->check(CLI::Range(1, 1000000));
-    c->add_option("--codebook", a->o.codebook, "a given codebook instead of one trained per method");
-    c->add_option("--codebook-sample", a->o.codebook_sample,
-                  "train the codebook on a seeded sample of this many descriptors (0: all)")
-        ->check(finite_range(0, 1e15));
-    c->add_option("--simplify", a->o.simplify, "simplify every mesh to this many vertices first (0: no)")
-        ->check(CLI::Range(0, 100000000));
-    c->add_option("--noise", a->o.noise, "vertex noise, as a fraction of the mean edge length")
-        ->check(finite_range(0, 10));
-    c->add_option("--seed", a->o.seed, "seed of the noise and the codebook")->check(finite_range(0, 4294967295.0));
-    c->add_option("--threads", a->o.threads, "meshes in parallel (0: every core)")->check(CLI::Range(0, 1024));
-    add_repair_flag(c, a->o.repair);
+    add_experiment_options(c, *a);
+    c->add_option("--threads", a->threads, "meshes in parallel (0: every core)")->check(CLI::Range(0, 1024));
     c->callback([a] {
-        retrieval::ExperimentOptions o = a->o;
-        if (o.labels.empty()) o.labels = o.dataset + "/labels.csv";
-        for (const std::string& m : split_list(a->methods)) o.methods.push_back(parse_method_spec(m));
+        retrieval::ExperimentOptions o = finish_experiment_options(*a, true);
+        o.threads = a->threads;
         o.log = [](const std::string& line) { std::cerr << line << "\n"; };
         o.progress = [](const std::string& method) { return terminal_progress(false, method); };
         const retrieval::Experiment experiment(o);

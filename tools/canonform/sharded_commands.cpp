@@ -24,37 +24,26 @@ std::string join(const std::vector<int>& v) {
     return s.empty() ? "-" : s;
 }
 
-/// The options of a sharded run's plan (stage init, slurm).
-void add_plan_options(CLI::App* c, retrieval::ShardedPlan& plan, std::string& methods) {
-    auto& o = plan.experiment;
-    c->add_option("--dataset", o.dataset, "collection folder (label paths are relative to it)")->required();
-    c->add_option("--labels", o.labels, "labels file, rows path,class (default: DATASET/labels.csv)");
-    c->add_option("--out", o.out, "run folder (on a filesystem every machine shares)")->required();
+/// The options of a sharded run's plan (stage init, slurm): retrieve's, and the shards.
+void add_plan_options(CLI::App* c, retrieval::ShardedPlan& plan, ExperimentArgs& args) {
+    add_experiment_options(c, args);
     c->add_option("--shards", plan.shards, "mesh shards")->check(CLI::Range(1, 1000000));
     c->add_option("--blocks", plan.blocks, "row blocks of the distance matrix (0: as many as shards)")
         ->check(CLI::Range(0, 1000000));
-    c->add_option("--method", methods, "comma-separated methods, each NAME[:KEY=VALUE...]");
-    c->add_option("--words", o.words, "codebook size")->check(CLI::Range(1, 1000000));
-    c->add_option("--codebook", o.codebook, "a given codebook instead of one trained per method");
-    c->add_option("--codebook-sample", o.codebook_sample,
-                  "train the codebook on a seeded sample of this many descriptors (0: all)")
-        ->check(finite_range(0, 1e15));
-    c->add_option("--simplify", o.simplify, "simplify every mesh to this many vertices first (0: no)")
-        ->check(CLI::Range(0, 100000000));
-    c->add_option("--noise", o.noise, "vertex noise, as a fraction of the mean edge length")->check(finite_range(0, 10));
-    c->add_option("--seed", o.seed, "seed of the noise and the codebook")->check(finite_range(0, 4294967295.0));
-    add_repair_flag(c, o.repair);
 }
 
 /// init_sharded_run() of the parsed plan (absolute run folder and dataset: jobs run elsewhere).
-retrieval::ShardedPlan start_run(retrieval::ShardedPlan p, const std::string& methods) {
+retrieval::ShardedPlan start_run(retrieval::ShardedPlan p, const ExperimentArgs& args) {
+    ExperimentArgs absolute = args;
+    auto& a = absolute.o;
+    a.dataset = std::filesystem::absolute(a.dataset).lexically_normal().string();
+    a.out = std::filesystem::absolute(a.out).lexically_normal().string();
+    while (a.out.size() > 1 && a.out.back() == '/') a.out.pop_back();
+    while (a.dataset.size() > 1 && a.dataset.back() == '/') a.dataset.pop_back();
+    if (!a.labels.empty()) a.labels = std::filesystem::absolute(a.labels).lexically_normal().string();
+    p.experiment = finish_experiment_options(absolute, false);
     auto& o = p.experiment;
-    o.dataset = std::filesystem::absolute(o.dataset).lexically_normal().string();
-    o.out = std::filesystem::absolute(o.out).lexically_normal().string();
-    while (o.out.size() > 1 && o.out.back() == '/') o.out.pop_back();
-    while (o.dataset.size() > 1 && o.dataset.back() == '/') o.dataset.pop_back();
-    o.labels = o.labels.empty() ? o.dataset + "/labels.csv" : std::filesystem::absolute(o.labels).lexically_normal().string();
-    for (const std::string& m : split_list(methods)) o.methods.push_back(parse_method_spec(m));
+    if (!o.codebook.empty()) o.codebook = std::filesystem::absolute(o.codebook).lexically_normal().string();
     o.log = [](const std::string& line) { std::cerr << line << "\n"; };
     retrieval::init_sharded_run(p);
     return p;
@@ -65,7 +54,7 @@ retrieval::ShardedPlan start_run(retrieval::ShardedPlan p, const std::string& me
 void add_stage(CLI::App& app) {
     struct Args {
         retrieval::ShardedPlan plan;
-        std::string methods = "none,euclidean-N";
+        ExperimentArgs ex;
         std::string run, stage;
         int shard = -1, threads = 0;
     };
@@ -76,9 +65,9 @@ void add_stage(CLI::App& app) {
     c->require_subcommand(1);
 
     auto* init = c->add_subcommand("init", "start a sharded run: the plan and the collection, read once");
-    add_plan_options(init, a->plan, a->methods);
+    add_plan_options(init, a->plan, a->ex);
     init->callback([a] {
-        const retrieval::ShardedPlan p = start_run(a->plan, a->methods);
+        const retrieval::ShardedPlan p = start_run(a->plan, a->ex);
         std::cerr << "stage init: " << p.experiment.out << " (" << p.shards << " shards)\n";
     });
 
@@ -232,7 +221,7 @@ std::string run_command(const std::string& command) {
 void add_slurm(CLI::App& app) {
     struct Args {
         retrieval::ShardedPlan plan;
-        std::string methods = "none,euclidean-N";
+        ExperimentArgs ex;
         SlurmOptions s;
     };
     auto a = std::make_shared<Args>();
@@ -240,7 +229,7 @@ void add_slurm(CLI::App& app) {
         "slurm", "a sharded retrieval run on a Slurm cluster: writes one sbatch script per stage (job arrays over the "
                  "shards, each stage after the one before: afterok) into RUN/slurm/, and with --submit submits "
                  "them; again after a failure, it submits only the parts not done");
-    add_plan_options(c, a->plan, a->methods);
+    add_plan_options(c, a->plan, a->ex);
     c->add_option("--partition", a->s.partition, "Slurm partition (default: the cluster's)");
     c->add_option("--time", a->s.time, "time limit of each job (Slurm's format)");
     c->add_option("--cpus-per-task", a->s.cpus, "CPUs of each job (its --threads)")->check(CLI::Range(1, 1024));
@@ -251,7 +240,7 @@ void add_slurm(CLI::App& app) {
     c->add_option("--canonform", a->s.canonform, "the canonform executable on the nodes (default: this one)");
     c->add_flag("--submit", a->s.submit, "submit the scripts (sbatch --parsable), only the parts not done yet");
     c->callback([a] {
-        const retrieval::ShardedPlan p = start_run(a->plan, a->methods);
+        const retrieval::ShardedPlan p = start_run(a->plan, a->ex);
         const std::string& dir = p.experiment.out;
         const retrieval::ShardedRun run(dir);
         std::string exe = a->s.canonform;

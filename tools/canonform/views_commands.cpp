@@ -26,8 +26,11 @@ struct ViewArgs {
     int image_size = 256;
     std::uint64_t seed = 0;
     bool repair = false;
+    std::string sift = "opencv";
 
     void add(CLI::App* c) {
+        c->add_option("--sift", sift, "SIFT extractor: opencv, opencv-half or vlfeat (sift_features.h)")
+            ->check(CLI::IsMember({"opencv", "opencv-half", "vlfeat"}));
         c->add_option("--size", image_size, "pixels per side of each depth view")->check(CLI::Range(32, 2048));
         c->add_option("--seed", seed, "seed of the rectilinearity restarts (and of the codebook)")
             ->check(finite_range(0, 4294967295.0));
@@ -37,6 +40,7 @@ struct ViewArgs {
         views::ViewDescriptorOptions v;
         v.image_size = image_size;
         v.pose.seed = seed;
+        v.sift.backend = views::parse_sift_backend(sift);
         return v;
     }
     views::ViewSet views_of(const std::string& path) const {
@@ -92,13 +96,20 @@ void add_codebook(CLI::App& app) {
         std::vector<std::string> meshes;
         int words = 1500;
         bool random = false;
+        std::string method = "kmeans";
+        std::int64_t sample = views::kDefaultCodebookSample;
     };
     auto a = std::make_shared<Args>();
     auto* c = app.add_subcommand("codebook", "a codebook of visual words trained on the SIFT features of meshes");
     c->add_option("OUT", a->out, "output codebook file")->required();
     c->add_option("MESH", a->meshes, "meshes to train on")->required();
     c->add_option("--words", a->words, "visual words")->check(CLI::Range(1, 1000000));
-    c->add_flag("--random", a->random, "random training descriptors as words instead of k-means");
+    c->add_option("--training", a->method, "kmeans (FAISS), lloyd (k-means++ and Lloyd) or random (random "
+                                         "training descriptors as words)")
+        ->check(CLI::IsMember({"kmeans", "lloyd", "random"}));
+    c->add_flag("--random", a->random, "the same as --training random");
+    c->add_option("--sample", a->sample, "train on this many descriptors drawn from all (0: all)")
+        ->check(CLI::Range(std::int64_t(0), std::int64_t(2000000000)));
     a->add(c);
     c->callback([a] {
         std::vector<std::vector<views::SiftDescriptors>> features;
@@ -115,7 +126,8 @@ void add_codebook(CLI::App& app) {
         views::CodebookOptions co;
         co.words = a->words;
         co.seed = a->seed;
-        co.method = a->random ? views::CodebookOptions::Method::Random : views::CodebookOptions::Method::KMeans;
+        co.method = views::parse_codebook_method(a->random ? "random" : a->method);
+        co.sample = a->sample;
         const views::Codebook cb = views::Codebook::train(views::stack_features(sets), co);
         cb.save(a->out);
         std::cerr << "codebook of " << cb.size() << " words from " << rows << " descriptors -> " << a->out << "\n";

@@ -85,6 +85,13 @@ Experiment::Experiment(ExperimentOptions options)
 Experiment::Experiment(ExperimentOptions options, std::vector<Model> models)
     : options_(std::move(options)), models_(std::move(models)) {
     const ExperimentOptions& o = options_;
+    for (const FusedSpec& f : options_.fused)
+        for (const std::string& member : f.members) {
+            const MethodSpec m = parse_method_spec(member);
+            bool listed = false;
+            for (const MethodSpec& x : options_.methods) listed = listed || x.folder() == m.folder();
+            if (!listed) options_.methods.push_back(m);
+        }
     if (o.methods.empty()) throw InputError("name at least one --method");
     for (size_t k = 0; k < o.methods.size(); ++k)
         for (size_t j = 0; j < k; ++j)
@@ -118,7 +125,9 @@ std::string Experiment::cache_entry(const MethodSpec& method, std::size_t k) con
     const ExperimentOptions& o = options_;
     std::ostringstream params;
     params << method.cache_key() << "|simplify=" << o.simplify << "|noise=" << o.noise << "|seed=" << o.seed
-           << "|views=v1" << (o.repair ? "|repair" : "");
+           << "|views=v1" << (o.repair ? "|repair" : "")
+           << (o.views.sift.backend != views::SiftBackend::OpenCV ? "|sift=" + views::sift_backend_name(o.views.sift.backend)
+                                                                  : std::string());
     return o.out + "/cache/" + io::hex(io::fnv1a(params.str(), models_[k].hash));
 }
 
@@ -188,12 +197,24 @@ std::vector<MeshFeatures> Experiment::features(const MethodSpec& method) const {
     return results;
 }
 
+views::CodebookOptions Experiment::codebook_options() const {
+    views::CodebookOptions co = options_.codebook_training;
+    co.words = options_.words;
+    co.seed = options_.seed;
+    return co;
+}
+
 views::Codebook Experiment::codebook(const MethodSpec& method, const std::vector<MeshFeatures>& features,
                                      const std::vector<std::size_t>& good) const {
     const ExperimentOptions& o = options_;
     if (!o.codebook.empty()) return views::Codebook::load(o.codebook);
-    std::uint64_t h = io::fnv1a(method.cache_key() + "|words=" + std::to_string(o.words) + "|seed=" + std::to_string(o.seed) +
-                                (o.codebook_sample ? "|sample=" + std::to_string(o.codebook_sample) : std::string()));
+    const views::CodebookOptions co = codebook_options();
+    std::string key = method.cache_key() + "|words=" + std::to_string(o.words) + "|seed=" + std::to_string(o.seed);
+    if (co.method != views::CodebookOptions::Method::Lloyd || co.sample != 0 || co.kmeans_iterations != 10)
+        key += "|" + views::codebook_method_name(co.method) + "|sample=" + std::to_string(co.sample) +
+               "|iterations=" + std::to_string(co.kmeans_iterations);  // (the old key is Lloyd's on all)
+    if (o.views.sift.backend != views::SiftBackend::OpenCV) key += "|sift=" + views::sift_backend_name(o.views.sift.backend);
+    std::uint64_t h = io::fnv1a(key);
     std::vector<const std::vector<views::SiftDescriptors>*> sets;
     for (size_t k : good) {
         h = io::fnv1a(io::hex(models_[k].hash), h);
@@ -201,17 +222,7 @@ views::Codebook Experiment::codebook(const MethodSpec& method, const std::vector
     }
     const std::string path = o.out + "/cache/codebook_" + io::hex(h) + ".bin";
     if (io::is_file(path)) return views::Codebook::load(path);
-    views::CodebookOptions co;
-    co.words = o.words;
-    co.seed = o.seed;
-    views::SiftDescriptors training = views::stack_features(sets);
-    const std::vector<size_t> rows = sample_rows(static_cast<size_t>(training.rows()), o.codebook_sample, o.seed);
-    if (rows.size() < static_cast<size_t>(training.rows())) {
-        views::SiftDescriptors sample(static_cast<Eigen::Index>(rows.size()), 128);
-        for (size_t r = 0; r < rows.size(); ++r) sample.row(static_cast<Eigen::Index>(r)) = training.row(static_cast<Eigen::Index>(rows[r]));
-        training = std::move(sample);
-    }
-    views::Codebook cb = views::Codebook::train(training, co);
+    views::Codebook cb = views::Codebook::train(views::stack_features(sets), co);
     cb.save(path);
     return cb;
 }
@@ -345,28 +356,102 @@ void Experiment::finish_method(MethodOutcome& out, const std::vector<size_t>& go
 std::vector<MethodOutcome> Experiment::run() const {
     std::vector<MethodOutcome> outcomes;
     for (const MethodSpec& m : options_.methods) outcomes.push_back(run_method(m));
+    for (const FusedSpec& f : options_.fused) outcomes.push_back(run_fused(f));
     return outcomes;
 }
 
-std::vector<size_t> sample_rows(size_t total, size_t sample, std::uint64_t seed) {
-    std::vector<size_t> rows;
-    if (sample == 0 || sample >= total) {
-        rows.resize(total);
-        for (size_t r = 0; r < total; ++r) rows[r] = r;
-        return rows;
+MethodOutcome Experiment::run_fused(const FusedSpec& fused) const {
+    const ExperimentOptions& o = options_;
+    const auto t0 = Clock::now();
+    std::vector<std::string> folders;
+    for (const std::string& m : fused.members) folders.push_back(parse_method_spec(m).folder());
+    MethodOutcome out;
+    out.label = fused.folder(folders);
+    const std::string dir = o.out + "/" + out.label;
+    out.folder = dir;
+    io::make_directories(dir);
+    // Every member's matrix and model order; the fused matrix covers the models all members have.
+    std::vector<Eigen::MatrixXd> full;
+    std::vector<std::map<std::string, Eigen::Index>> index(folders.size());
+    std::vector<std::pair<std::string, std::string>> first;  // (name, class) of the first member, in order
+    for (size_t k = 0; k < folders.size(); ++k) {
+        const std::string mdir = o.out + "/" + folders[k];
+        full.push_back(io::read_distance_matrix(mdir + "/distances.bin"));
+        const auto rows = io::read_csv(mdir + "/models.csv");
+        for (size_t r = 1; r < rows.size(); ++r) {
+            if (rows[r].size() < 2) continue;
+            index[k][rows[r][0]] = static_cast<Eigen::Index>(index[k].size());
+            if (k == 0) first.emplace_back(rows[r][0], rows[r][1]);
+        }
+        if (static_cast<Eigen::Index>(index[k].size()) != full.back().rows())
+            throw InputError("'" + mdir + "/models.csv' does not match its distances.bin");
     }
-    // Floyd's algorithm: `sample` distinct rows in O(sample) draws, then sorted.
-    std::mt19937_64 rng(seed);
-    std::vector<size_t> picked;
-    std::unordered_set<size_t> seen;
-    for (size_t j = total - sample; j < total; ++j) {
-        const size_t t = std::uniform_int_distribution<size_t>(0, j)(rng);
-        const size_t pick = seen.count(t) ? j : t;
-        seen.insert(pick);
-        picked.push_back(pick);
+    std::vector<std::pair<std::string, std::string>> models;
+    for (const auto& nc : first) {
+        bool everywhere = true;
+        for (const auto& ix : index) everywhere = everywhere && ix.count(nc.first);
+        if (everywhere) models.push_back(nc);
     }
-    std::sort(picked.begin(), picked.end());
-    return picked;
+    out.meshes = models.size();
+    out.failed = models_.size() - models.size();
+    if (models.size() < 3) throw InputError(out.label + ": fewer than three models have every member's distances");
+    const Eigen::Index n = static_cast<Eigen::Index>(models.size());
+    std::vector<Eigen::MatrixXf> parts;
+    for (size_t k = 0; k < folders.size(); ++k) {
+        Eigen::MatrixXf P(n, n);
+        for (Eigen::Index i = 0; i < n; ++i)
+            for (Eigen::Index j = 0; j < n; ++j)
+                P(i, j) = static_cast<float>(full[k](index[k].at(models[static_cast<size_t>(i)].first),
+                                                     index[k].at(models[static_cast<size_t>(j)].first)));
+        parts.push_back(std::move(P));
+    }
+    const Eigen::MatrixXf D = fuse_distances(parts, fused.weights);
+    io::write_distance_matrix(D, dir + "/distances.bin", dir + "/distances.csv");
+    std::ostringstream order;
+    std::vector<std::string> labels;
+    std::map<std::string, int> class_sizes;
+    for (const auto& [name, label] : models) {
+        order << name << "," << label << "\n";
+        labels.push_back(label);
+        ++class_sizes[label];
+    }
+    io::write_file_atomic(dir + "/models.csv", "name,class\n" + order.str());
+    bool measurable = false;
+    for (const auto& [label, count] : class_sizes) measurable = measurable || count > 2;
+    if (measurable)
+        out.evaluation = evaluate(D.cast<double>(), labels);
+    else
+        out.no_measures = "no class has more than two models: the measures need three";
+    out.distances_seconds = since(t0);
+    nlohmann::ordered_json js;
+    js["method"] = out.label;
+    js["base"] = "fused";
+    js["members"] = fused.members;
+    js["weights"] = fused.weights;
+    js["meshes"] = out.meshes;
+    js["failed"] = out.failed;
+    if (out.no_measures.empty()) {
+        js["micro"] = to_json(out.evaluation.micro);
+        js["macro"] = to_json(out.evaluation.macro);
+    } else {
+        js["micro"] = nullptr;
+        js["macro"] = nullptr;
+        js["no_measures"] = out.no_measures;
+    }
+    js["pose_consistency"] = -1;
+    js["seconds"] = {{"fusion_and_measures", out.distances_seconds}};
+    io::write_file_atomic(dir + "/metrics.json", js.dump(-1, ' ', false, nlohmann::ordered_json::error_handler_t::replace) + "\n");
+    std::ostringstream pr;
+    pr << "recall,precision\n";
+    for (size_t k = 0; k < out.evaluation.recall.size(); ++k)
+        pr << out.evaluation.recall[k] << "," << out.evaluation.precision[k] << "\n";
+    io::write_file_atomic(dir + "/pr.csv", pr.str());
+    const Measures& e = out.evaluation.micro;
+    char line[300];
+    std::snprintf(line, sizeof line, "[%s] NN %.3f, 1-tier %.3f, 2-tier %.3f, E %.3f, DCG %.3f", out.label.c_str(), e.nn,
+                  e.first_tier, e.second_tier, e.e_measure, e.dcg);
+    log_line(o, out.no_measures.empty() ? line : "[" + out.label + "] no measures: " + out.no_measures);
+    return out;
 }
 
 std::string report_markdown(const ExperimentOptions& o, std::size_t meshes, const std::vector<MethodOutcome>& outcomes,
@@ -383,16 +468,16 @@ std::string report_markdown(const ExperimentOptions& o, std::size_t meshes, cons
         if (m.pose_consistency >= 0) std::snprintf(cons, sizeof cons, "%.3f", m.pose_consistency);
         if (m.no_measures.empty())
             std::snprintf(row, sizeof row, "| %s | %.3f | %.3f | %.3f | %.3f | %.3f | %s | %zu | %zu | %.1f | %.1f | %.1f |\n",
-                          m.spec.folder().c_str(), e.nn, e.first_tier, e.second_tier, e.e_measure, e.dcg, cons,
+                          (m.label.empty() ? m.spec.folder() : m.label).c_str(), e.nn, e.first_tier, e.second_tier, e.e_measure, e.dcg, cons,
                           m.meshes, m.failed, m.forms_seconds, m.codebook_seconds, m.distances_seconds);
         else
             std::snprintf(row, sizeof row, "| %s | - | - | - | - | - | %s | %zu | %zu | %.1f | %.1f | %.1f |\n",
-                          m.spec.folder().c_str(), cons, m.meshes, m.failed, m.forms_seconds, m.codebook_seconds,
+                          (m.label.empty() ? m.spec.folder() : m.label).c_str(), cons, m.meshes, m.failed, m.forms_seconds, m.codebook_seconds,
                           m.distances_seconds);
         report << row;
     }
     for (const MethodOutcome& m : outcomes)
-        if (!m.no_measures.empty()) report << "\nNo measures for " << m.spec.folder() << ": " << m.no_measures << ".\n";
+        if (!m.no_measures.empty()) report << "\nNo measures for " << (m.label.empty() ? m.spec.folder() : m.label) << ": " << m.no_measures << ".\n";
     report << pictures;
     report << "\nPose consistency: mean over same-class pairs with ground-truth correspondences (corres/*.vts) of "
               "the RMS distance between corresponding vertices after the best rigid motion (or mirror image), "

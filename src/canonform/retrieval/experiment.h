@@ -16,6 +16,7 @@
 #pragma once
 
 #include "canonform/canonical/method_registry.h"
+#include "canonform/retrieval/fused_distances.h"
 #include "canonform/retrieval/retrieval_measures.h"
 #include "canonform/views/view_descriptor.h"
 
@@ -47,9 +48,12 @@ struct ExperimentOptions {
     std::string labels;               ///< labels file ("path,class")
     std::string out;                  ///< run folder
     std::vector<MethodSpec> methods;  ///< canonical-form methods, in order (folders must differ)
+    /// Fused methods (fused_distances.h), run after `methods`; a member not among `methods` is
+    /// added to them.
+    std::vector<FusedSpec> fused;
     int words = 1500;                 ///< codebook size (trained on each method's features)
     std::string codebook;             ///< a given codebook instead ("" = train)
-    std::size_t codebook_sample = 0;  ///< train on a seeded sample of this many descriptors (0 = all; sample_rows())
+    views::CodebookOptions codebook_training;  ///< method, sample, iterations (words, seed: the fields here)
     int simplify = 0;                 ///< simplify every mesh to this many vertices first (0 = no)
     double noise = 0;                 ///< vertex noise, as a fraction of the mean edge length
     std::uint64_t seed = 0;           ///< seeds of the noise and the codebook
@@ -72,6 +76,7 @@ struct MeshFeatures {
 /// The outcome of one method.
 struct MethodOutcome {
     MethodSpec spec;
+    std::string label;                 ///< a fused method's folder name ("" for a canonical-form method)
     std::string folder;                ///< RUN/METHOD
     Evaluation evaluation;
     std::string no_measures;           ///< why there are no measures ("" if there are): classes too small
@@ -101,6 +106,9 @@ public:
     /// The cache entry of one mesh under one method: RUN/cache/KEY, with KEY from the file's
     /// content and the parameters; mesh_features() keeps KEY.cfvd (the features) and KEY.ply (the form).
     std::string cache_entry(const MethodSpec& method, std::size_t model) const;
+    /// How each method's codebook is trained (options.codebook_training with its words and seed), on
+    /// the good meshes' features stacked in collection order (views::stack_features()).
+    views::CodebookOptions codebook_options() const;
     /// Stage 1 for every mesh, in parallel, with progress.
     std::vector<MeshFeatures> features(const MethodSpec& method) const;
     /// Stage 2: the given codebook, or one trained on the features of the meshes `good` (cached).
@@ -113,18 +121,16 @@ public:
     void finish_method(MethodOutcome& out, const std::vector<std::size_t>& good, const Eigen::MatrixXf& D) const;
     /// Every stage of one method; writes its folder.
     MethodOutcome run_method(const MethodSpec& method) const;
-    /// Every method, in order.
+    /// A fused method from its members' distance matrices (RUN/MEMBER/distances.bin, written by
+    /// run_method()) over the models every member has; writes its folder like run_method().
+    MethodOutcome run_fused(const FusedSpec& fused) const;
+    /// Every method, in order, then every fused method.
     std::vector<MethodOutcome> run() const;
 
 private:
     ExperimentOptions options_;
     std::vector<Model> models_;
 };
-
-/// The rows of a codebook's training sample among `total` stacked descriptors (models in
-/// collection order, views in order, rows in order): every row if `sample` is 0 or >= total, else
-/// `sample` distinct rows drawn uniformly with std::mt19937_64(seed), in increasing order.
-std::vector<std::size_t> sample_rows(std::size_t total, std::size_t sample, std::uint64_t seed);
 
 /// RUN/report.md of a run: the collection, one table row per method, then `pictures` (markdown
 /// lines: the precision-recall plot, the grid) and the notes on the measures.

@@ -43,7 +43,11 @@ Json plan_json(const ShardedPlan& p) {
             {"methods", methods},
             {"words", o.words},
             {"codebook", o.codebook},
-            {"codebook_sample", o.codebook_sample},
+            {"codebook_training",
+             {{"method", views::codebook_method_name(o.codebook_training.method)},
+              {"sample", o.codebook_training.sample},
+              {"iterations", o.codebook_training.kmeans_iterations}}},
+            {"sift", views::sift_backend_name(o.views.sift.backend)},
             {"simplify", o.simplify},
             {"noise", o.noise},
             {"seed", o.seed},
@@ -61,7 +65,11 @@ ShardedPlan plan_from_json(const Json& j, const std::string& run) {
     for (const auto& m : j.at("methods")) o.methods.push_back(parse_method_spec(m.get<std::string>()));
     o.words = j.at("words").get<int>();
     o.codebook = j.at("codebook").get<std::string>();
-    o.codebook_sample = j.at("codebook_sample").get<std::size_t>();
+    const Json& training = j.at("codebook_training");
+    o.codebook_training.method = views::parse_codebook_method(training.at("method").get<std::string>());
+    o.codebook_training.sample = training.at("sample").get<std::int64_t>();
+    o.codebook_training.kmeans_iterations = training.at("iterations").get<int>();
+    o.views.sift.backend = views::parse_sift_backend(j.at("sift").get<std::string>());
     o.simplify = j.at("simplify").get<int>();
     o.noise = j.at("noise").get<double>();
     o.seed = j.at("seed").get<std::uint64_t>();
@@ -362,31 +370,17 @@ void ShardedRun::codebook(Json& m) const {
         if (!o.codebook.empty()) {
             cb = views::Codebook::load(o.codebook);
         } else {
-            // The training set of Experiment::codebook(): the good meshes' descriptors stacked in
-            // collection order, or the seeded sample of them; read mesh by mesh, keeping only the sample.
-            std::size_t total = 0;
-            for (std::size_t r : c.rows) total += r;
-            const std::vector<std::size_t> rows = sample_rows(total, o.codebook_sample, o.seed);
-            views::SiftDescriptors training(static_cast<Eigen::Index>(rows.size()), 128);
-            std::size_t next = 0, base = 0;
-            for (std::size_t g = 0; g < c.good.size() && next < rows.size(); ++g) {
-                if (rows[next] >= base + c.rows[g]) {
-                    base += c.rows[g];
-                    continue;
-                }
-                const MeshFeatures f = experiment_.mesh_features(spec, c.good[g]);
-                if (!f.ok) throw InputError(experiment_.models()[c.good[g]].name + ": " + f.error);
-                std::size_t at = base;
-                for (const auto& v : f.features)
-                    for (Eigen::Index r = 0; r < v.rows(); ++r, ++at)
-                        if (next < rows.size() && rows[next] == at) training.row(static_cast<Eigen::Index>(next++)) = v.row(r);
-                base += c.rows[g];
+            // The training of Experiment::codebook(): the good meshes' descriptors stacked in
+            // collection order, the same options (sample, method, seed).
+            std::vector<std::vector<views::SiftDescriptors>> features;
+            for (std::size_t g : c.good) {
+                MeshFeatures f = experiment_.mesh_features(spec, g);
+                if (!f.ok) throw InputError(experiment_.models()[g].name + ": " + f.error);
+                features.push_back(std::move(f.features));
             }
-            if (next != rows.size()) throw InputError(spec.folder() + ": the cached features changed since the features stage");
-            views::CodebookOptions co;
-            co.words = o.words;
-            co.seed = o.seed;
-            cb = views::Codebook::train(training, co);
+            std::vector<const std::vector<views::SiftDescriptors>*> sets;
+            for (const auto& f : features) sets.push_back(&f);
+            cb = views::Codebook::train(views::stack_features(sets), experiment_.codebook_options());
         }
         cb.save(dir + "/codebook.bin");
         m["outputs"].push_back(relative(run_, dir + "/codebook.bin"));

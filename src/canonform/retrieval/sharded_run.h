@@ -3,7 +3,7 @@
 //
 //   init                 the plan (RUN/sharded.json) and the collection read once (RUN/models.json)
 //   features  shard I/N  per mesh of shard I: [simplify, noise,] canonical form, 66 views, SIFT
-//   codebook             trained on a seeded sample of the descriptors (sample_rows(); all by default)
+//   codebook             trained as Experiment::codebook() does (a seeded sample, views/codebook.h)
 //   histograms shard I/N one bag-of-features histogram per view, per mesh of shard I
 //   distances block B/NB rows of the upper triangle of the N x N clock-matching matrix, the row
 //                        blocks balanced by pair count (views::distance_rows())

@@ -3,6 +3,8 @@
 #include "canonform/common/parallel.h"
 #include "canonform/io/files.h"
 
+#include <faiss/Clustering.h>
+#include <faiss/IndexFlat.h>
 
 #include <algorithm>
 #include <cmath>
@@ -132,27 +134,30 @@ Codebook Codebook::from_words(DescriptorMatrix words) {
     return cb;
 }
 
-Codebook Codebook::train(const DescriptorMatrix& X, const CodebookOptions& options) {
-    if (options.words <= 0) throw InputError("Codebook: the number of words must be positive.");
-    if (options.kmeans_iterations < 0) throw InputError("Codebook: kmeans_iterations must be >= 0.");
-    if (X.rows() == 0) throw InputError("Codebook: no training descriptors (every view was blank?).");
-    if (X.rows() > std::numeric_limits<int>::max()) throw InputError("Codebook: too many training descriptors.");
-    if (!X.allFinite()) throw InputError("Codebook: a training descriptor has a non-finite value.");
-    const int n = static_cast<int>(X.rows()), k = options.words;
-    if (n <= k) return from_words(X);  // documented: every descriptor becomes a word
+CodebookOptions::Method parse_codebook_method(const std::string& name) {
+    if (name == "kmeans") return CodebookOptions::Method::KMeans;
+    if (name == "lloyd") return CodebookOptions::Method::Lloyd;
+    if (name == "random") return CodebookOptions::Method::Random;
+    throw InputError("Codebook: unknown method '" + name + "' (kmeans, lloyd or random).");
+}
 
-    std::mt19937_64 rng(options.seed);
-    if (options.method == CodebookOptions::Method::Random) {
-        const std::vector<int> pick = sample_distinct(rng, n, k);
-        DescriptorMatrix C(k, kDim);
-        for (int i = 0; i < k; ++i) C.row(i) = X.row(pick[i]);
-        return from_words(std::move(C));
+std::string codebook_method_name(CodebookOptions::Method method) {
+    switch (method) {
+        case CodebookOptions::Method::KMeans: return "kmeans";
+        case CodebookOptions::Method::Lloyd: return "lloyd";
+        case CodebookOptions::Method::Random: return "random";
     }
+    return "kmeans";
+}
 
+namespace {
+
+DescriptorMatrix lloyd(const DescriptorMatrix& X, int k, int iterations, std::mt19937_64& rng) {
+    const int n = static_cast<int>(X.rows());
     DescriptorMatrix C = kmeans_pp_seed(X, k, rng);
     std::vector<int> label, previous;
     std::vector<float> dist2;
-    for (int it = 0; it < options.kmeans_iterations; ++it) {
+    for (int it = 0; it < iterations; ++it) {
         nearest_words(X, C, row_norms(C), label, &dist2);
         if (label == previous) break;
         // New means, accumulated sequentially (deterministic).
@@ -178,7 +183,69 @@ Codebook Codebook::train(const DescriptorMatrix& X, const CodebookOptions& optio
         }
         previous.swap(label);
     }
-    return from_words(std::move(C));
+    return C;
+}
+
+DescriptorMatrix faiss_kmeans(const DescriptorMatrix& X, int k, int iterations, std::uint64_t seed) {
+    faiss::ClusteringParameters cp;
+    cp.niter = iterations;
+    cp.seed = static_cast<int>(seed % 2147483647u);
+    cp.verbose = false;
+    cp.min_points_per_centroid = 1;  // no warning for small inputs (n > k is guaranteed)
+    cp.max_points_per_centroid = std::numeric_limits<int>::max() / 2;  // we sample ourselves
+    faiss::Clustering clustering(kDim, k, cp);
+    faiss::IndexFlatL2 index(kDim);
+    clustering.train(static_cast<faiss::Index::idx_t>(X.rows()), X.data(), index);
+    if (clustering.centroids.size() != static_cast<std::size_t>(k) * kDim)
+        throw NumericalError("Codebook: FAISS k-means returned " + std::to_string(clustering.centroids.size() / kDim) +
+                             " words, expected " + std::to_string(k) + ".");
+    return Eigen::Map<const DescriptorMatrix>(clustering.centroids.data(), k, kDim);
+}
+
+}  // namespace
+
+Codebook Codebook::train(const DescriptorMatrix& X, const CodebookOptions& options) {
+    if (options.words <= 0) throw InputError("Codebook: the number of words must be positive.");
+    if (options.kmeans_iterations < 0) throw InputError("Codebook: kmeans_iterations must be >= 0.");
+    if (options.sample < 0) throw InputError("Codebook: the training sample must be >= 0 (0 = every descriptor).");
+    if (X.rows() == 0) throw InputError("Codebook: no training descriptors (every view was blank?).");
+    if (X.rows() > std::numeric_limits<int>::max()) throw InputError("Codebook: too many training descriptors.");
+    if (!X.allFinite()) throw InputError("Codebook: a training descriptor has a non-finite value.");
+    const int n = static_cast<int>(X.rows()), k = options.words;
+    if (n <= k) return from_words(X);  // documented: every descriptor becomes a word
+
+    std::mt19937_64 rng(options.seed);
+    // The training sample (a seeded draw of distinct rows, in drawn order; the whole input if small).
+    DescriptorMatrix sampled;
+    const bool subsample = options.sample > 0 && options.sample < n;
+    if (subsample) {
+        const int m = static_cast<int>(std::max<std::int64_t>(options.sample, k + 1));
+        const std::vector<int> pick = sample_distinct(rng, n, std::min(m, n));
+        sampled.resize(static_cast<Eigen::Index>(pick.size()), kDim);
+        for (std::size_t i = 0; i < pick.size(); ++i) sampled.row(static_cast<Eigen::Index>(i)) = X.row(pick[i]);
+    }
+    const DescriptorMatrix& S = subsample ? sampled : X;
+    const int m = static_cast<int>(S.rows());
+
+    switch (options.method) {
+        case CodebookOptions::Method::Random: {
+            const std::vector<int> pick = sample_distinct(rng, m, k);
+            DescriptorMatrix C(k, kDim);
+            for (int i = 0; i < k; ++i) C.row(i) = S.row(pick[i]);
+            return from_words(std::move(C));
+        }
+        case CodebookOptions::Method::Lloyd:
+            return from_words(lloyd(S, k, options.kmeans_iterations, rng));
+        case CodebookOptions::Method::KMeans:
+            if (options.kmeans_iterations == 0) {  // FAISS's initialisation alone: random sample points
+                const std::vector<int> pick = sample_distinct(rng, m, k);
+                DescriptorMatrix C(k, kDim);
+                for (int i = 0; i < k; ++i) C.row(i) = S.row(pick[i]);
+                return from_words(std::move(C));
+            }
+            return from_words(faiss_kmeans(S, k, options.kmeans_iterations, rng()));
+    }
+    throw InputError("Codebook: unknown method.");
 }
 
 std::vector<int> Codebook::assign(const DescriptorMatrix& descriptors) const {

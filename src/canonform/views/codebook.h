@@ -6,13 +6,22 @@
 // A. Zisserman, "Video Google", ICCV 2003; D. Arthur and S. Vassilvitskii, "k-means++: the
 // advantages of careful seeding", SODA 2007.
 //
-// Training:
-// - Method::KMeans: Lloyd's k-means, seeded by k-means++. Deterministic for a seed (own
-//   std::mt19937_64 stream, no global RNG; results do not depend on the thread count). To keep
-//   seeding affordable (k-means++ is sequential: one pass over the seeding set per word), the
-//   k-means++ seeding runs on a seeded random subset of at most 20 * words descriptors; Lloyd
-//   iterations then use all descriptors. An empty cluster is re-seeded with the descriptor
-//   farthest from its current word. Stops after kmeans_iterations or when no assignment changes.
+// Training (every method draws from its own std::mt19937_64 stream seeded by `seed`; no global RNG):
+// - The training set is a seeded random sample of `sample` distinct descriptors (all of them if
+//   there are fewer, or if sample == 0). Measured (README, "Codebook"): on TOSCA, k-means on a
+//   100k sample scores within noise of the previous codebook (Lloyd on every descriptor); on the
+//   600 x 10k plan's 1.2 M descriptors it costs a twelfth.
+// - Method::KMeans (default): FAISS's k-means (faiss::Clustering with an exact L2 index; Debian's
+//   libfaiss-dev): words initialised as distinct random sample points (FAISS's own seeded choice,
+//   not k-means++), kmeans_iterations Lloyd iterations whose nearest-word search is a BLAS sgemm,
+//   an empty cluster re-seeded by splitting a large one. Deterministic for a seed and a thread
+//   count. The BLAS it uses is whatever libblas.so.3 resolves to: with Debian's reference BLAS it
+//   is about 7x slower than with OpenBLAS (libopenblas0-pthread, installed by tools/setup.sh).
+// - Method::Lloyd: our own Lloyd's k-means, seeded by k-means++ (on a seeded subset of at most
+//   20 * words sample descriptors: k-means++ is sequential, one pass per word); results do not
+//   depend on the thread count. An empty cluster is re-seeded with the descriptor farthest from
+//   its current word. Stops after kmeans_iterations or when no assignment changes. Kept as the
+//   reference FAISS was measured against (same measures, slower: README).
 // - Method::Random: `words` distinct descriptors drawn uniformly (the public re-implementation
 //   that Pickup et al. used picks random training descriptors).
 // - If there are no more descriptors than words, every descriptor becomes a word (in input order)
@@ -43,13 +52,23 @@ namespace canonform::views {
 /// n x 128 descriptors, one per row.
 using DescriptorMatrix = Eigen::Matrix<float, Eigen::Dynamic, 128, Eigen::RowMajor>;
 
+/// Default training sample (descriptors); chosen by measurement (README, "Codebook").
+inline constexpr std::int64_t kDefaultCodebookSample = 100000;
+
 /// Options of Codebook::train().
 struct CodebookOptions {
     int words = 1500;          ///< codebook size N_W (> 0)
-    std::uint64_t seed = 0;    ///< seed of the random stream (k-means++ seeding / random choice)
-    enum class Method { KMeans, Random } method = Method::KMeans;
+    std::uint64_t seed = 0;    ///< seed of the random stream (sample, initial words, random choice)
+    enum class Method { KMeans, Lloyd, Random } method = Method::KMeans;
     int kmeans_iterations = 10;  ///< Lloyd iterations after seeding (>= 0)
+    /// Training descriptors drawn (seeded, distinct) from the input before training; 0 = all.
+    std::int64_t sample = kDefaultCodebookSample;
 };
+
+/// The method named "kmeans", "lloyd" or "random" (InputError naming the choices otherwise).
+CodebookOptions::Method parse_codebook_method(const std::string& name);
+/// The name of a method ("kmeans", "lloyd", "random").
+std::string codebook_method_name(CodebookOptions::Method method);
 
 /// A set of visual words (size() x 128).
 class Codebook {

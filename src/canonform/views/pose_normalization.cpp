@@ -106,6 +106,30 @@ struct RectCost {
     }
 };
 
+// Area vectors summed per direction bin (cube map: the dominant axis and its sign, then bins x bins
+// cells over the other two coordinates divided by the dominant one): the coarse restarts' objective.
+Eigen::Matrix3Xd binned_area_vectors(const Eigen::Matrix3Xd& A, int bins) {
+    std::vector<Eigen::Vector3d> sum(static_cast<size_t>(6 * bins * bins), Eigen::Vector3d::Zero());
+    std::vector<char> used(sum.size(), 0);
+    for (Eigen::Index f = 0; f < A.cols(); ++f) {
+        const Eigen::Vector3d a = A.col(f);
+        int axis = 0;
+        for (int k = 1; k < 3; ++k)
+            if (std::abs(a[k]) > std::abs(a[axis])) axis = k;
+        const double big = std::abs(a[axis]);
+        if (!(big > 0)) continue;
+        const auto cell = [&](double t) { return std::clamp(static_cast<int>((t / big + 1.0) * 0.5 * bins), 0, bins - 1); };
+        const int key = ((axis * 2 + (a[axis] < 0)) * bins + cell(a[(axis + 1) % 3])) * bins + cell(a[(axis + 2) % 3]);
+        sum[static_cast<size_t>(key)] += a;
+        used[static_cast<size_t>(key)] = 1;
+    }
+    Eigen::Matrix3Xd B(3, std::count(used.begin(), used.end(), 1));
+    Eigen::Index c = 0;
+    for (size_t k = 0; k < sum.size(); ++k)
+        if (used[k]) B.col(c++) = sum[k];
+    return B;
+}
+
 // Nelder-Mead over Euler angles around Q0; returns the best rotation (Rz Ry Rx Q0) and its cost.
 // Standard coefficients (reflection 1, expansion 2, contraction 1/2, shrink 1/2).
 std::pair<Eigen::Matrix3d, double> nelder_mead(const RectCost& cost, const Eigen::Matrix3d& Q0,
@@ -198,6 +222,8 @@ double projected_area_ratio(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, 
 PoseNormalization normalize_pose(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const PoseOptions& options) {
     validate(V, F);
     if (options.restarts < 1) throw InputError("pose normalisation needs at least one rectilinearity start");
+    if (options.direction_bins < 0 || options.direction_bins > 1024)
+        throw InputError("pose normalisation: direction_bins must be in [0, 1024] (0 = no binning)");
     PoseNormalization out;
     out.centre = V.colwise().mean();
     Eigen::MatrixXd X = V.rowwise() - out.centre;
@@ -221,12 +247,17 @@ PoseNormalization normalize_pose(const Eigen::MatrixXd& V, const Eigen::MatrixXi
     // Rectilinearity candidate, optimised in the PCA frame.
     const Eigen::Matrix3Xd Apca = Rpca * A;
     const RectCost cost{Apca, 1.0 / total};
+    // The coarse restarts on the area vectors summed per direction bin (if that shrinks them).
+    Eigen::Matrix3Xd Abinned;
+    if (options.direction_bins > 0) Abinned = binned_area_vectors(Apca, options.direction_bins);
+    const bool binned = options.direction_bins > 0 && Abinned.cols() < Apca.cols();
+    const RectCost coarse{binned ? Abinned : Apca, 1.0 / total};
     std::mt19937_64 gen(options.seed);
     Eigen::Matrix3d best_Q = Eigen::Matrix3d::Identity();
     double best_f = 1e300;
     for (int k = 0; k < options.restarts; ++k) {
         const Eigen::Matrix3d Q0 = k == 0 ? Eigen::Matrix3d::Identity() : random_rotation(gen);
-        auto [Q, fq] = minimise_from(cost, Q0, 3, 1e-6);  // coarse
+        auto [Q, fq] = minimise_from(coarse, Q0, 3, 1e-6);  // coarse
         if (fq < best_f) best_f = fq, best_Q = Q;
     }
     best_Q = minimise_from(cost, best_Q, 8, 1e-11).first;  // refine the winner

@@ -18,7 +18,10 @@
 //    Euler angles around each start Q_k; start 0 is the PCA frame, starts 1..restarts-1 are random
 //    rotations of it (std::mt19937_64 seeded with `seed`, raw 64-bit outputs, so platform
 //    independent). Each start runs Nelder-Mead (initial step 0.3 rad, restarted at the optimum
-//    with shrinking steps until it stops improving); the lowest P over all starts wins.
+//    with shrinking steps until it stops improving); the lowest P over all starts wins and is
+//    refined. Departure (for speed): the starts' coarse search minimises P over the area vectors
+//    summed per direction bin (PoseOptions::direction_bins; equal to P when no bin holds vectors
+//    whose rotated components differ in sign), only the refinement uses every face.
 // 4. Axis canonicalisation (both candidates): P is invariant under the 24 cube rotations, and PCA
 //    axes have free signs, so each candidate frame is made unique by (a) ordering its axes by the
 //    second moment of X along them, largest first, then (b) choosing signs: of the three axes, the
@@ -48,6 +51,10 @@ namespace views {
 struct PoseOptions {
     int restarts = 8;         ///< rectilinearity starts (>= 1): the PCA frame + restarts-1 random
     std::uint64_t seed = 0;   ///< seed of the random starts
+    /// The coarse search of every start runs on the area vectors summed per direction bin (a cube
+    /// map of 6 x bins x bins cells, in the PCA frame); the winner is then refined on every face.
+    /// 0 = every face throughout (slower; README, "SIFT backends" has both timings).
+    int direction_bins = 16;
 };
 
 /// A similarity transform to the normalised pose (see apply_pose for the convention).

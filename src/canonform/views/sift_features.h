@@ -5,7 +5,22 @@
 // using Clock Matching and Bag-of-Features", Machine Vision and Applications 24, 2013 (Sec. 3.2);
 // Pickup et al., Pattern Recognition 2015 (CM-BOF on canonical forms).
 //
-// The feature extractor is OpenCV's cv::SIFT (features2d, OpenCV >= 4.4). CM-BOF was published with
+// Three extractors (SiftBackend; `--sift` in the tool and `retrieve`, a parameter of the view filter):
+// - opencv (default): OpenCV's cv::SIFT on the 8-bit view, as described below. OpenCV doubles the
+//   image before its first octave (first octave -1).
+// - opencv-half: the same on the 8-bit view halved (area average), so that OpenCV's doubling puts
+//   its first octave at the view's own resolution (VLFeat's first octave 0). About a quarter of
+//   the pixels of `opencv` in the first octave.
+// - vlfeat: VLFeat's vl_sift (Debian's libvlfeat-dev, 0.9.21) on the float depth image scaled to
+//   [0, 255] (no 8-bit rounding) with VLFeat's defaults, as CM-BOF's public code calls it: first
+//   octave 0, 3 levels per octave, peak threshold 0, edge threshold 10; one descriptor per
+//   keypoint orientation (up to four), scaled as VLFeat's MATLAB wrapper does (512 times the unit
+//   vector, saturated to 255), so the values have OpenCV's scale. VLFeat's bin order differs from
+//   OpenCV's, so the descriptors of two backends must not share a codebook (the retrieval cache
+//   keys include the backend).
+// Keypoints per view, CPU seconds and retrieval measures of the three: README, "SIFT backends".
+//
+// The opencv extractor is OpenCV's cv::SIFT (features2d, OpenCV >= 4.4). CM-BOF was published with
 // VLFeat's SIFT at its defaults: peak threshold 0 and edge threshold 10. OpenCV's default
 // contrastThreshold 0.04 rejects far more low-contrast extrema, which on smooth depth images leaves
 // few keypoints. We therefore lower the contrast threshold (edge threshold 10 as in VLFeat).
@@ -22,6 +37,7 @@
 #include <Eigen/Core>
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
 namespace canonform::views {
@@ -55,8 +71,17 @@ using SiftDescriptors = Eigen::Matrix<float, Eigen::Dynamic, 128, Eigen::RowMajo
 /// corners give VLFeat many more keypoints), so counts are comparable, not equal.
 inline constexpr double kDefaultContrastThreshold = 0.001;
 
-/// Options of sift_descriptors(); the names follow cv::SIFT::create.
+/// The SIFT implementation (see above).
+enum class SiftBackend { OpenCV, OpenCVHalf, VLFeat };
+
+/// "opencv", "opencv-half" or "vlfeat" (InputError naming the choices otherwise), and back.
+SiftBackend parse_sift_backend(const std::string& name);
+std::string sift_backend_name(SiftBackend backend);
+
+/// Options of sift_descriptors(); the names follow cv::SIFT::create. The thresholds apply to the
+/// OpenCV backends; vlfeat uses VLFeat's defaults (peak 0, edge 10, first octave 0).
 struct SiftOptions {
+    SiftBackend backend = SiftBackend::OpenCV;  ///< the extractor
     double contrast_threshold = kDefaultContrastThreshold;  ///< OpenCV contrastThreshold (>= 0)
     double edge_threshold = 10;   ///< principal-curvature ratio limit (VLFeat and OpenCV default 10)
     int max_features = 0;         ///< keep the strongest n keypoints; 0 = all
@@ -71,5 +96,9 @@ struct SiftOptions {
 /// max_features < 0).
 SiftDescriptors sift_descriptors(const std::vector<std::uint8_t>& gray, int size,
                                  const SiftOptions& options = {});
+
+/// The same for a depth image in [0, 1] (row-major, size x size): the OpenCV backends see it as
+/// 8 bits (round(255 * depth)), vlfeat as floats 255 * depth. Same errors.
+SiftDescriptors depth_sift_descriptors(const std::vector<float>& depth, int size, const SiftOptions& options = {});
 
 }  // namespace canonform::views

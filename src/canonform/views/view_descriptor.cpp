@@ -21,7 +21,7 @@ ViewSet compute_views(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const 
     const Eigen::MatrixXd X = apply_pose(s.pose, V);
     for (const Eigen::Vector3d& d : view_directions()) {
         s.images.push_back(render_depth(X, F, d, options.image_size));
-        s.features.push_back(sift_descriptors(s.images.back().gray(), options.image_size, options.sift));
+        s.features.push_back(depth_sift_descriptors(s.images.back().depth, options.image_size, options.sift));
     }
     return s;
 }
