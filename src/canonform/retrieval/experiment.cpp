@@ -54,6 +54,35 @@ void log_line(const ExperimentOptions& o, const std::string& line) {
     if (o.log) o.log(line);
 }
 
+/// A method's measures: `js` (its identity) completed with the micro and macro measures or why
+/// there are none, then `pose` fields, written to DIR/metrics.json; the precision-recall curve to
+/// DIR/pr.csv; one log line. Timings stay out of metrics.json (equal for equal inputs).
+void write_measures(const ExperimentOptions& o, const std::string& dir, const std::string& label,
+                    nlohmann::ordered_json js, const nlohmann::ordered_json& pose, const MethodOutcome& out) {
+    js["meshes"] = out.meshes;
+    js["failed"] = out.failed;
+    if (out.no_measures.empty()) {
+        js["micro"] = to_json(out.evaluation.micro);
+        js["macro"] = to_json(out.evaluation.macro);
+    } else {
+        js["micro"] = nullptr;
+        js["macro"] = nullptr;
+        js["no_measures"] = out.no_measures;
+    }
+    for (const auto& [key, value] : pose.items()) js[key] = value;
+    io::write_file_atomic(dir + "/metrics.json", js.dump(-1, ' ', false, nlohmann::ordered_json::error_handler_t::replace) + "\n");
+    std::ostringstream pr;
+    pr << "recall,precision\n";
+    for (size_t k = 0; k < out.evaluation.recall.size(); ++k)
+        pr << out.evaluation.recall[k] << "," << out.evaluation.precision[k] << "\n";
+    io::write_file_atomic(dir + "/pr.csv", pr.str());
+    const Measures& e = out.evaluation.micro;
+    char line[300];
+    std::snprintf(line, sizeof line, "[%s] NN %.3f, 1-tier %.3f, 2-tier %.3f, E %.3f, DCG %.3f", label.c_str(), e.nn,
+                  e.first_tier, e.second_tier, e.e_measure, e.dcg);
+    log_line(o, out.no_measures.empty() ? line : "[" + label + "] no measures: " + out.no_measures);
+}
+
 }  // namespace
 
 std::vector<Model> read_collection(const std::string& dataset, const std::string& labels) {
@@ -317,24 +346,9 @@ void Experiment::finish_method(MethodOutcome& out, const std::vector<size_t>& go
     js["method"] = method;
     js["base"] = spec.name;
     js["beta"] = spec.method().parameter("beta") ? settings.number("beta") : 0.0;
-    js["meshes"] = out.meshes;
-    js["failed"] = out.failed;
-    if (out.no_measures.empty()) {
-        js["micro"] = to_json(out.evaluation.micro);
-        js["macro"] = to_json(out.evaluation.macro);
-    } else {
-        js["micro"] = nullptr;
-        js["macro"] = nullptr;
-        js["no_measures"] = out.no_measures;
-    }
-    js["pose_consistency"] = out.pose_consistency;
-    js["pose_consistency_pairs"] = out.pose_consistency_pairs;
-    io::write_file_atomic(dir + "/metrics.json", js.dump(-1, ' ', false, nlohmann::ordered_json::error_handler_t::replace) + "\n");
-    std::ostringstream pr;
-    pr << "recall,precision\n";
-    for (size_t k = 0; k < out.evaluation.recall.size(); ++k)
-        pr << out.evaluation.recall[k] << "," << out.evaluation.precision[k] << "\n";
-    io::write_file_atomic(dir + "/pr.csv", pr.str());
+    write_measures(o, dir, method, js,
+                   {{"pose_consistency", out.pose_consistency}, {"pose_consistency_pairs", out.pose_consistency_pairs}},
+                   out);
     out.distances_seconds += since(t0);
     // The timings apart from the measures, so that metrics.json is equal for equal inputs.
     const nlohmann::ordered_json timings = {{"method", method},
@@ -342,15 +356,6 @@ void Experiment::finish_method(MethodOutcome& out, const std::vector<size_t>& go
                                                          {"codebook", out.codebook_seconds},
                                                          {"distances_and_measures", out.distances_seconds}}}};
     io::write_file_atomic(dir + "/timings.json", timings.dump() + "\n");
-    const Measures& e = out.evaluation.micro;
-    char line[300];
-    if (out.no_measures.empty()) {
-        std::snprintf(line, sizeof line, "[%s] NN %.3f, 1-tier %.3f, 2-tier %.3f, E %.3f, DCG %.3f", method.c_str(),
-                      e.nn, e.first_tier, e.second_tier, e.e_measure, e.dcg);
-        log_line(o, line);
-    } else {
-        log_line(o, "[" + method + "] no measures: " + out.no_measures);
-    }
 }
 
 std::vector<MethodOutcome> Experiment::run() const {
@@ -428,29 +433,10 @@ MethodOutcome Experiment::run_fused(const FusedSpec& fused) const {
     js["base"] = "fused";
     js["members"] = fused.members;
     js["weights"] = fused.weights;
-    js["meshes"] = out.meshes;
-    js["failed"] = out.failed;
-    if (out.no_measures.empty()) {
-        js["micro"] = to_json(out.evaluation.micro);
-        js["macro"] = to_json(out.evaluation.macro);
-    } else {
-        js["micro"] = nullptr;
-        js["macro"] = nullptr;
-        js["no_measures"] = out.no_measures;
-    }
-    js["pose_consistency"] = -1;
-    js["seconds"] = {{"fusion_and_measures", out.distances_seconds}};
-    io::write_file_atomic(dir + "/metrics.json", js.dump(-1, ' ', false, nlohmann::ordered_json::error_handler_t::replace) + "\n");
-    std::ostringstream pr;
-    pr << "recall,precision\n";
-    for (size_t k = 0; k < out.evaluation.recall.size(); ++k)
-        pr << out.evaluation.recall[k] << "," << out.evaluation.precision[k] << "\n";
-    io::write_file_atomic(dir + "/pr.csv", pr.str());
-    const Measures& e = out.evaluation.micro;
-    char line[300];
-    std::snprintf(line, sizeof line, "[%s] NN %.3f, 1-tier %.3f, 2-tier %.3f, E %.3f, DCG %.3f", out.label.c_str(), e.nn,
-                  e.first_tier, e.second_tier, e.e_measure, e.dcg);
-    log_line(o, out.no_measures.empty() ? line : "[" + out.label + "] no measures: " + out.no_measures);
+    write_measures(o, dir, out.label, js, {{"pose_consistency", -1}}, out);
+    const nlohmann::ordered_json timings = {{"method", out.label},
+                                            {"seconds", {{"fusion_and_measures", out.distances_seconds}}}};
+    io::write_file_atomic(dir + "/timings.json", timings.dump() + "\n");
     return out;
 }
 
