@@ -341,6 +341,27 @@ TEST(Codebook, TrainsOnASeededSample) {
     EXPECT_THROW(Codebook::train(X, o), InputError);
 }
 
+TEST(Codebook, TrainingOnTheNamedRowsAloneGivesTheSameWords) {
+    // What a sharded run's codebook stage does: it holds only the rows training_rows() names.
+    std::mt19937_64 rng(21);
+    const DescriptorMatrix X = random_descriptors(rng, 3000, 30);
+    for (const auto method : {CodebookOptions::Method::Random, CodebookOptions::Method::Lloyd, CodebookOptions::Method::KMeans})
+        for (const std::int64_t sample : {std::int64_t(0), std::int64_t(700), std::int64_t(5000)}) {
+            CodebookOptions o;
+            o.words = 30;
+            o.seed = 5;
+            o.method = method;
+            o.sample = sample;
+            const std::vector<int> rows = Codebook::training_rows(X.rows(), o);
+            EXPECT_EQ(rows.size(), sample == 700 ? 700u : 3000u);
+            DescriptorMatrix S(static_cast<Eigen::Index>(rows.size()), 128);
+            for (std::size_t i = 0; i < rows.size(); ++i) S.row(static_cast<Eigen::Index>(i)) = X.row(rows[i]);
+            EXPECT_TRUE(Codebook::train_on_rows(S, X.rows(), o).words() == Codebook::train(X, o).words())
+                << codebook_method_name(method) << " sample " << sample;
+            EXPECT_THROW(Codebook::train_on_rows(S.topRows(S.rows() - 1), X.rows(), o), InputError);
+        }
+}
+
 TEST(Codebook, FewerDescriptorsThanWordsUsesAll) {
     std::mt19937_64 rng(10);
     const DescriptorMatrix X = random_descriptors(rng, 37);

@@ -204,27 +204,62 @@ DescriptorMatrix faiss_kmeans(const DescriptorMatrix& X, int k, int iterations, 
 
 }  // namespace
 
-Codebook Codebook::train(const DescriptorMatrix& X, const CodebookOptions& options) {
+namespace {
+
+void check_options(const CodebookOptions& options, std::int64_t total) {
     if (options.words <= 0) throw InputError("Codebook: the number of words must be positive.");
     if (options.kmeans_iterations < 0) throw InputError("Codebook: kmeans_iterations must be >= 0.");
     if (options.sample < 0) throw InputError("Codebook: the training sample must be >= 0 (0 = every descriptor).");
-    if (X.rows() == 0) throw InputError("Codebook: no training descriptors (every view was blank?).");
-    if (X.rows() > std::numeric_limits<int>::max()) throw InputError("Codebook: too many training descriptors.");
-    if (!X.allFinite()) throw InputError("Codebook: a training descriptor has a non-finite value.");
-    const int n = static_cast<int>(X.rows()), k = options.words;
-    if (n <= k) return from_words(X);  // documented: every descriptor becomes a word
+    if (total == 0) throw InputError("Codebook: no training descriptors (every view was blank?).");
+    if (total > std::numeric_limits<int>::max()) throw InputError("Codebook: too many training descriptors.");
+}
 
-    std::mt19937_64 rng(options.seed);
-    // The training sample (a seeded draw of distinct rows, in drawn order; the whole input if small).
-    DescriptorMatrix sampled;
-    const bool subsample = options.sample > 0 && options.sample < n;
-    if (subsample) {
-        const int m = static_cast<int>(std::max<std::int64_t>(options.sample, k + 1));
-        const std::vector<int> pick = sample_distinct(rng, n, std::min(m, n));
-        sampled.resize(static_cast<Eigen::Index>(pick.size()), kDim);
-        for (std::size_t i = 0; i < pick.size(); ++i) sampled.row(static_cast<Eigen::Index>(i)) = X.row(pick[i]);
+bool draws_sample(const CodebookOptions& options, std::int64_t total) {
+    return total > options.words && options.sample > 0 && options.sample < total;
+}
+
+// The sample of training_rows(), drawn from `rng` (which train_on_rows() continues).
+std::vector<int> draw_sample(std::mt19937_64& rng, int n, const CodebookOptions& options) {
+    const int m = static_cast<int>(std::max<std::int64_t>(options.sample, options.words + 1));
+    return sample_distinct(rng, n, std::min(m, n));
+}
+
+}  // namespace
+
+std::vector<int> Codebook::training_rows(std::int64_t total, const CodebookOptions& options) {
+    check_options(options, total);
+    const int n = static_cast<int>(total);
+    if (!draws_sample(options, total)) {
+        std::vector<int> all(static_cast<std::size_t>(n));
+        std::iota(all.begin(), all.end(), 0);
+        return all;
     }
-    const DescriptorMatrix& S = subsample ? sampled : X;
+    std::mt19937_64 rng(options.seed);
+    return draw_sample(rng, n, options);
+}
+
+Codebook Codebook::train(const DescriptorMatrix& X, const CodebookOptions& options) {
+    check_options(options, X.rows());
+    if (!X.allFinite()) throw InputError("Codebook: a training descriptor has a non-finite value.");
+    if (!draws_sample(options, X.rows())) return train_on_rows(X, X.rows(), options);
+    const std::vector<int> pick = training_rows(X.rows(), options);
+    DescriptorMatrix sampled(static_cast<Eigen::Index>(pick.size()), kDim);
+    for (std::size_t i = 0; i < pick.size(); ++i) sampled.row(static_cast<Eigen::Index>(i)) = X.row(pick[i]);
+    return train_on_rows(sampled, X.rows(), options);
+}
+
+Codebook Codebook::train_on_rows(const DescriptorMatrix& S, std::int64_t total, const CodebookOptions& options) {
+    check_options(options, total);
+    if (!S.allFinite()) throw InputError("Codebook: a training descriptor has a non-finite value.");
+    const int n = static_cast<int>(total), k = options.words;
+    std::mt19937_64 rng(options.seed);
+    if (draws_sample(options, total)) draw_sample(rng, n, options);  // the same draws, so that rng continues alike
+    const std::int64_t expected =
+        draws_sample(options, total) ? std::min<std::int64_t>(std::max<std::int64_t>(options.sample, k + 1), n) : n;
+    if (static_cast<std::int64_t>(S.rows()) != expected)
+        throw InputError("Codebook: " + std::to_string(S.rows()) + " training rows given, training_rows() names " +
+                         std::to_string(expected) + ".");
+    if (n <= k) return from_words(S);  // documented: every descriptor becomes a word
     const int m = static_cast<int>(S.rows());
 
     switch (options.method) {

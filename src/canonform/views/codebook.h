@@ -79,6 +79,14 @@ public:
     /// descriptors, a value is not finite, or an option is out of range.
     static Codebook train(const DescriptorMatrix& descriptors, const CodebookOptions& options = {});
 
+    /// The rows of `total` stacked descriptors that train() trains on, in the order it uses them:
+    /// the seeded sample (drawn order), or every row 0..total-1 when no sample is drawn.
+    static std::vector<int> training_rows(std::int64_t total, const CodebookOptions& options = {});
+
+    /// train() for a caller that holds only the rows training_rows(total, options) names, in that
+    /// order (e.g. read mesh by mesh from a cache): the same codebook as train() on all `total`.
+    static Codebook train_on_rows(const DescriptorMatrix& rows, std::int64_t total, const CodebookOptions& options = {});
+
     /// Wraps given words (rows); throws InputError if empty or not finite.
     static Codebook from_words(DescriptorMatrix words);
 
