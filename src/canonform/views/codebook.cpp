@@ -195,7 +195,8 @@ DescriptorMatrix faiss_kmeans(const DescriptorMatrix& X, int k, int iterations, 
     cp.max_points_per_centroid = std::numeric_limits<int>::max() / 2;  // we sample ourselves
     faiss::Clustering clustering(kDim, k, cp);
     faiss::IndexFlatL2 index(kDim);
-    clustering.train(static_cast<faiss::Index::idx_t>(X.rows()), X.data(), index);
+    // FAISS indices are int64_t: faiss::Index::idx_t up to 1.7.3 (bookworm), faiss::idx_t after.
+    clustering.train(static_cast<std::int64_t>(X.rows()), X.data(), index);
     if (clustering.centroids.size() != static_cast<std::size_t>(k) * kDim)
         throw NumericalError("Codebook: FAISS k-means returned " + std::to_string(clustering.centroids.size() / kDim) +
                              " words, expected " + std::to_string(k) + ".");
