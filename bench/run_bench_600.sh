@@ -8,11 +8,8 @@ here=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 build=${1:-$here/build}
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
-pose=1
-for c in standard long-arms short-legs long-tail stocky long-neck; do
-  "$build/tools/canonform" generate "$work/$c.ply" --vertices 10000 --pose $pose --class $c
-  pose=$((pose + 1))
-done
+. "$here/bench/six_figures.sh"
+six_figures "$build" "$work"
 out=$here/bench/results/bench_600.jsonl
 {
   echo "{\"load_before\": \"$(cut -d' ' -f1-3 /proc/loadavg)\", \"cpus\": $(nproc), \"date\": \"$(date -u +%FT%TZ)\"}"

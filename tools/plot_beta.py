@@ -7,7 +7,6 @@ RUN_DIR/beta_sweep.csv (variant, beta, the five micro measures, their mean, pose
 and RUN_DIR/beta_sweep.png (one panel per variant, like Fig. 6 (a) and (b)).
 """
 import csv
-import json
 import os
 import sys
 
@@ -16,17 +15,13 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-MEASURES = ["nn", "first_tier", "second_tier", "e_measure", "dcg"]
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from run_metrics import MEASURES, method_metrics  # noqa: E402
 
 run = sys.argv[1]
 title = sys.argv[2] if len(sys.argv) > 2 else os.path.basename(os.path.normpath(run))
 rows = []
-for d in sorted(os.listdir(run)):
-    path = os.path.join(run, d, "metrics.json")
-    if not os.path.isfile(path):
-        continue
-    with open(path) as f:
-        j = json.load(f)
+for d, j in method_metrics(run):
     base = j.get("base", "")
     if base not in ("euclidean-A", "euclidean-N"):
         continue

@@ -6,7 +6,6 @@ tools/noise_sweep.sh). Writes OUT_PREFIX.csv (sigma, method, the five micro meas
 and OUT_PREFIX.png (first tier and the mean of the five against sigma, one line per method).
 """
 import csv
-import json
 import os
 import sys
 
@@ -15,17 +14,14 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-MEASURES = ["nn", "first_tier", "second_tier", "e_measure", "dcg"]
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from run_metrics import MEASURES, method_metrics  # noqa: E402
+
 out = sys.argv[1]
 rows = []
 for arg in sys.argv[2:]:
     sigma, run = arg.split("=", 1)
-    for d in sorted(os.listdir(run)):
-        path = os.path.join(run, d, "metrics.json")
-        if not os.path.isfile(path):
-            continue
-        with open(path) as f:
-            j = json.load(f)
+    for d, j in method_metrics(run):
         if not j.get("micro"):
             continue
         m = [j["micro"][k] for k in MEASURES]
