@@ -85,9 +85,10 @@ void write_ply(const std::string& path, const CMeshO& m, bool quality) {
     const Eigen::MatrixX3i F = meshlab::faceMatrix(m);
     const EigenVectorXm Q = quality ? meshlab::vertexQualityArray(m) : EigenVectorXm();
     std::ofstream o(path);
-    o << "ply\nformat ascii 1.0\nelement vertex " << V.rows() << "\nproperty float x\nproperty float y\nproperty float z\n";
-    if (quality) o << "property float quality\n";
-    o << "element face " << F.rows() << "\nproperty list uchar int vertex_indices\nend_header\n" << std::setprecision(9);
+    // Double precision, as the tool writes (17 significant digits round-trip a double exactly).
+    o << "ply\nformat ascii 1.0\nelement vertex " << V.rows() << "\nproperty double x\nproperty double y\nproperty double z\n";
+    if (quality) o << "property double quality\n";
+    o << "element face " << F.rows() << "\nproperty list uchar int vertex_indices\nend_header\n" << std::setprecision(17);
     for (Eigen::Index i = 0; i < V.rows(); ++i) {
         o << V(i, 0) << " " << V(i, 1) << " " << V(i, 2);
         if (quality) o << " " << Q(i);
