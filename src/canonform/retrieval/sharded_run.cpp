@@ -306,7 +306,9 @@ std::vector<StageStatus> ShardedRun::status() const {
 }
 
 void ShardedRun::features(int shard, Json& m) const {
-    const auto [begin, end] = shard_models(shard);
+    // Plain variables, not a structured binding: clang 14 cannot capture one in a lambda.
+    const auto models = shard_models(shard);
+    const std::size_t begin = models.first, end = models.second;
     Json methods = Json::object();
     for (const MethodSpec& spec : plan_.experiment.methods) {
         io::make_directories(run_ + "/" + spec.folder() + "/forms");
@@ -407,7 +409,9 @@ void ShardedRun::codebook(Json& m) const {
 }
 
 void ShardedRun::histograms(int shard, Json& m) const {
-    const auto [begin, end] = shard_models(shard);
+    // Plain variables, not a structured binding: clang 14 cannot capture one in a lambda.
+    const auto models = shard_models(shard);
+    const std::size_t begin = models.first, end = models.second;
     for (const MethodSpec& spec : plan_.experiment.methods) {
         const std::string dir = run_ + "/" + spec.folder();
         io::make_directories(dir + "/descriptors");
@@ -435,7 +439,8 @@ void ShardedRun::distances(int block, Json& m) const {
     for (const MethodSpec& spec : plan_.experiment.methods) {
         const std::string dir = run_ + "/" + spec.folder();
         const Collected c = collect(spec);
-        const auto [r0, r1] = block_rows(block, c.good.size());
+        const auto rows = block_rows(block, c.good.size());
+        const auto r0 = rows.first, r1 = rows.second;
         std::vector<std::vector<views::Histogram>> hist(c.good.size());
         ParallelOptions par;
         par.threads = plan_.experiment.threads;
@@ -467,7 +472,8 @@ void ShardedRun::merge(Json& m) const {
         Eigen::MatrixXf D = Eigen::MatrixXf::Zero(static_cast<Eigen::Index>(n), static_cast<Eigen::Index>(n));
         double distance_seconds = 0;
         for (int b = 0; b < parts(Stage::Distances); ++b) {
-            const auto [r0, r1] = block_rows(b, n);
+            const auto rows = block_rows(b, n);
+            const auto r0 = rows.first, r1 = rows.second;
             const std::string path = dir + "/stages/distances_" + std::to_string(b) + ".bin";
             const std::string bytes = io::read_file(path);
             if (bytes.size() != (r1 - r0) * n * sizeof(float))
