@@ -201,12 +201,12 @@ CollectionIndex CollectionIndex::build(const std::vector<std::string>& names, co
                                      "a count that is not a positive integer");
                 last = w;
                 total += c;
+                if (total > 65535)  // checked before the 16-bit casts below
+                    throw InputError("Collection index: model '" + names[k] + "' has a view of more than 65535 "
+                                     "keypoints (16-bit sums: at most 65535)");
                 x.entries_.push_back(static_cast<std::uint16_t>(w));
                 x.entries_.push_back(static_cast<std::uint16_t>(c));
             }
-            if (total > 65535)
-                throw InputError("Collection index: model '" + names[k] + "' has a view of " +
-                                 std::to_string(static_cast<long>(total)) + " keypoints (16-bit sums: at most 65535)");
             x.offsets_.push_back(x.entries_.size() / 2);
         }
     }
