@@ -70,15 +70,7 @@ TEST(Smacof, FullWeightRecoversAKnownPointSet) {
 TEST(Smacof, StressNeverIncreases) {
     // Sparse weighted pairs: a mesh's edges with distorted targets plus a few long-range pairs.
     const Mesh s = make_icosphere(3);
-    StressPairs p;
-    std::mt19937 rng(3);
-    std::uniform_real_distribution<double> u(0.5, 2.0);
-    for (Eigen::Index f = 0; f < s.F.rows(); ++f)
-        for (int c = 0; c < 3; ++c) {
-            const int a = s.F(f, c), b = s.F(f, (c + 1) % 3);
-            if (a < b) p.add(a, b, u(rng) * (s.V.row(a) - s.V.row(b)).norm(), u(rng));
-        }
-    for (int k = 0; k < 40; ++k) p.add(k, 300 + k, 3.0, 0.5);
+    const StressPairs p = distorted_pairs(s);
     const SmacofSolver solver(static_cast<int>(s.V.rows()), p);
     SmacofOptions opt;
     opt.tolerance = 0;
