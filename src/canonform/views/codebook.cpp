@@ -254,9 +254,9 @@ Codebook Codebook::train_on_rows(const DescriptorMatrix& S, std::int64_t total, 
     if (!S.allFinite()) throw InputError("Codebook: a training descriptor has a non-finite value.");
     const int n = static_cast<int>(total), k = options.words;
     std::mt19937_64 rng(options.seed);
-    if (draws_sample(options, total)) draw_sample(rng, n, options);  // the same draws, so that rng continues alike
-    const std::int64_t expected =
-        draws_sample(options, total) ? std::min<std::int64_t>(std::max<std::int64_t>(options.sample, k + 1), n) : n;
+    const bool sampled = draws_sample(options, total);
+    if (sampled) draw_sample(rng, n, options);  // the same draws, so that rng continues alike
+    const std::int64_t expected = sampled ? std::min<std::int64_t>(std::max<std::int64_t>(options.sample, k + 1), n) : n;
     if (static_cast<std::int64_t>(S.rows()) != expected)
         throw InputError("Codebook: " + std::to_string(S.rows()) + " training rows given, training_rows() names " +
                          std::to_string(expected) + ".");
