@@ -6,14 +6,5 @@
 set -euo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 build=${1:-$here/build}
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
 . "$here/bench/six_figures.sh"
-six_figures "$build" "$work"
-out=$here/bench/results/bench_600.jsonl
-{
-  echo "{\"load_before\": \"$(cut -d' ' -f1-3 /proc/loadavg)\", \"cpus\": $(nproc), \"date\": \"$(date -u +%FT%TZ)\"}"
-  "$build/bench/canonform_bench_600" "$work"/*.ply "${@:2}"
-  echo "{\"load_after\": \"$(cut -d' ' -f1-3 /proc/loadavg)\"}"
-} | tee "$out.tmp"
-mv "$out.tmp" "$out"
+bench_jsonl "$build" "$here/bench/results/bench_600.jsonl" "$build/bench/canonform_bench_600" "${@:2}"

@@ -69,11 +69,11 @@ std::vector<FilterSpec> make_filter_table() {
     std::vector<FilterSpec> t;
     t.push_back({int(FilterId::ConformalFactor), "Conformal factor", "compute_conformal_factor",
                  "conformal_factor.mlx", FilterKind::Quality,
-                 "Computes the discrete conformal factor of every vertex (Ben-Chen and Gotsman 2008; "
-                 "eqs. 7-9 of Pickup et al. 2015): the solution of L phi = K^T - K^0 with the cotangent "
-                 "Laplacian, the angle-deficit curvature K^0 and the area-proportional target curvature "
-                 "K^T. It is pose invariant and largest at the extremities of the shape. Stored in the "
-                 "vertex quality.",
+                 prose(R"(Computes the discrete conformal factor of every vertex (Ben-Chen and Gotsman 2008;
+                 eqs. 7-9 of Pickup et al. 2015): the solution of L phi = K^T - K^0 with the cotangent
+                 Laplacian, the angle-deficit curvature K^0 and the area-proportional target curvature K^T. It
+                 is pose invariant and largest at the extremities of the shape. Stored in the vertex
+                 quality.)"),
                  {{"normalize", K::Bool, 1, "Normalise to [0, 1]",
                    "Store (phi - min) / (max - min) instead of the raw conformal factor (mean zero).", {}},
                   {"colorize", K::Bool, 1, "Colour vertices",
@@ -82,11 +82,10 @@ std::vector<FilterSpec> make_filter_table() {
                  kVertexQuality | kVertexColor, kVertexQuality | kVertexColor | kTopology | kNormals});
     t.push_back({int(FilterId::FeaturePoints), "Feature points", "compute_feature_points", "feature_points.mlx",
                  FilterKind::Selection,
-                 "Selects the feature points of Pickup et al. 2015: the ceil(sqrt(N)) vertices with the "
-                 "largest conformal factor among those that are local maxima over their k-ring. "
-                 "Optionally tops the set up to ceil(sqrt(N)) with seeded random vertices (the paper's "
-                 "variant A) and adds a point-cloud layer of the points with the conformal factor as "
-                 "quality.",
+                 prose(R"(Selects the feature points of Pickup et al. 2015: the ceil(sqrt(N)) vertices with
+                 the largest conformal factor among those that are local maxima over their k-ring. Optionally
+                 tops the set up to ceil(sqrt(N)) with seeded random vertices (the paper's variant A) and adds
+                 a point-cloud layer of the points with the conformal factor as quality.)"),
                  {{"ring", K::Int, 2, "Ring size (k)",
                    "A feature point is greater than every vertex of its k-ring (1, 2 or 3; the paper uses 2).", {}},
                   {"fill", K::Enum, 0, "Fill",
@@ -100,13 +99,13 @@ std::vector<FilterSpec> make_filter_table() {
                  kVertexQuality, kVertexQuality | kVertexSelection | kTopology | kNormals});
     t.push_back({int(FilterId::EuclideanCanonicalForm), "Euclidean canonical form", "generate_euclidean_canonical_form",
                  "euclidean_canonical_form.mlx", FilterKind::Smoothing,
-                 "Computes the pose-invariant canonical form of Pickup et al. 2015: SMACOF keeps the mesh "
-                 "edge lengths (weight beta / length^2) while pushing every pair of feature points to "
-                 "distance alpha (weight: the mean of their normalised conformal factors), starting from "
-                 "the mesh scaled to unit radius. Variant A adds random feature points up to ceil(sqrt(N)) "
-                 "(beta = 10); variant N normalises both weight groups (eq. 10, beta = 130). The result "
-                 "keeps the input's faces, vertex order and units; feature points are selected and the "
-                 "conformal factor is stored in the vertex quality.",
+                 prose(R"(Computes the pose-invariant canonical form of Pickup et al. 2015: SMACOF keeps the
+                 mesh edge lengths (weight beta / length^2) while pushing every pair of feature points to
+                 distance alpha (weight: the mean of their normalised conformal factors), starting from the
+                 mesh scaled to unit radius. Variant A adds random feature points up to ceil(sqrt(N)) (beta =
+                 10); variant N normalises both weight groups (eq. 10, beta = 130). The result keeps the
+                 input's faces, vertex order and units; feature points are selected and the conformal factor
+                 is stored in the vertex quality.)"),
                  {{"variant", K::Enum, method_index(MethodFamily::Euclidean, "euclidean-N"), "Variant",
                    "A: additional random feature points (beta 10); N: normalised weightings (eq. 10, beta 130).",
                    method_labels(MethodFamily::Euclidean)},
@@ -124,11 +123,11 @@ std::vector<FilterSpec> make_filter_table() {
                  kVertexQuality, kVertexQuality | kVertexSelection | kVertexCoordinates | kNormals | kTopology});
     t.push_back({int(FilterId::GeodesicCanonicalForm), "Geodesic canonical form", "generate_geodesic_canonical_form",
                  "geodesic_canonical_form.mlx", FilterKind::Smoothing,
-                 "Computes the canonical form of Elad and Kimmel (IEEE TPAMI 2003), the baseline of Pickup et "
-                 "al. 2015: all-pairs geodesic distances by fast marching, embedded in 3D by MDS - least "
-                 "squares (SMACOF, all pairs), classical, or fast (landmark) MDS. Its memory grows like N^2 "
-                 "and its time like N^2 log N: the filter estimates both first and refuses, naming them, "
-                 "above the limits below. Same output conventions as 'Euclidean canonical form'.",
+                 prose(R"(Computes the canonical form of Elad and Kimmel (IEEE TPAMI 2003), the baseline of
+                 Pickup et al. 2015: all-pairs geodesic distances by fast marching, embedded in 3D by MDS -
+                 least squares (SMACOF, all pairs), classical, or fast (landmark) MDS. Its memory grows like
+                 N^2 and its time like N^2 log N: the filter estimates both first and refuses, naming them,
+                 above the limits below. Same output conventions as 'Euclidean canonical form'.)"),
                  {{"method", K::Enum, method_index(MethodFamily::Geodesic, "geodesic-ls"), "MDS method",
                    "least squares: SMACOF on all pairs (Elad-Kimmel, the paper's LS); classical: double "
                    "centring and the top three eigenvectors (C); fast: landmark MDS (F).",

@@ -8,14 +8,15 @@ const std::vector<FilterSpec>& view_filter_table() {
         std::vector<FilterSpec> t;
         t.push_back({int(ViewFilterId::DepthViewDescriptor), "Depth view descriptor", "compute_depth_view_descriptor",
                      "depth_view_descriptor.mlx", FilterKind::Measure,
-                     "Computes the view-based shape descriptor of Lian et al. (CM-BOF) that Pickup et al. 2015 "
-                     "plug their canonical forms into: the mesh is pose-normalised (PCA and rectilinearity), "
-                     "rendered as 66 orthographic depth images from the vertices of a twice-subdivided "
-                     "octahedron, and SIFT features are extracted from each view. With a codebook file the "
-                     "descriptor holds one bag-of-features histogram per view, else the raw SIFT features. "
-                     "Compare descriptors with <i>canonform distance</i> (clock matching).<br><br>Z. Lian, A. "
-                     "Godil, X. Sun, J. Xiao, <b>\"CM-BOF: visual similarity-based 3D shape retrieval using "
-                     "Clock Matching and Bag-of-Features\"</b>, Machine Vision and Applications, 2013.",
+                     prose(R"(Computes the view-based shape descriptor of Lian et al. (CM-BOF) that Pickup et
+                     al. 2015 plug their canonical forms into: the mesh is pose-normalised (PCA and
+                     rectilinearity), rendered as 66 orthographic depth images from the vertices of a
+                     twice-subdivided octahedron, and SIFT features are extracted from each view. With a
+                     codebook file the descriptor holds one bag-of-features histogram per view, else the raw
+                     SIFT features. Compare descriptors with <i>canonform distance</i> (clock
+                     matching).<br><br>Z. Lian, A. Godil, X. Sun, J. Xiao, <b>"CM-BOF: visual similarity-based
+                     3D shape retrieval using Clock Matching and Bag-of-Features"</b>, Machine Vision and
+                     Applications, 2013.)"),
                      {{"output_file", K::String, 0, "Descriptor file",
                        "Where to write the descriptor (canonform's versioned .cfvd format); empty: write no file "
                        "(pymeshlab returns the descriptor as a vector either way).", {}, "descriptor.cfvd"},

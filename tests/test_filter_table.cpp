@@ -77,3 +77,14 @@ TEST(FilterTable, PythonNamesForPymeshlab) {
         EXPECT_TRUE(all.insert(old).second) << old;
     }
 }
+
+TEST(FilterTable, ProseFoldsLineBreaksAndIndentationIntoOneSpace) {
+    EXPECT_EQ(prose("Computes the\n                 conformal  factor.\n"), "Computes the conformal factor.");
+    EXPECT_EQ(prose("\n  lead and trail \t\r\n"), "lead and trail");
+    EXPECT_EQ(prose(""), "");
+    for (const auto* t : {&filter_table(), &view_filter_table()})
+        for (const auto& f : *t) {
+            EXPECT_EQ(f.info.find("  "), std::string::npos) << f.name;
+            EXPECT_EQ(f.info.find('\n'), std::string::npos) << f.name;
+        }
+}

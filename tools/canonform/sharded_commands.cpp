@@ -24,17 +24,24 @@ std::string join(const std::vector<int>& v) {
     return s.empty() ? "-" : s;
 }
 
+/// What the commands that start a sharded run (stage init, slurm) parse: retrieve's options and the shards.
+struct PlanArgs {
+    retrieval::ShardedPlan plan;
+    ExperimentArgs ex;
+};
+
 /// The options of a sharded run's plan (stage init, slurm): retrieve's, and the shards.
-void add_plan_options(CLI::App* c, retrieval::ShardedPlan& plan, ExperimentArgs& args) {
-    add_experiment_options(c, args);
-    c->add_option("--shards", plan.shards, "mesh shards")->check(CLI::Range(1, 1000000));
-    c->add_option("--blocks", plan.blocks, "row blocks of the distance matrix (0: as many as shards)")
+void add_plan_options(CLI::App* c, PlanArgs& a) {
+    add_experiment_options(c, a.ex);
+    c->add_option("--shards", a.plan.shards, "mesh shards")->check(CLI::Range(1, 1000000));
+    c->add_option("--blocks", a.plan.blocks, "row blocks of the distance matrix (0: as many as shards)")
         ->check(CLI::Range(0, 1000000));
 }
 
 /// init_sharded_run() of the parsed plan (absolute run folder and dataset: jobs run elsewhere).
-retrieval::ShardedPlan start_run(retrieval::ShardedPlan p, const ExperimentArgs& args) {
-    ExperimentArgs absolute = args;
+retrieval::ShardedPlan start_run(const PlanArgs& parsed) {
+    retrieval::ShardedPlan p = parsed.plan;
+    ExperimentArgs absolute = parsed.ex;
     auto& a = absolute.o;
     a.dataset = std::filesystem::absolute(a.dataset).lexically_normal().string();
     a.out = std::filesystem::absolute(a.out).lexically_normal().string();
@@ -52,9 +59,7 @@ retrieval::ShardedPlan start_run(retrieval::ShardedPlan p, const ExperimentArgs&
 }  // namespace
 
 void add_stage(CLI::App& app) {
-    struct Args {
-        retrieval::ShardedPlan plan;
-        ExperimentArgs ex;
+    struct Args : PlanArgs {
         std::string run, stage;
         int shard = -1, threads = 0;
     };
@@ -65,9 +70,9 @@ void add_stage(CLI::App& app) {
     c->require_subcommand(1);
 
     auto* init = c->add_subcommand("init", "start a sharded run: the plan and the collection, read once");
-    add_plan_options(init, a->plan, a->ex);
+    add_plan_options(init, *a);
     init->callback([a] {
-        const retrieval::ShardedPlan p = start_run(a->plan, a->ex);
+        const retrieval::ShardedPlan p = start_run(*a);
         std::cerr << "stage init: " << p.experiment.out << " (" << p.shards << " shards)\n";
     });
 
@@ -219,9 +224,7 @@ std::string run_command(const std::string& command) {
 }  // namespace
 
 void add_slurm(CLI::App& app) {
-    struct Args {
-        retrieval::ShardedPlan plan;
-        ExperimentArgs ex;
+    struct Args : PlanArgs {
         SlurmOptions s;
     };
     auto a = std::make_shared<Args>();
@@ -229,7 +232,7 @@ void add_slurm(CLI::App& app) {
         "slurm", "a sharded retrieval run on a Slurm cluster: writes one sbatch script per stage (job arrays over the "
                  "shards, each stage after the one before: afterok) into RUN/slurm/, and with --submit submits "
                  "them; again after a failure, it submits only the parts not done");
-    add_plan_options(c, a->plan, a->ex);
+    add_plan_options(c, *a);
     c->add_option("--partition", a->s.partition, "Slurm partition (default: the cluster's)");
     c->add_option("--time", a->s.time, "time limit of each job (Slurm's format)");
     c->add_option("--cpus-per-task", a->s.cpus, "CPUs of each job (its --threads)")->check(CLI::Range(1, 1024));
@@ -240,7 +243,7 @@ void add_slurm(CLI::App& app) {
     c->add_option("--canonform", a->s.canonform, "the canonform executable on the nodes (default: this one)");
     c->add_flag("--submit", a->s.submit, "submit the scripts (sbatch --parsable), only the parts not done yet");
     c->callback([a] {
-        const retrieval::ShardedPlan p = start_run(a->plan, a->ex);
+        const retrieval::ShardedPlan p = start_run(*a);
         const std::string& dir = p.experiment.out;
         const retrieval::ShardedRun run(dir);
         std::string exe = a->s.canonform;

@@ -74,11 +74,8 @@ EuclideanCanonicalFormResult euclidean_canonical_form(const Eigen::MatrixXd& V0,
     report_progress(options.progress, 0.1, "SMACOF: V factorised");
 
     SmacofOptions sm_opt;
-    sm_opt.tolerance = options.tolerance;
-    sm_opt.max_iterations = options.max_iterations;
+    copy_iteration_options(options, sm_opt);
     sm_opt.record_history = options.record_history;
-    sm_opt.acceleration = options.acceleration;
-    sm_opt.acceleration_depth = options.acceleration_depth;
     const auto t2 = std::chrono::steady_clock::now();
     if (options.progress)
         sm_opt.progress = [&](double f, const char* s) { return options.progress(0.1 + 0.9 * f, s); };
@@ -92,12 +89,7 @@ EuclideanCanonicalFormResult euclidean_canonical_form(const Eigen::MatrixXd& V0,
     r.features = fp.indices;
     r.num_maxima = fp.num_maxima;
     r.num_random = fp.num_random;
-    r.iterations = sm.iterations;
-    r.converged = sm.converged;
-    r.extrapolations = sm.extrapolations;
-    r.rejections = sm.rejections;
-    r.initial_stress = sm.initial_stress;
-    r.final_stress = sm.final_stress;
+    copy_run_statistics(sm, r);
     r.beta = options.effective_beta();
     r.linear_solver = solver.linear_solver();
     r.stress_history = std::move(sm.stress_history);

@@ -79,10 +79,7 @@ GeodesicCanonicalFormResult geodesic_canonical_form(const Eigen::MatrixXd& V0, c
 
     // Step 3: MDS in [0.7, 1]. Least squares starts from classical MDS (see the header).
     MdsOptions mo;
-    mo.tolerance = options.tolerance;
-    mo.max_iterations = options.max_iterations;
-    mo.acceleration = options.acceleration;
-    mo.acceleration_depth = options.acceleration_depth;
+    copy_iteration_options(options, mo);
     mo.threads = options.threads;
     mo.check_input = false;  // symmetric with zero diagonal by construction
     if (options.progress) mo.progress = [&](double f, const char* s) { return options.progress(0.7 + 0.3 * f, s); };

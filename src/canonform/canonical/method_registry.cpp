@@ -87,28 +87,21 @@ CanonicalMethod euclidean_method(CanonicalVariant variant) {
         r.V = std::move(e.V);
         r.quality = std::move(e.phi);
         r.features = e.features;
-        r.summary = {{"method", std::string("euclidean")},
-                     {"variant", std::string(variant == CanonicalVariant::A ? "A" : "N")},
-                     {"alpha", o.alpha},
+        // Grouped: the method, its feature points, the SMACOF run, the result, the timings.
+        const std::string variant_name = variant == CanonicalVariant::A ? "A" : "N";
+        r.summary = {{"method", std::string("euclidean")}, {"variant", variant_name}, {"alpha", o.alpha},
                      {"beta", e.beta},
-                     {"feature_points", static_cast<int>(e.features.size())},
-                     {"maxima", e.num_maxima},
+                     {"feature_points", static_cast<int>(e.features.size())}, {"maxima", e.num_maxima},
                      {"random", e.num_random},
-                     {"iterations", e.iterations},
-                     {"acceleration", std::string(to_string(o.acceleration))},
-                     {"extrapolations", e.extrapolations},
-                     {"rejections", e.rejections},
-                     {"converged", e.converged},
-                     {"initial_stress", e.initial_stress},
-                     {"final_stress", e.final_stress},
+                     {"iterations", e.iterations}, {"acceleration", std::string(to_string(o.acceleration))},
+                     {"extrapolations", e.extrapolations}, {"rejections", e.rejections}, {"converged", e.converged},
+                     {"initial_stress", e.initial_stress}, {"final_stress", e.final_stress},
                      {"solver", std::string(to_string(e.linear_solver))},
-                     {"mean_relative_edge_change", e.mean_relative_edge_change},
-                     {"seconds", e.seconds},
-                     {"conformal_factor_seconds", e.conformal_factor_seconds},
-                     {"setup_seconds", e.setup_seconds},
+                     {"mean_relative_edge_change", e.mean_relative_edge_change}, {"seconds", e.seconds},
+                     {"conformal_factor_seconds", e.conformal_factor_seconds}, {"setup_seconds", e.setup_seconds},
                      {"smacof_seconds", e.smacof_seconds}};
         std::ostringstream d;
-        d << "variant " << (variant == CanonicalVariant::A ? "A" : "N") << ", alpha " << o.alpha << ", beta "
+        d << "variant " << variant_name << ", alpha " << o.alpha << ", beta "
           << e.beta << ": " << V.rows() << " vertices, " << e.features.size() << " feature points ("
           << e.num_maxima << " maxima, " << e.num_random << " random), " << e.iterations << " SMACOF iterations ("
           << to_string(o.acceleration) << ")"
@@ -159,17 +152,12 @@ CanonicalMethod geodesic_method(MdsMethod mds) {
         GeodesicCanonicalFormResult g = geodesic_canonical_form(V, F, o);
         CanonicalForm r;
         r.V = std::move(g.V);
-        r.summary = {{"method", name},
-                     {"iterations", g.iterations},
-                     {"acceleration", std::string(mds == MdsMethod::LeastSquares ? to_string(o.acceleration) : "none")},
-                     {"initial_stress", g.initial_stress},
-                     {"final_stress", g.final_stress},
+        const std::string acceleration = mds == MdsMethod::LeastSquares ? to_string(o.acceleration) : "none";
+        r.summary = {{"method", name}, {"iterations", g.iterations}, {"acceleration", acceleration},
+                     {"initial_stress", g.initial_stress}, {"final_stress", g.final_stress},
                      {"mean_relative_edge_change", g.mean_relative_edge_change},
-                     {"geodesic_seconds", g.geodesic_seconds},
-                     {"mds_seconds", g.mds_seconds},
-                     {"seconds", g.seconds},
-                     {"estimated_seconds", g.estimate.seconds},
-                     {"estimated_bytes", g.estimate.bytes}};
+                     {"geodesic_seconds", g.geodesic_seconds}, {"mds_seconds", g.mds_seconds}, {"seconds", g.seconds},
+                     {"estimated_seconds", g.estimate.seconds}, {"estimated_bytes", g.estimate.bytes}};
         std::ostringstream d;
         d << name << ": " << V.rows() << " vertices (estimated " << g.estimate.describe() << "), geodesics "
           << g.geodesic_seconds << " s, MDS " << g.mds_seconds << " s (" << g.iterations << " iterations, stress "

@@ -69,6 +69,8 @@ public:
         return true;
     }
     long number() const { return number_; }
+    /// "on line N" of the line last read (`what`: "line", "header line").
+    std::string where(const char* what = "line") const { return std::string("on ") + what + " " + std::to_string(number_); }
     u64 remaining() const { return pos_ >= s_.size() ? 0 : s_.size() - pos_; }
 
 private:
@@ -96,6 +98,16 @@ public:
 private:
     std::string_view rest_;
 };
+
+/// Reads lines until one holds a token: the line in *line, its first token in *keyword, the tokens after it
+/// in *rest. False at the end of the text.
+bool next_statement(Lines& lines, std::string_view* line, Tokens* rest, std::string_view* keyword) {
+    while (lines.next(line)) {
+        *rest = Tokens(*line);
+        if (rest->next(keyword)) return true;
+    }
+    return false;
+}
 
 bool parse_double(std::string_view t, double* v) {
     if (!t.empty() && t[0] == '+') t.remove_prefix(1);
@@ -206,7 +218,7 @@ MeshFile parse_off(const std::string& bytes, const std::string& name) {
         if (!content_line(lines, &line))
             fail(name, "truncated: the header claims " + std::to_string(nf) + " faces, the file ends after " +
                            std::to_string(k));
-        const std::string where = "on line " + std::to_string(lines.number());
+        const std::string where = lines.where();
         Tokens t(line);
         long long n = 0;
         if (!t.next(&token) || !parse_integer(token, &n)) fail(name, "bad face " + where + ": " + quoted(line));
@@ -234,10 +246,9 @@ MeshFile parse_obj(const std::string& bytes, const std::string& name) {
     std::vector<double> V;
     std::vector<int> F, poly;
     std::string_view line, token;
-    while (lines.next(&line)) {
-        Tokens t(line);
-        if (!t.next(&token)) continue;
-        const std::string where = "on line " + std::to_string(lines.number());
+    Tokens t(line);
+    while (next_statement(lines, &line, &t, &token)) {
+        const std::string where = lines.where();
         if (token == "v") {
             double x[3];
             for (double& c : x)
@@ -393,10 +404,9 @@ MeshFile parse_ply(const std::string& bytes, const std::string& name) {
     bool have_format = false, ended = false;
     std::vector<PlyElement> elements;
     std::size_t header_end = 0;
-    while (lines.next(&line)) {
-        Tokens t(line);
-        if (!t.next(&token)) continue;
-        const std::string where = " on header line " + std::to_string(lines.number());
+    Tokens t(line);
+    while (next_statement(lines, &line, &t, &token)) {
+        const std::string where = " " + lines.where("header line");
         if (token == "end_header") {
             ended = true;
             header_end = bytes.size() - static_cast<std::size_t>(lines.remaining());
@@ -587,10 +597,9 @@ MeshFile parse_stl_ascii(const std::string& bytes, const std::string& name) {
     VertexMerger merge;
     std::vector<int> F, poly;
     bool in_loop = false, solid = false;
-    while (lines.next(&line)) {
-        Tokens t(line);
-        if (!t.next(&token)) continue;
-        const std::string where = " on line " + std::to_string(lines.number());
+    Tokens t(line);
+    while (next_statement(lines, &line, &t, &token)) {
+        const std::string where = " " + lines.where();
         if (token == "solid") {
             solid = true;
         } else if (!solid) {

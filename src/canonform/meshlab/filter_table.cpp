@@ -24,6 +24,22 @@ std::string xml_escape(const std::string& s) {
 
 }  // namespace
 
+std::string prose(const char* text) {
+    std::string out;
+    bool space = false;
+    for (const char* c = text; *c; ++c) {
+        const bool white = *c == ' ' || *c == '\n' || *c == '\t' || *c == '\r';
+        if (white) {
+            space = !out.empty();
+            continue;
+        }
+        if (space) out += ' ';
+        space = false;
+        out += *c;
+    }
+    return out;
+}
+
 const FilterSpec& filter_spec(const std::vector<FilterSpec>& table, int id) {
     for (const auto& f : table)
         if (f.id == id) return f;

@@ -85,6 +85,10 @@ struct FilterSpec {
 /// The spec of filter `id` in `table`.
 const FilterSpec& filter_spec(const std::vector<FilterSpec>& table, int id);
 
+/// A filter description written as a paragraph in the table's source (a raw string over several
+/// lines): every run of white space, line breaks and indentation included, becomes one space.
+std::string prose(const char* text);
+
 /// A MeshLab filter script (.mlx) applying `spec` with every parameter at its default.
 std::string default_script(const FilterSpec& spec);
 

@@ -69,6 +69,7 @@
 
 #include <cmath>
 #include <string>
+#include <tuple>
 #include <vector>
 
 namespace canonform {
@@ -220,17 +221,29 @@ GuttmanRun run_guttman(const Step& step, Eigen::MatrixXd X, double tolerance, in
     return r;
 }
 
+/// Copies the counts and stresses of a SMACOF run between result types that name them alike
+/// (GuttmanRun, SmacofResult, MdsResult, the canonical-form results).
+template <class From, class To>
+void copy_run_statistics(const From& g, To& r) {
+    std::tie(r.iterations, r.converged, r.extrapolations, r.rejections) =
+        std::tie(g.iterations, g.converged, g.extrapolations, g.rejections);
+    std::tie(r.initial_stress, r.final_stress) = std::tie(g.initial_stress, g.final_stress);
+}
+
 /// Moves a GuttmanRun into a solver's result type (SmacofResult, MdsResult: same field names).
 template <class Result>
 void move_run_into(GuttmanRun&& g, Result& r) {
     r.X = std::move(g.X);
-    r.iterations = g.iterations;
-    r.converged = g.converged;
-    r.initial_stress = g.initial_stress;
-    r.final_stress = g.final_stress;
-    r.extrapolations = g.extrapolations;
-    r.rejections = g.rejections;
+    copy_run_statistics(g, r);
     r.stress_history = std::move(g.history);
+}
+
+/// Copies the iteration settings (tolerance, cap, acceleration) between option types that name them
+/// alike (the canonical-form options into SmacofOptions or MdsOptions).
+template <class From, class To>
+void copy_iteration_options(const From& o, To& to) {
+    std::tie(to.tolerance, to.max_iterations, to.acceleration, to.acceleration_depth) =
+        std::tie(o.tolerance, o.max_iterations, o.acceleration, o.acceleration_depth);
 }
 
 /// Options of the SmacofSolver constructor.
