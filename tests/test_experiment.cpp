@@ -224,8 +224,9 @@ TEST(Experiment, FusedMethodSumsItsMembersNormalisedDistances) {
     o.labels = o.dataset + "/labels.csv";
     fs::remove_all(o.out);
     o.fused.push_back(retrieval::parse_fused_spec("fused:none*0.4+euclidean-N:beta=65*0.6"));
+    o.fused.push_back(retrieval::parse_fused_spec("fused-median:none*0.4+euclidean-N:beta=65*0.6"));
     const auto out = retrieval::Experiment(o).run();  // euclidean-N:beta=65 is added as a member
-    ASSERT_EQ(out.size(), 3u);
+    ASSERT_EQ(out.size(), 4u);
     EXPECT_EQ(out[1].spec.folder(), "euclidean-N_beta65");
     EXPECT_EQ(out[2].label, "fused_none0.4+euclidean-N_beta650.6");
     const std::string dir = o.out + "/" + out[2].label;
@@ -235,6 +236,11 @@ TEST(Experiment, FusedMethodSumsItsMembersNormalisedDistances) {
     const Eigen::MatrixXf B = io::read_distance_matrix(o.out + "/euclidean-N_beta65/distances.bin").cast<float>();
     const Eigen::MatrixXf F = io::read_distance_matrix(dir + "/distances.bin").cast<float>();
     EXPECT_TRUE(F.isApprox(retrieval::fuse_distances({A, B}, {0.4, 0.6}), 1e-5f));
+    // The previous rule, by its own name and folder.
+    EXPECT_EQ(out[3].label, "fused-median_none0.4+euclidean-N_beta650.6");
+    const Eigen::MatrixXf M = io::read_distance_matrix(o.out + "/" + out[3].label + "/distances.bin").cast<float>();
+    EXPECT_TRUE(M.isApprox(retrieval::fuse_distances({A, B}, {0.4, 0.6}, retrieval::FusionRule::GlobalMedian), 1e-5f));
+    EXPECT_FALSE(M.isApprox(F, 1e-2f));
     EXPECT_EQ(out[2].meshes, 6u);
     EXPECT_EQ(out[2].evaluation.micro.queries, 6);
     const std::string report = retrieval::report_markdown(o, 6, out, "");

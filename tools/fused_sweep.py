@@ -1,11 +1,17 @@
 """Weight sweep of a fused method from a finished `canonform retrieve` run (no recomputation).
 
-usage: /usr/bin/python3 tools/fused_sweep.py CANONFORM RUN_DIR METHOD_A METHOD_B [W ...]
-For each weight W of METHOD_B (default 0, 0.1, ..., 1; METHOD_A gets 1 - W) it forms
-(1 - W) * D_A / median(D_A) + W * D_B / median(D_B) from RUN_DIR/METHOD/distances.bin (medians of
-the off-diagonal entries, as fused_distances.h), scores it with `CANONFORM evaluate --json`, and
-prints one CSV row per weight (w_b, nn, first_tier, second_tier, e_measure, dcg, mean) and
-writes them to RUN_DIR/fused_sweep_A+B.csv.
+usage: /usr/bin/python3 tools/fused_sweep.py CANONFORM RUN_DIR METHOD_A METHOD_B [W ...] [--rule zscore|median]
+For each weight W of METHOD_B (default 0, 0.1, ..., 1; METHOD_A gets 1 - W) it forms the fused
+matrix of RUN_DIR/METHOD/distances.bin as retrieval/fused_distances.h does:
+  zscore (default, `fused:`): each member's distances z-normalised per query (row, off-diagonal
+    entries), (1 - W) * Z_A + W * Z_B, symmetrised ((F + F^T) / 2);
+  median (`fused-median:`): (1 - W) * D_A / median(D_A) + W * D_B / median(D_B), medians of the
+    off-diagonal entries;
+scores it with `CANONFORM evaluate --json`, and prints one CSV row per weight (w_b, nn,
+first_tier, second_tier, e_measure, dcg, mean), preceded by the raw members' rows ("A" and "B":
+their own distance matrices, as `retrieve` scores them), and writes them to
+RUN_DIR/fused_sweep[_median]_A+B.csv. Under zscore, W = 0 and W = 1 are one member re-ranked by
+the rule (its z-normalised, symmetrised matrix), not the member itself.
 """
 import json
 import os
@@ -15,8 +21,16 @@ import tempfile
 
 import numpy as np
 
-cf, run, a, b = sys.argv[1:5]
-weights = [float(w) for w in sys.argv[5:]] or [k / 10 for k in range(11)]
+args = sys.argv[1:]
+rule = "zscore"
+if "--rule" in args:
+    i = args.index("--rule")
+    rule = args[i + 1]
+    del args[i:i + 2]
+if rule not in ("zscore", "median") or len(args) < 4:
+    sys.exit(__doc__)
+cf, run, a, b = args[:4]
+weights = [float(w) for w in args[4:]] or [k / 10 for k in range(11)]
 
 
 def load(method):
@@ -26,8 +40,32 @@ def load(method):
     return names, D
 
 
-def median_off(D):
-    return float(np.median(D[~np.eye(D.shape[0], dtype=bool)])) or 1.0
+def off(n):
+    return ~np.eye(n, dtype=bool)
+
+
+def median_normalised(D):
+    return D / (float(np.median(D[off(D.shape[0])])) or 1.0)
+
+
+def row_zscores(D):
+    n = D.shape[0]
+    X = np.where(off(n), D, np.nan)
+    mean = np.nanmean(X, axis=1, keepdims=True)
+    sd = np.nanstd(X, axis=1, keepdims=True)
+    Z = (D - mean) / np.where(sd > 0, sd, 1.0)
+    np.fill_diagonal(Z, 0)
+    return Z
+
+
+def fused(w):
+    if rule == "median":
+        return (1 - w) * Na + w * Nb
+    F = (1 - w) * Na + w * Nb
+    F = 0.5 * (F + F.T)
+    F -= F[off(F.shape[0])].min()
+    np.fill_diagonal(F, 0)
+    return F
 
 
 na, Da = load(a)
@@ -37,25 +75,30 @@ ia = [na.index(n) for n in common]
 ib = [nb.index(n) for n in common]
 Da = Da[np.ix_(ia, ia)].astype(np.float64)
 Db = Db[np.ix_(ib, ib)].astype(np.float64)
-Da /= median_off(Da)
-Db /= median_off(Db)
+normalise = median_normalised if rule == "median" else row_zscores
+Na, Nb = normalise(Da), normalise(Db)
 classes = dict(line.split(",")[:2] for line in open(os.path.join(run, a, "models.csv")).read().splitlines()[1:] if line)
 rows = []
 with tempfile.TemporaryDirectory() as tmp:
     labels = os.path.join(tmp, "labels.csv")
     with open(labels, "w") as f:
         f.write("path,class\n" + "".join(f"{n},{classes[n]}\n" for n in common))
-    for w in weights:
-        F = ((1 - w) * Da + w * Db).astype("<f4")
+
+    def score(F):
         mat = os.path.join(tmp, "fused.bin")
-        F.tofile(mat)
+        F.astype("<f4").tofile(mat)
         j = json.loads(subprocess.run([cf, "evaluate", mat, "--labels", labels, "--json"], check=True,
                                       capture_output=True, text=True).stdout)["micro"]
         m = [j[k] for k in ("nn", "first_tier", "second_tier", "e_measure", "dcg")]
-        rows.append([w] + m + [sum(m) / 5])
-out = os.path.join(run, f"fused_sweep_{a}+{b}.csv")
+        return m + [sum(m) / 5]
+
+    rows.append(["A"] + score(Da))
+    rows.append(["B"] + score(Db))
+    for w in weights:
+        rows.append(["%.3f" % w] + score(fused(w)))
+out = os.path.join(run, f"fused_sweep{'_median' if rule == 'median' else ''}_{a}+{b}.csv")
 with open(out, "w") as f:
     f.write("w_" + b + ",nn,first_tier,second_tier,e_measure,dcg,mean\n")
     for r in rows:
-        f.write(",".join("%.3f" % x for x in r) + "\n")
+        f.write(",".join([r[0]] + ["%.3f" % x for x in r[1:]]) + "\n")
 print(open(out).read(), end="")

@@ -63,8 +63,9 @@ void add_experiment_options(CLI::App* c, ExperimentArgs& a) {
     c->add_option("--out", a.o.out, "run folder (for a sharded run on a filesystem every machine shares)")->required();
     c->add_option("--method", a.methods, "comma-separated methods, each NAME[:KEY=VALUE...] (" + names +
                                          "; e.g. euclidean-N:beta=65), or fused:A+B[+C...] with optional weights "
-                                         "fused:A*0.5+B*0.5: the sum of the members' distance matrices, each divided "
-                                         "by its median off-diagonal distance (members are added if not listed)");
+                                         "fused:A*0.5+B*0.5: the weighted sum of the members' distances z-normalised per "
+                                         "query, symmetrised (fused-median:A+B: the previous rule, each matrix divided "
+                                         "by its median off-diagonal distance; members are added if not listed)");
     c->add_option("--words", a.o.words, "codebook size")->check(CLI::Range(1, 1000000));
     c->add_option("--codebook", a.o.codebook, "how the codebook is made per method: kmeans (FAISS k-means, "
                                               "default), lloyd (our k-means++ and Lloyd), random (random training "

@@ -410,7 +410,7 @@ MethodOutcome Experiment::run_fused(const FusedSpec& fused) const {
                                                      index[k].at(models[static_cast<size_t>(j)].first)));
         parts.push_back(std::move(P));
     }
-    const Eigen::MatrixXf D = fuse_distances(parts, fused.weights);
+    const Eigen::MatrixXf D = fuse_distances(parts, fused.weights, fused.rule);
     io::write_distance_matrix(D, dir + "/distances.bin", dir + "/distances.csv");
     std::ostringstream order;
     std::vector<std::string> labels;
@@ -433,6 +433,7 @@ MethodOutcome Experiment::run_fused(const FusedSpec& fused) const {
     js["base"] = "fused";
     js["members"] = fused.members;
     js["weights"] = fused.weights;
+    js["rule"] = fused.rule == FusionRule::GlobalMedian ? "median" : "row-zscore";
     write_measures(o, dir, out.label, js, {{"pose_consistency", -1}}, out);
     const nlohmann::ordered_json timings = {{"method", out.label},
                                             {"seconds", {{"fusion_and_measures", out.distances_seconds}}}};

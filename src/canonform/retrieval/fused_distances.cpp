@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <limits>
 #include <set>
 
 namespace canonform::retrieval {
@@ -18,13 +19,17 @@ std::string number(double w) {
 
 bool equal_weights(const FusedSpec& s) { return s.default_weights; }
 
+const char* kMedianPrefix = "fused-median:";
+
 }  // namespace
 
-bool is_fused_spec(const std::string& text) { return text.rfind("fused:", 0) == 0; }
+bool is_fused_spec(const std::string& text) {
+    return text.rfind("fused:", 0) == 0 || text.rfind(kMedianPrefix, 0) == 0;
+}
 
 std::string FusedSpec::to_string() const {
     const bool plain = equal_weights(*this);
-    std::string s = "fused:";
+    std::string s = rule == FusionRule::GlobalMedian ? kMedianPrefix : "fused:";
     for (size_t k = 0; k < members.size(); ++k)
         s += (k ? "+" : "") + members[k] + (plain ? "" : "*" + number(weights[k]));
     return s;
@@ -32,16 +37,18 @@ std::string FusedSpec::to_string() const {
 
 std::string FusedSpec::folder(const std::vector<std::string>& member_folders) const {
     const bool plain = equal_weights(*this);
-    std::string s = "fused_";
+    std::string s = rule == FusionRule::GlobalMedian ? "fused-median_" : "fused_";
     for (size_t k = 0; k < member_folders.size(); ++k)
         s += (k ? "+" : "") + member_folders[k] + (plain || k >= weights.size() ? "" : number(weights[k]));
     return s;
 }
 
 FusedSpec parse_fused_spec(const std::string& text) {
-    if (!is_fused_spec(text)) throw InputError("'" + text + "' is not a fused method (fused:A+B...)");
-    const std::string body = text.substr(6);
+    if (!is_fused_spec(text))
+        throw InputError("'" + text + "' is not a fused method (fused:A+B... or fused-median:A+B...)");
     FusedSpec s;
+    s.rule = text.rfind(kMedianPrefix, 0) == 0 ? FusionRule::GlobalMedian : FusionRule::RowZScore;
+    const std::string body = text.substr(text.find(':') + 1);
     int weighted = 0;
     size_t start = 0;
     while (true) {
@@ -72,9 +79,10 @@ FusedSpec parse_fused_spec(const std::string& text) {
     if (weighted == 0) {
         s.default_weights = true;
         const bool has_none = std::find(s.members.begin(), s.members.end(), "none") != s.members.end();
+        const double none_weight = s.rule == FusionRule::GlobalMedian ? kFusedMedianNoneWeight : kFusedNoneWeight;
         const double others = static_cast<double>(s.members.size()) - (has_none ? 1.0 : 0.0);
         for (size_t k = 0; k < s.members.size(); ++k)
-            s.weights[k] = !has_none ? 1.0 / others : s.members[k] == "none" ? kFusedNoneWeight : (1.0 - kFusedNoneWeight) / others;
+            s.weights[k] = !has_none ? 1.0 / others : s.members[k] == "none" ? none_weight : (1.0 - none_weight) / others;
     }
     return s;
 }
@@ -97,7 +105,28 @@ double off_diagonal_median(const Eigen::MatrixXf& D) {
     return m;
 }
 
-Eigen::MatrixXf fuse_distances(const std::vector<Eigen::MatrixXf>& D, const std::vector<double>& weights) {
+Eigen::MatrixXd row_zscores(const Eigen::MatrixXf& D) {
+    if (D.rows() != D.cols() || D.rows() < 3)
+        throw InputError("fused distances: a member's distance matrix is not square of three models or more");
+    const Eigen::Index n = D.rows();
+    Eigen::MatrixXd Z = Eigen::MatrixXd::Zero(n, n);
+    for (Eigen::Index i = 0; i < n; ++i) {
+        double sum = 0, sq = 0;
+        for (Eigen::Index j = 0; j < n; ++j)
+            if (j != i) sum += D(i, j);
+        const double mean = sum / static_cast<double>(n - 1);
+        for (Eigen::Index j = 0; j < n; ++j)
+            if (j != i) sq += (D(i, j) - mean) * (D(i, j) - mean);
+        const double sd = std::sqrt(sq / static_cast<double>(n - 1));
+        const double scale = sd > 0 ? 1.0 / sd : 1.0;
+        for (Eigen::Index j = 0; j < n; ++j)
+            if (j != i) Z(i, j) = (D(i, j) - mean) * scale;
+    }
+    return Z;
+}
+
+Eigen::MatrixXf fuse_distances(const std::vector<Eigen::MatrixXf>& D, const std::vector<double>& weights,
+                               FusionRule rule) {
     if (D.empty()) throw InputError("fused distances: no member matrix");
     if (D.size() != weights.size()) throw InputError("fused distances: one weight per member matrix is needed");
     Eigen::MatrixXd sum = Eigen::MatrixXd::Zero(D[0].rows(), D[0].cols());
@@ -105,10 +134,23 @@ Eigen::MatrixXf fuse_distances(const std::vector<Eigen::MatrixXf>& D, const std:
         if (D[k].rows() != D[0].rows() || D[k].cols() != D[0].cols())
             throw InputError("fused distances: the member matrices differ in size");
         if (!std::isfinite(weights[k])) throw InputError("fused distances: a weight is not finite");
-        const double m = off_diagonal_median(D[k]);
-        sum += (weights[k] / (m > 0 ? m : 1.0)) * D[k].cast<double>();
+        if (rule == FusionRule::RowZScore) {
+            sum += weights[k] * row_zscores(D[k]);
+        } else {
+            const double m = off_diagonal_median(D[k]);
+            sum += (weights[k] / (m > 0 ? m : 1.0)) * D[k].cast<double>();
+        }
     }
-    return sum.cast<float>();
+    if (rule == FusionRule::GlobalMedian) return sum.cast<float>();
+    const Eigen::Index n = sum.rows();
+    Eigen::MatrixXd F = 0.5 * (sum + sum.transpose());
+    double lowest = std::numeric_limits<double>::infinity();
+    for (Eigen::Index i = 0; i < n; ++i)
+        for (Eigen::Index j = 0; j < n; ++j)
+            if (i != j) lowest = std::min(lowest, F(i, j));
+    F.array() -= lowest;
+    F.diagonal().setZero();
+    return F.cast<float>();
 }
 
 }  // namespace canonform::retrieval
