@@ -166,11 +166,14 @@ void add_canonical(CLI::App& app) {
         const CanonicalForm r = on_input(a->in, [&] { return method.run(m.V, m.F, settings, context); });
         if (!r.V.allFinite())
             throw NumericalError("'" + a->in + "': method " + method.name + " gave a form with NaN or infinite coordinates");
+        const auto t_write = std::chrono::steady_clock::now();
         io::write_mesh(a->out, r.V, m.F, r.quality);
+        const double write_seconds = seconds_since(t_write);
         if (a->json) {
             nlohmann::ordered_json j = {{"vertices", m.V.rows()}, {"faces", m.F.rows()}};
             for (const auto& [key, value] : r.summary) std::visit([&, k = key](const auto& v) { j[k] = v; }, value);
             j["read_seconds"] = read_seconds;
+            j["write_seconds"] = write_seconds;
             j["total_seconds"] = seconds_since(t0);
             print_json(j);
         } else if (!a->quiet) {
