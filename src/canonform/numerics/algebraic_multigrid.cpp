@@ -42,6 +42,7 @@ void multiply_k(const RowSparse& A, const Block& x, Block& y) {
 void multiply(const RowSparse& A, const Block& x, Block& y) {
     if (x.rows() != A.cols()) throw InputError("AMG: block size mismatch");
     if (x.cols() == 3) multiply_k<3>(A, x, y);
+    else if (x.cols() == 1) multiply_k<1>(A, x, y);  // the conformal factor's CG, the power iteration
     else multiply_k<0>(A, x, y);
 }
 
@@ -72,6 +73,7 @@ void gauss_seidel_k(const RowSparse& A, const Eigen::VectorXd& inv_diag, const B
 
 void gauss_seidel(const RowSparse& A, const Eigen::VectorXd& inv_diag, const Block& b, Block& x, bool forward) {
     if (x.cols() == 3) gauss_seidel_k<3>(A, inv_diag, b, x, forward);
+    else if (x.cols() == 1) gauss_seidel_k<1>(A, inv_diag, b, x, forward);
     else gauss_seidel_k<0>(A, inv_diag, b, x, forward);
 }
 
