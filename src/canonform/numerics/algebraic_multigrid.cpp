@@ -360,7 +360,7 @@ AmgPreconditioner::AmgPreconditioner(const Eigen::SparseMatrix<double>& A0, cons
     }
 }
 
-void AmgPreconditioner::vcycle(int l, const Block& b, Block& x, bool zero_guess) const {
+void AmgPreconditioner::vcycle(int l, const Block& b, Block& x, bool zero_guess, Workspace& work) const {
     const Level& L = levels_[static_cast<size_t>(l)];
     if (l + 1 == static_cast<int>(levels_.size())) {
         const Eigen::MatrixXd sol = coarse_.solve(Eigen::MatrixXd(b));
@@ -368,17 +368,25 @@ void AmgPreconditioner::vcycle(int l, const Block& b, Block& x, bool zero_guess)
         x = sol;
         return;
     }
+    const size_t nl = levels_.size();
+    if (work.residual.size() != nl) {
+        work.residual.resize(nl);
+        work.rhs.resize(nl);
+        work.sol.resize(nl);
+        work.corr.resize(nl);
+    }
     if (zero_guess) x.setZero(b.rows(), b.cols());
     // Pre-smoothing (forward), the coarse correction, post-smoothing (backward): symmetric.
     // (Each level stores P and R of the transfer to the next coarser level.)
     for (int s = 0; s < sweeps_; ++s) gauss_seidel(L.A, L.inv_diag, b, x, true);
-    Block r;
+    Block& r = work.residual[static_cast<size_t>(l)];
     multiply(L.A, x, r);
     r = b - r;
-    Block bc, xc;
+    Block& bc = work.rhs[static_cast<size_t>(l)];
+    Block& xc = work.sol[static_cast<size_t>(l)];
     multiply(L.R, r, bc);
-    vcycle(l + 1, bc, xc, true);
-    Block corr;
+    vcycle(l + 1, bc, xc, true, work);
+    Block& corr = work.corr[static_cast<size_t>(l)];
     multiply(L.P, xc, corr);
     x += corr;
     for (int s = 0; s < sweeps_; ++s) gauss_seidel(L.A, L.inv_diag, b, x, false);
@@ -386,17 +394,24 @@ void AmgPreconditioner::vcycle(int l, const Block& b, Block& x, bool zero_guess)
 
 void AmgPreconditioner::apply(const Block& R, Block& Z) const {
     if (levels_.empty()) throw NumericalError("AMG: apply() before set-up");
-    vcycle(0, R, Z, true);
+    Workspace work;
+    vcycle(0, R, Z, true, work);
 }
 
 void AmgPreconditioner::cycle(const Eigen::MatrixXd& B, Eigen::MatrixXd& X, int cycles) const {
+    Workspace work;
+    cycle(B, Eigen::Ref<Eigen::MatrixXd>(X), cycles, work);
+}
+
+void AmgPreconditioner::cycle(const Eigen::Ref<const Eigen::MatrixXd>& B, Eigen::Ref<Eigen::MatrixXd> X, int cycles,
+                              Workspace& work) const {
     const Eigen::Index n = rows();
     if (B.rows() != n || X.rows() != n || X.cols() != B.cols())
         throw InputError("AMG: right-hand side and guess must have the matrix's number of rows");
-    const Block b = B;
-    Block x = X;
-    for (int c = 0; c < cycles; ++c) vcycle(0, b, x, false);
-    X = x;
+    work.b = B;
+    work.x = X;
+    for (int c = 0; c < cycles; ++c) vcycle(0, work.b, work.x, false, work);
+    X = work.x;
 }
 
 PcgReport AmgPreconditioner::pcg(const Eigen::MatrixXd& B, Eigen::MatrixXd& X0, double tolerance, int max_iterations,
@@ -406,6 +421,7 @@ PcgReport AmgPreconditioner::pcg(const Eigen::MatrixXd& B, Eigen::MatrixXd& X0, 
     if (B.rows() != n || X0.rows() != n || X0.cols() != k)
         throw InputError("AMG: right-hand side and guess must have the matrix's number of rows");
     Block x = X0, b = B, r, z, p, q;
+    Workspace work;  // the V-cycle's vectors, allocated once for all CG steps
     multiply(L.A, x, q);
     r = b - q;
     const Eigen::ArrayXd r0 = r.colwise().norm().transpose();
@@ -414,7 +430,7 @@ PcgReport AmgPreconditioner::pcg(const Eigen::MatrixXd& B, Eigen::MatrixXd& X0, 
         rep.converged = true;
         return rep;
     }
-    apply(r, z);
+    vcycle(0, r, z, true, work);
     p = z;
     Eigen::ArrayXd rz = (r.array() * z.array()).colwise().sum().transpose();
     for (int it = 1; it <= max_iterations; ++it) {
@@ -435,7 +451,7 @@ PcgReport AmgPreconditioner::pcg(const Eigen::MatrixXd& B, Eigen::MatrixXd& X0, 
             rep.converged = true;
             break;
         }
-        apply(r, z);
+        vcycle(0, r, z, true, work);
         const Eigen::ArrayXd rz_new = (r.array() * z.array()).colwise().sum().transpose();
         Eigen::ArrayXd beta(k);
         for (Eigen::Index c = 0; c < k; ++c) beta(c) = rz(c) > 0 ? rz_new(c) / rz(c) : 0.0;

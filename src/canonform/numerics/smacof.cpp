@@ -231,15 +231,19 @@ void SmacofSolver::guttman_rhs(const Eigen::MatrixXd& X, Eigen::MatrixXd* BX, do
 }
 
 Eigen::MatrixXd SmacofSolver::guttman(const Eigen::MatrixXd& X, double* stress_of_X) const {
-    Eigen::MatrixXd BX;
+    StepWorkspace work;
+    return guttman(X, stress_of_X, work);
+}
+
+Eigen::MatrixXd SmacofSolver::guttman(const Eigen::MatrixXd& X, double* stress_of_X, StepWorkspace& work) const {
+    Eigen::MatrixXd& BX = work.BX;
     guttman_rhs(X, &BX, stress_of_X);
     Eigen::MatrixXd Y(n_, X.cols());
     Y.row(0).setZero();
     if (multigrid_) {
         // Warm start at X translated so that the pinned vertex 0 sits at the origin.
-        Eigen::MatrixXd Yr = X.bottomRows(n_ - 1).rowwise() - X.row(0);
-        amg_.cycle(BX.bottomRows(n_ - 1), Yr, std::max(1, options_.vcycles_per_step));
-        Y.bottomRows(n_ - 1) = Yr;
+        Y.bottomRows(n_ - 1) = X.bottomRows(n_ - 1).rowwise() - X.row(0);
+        amg_.cycle(BX.bottomRows(n_ - 1), Y.bottomRows(n_ - 1), std::max(1, options_.vcycles_per_step), work.amg);
         if (!Y.allFinite()) throw NumericalError("SMACOF: the multigrid solve of V produced non-finite values");
     } else {
         Y.bottomRows(n_ - 1) = factor_.solve(BX.bottomRows(n_ - 1));
@@ -252,7 +256,8 @@ Eigen::MatrixXd SmacofSolver::guttman(const Eigen::MatrixXd& X, double* stress_o
 SmacofResult SmacofSolver::solve(const Eigen::MatrixXd& X0, const SmacofOptions& options) const {
     if (X0.rows() != n_ || X0.cols() < 1) throw InputError("SMACOF: the start has the wrong shape");
     if (!X0.allFinite()) throw InputError("SMACOF: the start has non-finite coordinates");
-    GuttmanRun g = run_guttman([this](const Eigen::MatrixXd& X, double* s) { return guttman(X, s); },
+    StepWorkspace work;
+    GuttmanRun g = run_guttman([this, &work](const Eigen::MatrixXd& X, double* s) { return guttman(X, s, work); },
                                X0.rowwise() - X0.colwise().mean(), options.tolerance, options.max_iterations,
                                options.record_history, options.progress, 0.0, "SMACOF", options.acceleration,
                                options.acceleration_depth);
