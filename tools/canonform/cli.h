@@ -46,8 +46,8 @@ Mesh read_input_mesh(const std::string& path, bool repair, bool quiet, bool vali
 
 /// For the commands that work on one large mesh (conformal, features, canonical): freed memory
 /// stays with the process for reuse instead of going back to the system (glibc's malloc returns
-/// every block above 32 MB with munmap; at 1M vertices the SMACOF iterations then took 2M page
-/// faults and 3.5 s of system time, measured). The peak stays the peak of the live data.
+/// large blocks with munmap, and they are faulted in again at their next use; the figures are in
+/// README, "Canonical form at scale"). The peak stays the peak of the live data.
 void keep_freed_memory();
 
 /// Adds --repair (default off: strict) to a command that reads meshes.
