@@ -122,6 +122,24 @@ TEST(AlgebraicMultigrid, ColumnsAreIndependent) {
     }
 }
 
+TEST(AlgebraicMultigrid, AWorkspaceKeptBetweenCyclesGivesTheSameBits) {
+    // SMACOF keeps one workspace for all its steps (no allocations per step); reusing it, also
+    // across a change of the number of columns, must not change a single bit of any result.
+    const Eigen::SparseMatrix<double> A = figure_v(3000);
+    const AmgPreconditioner amg(A);
+    AmgPreconditioner::Workspace work;
+    for (int round = 0; round < 4; ++round) {
+        const int k = round == 2 ? 1 : 3;
+        const Eigen::MatrixXd B = random_block(A.rows(), k, 10 + static_cast<unsigned>(round));
+        Eigen::MatrixXd fresh = random_block(A.rows(), k, 20 + static_cast<unsigned>(round));
+        Eigen::MatrixXd reused = fresh;
+        amg.cycle(B, fresh, 2);
+        amg.cycle(B, reused, 2, work);
+        ASSERT_EQ(fresh.rows(), reused.rows());
+        for (Eigen::Index i = 0; i < fresh.size(); ++i) ASSERT_EQ(fresh.data()[i], reused.data()[i]) << "round " << round;
+    }
+}
+
 TEST(AlgebraicMultigrid, RejectsANonPositiveDiagonal) {
     Eigen::SparseMatrix<double> A(3, 3);
     A.insert(0, 0) = 1;

@@ -4,6 +4,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <utility>
+#include <vector>
+
 using namespace canonform;
 
 namespace {
@@ -123,5 +127,40 @@ TEST(MeshTopology, FaceIndicesAreCheckedBeforeAnyUseAndNamed) {
         const std::string m = problem(s.V, F);
         EXPECT_TRUE(contains(m, "out of range: face 5 is")) << m;
         EXPECT_TRUE(contains(m, std::to_string(bad))) << m;
+    }
+}
+
+TEST(MeshTopology, EdgesAndBoundaryMatchASortedReference) {
+    // unique_edges() and boundary_vertices() sort half-edges by buckets (linear time); the
+    // reference sorts them all with std::sort, as they did before.
+    const Mesh d = make_disc(700);
+    for (const Mesh* m : {&d}) {
+        const Eigen::MatrixXi& F = m->F;
+        std::vector<std::pair<int, int>> half;
+        for (int f = 0; f < F.rows(); ++f)
+            for (int c = 0; c < 3; ++c)
+                half.emplace_back(std::min(F(f, c), F(f, (c + 1) % 3)), std::max(F(f, c), F(f, (c + 1) % 3)));
+        std::sort(half.begin(), half.end());
+        std::vector<std::pair<int, int>> uniq = half;
+        uniq.erase(std::unique(uniq.begin(), uniq.end()), uniq.end());
+        const Eigen::MatrixXi E = unique_edges(F);
+        ASSERT_EQ(static_cast<size_t>(E.rows()), uniq.size());
+        for (Eigen::Index e = 0; e < E.rows(); ++e) {
+            EXPECT_EQ(E(e, 0), uniq[static_cast<size_t>(e)].first);
+            EXPECT_EQ(E(e, 1), uniq[static_cast<size_t>(e)].second);
+        }
+        std::vector<bool> ref(static_cast<size_t>(m->V.rows()), false);
+        size_t on = 0;
+        for (size_t k = 0; k < half.size();) {
+            size_t j = k;
+            while (j < half.size() && half[j] == half[k]) ++j;
+            if (j - k == 1) ref[static_cast<size_t>(half[k].first)] = ref[static_cast<size_t>(half[k].second)] = true;
+            k = j;
+        }
+        const std::vector<bool> bnd = boundary_vertices(static_cast<int>(m->V.rows()), F);
+        EXPECT_EQ(bnd, ref);
+        for (bool b : bnd)
+            if (b) ++on;
+        EXPECT_GT(on, 0u);  // the disc has a boundary
     }
 }

@@ -13,6 +13,10 @@
 #include <memory>
 #include <sstream>
 
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
+
 namespace canonform::cli {
 
 ProgressFn terminal_progress(bool quiet, const std::string& label) {
@@ -40,6 +44,14 @@ void validate_and_note(const std::string& path, const Mesh& m, bool quiet) {
     if (r.boundary_edges > 0 && !quiet)
         std::cerr << "canonform: note: '" << path << "' is open (" << r.boundary_edges
                   << " boundary edges); boundary curvature uses pi instead of 2 pi (eq. 8)\n";
+}
+
+void keep_freed_memory() {
+#if defined(__GLIBC__)
+    constexpr int kOneGiB = 1 << 30;
+    mallopt(M_MMAP_THRESHOLD, kOneGiB);  // blocks up to 1 GiB from the heap, reused once freed
+    mallopt(M_TRIM_THRESHOLD, kOneGiB);  // the heap's free top is kept up to 1 GiB
+#endif
 }
 
 Mesh read_input_mesh(const std::string& path, bool repair, bool quiet, bool validate) {

@@ -44,6 +44,7 @@ void add_conformal(CLI::App& app) {
     add_repair_flag(c, a->repair);
     c->callback([a] {
         const auto t0 = std::chrono::steady_clock::now();
+        keep_freed_memory();
         const Mesh m = read_input_mesh(a->in, a->repair, a->json);
         const ConformalFactorResult cf = conformal_of(a->in, m);
         io::write_mesh(a->out, m.V, m.F, a->raw ? cf.raw : cf.normalized);
@@ -74,6 +75,7 @@ void add_features(CLI::App& app) {
     add_repair_flag(c, a->repair);
     c->callback([a] {
         const auto t0 = std::chrono::steady_clock::now();
+        keep_freed_memory();
         const Mesh m = read_input_mesh(a->in, a->repair, a->json);
         FeaturePointOptions opt;
         opt.ring = a->ring;
@@ -160,17 +162,21 @@ void add_canonical(CLI::App& app) {
         MethodContext context;
         context.threads = a->threads;
         context.progress = terminal_progress(a->quiet || a->json);
+        keep_freed_memory();
         const Mesh m = read_input_mesh(a->in, a->repair, a->json || a->quiet);
         const double read_seconds = seconds_since(t0);
         context.validate = false;
         const CanonicalForm r = on_input(a->in, [&] { return method.run(m.V, m.F, settings, context); });
         if (!r.V.allFinite())
             throw NumericalError("'" + a->in + "': method " + method.name + " gave a form with NaN or infinite coordinates");
+        const auto t_write = std::chrono::steady_clock::now();
         io::write_mesh(a->out, r.V, m.F, r.quality);
+        const double write_seconds = seconds_since(t_write);
         if (a->json) {
             nlohmann::ordered_json j = {{"vertices", m.V.rows()}, {"faces", m.F.rows()}};
             for (const auto& [key, value] : r.summary) std::visit([&, k = key](const auto& v) { j[k] = v; }, value);
             j["read_seconds"] = read_seconds;
+            j["write_seconds"] = write_seconds;
             j["total_seconds"] = seconds_since(t0);
             print_json(j);
         } else if (!a->quiet) {

@@ -16,7 +16,11 @@ StressPairs canonical_form_pairs(const Eigen::MatrixXd& V, const Eigen::MatrixXi
     const double edge_scale = normalised ? beta / static_cast<double>(E.rows()) : beta;
     StressPairs pairs;
     const size_t nf = features.size();
-    pairs.i.reserve(static_cast<size_t>(E.rows()) + nf * nf / 2);
+    const size_t capacity = static_cast<size_t>(E.rows()) + nf * nf / 2;
+    pairs.i.reserve(capacity);  // all four: no doubling of a 1M-vertex mesh's 3M pairs
+    pairs.j.reserve(capacity);
+    pairs.delta.reserve(capacity);
+    pairs.w.reserve(capacity);
     for (Eigen::Index e = 0; e < E.rows(); ++e) {
         const double len = (V.row(E(e, 0)) - V.row(E(e, 1))).norm();
         pairs.add(E(e, 0), E(e, 1), len, edge_scale / (len * len));

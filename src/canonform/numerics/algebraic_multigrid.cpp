@@ -6,6 +6,8 @@
 #include <cmath>
 #include <random>
 #include <sstream>
+#include <utility>
+#include <vector>
 
 namespace canonform {
 namespace {
@@ -40,6 +42,7 @@ void multiply_k(const RowSparse& A, const Block& x, Block& y) {
 void multiply(const RowSparse& A, const Block& x, Block& y) {
     if (x.rows() != A.cols()) throw InputError("AMG: block size mismatch");
     if (x.cols() == 3) multiply_k<3>(A, x, y);
+    else if (x.cols() == 1) multiply_k<1>(A, x, y);  // the conformal factor's CG, the power iteration
     else multiply_k<0>(A, x, y);
 }
 
@@ -70,7 +73,27 @@ void gauss_seidel_k(const RowSparse& A, const Eigen::VectorXd& inv_diag, const B
 
 void gauss_seidel(const RowSparse& A, const Eigen::VectorXd& inv_diag, const Block& b, Block& x, bool forward) {
     if (x.cols() == 3) gauss_seidel_k<3>(A, inv_diag, b, x, forward);
+    else if (x.cols() == 1) gauss_seidel_k<1>(A, inv_diag, b, x, forward);
     else gauss_seidel_k<0>(A, inv_diag, b, x, forward);
+}
+
+// Sorts the columns within every row of a compressed matrix written by hand, as
+// setFromTriplets() would have (Eigen's sparse products need not sort them).
+void sort_rows(RowSparse& M) {
+    auto* outer = M.outerIndexPtr();
+    auto* inner = M.innerIndexPtr();
+    double* val = M.valuePtr();
+    std::vector<std::pair<int, double>> row;
+    for (Eigen::Index i = 0; i < M.rows(); ++i) {
+        if (std::is_sorted(inner + outer[i], inner + outer[i + 1])) continue;
+        row.clear();
+        for (auto p = outer[i]; p < outer[i + 1]; ++p) row.emplace_back(inner[p], val[p]);
+        std::sort(row.begin(), row.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+        for (size_t r = 0; r < row.size(); ++r) {
+            inner[outer[i] + static_cast<Eigen::Index>(r)] = row[r].first;
+            val[outer[i] + static_cast<Eigen::Index>(r)] = row[r].second;
+        }
+    }
 }
 
 // The filtered matrix of smoothed aggregation: the diagonal and the strong off-diagonal entries
@@ -80,30 +103,58 @@ void gauss_seidel(const RowSparse& A, const Eigen::VectorXd& inv_diag, const Blo
 // long-range couplings (SMACOF's feature-point clique) from making P and the coarse levels dense.
 RowSparse filtered_matrix(const RowSparse& A, const Eigen::VectorXd& diag, double theta,
                           std::vector<int>* weak_count) {
+    // Written row by row straight into compressed storage (no triplet list: 16 bytes per entry).
     const Eigen::Index n = A.rows();
     const auto* outer = A.outerIndexPtr();
     const auto* inner = A.innerIndexPtr();
     const double* val = A.valuePtr();
-    std::vector<Eigen::Triplet<double>> t;
-    t.reserve(static_cast<size_t>(A.nonZeros()));
     weak_count->assign(static_cast<size_t>(n), 0);
+    const auto strong = [&](Eigen::Index i, Eigen::Index j, double a) {
+        return std::abs(a) >= theta * std::sqrt(diag(i) * diag(j));
+    };
+    RowSparse F(n, n);
+    Eigen::Index nnz = 0;
+    for (Eigen::Index i = 0; i < n; ++i) {
+        ++nnz;
+        for (auto p = outer[i]; p < outer[i + 1]; ++p)
+            if (inner[p] != i && strong(i, inner[p], val[p])) ++nnz;
+    }
+    F.resizeNonZeros(nnz);
+    auto* f_outer = F.outerIndexPtr();
+    auto* f_inner = F.innerIndexPtr();
+    double* f_val = F.valuePtr();
+    Eigen::Index q = 0;
+    f_outer[0] = 0;
     for (Eigen::Index i = 0; i < n; ++i) {
         double d = 0;
         for (auto p = outer[i]; p < outer[i + 1]; ++p) {
             const Eigen::Index j = inner[p];
             if (j == i)
                 d += val[p];
-            else if (std::abs(val[p]) >= theta * std::sqrt(diag(i) * diag(j)))
-                t.emplace_back(i, j, val[p]);
-            else {
+            else if (!strong(i, j, val[p])) {
                 d += val[p];
                 ++(*weak_count)[static_cast<size_t>(i)];
             }
         }
-        t.emplace_back(i, i, d);
+        bool diagonal_written = false;
+        for (auto p = outer[i]; p < outer[i + 1]; ++p) {
+            const Eigen::Index j = inner[p];
+            if (j == i || !strong(i, j, val[p])) continue;
+            if (!diagonal_written && j > i) {
+                f_inner[q] = static_cast<int>(i);
+                f_val[q++] = d;
+                diagonal_written = true;
+            }
+            f_inner[q] = static_cast<int>(j);
+            f_val[q++] = val[p];
+        }
+        if (!diagonal_written) {
+            f_inner[q] = static_cast<int>(i);
+            f_val[q++] = d;
+        }
+        f_outer[i + 1] = static_cast<int>(q);
     }
-    RowSparse F(n, n);
-    F.setFromTriplets(t.begin(), t.end());
+    sort_rows(F);
     return F;
 }
 
@@ -208,66 +259,98 @@ AmgPreconditioner::AmgPreconditioner(const Eigen::SparseMatrix<double>& A0, cons
     sweeps_ = std::max(1, options.smoothing_sweeps);
     RowSparse A = A0;
     A.makeCompressed();
+    // Eigen 3.4's sparse matrices have no move operations (std::move copies them): the levels are
+    // built in place (no reallocation of levels_) and matrices handed over with swap().
+    levels_.reserve(static_cast<size_t>(std::max(1, options.max_levels)));
     while (true) {
-        Level L;
-        L.A = std::move(A);
+        levels_.emplace_back();
+        Level& L = levels_.back();
+        L.A.swap(A);
         const Eigen::VectorXd diag = L.A.diagonal();
         if (!(diag.array() > 0).all() || !diag.allFinite())
             throw NumericalError("AMG: the matrix has a non-positive or non-finite diagonal entry");
         L.inv_diag = diag.cwiseInverse();
         const Eigen::Index n = L.A.rows();
-        if (n <= options.coarse_size || static_cast<int>(levels_.size()) + 1 >= options.max_levels) {
-            levels_.push_back(std::move(L));
-            break;
-        }
+        if (n <= options.coarse_size || static_cast<int>(levels_.size()) >= options.max_levels) break;
         std::vector<int> weak;
-        const RowSparse F = filtered_matrix(L.A, diag, options.strength, &weak);
+        // Temporaries are scoped so that they go as soon as they are used (peak memory at 1M rows).
+        RowSparse P;
         int nc = 0;
-        const std::vector<int> agg = aggregate(F, &nc);
-        if (nc > 0.6 * static_cast<double>(n) || nc < 1) {  // poor coarsening: a direct solve from here
-            levels_.push_back(std::move(L));
-            break;
+        std::vector<int> agg;
+        {
+            RowSparse F = filtered_matrix(L.A, diag, options.strength, &weak);
+            agg = aggregate(F, &nc);
+            if (nc > 0.6 * static_cast<double>(n) || nc < 1) break;  // poor coarsening: a direct solve from here
+            RowSparse Pt(n, nc);
+            {
+                std::vector<Eigen::Triplet<double>> t;
+                t.reserve(static_cast<size_t>(n));
+                for (Eigen::Index i = 0; i < n; ++i) t.emplace_back(i, agg[static_cast<size_t>(i)], 1.0);
+                Pt.setFromTriplets(t.begin(), t.end());
+            }
+            // Smoothed prolongator P = (I - omega D_F^-1 F) P_tent, omega = 4 / (3 rho(D_F^-1 F)).
+            const Eigen::VectorXd inv_fdiag = F.diagonal().cwiseInverse();
+            if (!inv_fdiag.allFinite() || !(inv_fdiag.array() > 0).all())
+                throw NumericalError("AMG: the filtered matrix has a non-positive diagonal entry");
+            const double omega = 4.0 / (3.0 * spectral_radius_estimate(F, inv_fdiag));
+            F = inv_fdiag.asDiagonal() * F;  // D_F^-1 F, in place of F
+            RowSparse DFPt = F * Pt;
+            RowSparse().swap(F);
+            P = Pt - omega * DFPt;
         }
-        std::vector<Eigen::Triplet<double>> t;
-        t.reserve(static_cast<size_t>(n));
-        for (Eigen::Index i = 0; i < n; ++i) t.emplace_back(i, agg[static_cast<size_t>(i)], 1.0);
-        RowSparse Pt(n, nc);
-        Pt.setFromTriplets(t.begin(), t.end());
-        // Smoothed prolongator P = (I - omega D_F^-1 F) P_tent, omega = 4 / (3 rho(D_F^-1 F)).
-        const Eigen::VectorXd inv_fdiag = F.diagonal().cwiseInverse();
-        if (!inv_fdiag.allFinite() || !(inv_fdiag.array() > 0).all())
-            throw NumericalError("AMG: the filtered matrix has a non-positive diagonal entry");
-        const double omega = 4.0 / (3.0 * spectral_radius_estimate(F, inv_fdiag));
-        RowSparse DF = inv_fdiag.asDiagonal() * F;
-        RowSparse P = Pt - omega * RowSparse(DF * Pt);
         // Rows with many weak couplings (a feature point of SMACOF's clique) keep their tentative
         // row: the clique then couples only the aggregates holding its points, not every
         // aggregate around them, and the coarse levels stay sparse.
-        std::vector<Eigen::Triplet<double>> pt;
-        pt.reserve(static_cast<size_t>(P.nonZeros()));
-        for (Eigen::Index i = 0; i < n; ++i) {
-            if (weak[static_cast<size_t>(i)] > kManyWeakCouplings) {
-                pt.emplace_back(i, agg[static_cast<size_t>(i)], 1.0);
-                continue;
+        {
+            // Written straight into compressed storage (no triplet list of P's entries).
+            const auto keep_tentative = [&](Eigen::Index i) { return weak[static_cast<size_t>(i)] > kManyWeakCouplings; };
+            Eigen::Index nnz = 0;
+            for (Eigen::Index i = 0; i < n; ++i) {
+                if (keep_tentative(i)) {
+                    ++nnz;
+                    continue;
+                }
+                for (RowSparse::InnerIterator it(P, i); it; ++it)
+                    if (it.value() != 0) ++nnz;
             }
-            for (RowSparse::InnerIterator it(P, i); it; ++it)
-                if (it.value() != 0) pt.emplace_back(i, it.col(), it.value());
+            RowSparse Pf(n, nc);
+            Pf.resizeNonZeros(nnz);
+            auto* o = Pf.outerIndexPtr();
+            auto* in = Pf.innerIndexPtr();
+            double* v = Pf.valuePtr();
+            Eigen::Index q = 0;
+            o[0] = 0;
+            for (Eigen::Index i = 0; i < n; ++i) {
+                if (keep_tentative(i)) {
+                    in[q] = agg[static_cast<size_t>(i)];
+                    v[q++] = 1.0;
+                } else {
+                    for (RowSparse::InnerIterator it(P, i); it; ++it)
+                        if (it.value() != 0) {
+                            in[q] = static_cast<int>(it.col());
+                            v[q++] = it.value();
+                        }
+                }
+                o[i + 1] = static_cast<int>(q);
+            }
+            sort_rows(Pf);
+            P.swap(Pf);
         }
-        P.setFromTriplets(pt.begin(), pt.end());
         RowSparse R = P.transpose();
-        RowSparse AP = L.A * P;
-        RowSparse Ac = R * AP;
-        RowSparse AcT = Ac.transpose();
-        A = 0.5 * (Ac + AcT);  // symmetric up to rounding; make it exactly so
+        {
+            RowSparse Ac;
+            {
+                const RowSparse AP = L.A * P;
+                Ac = R * AP;
+            }
+            const RowSparse AcT = Ac.transpose();
+            A = 0.5 * (Ac + AcT);  // symmetric up to rounding; make it exactly so
+        }
         A.prune(0.0);
         A.makeCompressed();
-        if (A.nonZeros() > 2 * L.A.nonZeros()) {  // the coarse operator fills in: stop coarsening
-            levels_.push_back(std::move(L));
-            break;
-        }
-        L.P = std::move(P);
-        L.R = std::move(R);
-        levels_.push_back(std::move(L));
+        if (A.nonZeros() > 2 * L.A.nonZeros()) break;  // the coarse operator fills in: stop coarsening
+        L.P.swap(P);
+        L.R.swap(R);
     }
     const Eigen::SparseMatrix<double> coarsest = levels_.back().A;
     if (!coarse_.compute(coarsest)) {
@@ -277,7 +360,7 @@ AmgPreconditioner::AmgPreconditioner(const Eigen::SparseMatrix<double>& A0, cons
     }
 }
 
-void AmgPreconditioner::vcycle(int l, const Block& b, Block& x, bool zero_guess) const {
+void AmgPreconditioner::vcycle(int l, const Block& b, Block& x, bool zero_guess, Workspace& work) const {
     const Level& L = levels_[static_cast<size_t>(l)];
     if (l + 1 == static_cast<int>(levels_.size())) {
         const Eigen::MatrixXd sol = coarse_.solve(Eigen::MatrixXd(b));
@@ -285,17 +368,25 @@ void AmgPreconditioner::vcycle(int l, const Block& b, Block& x, bool zero_guess)
         x = sol;
         return;
     }
+    const size_t nl = levels_.size();
+    if (work.residual.size() != nl) {
+        work.residual.resize(nl);
+        work.rhs.resize(nl);
+        work.sol.resize(nl);
+        work.corr.resize(nl);
+    }
     if (zero_guess) x.setZero(b.rows(), b.cols());
     // Pre-smoothing (forward), the coarse correction, post-smoothing (backward): symmetric.
     // (Each level stores P and R of the transfer to the next coarser level.)
     for (int s = 0; s < sweeps_; ++s) gauss_seidel(L.A, L.inv_diag, b, x, true);
-    Block r;
+    Block& r = work.residual[static_cast<size_t>(l)];
     multiply(L.A, x, r);
     r = b - r;
-    Block bc, xc;
+    Block& bc = work.rhs[static_cast<size_t>(l)];
+    Block& xc = work.sol[static_cast<size_t>(l)];
     multiply(L.R, r, bc);
-    vcycle(l + 1, bc, xc, true);
-    Block corr;
+    vcycle(l + 1, bc, xc, true, work);
+    Block& corr = work.corr[static_cast<size_t>(l)];
     multiply(L.P, xc, corr);
     x += corr;
     for (int s = 0; s < sweeps_; ++s) gauss_seidel(L.A, L.inv_diag, b, x, false);
@@ -303,17 +394,24 @@ void AmgPreconditioner::vcycle(int l, const Block& b, Block& x, bool zero_guess)
 
 void AmgPreconditioner::apply(const Block& R, Block& Z) const {
     if (levels_.empty()) throw NumericalError("AMG: apply() before set-up");
-    vcycle(0, R, Z, true);
+    Workspace work;
+    vcycle(0, R, Z, true, work);
 }
 
 void AmgPreconditioner::cycle(const Eigen::MatrixXd& B, Eigen::MatrixXd& X, int cycles) const {
+    Workspace work;
+    cycle(B, Eigen::Ref<Eigen::MatrixXd>(X), cycles, work);
+}
+
+void AmgPreconditioner::cycle(const Eigen::Ref<const Eigen::MatrixXd>& B, Eigen::Ref<Eigen::MatrixXd> X, int cycles,
+                              Workspace& work) const {
     const Eigen::Index n = rows();
     if (B.rows() != n || X.rows() != n || X.cols() != B.cols())
         throw InputError("AMG: right-hand side and guess must have the matrix's number of rows");
-    const Block b = B;
-    Block x = X;
-    for (int c = 0; c < cycles; ++c) vcycle(0, b, x, false);
-    X = x;
+    work.b = B;
+    work.x = X;
+    for (int c = 0; c < cycles; ++c) vcycle(0, work.b, work.x, false, work);
+    X = work.x;
 }
 
 PcgReport AmgPreconditioner::pcg(const Eigen::MatrixXd& B, Eigen::MatrixXd& X0, double tolerance, int max_iterations,
@@ -323,6 +421,7 @@ PcgReport AmgPreconditioner::pcg(const Eigen::MatrixXd& B, Eigen::MatrixXd& X0, 
     if (B.rows() != n || X0.rows() != n || X0.cols() != k)
         throw InputError("AMG: right-hand side and guess must have the matrix's number of rows");
     Block x = X0, b = B, r, z, p, q;
+    Workspace work;  // the V-cycle's vectors, allocated once for all CG steps
     multiply(L.A, x, q);
     r = b - q;
     const Eigen::ArrayXd r0 = r.colwise().norm().transpose();
@@ -331,7 +430,7 @@ PcgReport AmgPreconditioner::pcg(const Eigen::MatrixXd& B, Eigen::MatrixXd& X0, 
         rep.converged = true;
         return rep;
     }
-    apply(r, z);
+    vcycle(0, r, z, true, work);
     p = z;
     Eigen::ArrayXd rz = (r.array() * z.array()).colwise().sum().transpose();
     for (int it = 1; it <= max_iterations; ++it) {
@@ -352,7 +451,7 @@ PcgReport AmgPreconditioner::pcg(const Eigen::MatrixXd& B, Eigen::MatrixXd& X0, 
             rep.converged = true;
             break;
         }
-        apply(r, z);
+        vcycle(0, r, z, true, work);
         const Eigen::ArrayXd rz_new = (r.array() * z.array()).colwise().sum().transpose();
         Eigen::ArrayXd beta(k);
         for (Eigen::Index c = 0; c < k; ++c) beta(c) = rz(c) > 0 ? rz_new(c) / rz(c) : 0.0;

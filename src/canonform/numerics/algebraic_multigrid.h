@@ -89,6 +89,17 @@ public:
     /// over a subspace through the current x, so the energy never increases.
     void cycle(const Eigen::MatrixXd& B, Eigen::MatrixXd& X, int cycles) const;
 
+    /// The vectors a V-cycle works in, kept between calls by a caller that cycles many times
+    /// (SMACOF: one cycle per Guttman step) so that they are not allocated again every time;
+    /// each thread needs its own.
+    struct Workspace {
+        Block b, x;                                   // cycle(): B and X in row-major storage
+        std::vector<Block> residual, rhs, sol, corr;  // per level
+    };
+    /// cycle() working in `work`: the same arithmetic, no allocation after the first call.
+    void cycle(const Eigen::Ref<const Eigen::MatrixXd>& B, Eigen::Ref<Eigen::MatrixXd> X, int cycles,
+               Workspace& work) const;
+
     int rows() const { return levels_.empty() ? 0 : static_cast<int>(levels_[0].A.rows()); }
     int num_levels() const { return static_cast<int>(levels_.size()); }
     /// Sum of the non-zeros of all levels' matrices over those of the finest (cost of a V-cycle
@@ -103,7 +114,7 @@ private:
         RowSparse P;                 // prolongation to this level from the next coarser one
         RowSparse R;                 // P^T
     };
-    void vcycle(int level, const Block& b, Block& x, bool zero_guess) const;
+    void vcycle(int level, const Block& b, Block& x, bool zero_guess, Workspace& work) const;
 
     std::vector<Level> levels_;
     SparseCholesky coarse_;

@@ -279,6 +279,14 @@ public:
 private:
     /// B(X) X (#points x dim, if BX is given) and S(X) (if stress_of_X is given), in one pass.
     void guttman_rhs(const Eigen::MatrixXd& X, Eigen::MatrixXd* BX, double* stress_of_X) const;
+    /// What a Guttman step works in, kept for all steps of one solve(): no n x dim allocations
+    /// per step (large ones are faulted in again every step when freed memory goes back to the
+    /// system; README, "Canonical form at scale").
+    struct StepWorkspace {
+        Eigen::MatrixXd BX;
+        AmgPreconditioner::Workspace amg;
+    };
+    Eigen::MatrixXd guttman(const Eigen::MatrixXd& X, double* stress_of_X, StepWorkspace& work) const;
 
     int n_;
     StressPairs pairs_;

@@ -26,7 +26,7 @@ ConformalFactorResult conformal_factor(const Eigen::MatrixXd& V0, const Eigen::M
                                        const ConformalFactorOptions& options) {
     if (options.validate) validate_mesh(V0, F);
     report_progress(options.progress, 0.0, "conformal factor: curvature");
-    const Eigen::MatrixXd V = normalize_scale(V0);
+    Eigen::MatrixXd V = normalize_scale(V0);
     const Eigen::Index n = V.rows();
 
     ConformalFactorResult r;
@@ -36,9 +36,16 @@ ConformalFactorResult conformal_factor(const Eigen::MatrixXd& V0, const Eigen::M
     const Eigen::VectorXd rhs = r.curvature - r.target;  // (D - W) phi = K0 - KT, see header
 
     report_progress(options.progress, 0.2, "conformal factor: factorising");
-    const Eigen::SparseMatrix<double> L = cotan_laplacian(V, F);
-    // Pin vertex 0: drop its row and column.
-    const Eigen::SparseMatrix<double> Lr = L.bottomRightCorner(n - 1, n - 1);
+    // Pin vertex 0: drop its row and column. Only Lr and L's column 0 (for the residual) are
+    // kept, not L itself, and the scaled copy of V goes too: memory at 1M vertices.
+    Eigen::SparseMatrix<double> Lr;
+    Eigen::SparseVector<double> L0;
+    {
+        const Eigen::SparseMatrix<double> L = cotan_laplacian(V, F);
+        Lr = L.bottomRightCorner(n - 1, n - 1);
+        L0 = L.col(0);
+    }
+    V.resize(0, 3);
     Eigen::VectorXd phi(n);
     phi(0) = 0;
     if (use_multigrid(options.linear_solver, n - 1)) {
@@ -64,7 +71,11 @@ ConformalFactorResult conformal_factor(const Eigen::MatrixXd& V0, const Eigen::M
         throw NumericalError("conformal factor: the linear solve produced non-finite values");
 
     const double scale = rhs.lpNorm<Eigen::Infinity>();
-    r.residual = scale > 0 ? (L * phi - rhs).lpNorm<Eigen::Infinity>() / scale : 0.0;
+    // L phi from its pinned part and its column 0 (L is symmetric, phi(0) = 0).
+    Eigen::VectorXd Lphi(n);
+    Lphi(0) = L0.dot(phi);
+    Lphi.tail(n - 1) = Lr * phi.tail(n - 1);
+    r.residual = scale > 0 ? (Lphi - rhs).lpNorm<Eigen::Infinity>() / scale : 0.0;
     if (!(r.residual <= options.residual_tolerance)) {
         std::ostringstream m;
         m << "conformal factor: relative residual " << r.residual << " above tolerance "
