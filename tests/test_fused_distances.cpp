@@ -148,8 +148,11 @@ TEST(FusedDistances, RowZScoreFusionIsASymmetricDistanceMatrix) {
     const Eigen::MatrixXd expected = 0.5 * (S + S.transpose());
     const double shift = F(1, 2) - expected(1, 2);
     for (int i = 0; i < F.rows(); ++i)
-        for (int j = 0; j < F.cols(); ++j)
-            if (i != j) EXPECT_NEAR(F(i, j), expected(i, j) + shift, 1e-4) << i << "," << j;
+        for (int j = 0; j < F.cols(); ++j) {
+            if (i != j) {
+                EXPECT_NEAR(F(i, j), expected(i, j) + shift, 1e-4) << i << "," << j;
+            }
+        }
     // Scaling a member (or adding a constant to its off-diagonal) changes nothing.
     Eigen::MatrixXf moved = (a.D.array() * 1000.f + 7.f).matrix();
     moved.diagonal().setZero();

@@ -46,14 +46,6 @@ void validate_and_note(const std::string& path, const Mesh& m, bool quiet) {
                   << " boundary edges); boundary curvature uses pi instead of 2 pi (eq. 8)\n";
 }
 
-void keep_freed_memory() {
-#if defined(__GLIBC__)
-    constexpr int kOneGiB = 1 << 30;
-    mallopt(M_MMAP_THRESHOLD, kOneGiB);  // blocks up to 1 GiB from the heap, reused once freed
-    mallopt(M_TRIM_THRESHOLD, kOneGiB);  // the heap's free top is kept up to 1 GiB
-#endif
-}
-
 Mesh read_input_mesh(const std::string& path, bool repair, bool quiet, bool validate) {
     Mesh m = io::read_mesh(path);
     if (repair) {
@@ -63,6 +55,15 @@ Mesh read_input_mesh(const std::string& path, bool repair, bool quiet, bool vali
     }
     if (validate) validate_and_note(path, m, quiet);
     return m;
+}
+
+Mesh read_large_mesh(const std::string& path, bool repair, bool quiet) {
+#if defined(__GLIBC__)
+    constexpr int kOneGiB = 1 << 30;
+    mallopt(M_MMAP_THRESHOLD, kOneGiB);  // blocks up to 1 GiB from the heap, reused once freed
+    mallopt(M_TRIM_THRESHOLD, kOneGiB);  // the heap's free top is kept up to 1 GiB
+#endif
+    return read_input_mesh(path, repair, quiet);
 }
 
 void add_repair_flag(CLI::App* command, bool& repair) {

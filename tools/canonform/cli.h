@@ -44,11 +44,12 @@ void validate_and_note(const std::string& path, const Mesh& m, bool quiet);
 /// compute_views(), which accepts several components).
 Mesh read_input_mesh(const std::string& path, bool repair, bool quiet, bool validate = true);
 
-/// For the commands that work on one large mesh (conformal, features, canonical): freed memory
-/// stays with the process for reuse instead of going back to the system (glibc's malloc returns
-/// large blocks with munmap, and they are faulted in again at their next use; the figures are in
-/// README, "Canonical form at scale"). The peak stays the peak of the live data.
-void keep_freed_memory();
+/// read_input_mesh() for the commands that work on one large mesh (conformal, features, canonical),
+/// which first makes freed memory stay with the process for reuse instead of going back to the
+/// system (glibc's malloc returns large blocks with munmap, and they are faulted in again at their
+/// next use; the figures are in README, "Canonical form at scale"). The peak stays the peak of the
+/// live data.
+Mesh read_large_mesh(const std::string& path, bool repair, bool quiet);
 
 /// Adds --repair (default off: strict) to a command that reads meshes.
 void add_repair_flag(CLI::App* command, bool& repair);

@@ -44,8 +44,7 @@ void add_conformal(CLI::App& app) {
     add_repair_flag(c, a->repair);
     c->callback([a] {
         const auto t0 = std::chrono::steady_clock::now();
-        keep_freed_memory();
-        const Mesh m = read_input_mesh(a->in, a->repair, a->json);
+        const Mesh m = read_large_mesh(a->in, a->repair, a->json);
         const ConformalFactorResult cf = conformal_of(a->in, m);
         io::write_mesh(a->out, m.V, m.F, a->raw ? cf.raw : cf.normalized);
         if (a->json)
@@ -75,8 +74,7 @@ void add_features(CLI::App& app) {
     add_repair_flag(c, a->repair);
     c->callback([a] {
         const auto t0 = std::chrono::steady_clock::now();
-        keep_freed_memory();
-        const Mesh m = read_input_mesh(a->in, a->repair, a->json);
+        const Mesh m = read_large_mesh(a->in, a->repair, a->json);
         FeaturePointOptions opt;
         opt.ring = a->ring;
         opt.fill = a->fill == "random" ? FeatureFill::Random : FeatureFill::None;
@@ -162,8 +160,7 @@ void add_canonical(CLI::App& app) {
         MethodContext context;
         context.threads = a->threads;
         context.progress = terminal_progress(a->quiet || a->json);
-        keep_freed_memory();
-        const Mesh m = read_input_mesh(a->in, a->repair, a->json || a->quiet);
+        const Mesh m = read_large_mesh(a->in, a->repair, a->json || a->quiet);
         const double read_seconds = seconds_since(t0);
         context.validate = false;
         const CanonicalForm r = on_input(a->in, [&] { return method.run(m.V, m.F, settings, context); });

@@ -7,6 +7,7 @@
 #include <random>
 #include <sstream>
 #include <utility>
+#include <stdexcept>
 #include <vector>
 
 namespace canonform {
@@ -96,6 +97,33 @@ void sort_rows(RowSparse& M) {
     }
 }
 
+// A rows x cols matrix written row by row straight into compressed storage (no triplet list: 16
+// bytes an entry): row_size(i) counts the entries of row i, then emit_row(i, put) calls
+// put(column, value) for each of them, in any order (the rows are sorted afterwards).
+template <class RowSize, class EmitRow>
+RowSparse compressed_rows(Eigen::Index rows, Eigen::Index cols, RowSize row_size, EmitRow emit_row) {
+    RowSparse M(rows, cols);
+    Eigen::Index nnz = 0;
+    for (Eigen::Index i = 0; i < rows; ++i) nnz += row_size(i);
+    M.resizeNonZeros(nnz);
+    auto* outer = M.outerIndexPtr();
+    auto* inner = M.innerIndexPtr();
+    double* val = M.valuePtr();
+    Eigen::Index q = 0;
+    const auto put = [&](Eigen::Index j, double v) {
+        inner[q] = static_cast<int>(j);
+        val[q++] = v;
+    };
+    outer[0] = 0;
+    for (Eigen::Index i = 0; i < rows; ++i) {
+        emit_row(i, put);
+        outer[i + 1] = static_cast<int>(q);
+    }
+    if (q != nnz) throw std::logic_error("compressed_rows: a row emitted another number of entries than counted");
+    sort_rows(M);
+    return M;
+}
+
 // The filtered matrix of smoothed aggregation: the diagonal and the strong off-diagonal entries
 // (|a_ij| >= theta sqrt(a_ii a_jj)); weak entries are added to the diagonal, so row sums (and with
 // them the constant near-null vector of a Laplacian) are kept. Its off-diagonal pattern is the
@@ -112,50 +140,37 @@ RowSparse filtered_matrix(const RowSparse& A, const Eigen::VectorXd& diag, doubl
     const auto strong = [&](Eigen::Index i, Eigen::Index j, double a) {
         return std::abs(a) >= theta * std::sqrt(diag(i) * diag(j));
     };
-    RowSparse F(n, n);
-    Eigen::Index nnz = 0;
-    for (Eigen::Index i = 0; i < n; ++i) {
-        ++nnz;
-        for (auto p = outer[i]; p < outer[i + 1]; ++p)
-            if (inner[p] != i && strong(i, inner[p], val[p])) ++nnz;
-    }
-    F.resizeNonZeros(nnz);
-    auto* f_outer = F.outerIndexPtr();
-    auto* f_inner = F.innerIndexPtr();
-    double* f_val = F.valuePtr();
-    Eigen::Index q = 0;
-    f_outer[0] = 0;
-    for (Eigen::Index i = 0; i < n; ++i) {
-        double d = 0;
-        for (auto p = outer[i]; p < outer[i + 1]; ++p) {
-            const Eigen::Index j = inner[p];
-            if (j == i)
-                d += val[p];
-            else if (!strong(i, j, val[p])) {
-                d += val[p];
-                ++(*weak_count)[static_cast<size_t>(i)];
+    return compressed_rows(
+        n, n,
+        [&](Eigen::Index i) {
+            Eigen::Index count = 1;  // the diagonal
+            for (auto p = outer[i]; p < outer[i + 1]; ++p)
+                if (inner[p] != i && strong(i, inner[p], val[p])) ++count;
+            return count;
+        },
+        [&](Eigen::Index i, const auto& put) {
+            double d = 0;
+            for (auto p = outer[i]; p < outer[i + 1]; ++p) {
+                const Eigen::Index j = inner[p];
+                if (j == i)
+                    d += val[p];
+                else if (!strong(i, j, val[p])) {
+                    d += val[p];
+                    ++(*weak_count)[static_cast<size_t>(i)];
+                }
             }
-        }
-        bool diagonal_written = false;
-        for (auto p = outer[i]; p < outer[i + 1]; ++p) {
-            const Eigen::Index j = inner[p];
-            if (j == i || !strong(i, j, val[p])) continue;
-            if (!diagonal_written && j > i) {
-                f_inner[q] = static_cast<int>(i);
-                f_val[q++] = d;
-                diagonal_written = true;
+            bool diagonal_written = false;
+            for (auto p = outer[i]; p < outer[i + 1]; ++p) {
+                const Eigen::Index j = inner[p];
+                if (j == i || !strong(i, j, val[p])) continue;
+                if (!diagonal_written && j > i) {
+                    put(i, d);
+                    diagonal_written = true;
+                }
+                put(j, val[p]);
             }
-            f_inner[q] = static_cast<int>(j);
-            f_val[q++] = val[p];
-        }
-        if (!diagonal_written) {
-            f_inner[q] = static_cast<int>(i);
-            f_val[q++] = d;
-        }
-        f_outer[i + 1] = static_cast<int>(q);
-    }
-    sort_rows(F);
-    return F;
+            if (!diagonal_written) put(i, d);
+        });
 }
 
 // Aggregates of the strength graph (the off-diagonal pattern of the filtered matrix F;
@@ -304,36 +319,23 @@ AmgPreconditioner::AmgPreconditioner(const Eigen::SparseMatrix<double>& A0, cons
         {
             // Written straight into compressed storage (no triplet list of P's entries).
             const auto keep_tentative = [&](Eigen::Index i) { return weak[static_cast<size_t>(i)] > kManyWeakCouplings; };
-            Eigen::Index nnz = 0;
-            for (Eigen::Index i = 0; i < n; ++i) {
-                if (keep_tentative(i)) {
-                    ++nnz;
-                    continue;
-                }
-                for (RowSparse::InnerIterator it(P, i); it; ++it)
-                    if (it.value() != 0) ++nnz;
-            }
-            RowSparse Pf(n, nc);
-            Pf.resizeNonZeros(nnz);
-            auto* o = Pf.outerIndexPtr();
-            auto* in = Pf.innerIndexPtr();
-            double* v = Pf.valuePtr();
-            Eigen::Index q = 0;
-            o[0] = 0;
-            for (Eigen::Index i = 0; i < n; ++i) {
-                if (keep_tentative(i)) {
-                    in[q] = agg[static_cast<size_t>(i)];
-                    v[q++] = 1.0;
-                } else {
+            RowSparse Pf = compressed_rows(
+                n, nc,
+                [&](Eigen::Index i) {
+                    Eigen::Index count = 0;
+                    if (keep_tentative(i)) return Eigen::Index(1);
                     for (RowSparse::InnerIterator it(P, i); it; ++it)
-                        if (it.value() != 0) {
-                            in[q] = static_cast<int>(it.col());
-                            v[q++] = it.value();
-                        }
-                }
-                o[i + 1] = static_cast<int>(q);
-            }
-            sort_rows(Pf);
+                        if (it.value() != 0) ++count;
+                    return count;
+                },
+                [&](Eigen::Index i, const auto& put) {
+                    if (keep_tentative(i)) {
+                        put(agg[static_cast<size_t>(i)], 1.0);
+                        return;
+                    }
+                    for (RowSparse::InnerIterator it(P, i); it; ++it)
+                        if (it.value() != 0) put(it.col(), it.value());
+                });
             P.swap(Pf);
         }
         RowSparse R = P.transpose();
