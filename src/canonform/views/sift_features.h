@@ -15,7 +15,8 @@
 // - opencv-fast: opencv-half's keypoints (positions, scales, orientations) mapped to the full view,
 //   and OpenCV's descriptors computed there (cv::SIFT::compute on provided keypoints: OpenCV 4.6
 //   starts its pyramid at the smallest provided octave, here 0, so it does not double the view).
-//   The descriptors see the view's full resolution, the detector costs what opencv-half's does.
+//   The descriptors see the view's full resolution, the detector costs what opencv-half's does
+//   (measured: retrieval like opencv-half's, not opencv's - README, "SIFT backends").
 //   Our departure from Lowe's single-pyramid pipeline: detection and description use two pyramids
 //   (the half view's doubled image and the view itself) of the same scale.
 // - vlfeat: VLFeat's vl_sift (Debian's libvlfeat-dev, 0.9.21) on the float depth image scaled to
