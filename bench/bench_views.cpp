@@ -3,7 +3,8 @@
 // most 0.30 CPU s; a 600 x 600 clock-matching distance matrix in at most 60 s on 2 cores). CPU
 // seconds of the process (all threads; the machine may be shared), medians over the repeats,
 // the backends interleaved. Prints JSON lines.
-//   canonform_bench_views MESH [--repeats R] [--backends opencv,opencv-half,vlfeat]
+//   canonform_bench_views MESH [--repeats R] [--backends opencv,opencv-half,opencv-fast,vlfeat]
+// A backend may carry OpenCV options: NAME@CONTRAST[@LAYERS], e.g. opencv-half@0.0005@4.
 #include "canonform/views/bag_of_features.h"
 #include "canonform/views/codebook.h"
 #include "canonform/views/view_descriptor.h"
@@ -38,11 +39,11 @@ double cpu() {
 int main(int argc, char** argv) {
     using namespace canonform::views;
     if (argc < 2) {
-        std::fprintf(stderr, "usage: canonform_bench_views MESH [--repeats R] [--backends opencv,opencv-half,vlfeat]\n");
+        std::fprintf(stderr, "usage: canonform_bench_views MESH [--repeats R] [--backends opencv,opencv-half,opencv-fast,vlfeat]\n");
         return 2;
     }
     int repeats = 5;
-    std::vector<std::string> backends = {"opencv", "opencv-half", "vlfeat"};
+    std::vector<std::string> backends = {"opencv", "opencv-half", "opencv-fast", "vlfeat"};
     for (int k = 2; k + 1 < argc; k += 2) {
         if (!std::strcmp(argv[k], "--repeats")) repeats = std::max(1, std::atoi(argv[k + 1]));
         if (!std::strcmp(argv[k], "--backends")) {
@@ -52,6 +53,16 @@ int main(int argc, char** argv) {
         }
     }
     const auto m = canonform::io::read_mesh(argv[1]);
+    const auto sift_options = [](const std::string& spec) {  // NAME[@CONTRAST[@LAYERS]]
+        SiftOptions o;
+        std::stringstream ss(spec);
+        std::string part;
+        std::getline(ss, part, '@');
+        o.backend = parse_sift_backend(part);
+        if (std::getline(ss, part, '@')) o.contrast_threshold = std::stod(part);
+        if (std::getline(ss, part, '@')) o.octave_layers = std::stoi(part);
+        return o;
+    };
 
     // Pose normalisation alone.
     std::vector<double> pose_cpu;
@@ -90,7 +101,7 @@ int main(int argc, char** argv) {
     std::map<std::string, long> keypoints;
     for (const auto& b : backends) {
         ViewDescriptorOptions o;
-        o.sift.backend = parse_sift_backend(b);
+        o.sift = sift_options(b);
         const ViewSet vs = compute_views(m.V, m.F, o);
         std::vector<const std::vector<SiftDescriptors>*> sets = {&vs.features};
         const SiftDescriptors all = stack_features(sets);
@@ -100,7 +111,7 @@ int main(int argc, char** argv) {
     for (int r = 0; r < repeats; ++r)
         for (const auto& b : backends) {  // interleaved: the load hits every backend alike
             ViewDescriptorOptions o;
-            o.sift.backend = parse_sift_backend(b);
+            o.sift = sift_options(b);
             double c0 = cpu();
             const ViewSet vs = compute_views(m.V, m.F, o);
             const auto h = view_histograms(vs, cbs[b]);
@@ -109,6 +120,14 @@ int main(int argc, char** argv) {
             for (const auto& img : images) depth_sift_descriptors(img.depth, img.size, o.sift);
             sift[b].push_back(cpu() - c0);
         }
+    for (const auto& b : backends) {  // keypoints per octave of the view (-1: opencv's doubled image)
+        std::map<int, long> per_octave;
+        for (const auto& img : images)
+            for (const SiftKeypoint& k : depth_sift_features(img.depth, img.size, sift_options(b)).keypoints) ++per_octave[k.octave];
+        std::printf("{\"bench\": \"keypoints_per_octave\", \"sift\": \"%s\"", b.c_str());
+        for (const auto& [octave, n] : per_octave) std::printf(", \"%d\": %ld", octave, n);
+        std::printf("}\n");
+    }
     for (const auto& b : backends)
         std::printf("{\"bench\": \"descriptor\", \"sift\": \"%s\", \"vertices\": %ld, \"repeats\": %d, "
                     "\"median_cpu_s\": %.4f, \"sift_cpu_s\": %.4f, \"keypoints\": %ld, \"keypoints_per_view\": %.1f}\n",

@@ -47,9 +47,12 @@ ActionOutputs depth_view_descriptor(MeshDocument& md, const ParamValues& p, cons
     opt.image_size = size;
     opt.pose.seed = static_cast<std::uint64_t>(p.get_int("seed"));
     const int sift = p.get_int("sift");
-    if (sift < 0 || sift > 2) throw InputError("the SIFT extractor must be 0 (opencv), 1 (opencv-half) or 2 (vlfeat)");
-    opt.sift.backend = sift == 1 ? views::SiftBackend::OpenCVHalf : sift == 2 ? views::SiftBackend::VLFeat
-                                                                           : views::SiftBackend::OpenCV;
+    if (sift < 0 || sift > 3)
+        throw InputError("the SIFT extractor must be 0 (opencv), 1 (opencv-half), 2 (vlfeat) or 3 (opencv-fast)");
+    opt.sift.backend = sift == 1   ? views::SiftBackend::OpenCVHalf
+                       : sift == 2 ? views::SiftBackend::VLFeat
+                       : sift == 3 ? views::SiftBackend::OpenCVFast
+                                   : views::SiftBackend::OpenCV;
     const views::Codebook* codebook = nullptr;
     views::Codebook cb;
     if (!cb_path.empty()) {

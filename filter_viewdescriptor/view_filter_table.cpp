@@ -29,8 +29,9 @@ const std::vector<FilterSpec>& view_filter_table() {
                       {"sift", K::Enum, 0, "SIFT extractor",
                        "opencv: OpenCV's SIFT on the 8-bit view (default); opencv-half: the same with its first "
                        "octave at the view's resolution (faster); vlfeat: VLFeat's SIFT at its defaults on the "
-                       "float depth. A codebook must come from the same extractor.",
-                       {"opencv", "opencv-half", "vlfeat"}}},
+                       "float depth; opencv-fast: opencv-half's keypoints with descriptors of the full view. A "
+                       "codebook must come from the same extractor.",
+                       {"opencv", "opencv-half", "vlfeat", "opencv-fast"}}},
                      kNothing, kNothing});
         return t;
     }();

@@ -1,4 +1,4 @@
-// Tests of the CM-BOF view-descriptor core: SIFT on depth images, codebook, bag-of-features
+// Tests of the CM-BOF view-descriptor core (SIFT: test_sift_features.cpp): codebook, bag-of-features
 // distances, clock matching, the descriptor file. Timings are printed (not asserted, except the
 // 600 x 600 distance matrix budget of 60 s).
 #include "canonform/views/bag_of_features.h"
@@ -92,42 +92,6 @@ DescriptorMatrix random_descriptors(std::mt19937_64& rng, int n, int clusters = 
 
 // A 256 x 256 8-bit depth image (0 = background, 255 = nearest) of a capsule stick figure, or, with
 // bumps = true, a sphere with nine Gaussian bumps (orthographic height fields, no renderer).
-std::vector<std::uint8_t> synthetic_depth(bool bumps, int n = 256) {
-    std::vector<std::uint8_t> img(static_cast<std::size_t>(n) * n, 0);
-    for (int r = 0; r < n; ++r)
-        for (int c = 0; c < n; ++c) {
-            const double x = (c + 0.5) / n * 2 - 1, y = (r + 0.5) / n * 2 - 1;
-            double z = -2;
-            if (bumps) {
-                const double q = 0.64 - x * x - y * y;
-                if (q > 0) {
-                    z = std::sqrt(q);
-                    for (int k = 0; k < 9; ++k) {
-                        const double bx = -0.45 + 0.45 * (k % 3), by = -0.45 + 0.45 * (k / 3);
-                        z += 0.15 * std::exp(-((x - bx) * (x - bx) + (y - by) * (y - by)) / 0.01);
-                    }
-                }
-            } else {
-                auto cap = [&](double ax, double ay, double bx, double by, double rad, double base) {
-                    const double dx = bx - ax, dy = by - ay;
-                    const double t = std::clamp(((x - ax) * dx + (y - ay) * dy) / (dx * dx + dy * dy), 0.0, 1.0);
-                    const double px = ax + t * dx - x, py = ay + t * dy - y, q = rad * rad - px * px - py * py;
-                    if (q > 0) z = std::max(z, base + std::sqrt(q));
-                };
-                cap(0, -0.35, 0, 0.2, 0.17, 0);
-                cap(0, -0.62, 0, -0.6, 0.12, 0.02);
-                cap(-0.12, -0.3, -0.6, -0.05, 0.06, 0.05);
-                cap(0.12, -0.3, 0.55, -0.55, 0.06, 0.05);
-                cap(-0.08, 0.2, -0.3, 0.9, 0.08, 0);
-                cap(0.08, 0.2, 0.25, 0.9, 0.08, -0.05);
-            }
-            if (z > -1.5)
-                img[static_cast<std::size_t>(r) * n + c] =
-                    static_cast<std::uint8_t>(std::clamp(1.0 + 254.0 * (z + 1) / 2, 1.0, 255.0));
-        }
-    return img;
-}
-
 double distortion(const DescriptorMatrix& X, const Codebook& cb) {
     const std::vector<int> a = cb.assign(X);
     double s = 0;
@@ -415,63 +379,6 @@ TEST(Codebook, SaveLoadBitExactAndRejectsBadFiles) {
     std::filesystem::remove(bad);
 }
 
-
-// ---- SIFT ---------------------------------------------------------------------------------------------
-
-TEST(Sift, BlankImageHasNoDescriptors) {
-    EXPECT_EQ(sift_descriptors(std::vector<std::uint8_t>(256 * 256, 0), 256).rows(), 0);
-    EXPECT_EQ(sift_descriptors(std::vector<std::uint8_t>(64 * 64, 200), 64).rows(), 0);
-    EXPECT_THROW(sift_descriptors(std::vector<std::uint8_t>(10, 0), 256), InputError);
-    EXPECT_THROW(sift_descriptors({}, 0), InputError);
-}
-
-TEST(Sift, EveryBackendFindsKeypointsDeterministically) {
-    const auto bumpy = synthetic_depth(true);
-    std::vector<float> depth(bumpy.size());
-    for (size_t i = 0; i < bumpy.size(); ++i) depth[i] = bumpy[i] / 255.f;
-    std::map<std::string, long> counts;
-    for (const char* name : {"opencv", "opencv-half", "vlfeat"}) {
-        SiftOptions o;
-        o.backend = parse_sift_backend(name);
-        EXPECT_EQ(sift_backend_name(o.backend), name);
-        const SiftDescriptors d = depth_sift_descriptors(depth, 256, o);
-        counts[name] = static_cast<long>(d.rows());
-        EXPECT_GE(d.rows(), 5) << name;
-        EXPECT_TRUE(d.allFinite()) << name;
-        EXPECT_GE(d.minCoeff(), 0.f) << name;
-        EXPECT_LE(d.maxCoeff(), 255.f) << name;
-        // Descriptors of the scale OpenCV uses (norm about 512) for every backend.
-        EXPECT_NEAR(d.row(0).norm(), 512.f, 100.f) << name;
-        EXPECT_TRUE(d == depth_sift_descriptors(depth, 256, o)) << name;  // deterministic
-        EXPECT_EQ(depth_sift_descriptors(std::vector<float>(256 * 256, 0.3f), 256, o).rows(), 0) << name;  // blank
-        EXPECT_THROW(depth_sift_descriptors(depth, 255, o), InputError) << name;
-    }
-    std::printf("[sift] bumpy sphere keypoints: opencv %ld, opencv-half %ld, vlfeat %ld\n", counts["opencv"],
-                counts["opencv-half"], counts["vlfeat"]);
-    // The 8-bit and the float input agree for OpenCV (the float depth is rounded to the same bytes).
-    EXPECT_TRUE(depth_sift_descriptors(depth, 256, {}) == sift_descriptors(bumpy, 256));
-    EXPECT_THROW(parse_sift_backend("surf"), InputError);
-}
-
-TEST(Sift, SyntheticDepthKeypointCounts) {
-    const auto figure = synthetic_depth(false), bumpy = synthetic_depth(true);
-    const auto f = sift_descriptors(figure, 256), b = sift_descriptors(bumpy, 256);
-    SiftOptions opencv_default;
-    opencv_default.contrast_threshold = 0.04;
-    const auto b04 = sift_descriptors(bumpy, 256, opencv_default);
-    std::printf("[sift] keypoints (contrast threshold %.4g): stick figure %ld, bumpy sphere %ld; bumpy sphere at "
-                "OpenCV's default 0.04: %ld\n",
-                kDefaultContrastThreshold, static_cast<long>(f.rows()), static_cast<long>(b.rows()),
-                static_cast<long>(b04.rows()));
-    EXPECT_GE(f.rows(), 10);
-    EXPECT_LE(f.rows(), 100);
-    EXPECT_GE(b.rows(), 10);
-    EXPECT_LE(b.rows(), 150);
-    EXPECT_GT(b.rows(), b04.rows());  // the lowered threshold keeps the weak interior extrema
-    EXPECT_TRUE(f.allFinite());
-    EXPECT_GE(f.minCoeff(), 0.f);
-    EXPECT_TRUE(f == sift_descriptors(figure, 256));  // deterministic
-}
 
 // ---- descriptor file ----------------------------------------------------------------------------------
 

@@ -5,12 +5,20 @@
 // using Clock Matching and Bag-of-Features", Machine Vision and Applications 24, 2013 (Sec. 3.2);
 // Pickup et al., Pattern Recognition 2015 (CM-BOF on canonical forms).
 //
-// Three extractors (SiftBackend; `--sift` in the tool and `retrieve`, a parameter of the view filter):
-// - opencv (default): OpenCV's cv::SIFT on the 8-bit view, as described below. OpenCV doubles the
-//   image before its first octave (first octave -1).
+// Four extractors (SiftBackend; `--sift` in the tool and `retrieve`, a parameter of the view filter):
+// - opencv: OpenCV's cv::SIFT on the 8-bit view, as described below. OpenCV doubles the image
+//   before its first octave (first octave -1): a 512 x 512 pyramid for a 256 x 256 view, which is
+//   most of its cost.
 // - opencv-half: the same on the 8-bit view halved (area average), so that OpenCV's doubling puts
 //   its first octave at the view's own resolution (VLFeat's first octave 0). About a quarter of
-//   the pixels of `opencv` in the first octave.
+//   the pixels of `opencv` in the first octave; keypoints and descriptors both from the half view.
+// - opencv-fast: opencv-half's keypoints (positions, scales, orientations) mapped to the full view,
+//   and OpenCV's descriptors computed there (cv::SIFT::compute on provided keypoints: OpenCV 4.6
+//   starts its pyramid at the smallest provided octave, here 0, so it does not double the view).
+//   The descriptors see the view's full resolution, the detector costs what opencv-half's does
+//   (measured: retrieval like opencv-half's, not opencv's - README, "SIFT backends").
+//   Our departure from Lowe's single-pyramid pipeline: detection and description use two pyramids
+//   (the half view's doubled image and the view itself) of the same scale.
 // - vlfeat: VLFeat's vl_sift (Debian's libvlfeat-dev, 0.9.21) on the float depth image scaled to
 //   [0, 255] (no 8-bit rounding) with VLFeat's defaults, as CM-BOF's public code calls it: first
 //   octave 0, 3 levels per octave, peak threshold 0, edge threshold 10; one descriptor per
@@ -72,11 +80,28 @@ using SiftDescriptors = Eigen::Matrix<float, Eigen::Dynamic, 128, Eigen::RowMajo
 inline constexpr double kDefaultContrastThreshold = 0.001;
 
 /// The SIFT implementation (see above).
-enum class SiftBackend { OpenCV, OpenCVHalf, VLFeat };
+enum class SiftBackend { OpenCV, OpenCVHalf, VLFeat, OpenCVFast };
 
-/// "opencv", "opencv-half" or "vlfeat" (InputError naming the choices otherwise), and back.
+/// "opencv", "opencv-half", "opencv-fast" or "vlfeat" (InputError naming the choices otherwise), and back.
 SiftBackend parse_sift_backend(const std::string& name);
 std::string sift_backend_name(SiftBackend backend);
+
+/// One keypoint at the feature's position in the view's pixel coordinates (pixel centres at
+/// integers). OpenCV reports positions 0.25 pixel off when it doubles the image (see
+/// sift_features.cpp); that is corrected here, and opencv-half's and opencv-fast's keypoints are
+/// mapped from the half view.
+struct SiftKeypoint {
+    float x = 0, y = 0;  ///< position (column, row)
+    float size = 0;      ///< OpenCV's KeyPoint::size (diameter) for the OpenCV backends; VLFeat's sigma for vlfeat
+    float angle = 0;     ///< orientation in degrees (OpenCV's convention for the OpenCV backends)
+    int octave = 0;      ///< pyramid octave relative to the view (-1: opencv's doubled image; >= 0 for the others)
+};
+
+/// Keypoints and their descriptors (row i describes keypoints[i]).
+struct SiftFeatures {
+    std::vector<SiftKeypoint> keypoints;
+    SiftDescriptors descriptors = SiftDescriptors(0, 128);
+};
 
 /// Options of sift_descriptors(); the names follow cv::SIFT::create. The thresholds apply to the
 /// OpenCV backends; vlfeat uses VLFeat's defaults (peak 0, edge 10, first octave 0).
@@ -97,8 +122,12 @@ struct SiftOptions {
 SiftDescriptors sift_descriptors(const std::vector<std::uint8_t>& gray, int size,
                                  const SiftOptions& options = {});
 
+/// The same with the keypoints (sift_descriptors() is sift_features().descriptors).
+SiftFeatures sift_features(const std::vector<std::uint8_t>& gray, int size, const SiftOptions& options = {});
+
 /// The same for a depth image in [0, 1] (row-major, size x size): the OpenCV backends see it as
 /// 8 bits (round(255 * depth)), vlfeat as floats 255 * depth. Same errors.
 SiftDescriptors depth_sift_descriptors(const std::vector<float>& depth, int size, const SiftOptions& options = {});
+SiftFeatures depth_sift_features(const std::vector<float>& depth, int size, const SiftOptions& options = {});
 
 }  // namespace canonform::views

@@ -1,0 +1,206 @@
+// Tests of sift_features.h: SIFT descriptors of depth views with each backend.
+#include "canonform/views/sift_features.h"
+
+#include "test_util.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <map>
+#include <string>
+#include <vector>
+
+using namespace canonform;
+using namespace canonform::views;
+
+namespace {
+
+// A synthetic 8-bit depth view: a sphere with nine Gaussian bumps (bumps = true) or a capsule
+// stick figure; background 0.
+std::vector<std::uint8_t> synthetic_depth(bool bumps, int n = 256) {
+    std::vector<std::uint8_t> img(static_cast<std::size_t>(n) * n, 0);
+    for (int r = 0; r < n; ++r)
+        for (int c = 0; c < n; ++c) {
+            const double x = (c + 0.5) / n * 2 - 1, y = (r + 0.5) / n * 2 - 1;
+            double z = -2;
+            if (bumps) {
+                const double q = 0.64 - x * x - y * y;
+                if (q > 0) {
+                    z = std::sqrt(q);
+                    for (int k = 0; k < 9; ++k) {
+                        const double bx = -0.45 + 0.45 * (k % 3), by = -0.45 + 0.45 * (k / 3);
+                        z += 0.15 * std::exp(-((x - bx) * (x - bx) + (y - by) * (y - by)) / 0.01);
+                    }
+                }
+            } else {
+                auto cap = [&](double ax, double ay, double bx, double by, double rad, double base) {
+                    const double dx = bx - ax, dy = by - ay;
+                    const double t = std::clamp(((x - ax) * dx + (y - ay) * dy) / (dx * dx + dy * dy), 0.0, 1.0);
+                    const double px = ax + t * dx - x, py = ay + t * dy - y, q = rad * rad - px * px - py * py;
+                    if (q > 0) z = std::max(z, base + std::sqrt(q));
+                };
+                cap(0, -0.35, 0, 0.2, 0.17, 0);
+                cap(0, -0.62, 0, -0.6, 0.12, 0.02);
+                cap(-0.12, -0.3, -0.6, -0.05, 0.06, 0.05);
+                cap(0.12, -0.3, 0.55, -0.55, 0.06, 0.05);
+                cap(-0.08, 0.2, -0.3, 0.9, 0.08, 0);
+                cap(0.08, 0.2, 0.25, 0.9, 0.08, -0.05);
+            }
+            if (z > -1.5)
+                img[static_cast<std::size_t>(r) * n + c] =
+                    static_cast<std::uint8_t>(std::clamp(1.0 + 254.0 * (z + 1) / 2, 1.0, 255.0));
+        }
+    return img;
+}
+
+// A smooth round bump (Gaussian, sigma s pixels) centred at (cx, cy) in pixel coordinates (pixel
+// centres at integers, as OpenCV), on a constant background.
+std::vector<std::uint8_t> blob(double cx, double cy, double s, int n = 256) {
+    std::vector<std::uint8_t> img(static_cast<std::size_t>(n) * n);
+    for (int r = 0; r < n; ++r)
+        for (int c = 0; c < n; ++c) {
+            const double d2 = (c - cx) * (c - cx) + (r - cy) * (r - cy);
+            img[static_cast<std::size_t>(r) * n + c] = static_cast<std::uint8_t>(std::lround(40 + 200 * std::exp(-d2 / (2 * s * s))));
+        }
+    return img;
+}
+
+}  // namespace
+
+TEST(Sift, BlankImageHasNoDescriptors) {
+    EXPECT_EQ(sift_descriptors(std::vector<std::uint8_t>(256 * 256, 0), 256).rows(), 0);
+    EXPECT_EQ(sift_descriptors(std::vector<std::uint8_t>(64 * 64, 200), 64).rows(), 0);
+    EXPECT_THROW(sift_descriptors(std::vector<std::uint8_t>(10, 0), 256), InputError);
+    EXPECT_THROW(sift_descriptors({}, 0), InputError);
+}
+
+TEST(Sift, EveryBackendFindsKeypointsDeterministically) {
+    const auto bumpy = synthetic_depth(true);
+    std::vector<float> depth(bumpy.size());
+    for (size_t i = 0; i < bumpy.size(); ++i) depth[i] = bumpy[i] / 255.f;
+    std::map<std::string, long> counts;
+    for (const char* name : {"opencv", "opencv-half", "opencv-fast", "vlfeat"}) {
+        SiftOptions o;
+        o.backend = parse_sift_backend(name);
+        EXPECT_EQ(sift_backend_name(o.backend), name);
+        const SiftDescriptors d = depth_sift_descriptors(depth, 256, o);
+        counts[name] = static_cast<long>(d.rows());
+        EXPECT_GE(d.rows(), 5) << name;
+        EXPECT_TRUE(d.allFinite()) << name;
+        EXPECT_GE(d.minCoeff(), 0.f) << name;
+        EXPECT_LE(d.maxCoeff(), 255.f) << name;
+        // Descriptors of the scale OpenCV uses (norm about 512) for every backend.
+        EXPECT_NEAR(d.row(0).norm(), 512.f, 100.f) << name;
+        EXPECT_TRUE(d == depth_sift_descriptors(depth, 256, o)) << name;  // deterministic
+        EXPECT_EQ(depth_sift_descriptors(std::vector<float>(256 * 256, 0.3f), 256, o).rows(), 0) << name;  // blank
+        EXPECT_THROW(depth_sift_descriptors(depth, 255, o), InputError) << name;
+    }
+    std::printf("[sift] bumpy sphere keypoints: opencv %ld, opencv-half %ld, opencv-fast %ld, vlfeat %ld\n",
+                counts["opencv"], counts["opencv-half"], counts["opencv-fast"], counts["vlfeat"]);
+    // The 8-bit and the float input agree for OpenCV (the float depth is rounded to the same bytes).
+    EXPECT_TRUE(depth_sift_descriptors(depth, 256, {}) == sift_descriptors(bumpy, 256));
+    EXPECT_THROW(parse_sift_backend("surf"), InputError);
+}
+
+TEST(Sift, SyntheticDepthKeypointCounts) {
+    const auto figure = synthetic_depth(false), bumpy = synthetic_depth(true);
+    const auto f = sift_descriptors(figure, 256), b = sift_descriptors(bumpy, 256);
+    SiftOptions opencv_default;
+    opencv_default.contrast_threshold = 0.04;
+    const auto b04 = sift_descriptors(bumpy, 256, opencv_default);
+    std::printf("[sift] keypoints (contrast threshold %.4g): stick figure %ld, bumpy sphere %ld; bumpy sphere at "
+                "OpenCV's default 0.04: %ld\n",
+                kDefaultContrastThreshold, static_cast<long>(f.rows()), static_cast<long>(b.rows()),
+                static_cast<long>(b04.rows()));
+    EXPECT_GE(f.rows(), 10);
+    EXPECT_LE(f.rows(), 100);
+    EXPECT_GE(b.rows(), 10);
+    EXPECT_LE(b.rows(), 150);
+    EXPECT_GT(b.rows(), b04.rows());  // the lowered threshold keeps the weak interior extrema
+    EXPECT_TRUE(f.allFinite());
+    EXPECT_GE(f.minCoeff(), 0.f);
+    EXPECT_TRUE(f == sift_descriptors(figure, 256));  // deterministic
+}
+
+TEST(Sift, BackendNamesRoundTrip) {
+    for (const char* name : {"opencv", "opencv-half", "opencv-fast", "vlfeat"})
+        EXPECT_EQ(sift_backend_name(parse_sift_backend(name)), name);
+    try {
+        parse_sift_backend("surf");
+        ADD_FAILURE() << "unknown backend accepted";
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("opencv-fast"), std::string::npos) << e.what();  // names the choices
+    }
+}
+
+// opencv-fast detects on the half view (as opencv-half) and describes on the full view: the same
+// keypoints as opencv-half, every one at octave >= 0 of the view (no doubled image), while opencv's
+// own detector also finds keypoints in its doubled octave -1; descriptors in OpenCV's format, one
+// per keypoint, but not opencv-half's (they come from the full-resolution pyramid).
+TEST(Sift, FastBackendDescribesHalfViewKeypointsAtTheViewResolution) {
+    const auto bumpy = synthetic_depth(true);
+    SiftOptions half, fast, full;
+    half.backend = SiftBackend::OpenCVHalf;
+    fast.backend = SiftBackend::OpenCVFast;
+    const SiftFeatures h = sift_features(bumpy, 256, half), f = sift_features(bumpy, 256, fast),
+                       o = sift_features(bumpy, 256, full);
+    ASSERT_GE(f.keypoints.size(), 5u);
+    ASSERT_EQ(f.keypoints.size(), h.keypoints.size());
+    ASSERT_EQ(static_cast<size_t>(f.descriptors.rows()), f.keypoints.size());
+    ASSERT_EQ(static_cast<size_t>(o.descriptors.rows()), o.keypoints.size());
+    for (size_t i = 0; i < f.keypoints.size(); ++i) {
+        const SiftKeypoint &a = f.keypoints[i], &b = h.keypoints[i];
+        EXPECT_EQ(a.x, b.x);
+        EXPECT_EQ(a.y, b.y);
+        EXPECT_EQ(a.size, b.size);
+        EXPECT_EQ(a.angle, b.angle);
+        EXPECT_EQ(a.octave, b.octave);
+        EXPECT_GE(a.octave, 0);
+        EXPECT_GE(a.x, 0.f);
+        EXPECT_LT(a.x, 256.f);
+        EXPECT_GE(a.y, 0.f);
+        EXPECT_LT(a.y, 256.f);
+    }
+    const long doubled = std::count_if(o.keypoints.begin(), o.keypoints.end(), [](const SiftKeypoint& k) { return k.octave < 0; });
+    EXPECT_GT(doubled, 0);  // opencv's first octave is the doubled view
+    EXPECT_TRUE(f.descriptors.allFinite());
+    EXPECT_GE(f.descriptors.minCoeff(), 0.f);
+    EXPECT_LE(f.descriptors.maxCoeff(), 255.f);
+    for (Eigen::Index r = 0; r < f.descriptors.rows(); ++r) {
+        EXPECT_NEAR(f.descriptors.row(r).norm(), 512.f, 100.f);
+        EXPECT_EQ(f.descriptors.row(r), f.descriptors.row(r).array().round().matrix());  // OpenCV's integer values
+    }
+    EXPECT_FALSE(f.descriptors == h.descriptors);
+    // Close to opencv-half's all the same (same keypoint, same scale, nearly the same image).
+    double mean_cos = 0;
+    for (Eigen::Index r = 0; r < f.descriptors.rows(); ++r)
+        mean_cos += f.descriptors.row(r).dot(h.descriptors.row(r)) / (f.descriptors.row(r).norm() * h.descriptors.row(r).norm());
+    mean_cos /= double(f.descriptors.rows());
+    std::printf("[sift] opencv-fast vs opencv-half: %zu keypoints, mean cosine of the descriptors %.3f; opencv %zu "
+                "keypoints (%ld in the doubled octave)\n",
+                f.keypoints.size(), mean_cos, o.keypoints.size(), doubled);
+    EXPECT_GT(mean_cos, 0.8);
+    const SiftFeatures again = sift_features(bumpy, 256, fast);
+    EXPECT_TRUE(again.descriptors == f.descriptors);  // deterministic
+}
+
+// Keypoints are where the feature is in the view, as cv::SIFT::compute without doubling reads them
+// (opencv-fast's descriptors are taken there): a round bump centred between pixels and one centred on
+// a pixel are found at their centres by every OpenCV backend (a mapping off by half a pixel, or
+// OpenCV's own 0.25-pixel offset of doubled images left in, fails).
+TEST(Sift, KeypointsAreInTheViewsPixelCoordinates) {
+    for (const auto& [cx, cy] : std::vector<std::pair<double, double>>{{100.5, 140.5}, {131.0, 90.0}}) {
+        const auto img = blob(cx, cy, 6.0);
+        for (const SiftBackend b : {SiftBackend::OpenCV, SiftBackend::OpenCVHalf, SiftBackend::OpenCVFast}) {
+            SiftOptions o;
+            o.backend = b;
+            const SiftFeatures f = sift_features(img, 256, o);
+            double best = 1e9;
+            for (const SiftKeypoint& k : f.keypoints) best = std::min(best, std::hypot(k.x - cx, k.y - cy));
+            EXPECT_LT(best, 0.15) << sift_backend_name(b) << " at (" << cx << ", " << cy << ")";
+        }
+    }
+}
