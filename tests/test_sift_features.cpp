@@ -126,7 +126,7 @@ TEST(Sift, SyntheticDepthKeypointCounts) {
 }
 
 TEST(Sift, BackendNamesRoundTrip) {
-    for (const char* name : {"opencv", "opencv-half", "opencv-fast", "vlfeat"})
+    for (const char* name : {"opencv", "opencv-half", "opencv-fast", "opencv-octave0", "vlfeat"})
         EXPECT_EQ(sift_backend_name(parse_sift_backend(name)), name);
     try {
         parse_sift_backend("surf");
@@ -194,7 +194,7 @@ TEST(Sift, FastBackendDescribesHalfViewKeypointsAtTheViewResolution) {
 TEST(Sift, KeypointsAreInTheViewsPixelCoordinates) {
     for (const auto& [cx, cy] : std::vector<std::pair<double, double>>{{100.5, 140.5}, {131.0, 90.0}}) {
         const auto img = blob(cx, cy, 6.0);
-        for (const SiftBackend b : {SiftBackend::OpenCV, SiftBackend::OpenCVHalf, SiftBackend::OpenCVFast}) {
+        for (const SiftBackend b : {SiftBackend::OpenCV, SiftBackend::OpenCVHalf, SiftBackend::OpenCVFast, SiftBackend::OpenCVOctave0}) {
             SiftOptions o;
             o.backend = b;
             const SiftFeatures f = sift_features(img, 256, o);
@@ -203,4 +203,56 @@ TEST(Sift, KeypointsAreInTheViewsPixelCoordinates) {
             EXPECT_LT(best, 0.15) << sift_backend_name(b) << " at (" << cx << ", " << cy << ")";
         }
     }
+}
+
+// opencv-octave0 reproduces OpenCV's own keypoints at octaves >= 0 without OpenCV's doubled image:
+// on the synthetic views, nearly every keypoint opencv reports at octave o >= 0 has an opencv-octave0
+// keypoint within half a pixel of that octave (2^o / 2 view pixels), of the same size (10%) and
+// orientation (5 degrees); the counts per octave agree within 15%; nothing at octave -1; descriptors
+// one per keypoint in OpenCV's format; deterministic.
+TEST(Sift, Octave0BackendReproducesOpenCVsKeypointsFromOctaveZero) {
+    SiftOptions full, oct0;
+    oct0.backend = SiftBackend::OpenCVOctave0;
+    std::map<int, long> reference, ours, matched;
+    for (const bool bumps : {true, false}) {
+        const auto img = synthetic_depth(bumps);
+        const SiftFeatures o = sift_features(img, 256, full), f = sift_features(img, 256, oct0);
+        ASSERT_EQ(static_cast<size_t>(f.descriptors.rows()), f.keypoints.size());
+        for (const SiftKeypoint& k : f.keypoints) {
+            EXPECT_GE(k.octave, 0);
+            ++ours[k.octave];
+        }
+        for (const SiftKeypoint& k : o.keypoints) {
+            if (k.octave < 0) continue;
+            ++reference[k.octave];
+            const double tolerance = 0.5 * double(1 << k.octave);
+            for (const SiftKeypoint& q : f.keypoints) {
+                double angle = std::abs(q.angle - k.angle);
+                angle = std::min(angle, 360 - angle);
+                if (std::hypot(q.x - k.x, q.y - k.y) < tolerance && std::abs(std::log(q.size / k.size)) < 0.1 && angle < 5) {
+                    ++matched[k.octave];
+                    break;
+                }
+            }
+        }
+        EXPECT_TRUE(f.descriptors.allFinite());
+        EXPECT_GE(f.descriptors.minCoeff(), 0.f);
+        EXPECT_LE(f.descriptors.maxCoeff(), 255.f);
+        for (Eigen::Index r = 0; r < f.descriptors.rows(); ++r) EXPECT_NEAR(f.descriptors.row(r).norm(), 512.f, 100.f);
+        const SiftFeatures again = sift_features(img, 256, oct0);
+        EXPECT_TRUE(again.descriptors == f.descriptors);  // deterministic
+    }
+    long total = 0, total_matched = 0;
+    for (const auto& [octave, n] : reference) {
+        std::printf("[sift] octave %d: opencv %ld keypoints, opencv-octave0 %ld, opencv's matched %ld\n", octave, n, ours[octave],
+                    matched[octave]);
+        total += n;
+        total_matched += matched[octave];
+        if (n >= 10) {
+            EXPECT_NEAR(double(ours[octave]), double(n), 0.15 * double(n)) << "octave " << octave;
+        }
+    }
+    ASSERT_GE(reference[0], 10);  // the octave in question is populated
+    EXPECT_GE(double(matched[0]), 0.9 * double(reference[0]));
+    EXPECT_GE(double(total_matched), 0.9 * double(total));
 }

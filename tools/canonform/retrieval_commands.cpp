@@ -81,7 +81,7 @@ void add_experiment_options(CLI::App* c, ExperimentArgs& a) {
     c->add_option("--sift", a.sift, "SIFT extractor: opencv (default), opencv-half (first octave at the view's "
                                     "resolution), opencv-fast (opencv-half's keypoints, descriptors of the full "
                                     "view) or vlfeat (VLFeat's defaults on the float depth)")
-        ->check(CLI::IsMember({"opencv", "opencv-half", "opencv-fast", "vlfeat"}));
+        ->check(CLI::IsMember({"opencv", "opencv-half", "opencv-fast", "opencv-octave0", "vlfeat"}));
     add_repair_flag(c, a.o.repair);
 }
 

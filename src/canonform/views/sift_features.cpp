@@ -9,6 +9,8 @@ extern "C" {
 }
 
 #include <algorithm>
+#include <cfloat>
+#include <climits>
 #include <cmath>
 #include <memory>
 #include <string>
@@ -19,8 +21,9 @@ SiftBackend parse_sift_backend(const std::string& name) {
     if (name == "opencv") return SiftBackend::OpenCV;
     if (name == "opencv-half") return SiftBackend::OpenCVHalf;
     if (name == "opencv-fast") return SiftBackend::OpenCVFast;
+    if (name == "opencv-octave0") return SiftBackend::OpenCVOctave0;
     if (name == "vlfeat") return SiftBackend::VLFeat;
-    throw InputError("SIFT: unknown backend '" + name + "' (opencv, opencv-half, opencv-fast or vlfeat).");
+    throw InputError("SIFT: unknown backend '" + name + "' (opencv, opencv-half, opencv-fast, opencv-octave0 or vlfeat).");
 }
 
 std::string sift_backend_name(SiftBackend backend) {
@@ -28,6 +31,7 @@ std::string sift_backend_name(SiftBackend backend) {
         case SiftBackend::OpenCV: return "opencv";
         case SiftBackend::OpenCVHalf: return "opencv-half";
         case SiftBackend::OpenCVFast: return "opencv-fast";
+        case SiftBackend::OpenCVOctave0: return "opencv-octave0";
         case SiftBackend::VLFeat: return "vlfeat";
     }
     return "opencv";
@@ -98,6 +102,168 @@ void half_to_full(std::vector<cv::KeyPoint>& keypoints) {
     }
 }
 
+// opencv-octave0's detector: OpenCV 4.6's own DoG detector (sift.simd.hpp: findScaleSpaceExtrema,
+// adjustLocalExtrema, calcOrientationHist, same constants, float arithmetic and keypoint packing)
+// restricted to OpenCV's octaves >= 0, computed on the view itself instead of on OpenCV's doubled
+// image. OpenCV's octave 0 is the nearest-neighbour half of its doubled (INTER_LINEAR, half-pixel
+// centres) image: doubled pixel 2i samples the view at i - 1/4, i.e. 0.25 * I[i-1] + 0.75 * I[i]
+// per axis. That 2-tap filter is what makes OpenCV's octave-0 keypoints: a first octave on the
+// view with a symmetric base blur finds a third of them (2.9 vs 10.5 keypoint locations per view
+// on the bench view; 9.3 with no base-blur allowance), with the filter 11.3. So `shifted` is the
+// view resampled at i - 1/4 (both axes), the pyramid starts there at octave 0 with OpenCV's base
+// blur from SIFT_INIT_SIGMA 0.5 to sigma, and positions are in the shifted image's pixels (a
+// feature at shifted x is at view x - 1/4, the offset OpenCV's doubled positions carry too).
+std::vector<cv::KeyPoint> dog_keypoints(const cv::Mat& shifted, const SiftOptions& o) {
+    const int L = o.octave_layers;
+    const double k = std::pow(2.0, 1.0 / L);
+    std::vector<double> blur(static_cast<size_t>(L + 3));
+    blur[0] = o.sigma;
+    for (int i = 1; i < L + 3; ++i) {
+        const double prev = std::pow(k, i - 1) * o.sigma, total = prev * k;
+        blur[static_cast<size_t>(i)] = std::sqrt(total * total - prev * prev);
+    }
+    const int octaves = std::max(1, static_cast<int>(std::lround(std::log2(std::min(shifted.rows, shifted.cols)))) - 2);
+    std::vector<std::vector<cv::Mat>> g(static_cast<size_t>(octaves)), d(static_cast<size_t>(octaves));
+    const cv::Mat& f = shifted;
+    const double base_blur = std::sqrt(std::max(o.sigma * o.sigma - 0.25, 0.01));  // SIFT_INIT_SIGMA 0.5
+    for (int oc = 0; oc < octaves; ++oc) {
+        auto& G = g[static_cast<size_t>(oc)];
+        G.resize(static_cast<size_t>(L + 3));
+        if (oc == 0) {
+            cv::GaussianBlur(f, G[0], cv::Size(), base_blur, base_blur);
+        } else {
+            const cv::Mat& src = g[static_cast<size_t>(oc - 1)][static_cast<size_t>(L)];
+            cv::resize(src, G[0], cv::Size(src.cols / 2, src.rows / 2), 0, 0, cv::INTER_NEAREST);
+        }
+        for (int i = 1; i < L + 3; ++i)
+            cv::GaussianBlur(G[static_cast<size_t>(i - 1)], G[static_cast<size_t>(i)], cv::Size(), blur[static_cast<size_t>(i)],
+                             blur[static_cast<size_t>(i)]);
+        auto& D = d[static_cast<size_t>(oc)];
+        D.resize(static_cast<size_t>(L + 2));
+        for (int i = 0; i < L + 2; ++i) cv::subtract(G[static_cast<size_t>(i + 1)], G[static_cast<size_t>(i)], D[static_cast<size_t>(i)]);
+    }
+    constexpr int border = 5;                 // SIFT_IMG_BORDER
+    constexpr int max_steps = 5;              // SIFT_MAX_INTERP_STEPS
+    constexpr float img_scale = 1.f / 255.f;  // derivatives in units of the [0, 1] image
+    const float threshold = static_cast<float>(std::floor(0.5 * o.contrast_threshold / L * 255.0));
+    const float contrast_threshold = static_cast<float>(o.contrast_threshold);
+    const float edge = static_cast<float>(o.edge_threshold);
+    const float sigma = static_cast<float>(o.sigma);
+    std::vector<cv::KeyPoint> out;
+    for (int oc = 0; oc < octaves; ++oc) {
+        const auto& D = d[static_cast<size_t>(oc)];
+        const auto& G = g[static_cast<size_t>(oc)];
+        const int rows = D[0].rows, cols = D[0].cols;
+        if (rows <= 2 * border || cols <= 2 * border) break;
+        for (int i = 1; i <= L; ++i)
+            for (int r = border; r < rows - border; ++r)
+                for (int c = border; c < cols - border; ++c) {
+                    const float v = D[static_cast<size_t>(i)].at<float>(r, c);
+                    if (!(std::abs(v) > threshold)) continue;
+                    bool extremum = true;  // >= / <= all 26 neighbours, as OpenCV
+                    for (int di = -1; di <= 1 && extremum; ++di)
+                        for (int dr = -1; dr <= 1 && extremum; ++dr)
+                            for (int dc = -1; dc <= 1 && extremum; ++dc) {
+                                if (!di && !dr && !dc) continue;
+                                const float w = D[static_cast<size_t>(i + di)].at<float>(r + dr, c + dc);
+                                extremum = v > 0 ? v >= w : v <= w;
+                            }
+                    if (!extremum) continue;
+                    // adjustLocalExtrema: quadratic refinement (Lowe Sec. 4), up to 5 moves.
+                    int li = i, rr = r, cc = c;
+                    float xi = 0, xr = 0, xc = 0;
+                    auto at = [&D](int layer, int y, int x) { return D[static_cast<size_t>(layer)].at<float>(y, x); };
+                    auto gradient = [&](int l, int y, int x) {
+                        return cv::Vec3f((at(l, y, x + 1) - at(l, y, x - 1)) * 0.5f * img_scale,
+                                         (at(l, y + 1, x) - at(l, y - 1, x)) * 0.5f * img_scale,
+                                         (at(l + 1, y, x) - at(l - 1, y, x)) * 0.5f * img_scale);
+                    };
+                    int step = 0;
+                    for (; step < max_steps; ++step) {
+                        const cv::Vec3f dD = gradient(li, rr, cc);
+                        const float v2 = at(li, rr, cc) * 2;
+                        const float dxx = (at(li, rr, cc + 1) + at(li, rr, cc - 1) - v2) * img_scale;
+                        const float dyy = (at(li, rr + 1, cc) + at(li, rr - 1, cc) - v2) * img_scale;
+                        const float dss = (at(li + 1, rr, cc) + at(li - 1, rr, cc) - v2) * img_scale;
+                        const float dxy = (at(li, rr + 1, cc + 1) - at(li, rr + 1, cc - 1) - at(li, rr - 1, cc + 1) +
+                                           at(li, rr - 1, cc - 1)) * 0.25f * img_scale;
+                        const float dxs = (at(li + 1, rr, cc + 1) - at(li + 1, rr, cc - 1) - at(li - 1, rr, cc + 1) +
+                                           at(li - 1, rr, cc - 1)) * 0.25f * img_scale;
+                        const float dys = (at(li + 1, rr + 1, cc) - at(li + 1, rr - 1, cc) - at(li - 1, rr + 1, cc) +
+                                           at(li - 1, rr - 1, cc)) * 0.25f * img_scale;
+                        const cv::Matx33f H(dxx, dxy, dxs, dxy, dyy, dys, dxs, dys, dss);
+                        const cv::Vec3f X = H.solve(dD, cv::DECOMP_LU);
+                        xi = -X[2], xr = -X[1], xc = -X[0];
+                        if (std::abs(xi) < 0.5f && std::abs(xr) < 0.5f && std::abs(xc) < 0.5f) break;
+                        constexpr float huge = static_cast<float>(INT_MAX / 3);
+                        if (!(std::abs(xi) <= huge && std::abs(xr) <= huge && std::abs(xc) <= huge)) {
+                            step = max_steps;
+                            break;
+                        }
+                        cc += cvRound(xc);
+                        rr += cvRound(xr);
+                        li += cvRound(xi);
+                        if (li < 1 || li > L || cc < border || cc >= cols - border || rr < border || rr >= rows - border) {
+                            step = max_steps;
+                            break;
+                        }
+                    }
+                    if (step >= max_steps) continue;
+                    const float contrast = at(li, rr, cc) * img_scale + gradient(li, rr, cc).dot(cv::Vec3f(xc, xr, xi)) * 0.5f;
+                    if (std::abs(contrast) * static_cast<float>(L) < contrast_threshold) continue;
+                    const float v2 = at(li, rr, cc) * 2.f;
+                    const float dxx = (at(li, rr, cc + 1) + at(li, rr, cc - 1) - v2) * img_scale;
+                    const float dyy = (at(li, rr + 1, cc) + at(li, rr - 1, cc) - v2) * img_scale;
+                    const float dxy = (at(li, rr + 1, cc + 1) - at(li, rr + 1, cc - 1) - at(li, rr - 1, cc + 1) +
+                                       at(li, rr - 1, cc - 1)) * 0.25f * img_scale;
+                    const float tr = dxx + dyy, det = dxx * dyy - dxy * dxy;
+                    if (det <= 0 || tr * tr * edge >= (edge + 1) * (edge + 1) * det) continue;
+                    cv::KeyPoint kp;
+                    const float unit = static_cast<float>(1 << oc);
+                    kp.pt = cv::Point2f((static_cast<float>(cc) + xc) * unit, (static_cast<float>(rr) + xr) * unit);
+                    kp.octave = oc + (li << 8) + (cvRound((xi + 0.5f) * 255) << 16);
+                    kp.size = sigma * std::pow(2.f, (static_cast<float>(li) + xi) / static_cast<float>(L)) * unit * 2;
+                    kp.response = std::abs(contrast);
+                    // calcOrientationHist (Lowe Sec. 5): 36 bins on the keypoint's Gaussian layer.
+                    const cv::Mat& img = G[static_cast<size_t>(li)];
+                    constexpr int bins = 36;
+                    const float scl = kp.size * 0.5f / unit;
+                    const int radius = cvRound(4.5f * scl);  // SIFT_ORI_RADIUS = 3 * SIFT_ORI_SIG_FCTR
+                    const float expf_scale = -1.f / (2.f * (1.5f * scl) * (1.5f * scl));
+                    float hist[bins] = {};
+                    for (int dy = -radius; dy <= radius; ++dy) {
+                        const int y = rr + dy;
+                        if (y <= 0 || y >= rows - 1) continue;
+                        for (int dx = -radius; dx <= radius; ++dx) {
+                            const int x = cc + dx;
+                            if (x <= 0 || x >= cols - 1) continue;
+                            const float gx = img.at<float>(y, x + 1) - img.at<float>(y, x - 1);
+                            const float gy = img.at<float>(y - 1, x) - img.at<float>(y + 1, x);
+                            int bin = cvRound((bins / 360.f) * cv::fastAtan2(gy, gx));
+                            if (bin >= bins) bin -= bins;
+                            if (bin < 0) bin += bins;
+                            hist[bin] += std::exp(static_cast<float>(dx * dx + dy * dy) * expf_scale) * std::sqrt(gx * gx + gy * gy);
+                        }
+                    }
+                    float smooth[bins];
+                    for (int b = 0; b < bins; ++b)
+                        smooth[b] = (hist[(b + bins - 2) % bins] + hist[(b + 2) % bins]) * (1.f / 16.f) +
+                                    (hist[(b + bins - 1) % bins] + hist[(b + 1) % bins]) * (4.f / 16.f) + hist[b] * (6.f / 16.f);
+                    const float peak = *std::max_element(smooth, smooth + bins) * 0.8f;  // SIFT_ORI_PEAK_RATIO
+                    for (int b = 0; b < bins; ++b) {
+                        const float left = smooth[(b + bins - 1) % bins], right = smooth[(b + 1) % bins];
+                        if (!(smooth[b] > left && smooth[b] > right && smooth[b] >= peak)) continue;
+                        float bin = static_cast<float>(b) + 0.5f * (left - right) / (left - 2 * smooth[b] + right);
+                        bin = bin < 0 ? bins + bin : bin >= bins ? bin - bins : bin;
+                        kp.angle = 360.f - (360.f / bins) * bin;
+                        if (std::abs(kp.angle - 360.f) < FLT_EPSILON) kp.angle = 0.f;
+                        out.push_back(kp);
+                    }
+                }
+    }
+    return out;
+}
+
 }  // namespace
 
 SiftFeatures depth_sift_features(const std::vector<float>& depth, int size, const SiftOptions& options) {
@@ -146,6 +312,18 @@ SiftFeatures sift_features(const std::vector<std::uint8_t>& gray, int size, cons
     cv::Mat descriptors;
     if (options.backend == SiftBackend::OpenCV) {
         sift->detectAndCompute(image, cv::noArray(), keypoints, descriptors);
+    } else if (options.backend == SiftBackend::OpenCVOctave0) {
+        // Detection on the view resampled at i - 1/4 on both axes (OpenCV's octave-0 grid, see
+        // dog_keypoints), positions moved to the view, then OpenCV's descriptors of the view: all
+        // keypoints have octave >= 0, so compute() builds its pyramid from the view without doubling
+        // (compute() takes 8-bit images only, hence the view rather than the resampled floats).
+        cv::Mat view, shifted;
+        image.convertTo(view, CV_32F);
+        const cv::Mat tap = (cv::Mat_<float>(1, 3) << 0.25f, 0.75f, 0.f);
+        cv::sepFilter2D(view, shifted, CV_32F, tap, tap.t(), cv::Point(-1, -1), 0, cv::BORDER_REPLICATE);
+        keypoints = dog_keypoints(shifted, options);
+        for (cv::KeyPoint& k : keypoints) k.pt -= cv::Point2f(kDoubledOffset, kDoubledOffset);  // to the view
+        if (!keypoints.empty()) sift->compute(image, keypoints, descriptors);
     } else {
         cv::Mat half;
         cv::resize(image, half, cv::Size(std::max(1, size / 2), std::max(1, size / 2)), 0, 0, cv::INTER_AREA);

@@ -80,7 +80,7 @@ using SiftDescriptors = Eigen::Matrix<float, Eigen::Dynamic, 128, Eigen::RowMajo
 inline constexpr double kDefaultContrastThreshold = 0.001;
 
 /// The SIFT implementation (see above).
-enum class SiftBackend { OpenCV, OpenCVHalf, VLFeat, OpenCVFast };
+enum class SiftBackend { OpenCV, OpenCVHalf, VLFeat, OpenCVFast, OpenCVOctave0 };
 
 /// "opencv", "opencv-half", "opencv-fast" or "vlfeat" (InputError naming the choices otherwise), and back.
 SiftBackend parse_sift_backend(const std::string& name);
