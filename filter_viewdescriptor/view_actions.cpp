@@ -47,11 +47,13 @@ ActionOutputs depth_view_descriptor(MeshDocument& md, const ParamValues& p, cons
     opt.image_size = size;
     opt.pose.seed = static_cast<std::uint64_t>(p.get_int("seed"));
     const int sift = p.get_int("sift");
-    if (sift < 0 || sift > 3)
-        throw InputError("the SIFT extractor must be 0 (opencv), 1 (opencv-half), 2 (vlfeat) or 3 (opencv-fast)");
+    if (sift < 0 || sift > 4)
+        throw InputError(
+            "the SIFT extractor must be 0 (opencv), 1 (opencv-half), 2 (vlfeat), 3 (opencv-fast) or 4 (opencv-octave0)");
     opt.sift.backend = sift == 1   ? views::SiftBackend::OpenCVHalf
                        : sift == 2 ? views::SiftBackend::VLFeat
                        : sift == 3 ? views::SiftBackend::OpenCVFast
+                       : sift == 4 ? views::SiftBackend::OpenCVOctave0
                                    : views::SiftBackend::OpenCV;
     const views::Codebook* codebook = nullptr;
     views::Codebook cb;
