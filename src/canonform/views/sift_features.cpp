@@ -155,20 +155,29 @@ std::vector<cv::KeyPoint> dog_keypoints(const cv::Mat& shifted, const SiftOption
         const auto& G = g[static_cast<size_t>(oc)];
         const int rows = D[0].rows, cols = D[0].cols;
         if (rows <= 2 * border || cols <= 2 * border) break;
+        // Extrema: >= (maximum) or <= (minimum) all 26 neighbours, as OpenCV; via the 3 x 3 maxima
+        // and minima of each DoG layer (v >= every neighbour iff v >= the 3 x 3 maxima of the layers
+        // below, at and above), tested branch-free a row at a time.
+        std::vector<cv::Mat> hi(D.size()), lo(D.size());
+        const cv::Mat box = cv::Mat::ones(3, 3, CV_8U);
+        for (size_t j = 0; j < D.size(); ++j) {
+            cv::dilate(D[j], hi[j], box);
+            cv::erode(D[j], lo[j], box);
+        }
+        std::vector<std::uint8_t> candidate(static_cast<size_t>(cols));
         for (int i = 1; i <= L; ++i)
-            for (int r = border; r < rows - border; ++r)
+            for (int r = border; r < rows - border; ++r) {
+                const auto at_row = [r](const std::vector<cv::Mat>& m, int j) { return m[static_cast<size_t>(j)].ptr<float>(r); };
+                const float *v = at_row(D, i), *h0 = at_row(hi, i - 1), *h1 = at_row(hi, i), *h2 = at_row(hi, i + 1),
+                            *l0 = at_row(lo, i - 1), *l1 = at_row(lo, i), *l2 = at_row(lo, i + 1);
                 for (int c = border; c < cols - border; ++c) {
-                    const float v = D[static_cast<size_t>(i)].at<float>(r, c);
-                    if (!(std::abs(v) > threshold)) continue;
-                    bool extremum = true;  // >= / <= all 26 neighbours, as OpenCV
-                    for (int di = -1; di <= 1 && extremum; ++di)
-                        for (int dr = -1; dr <= 1 && extremum; ++dr)
-                            for (int dc = -1; dc <= 1 && extremum; ++dc) {
-                                if (!di && !dr && !dc) continue;
-                                const float w = D[static_cast<size_t>(i + di)].at<float>(r + dr, c + dc);
-                                extremum = v > 0 ? v >= w : v <= w;
-                            }
-                    if (!extremum) continue;
+                    const float x = v[c];
+                    const bool maximum = (x > threshold) & (x >= h0[c]) & (x >= h1[c]) & (x >= h2[c]);
+                    const bool minimum = (x < -threshold) & (x <= l0[c]) & (x <= l1[c]) & (x <= l2[c]);
+                    candidate[static_cast<size_t>(c)] = static_cast<std::uint8_t>(maximum | minimum);
+                }
+                for (int c = border; c < cols - border; ++c) {
+                    if (!candidate[static_cast<size_t>(c)]) continue;
                     // adjustLocalExtrema: quadratic refinement (Lowe Sec. 4), up to 5 moves.
                     int li = i, rr = r, cc = c;
                     float xi = 0, xr = 0, xc = 0;
@@ -260,6 +269,7 @@ std::vector<cv::KeyPoint> dog_keypoints(const cv::Mat& shifted, const SiftOption
                         out.push_back(kp);
                     }
                 }
+            }
     }
     return out;
 }
