@@ -113,7 +113,77 @@ void half_to_full(std::vector<cv::KeyPoint>& keypoints) {
 // view resampled at i - 1/4 (both axes), the pyramid starts there at octave 0 with OpenCV's base
 // blur from SIFT_INIT_SIGMA 0.5 to sigma, and positions are in the shifted image's pixels (a
 // feature at shifted x is at view x - 1/4, the offset OpenCV's doubled positions carry too).
-std::vector<cv::KeyPoint> dog_keypoints(const cv::Mat& shifted, const SiftOptions& o) {
+// With `descriptors`, also OpenCV's descriptors of the keypoints (calcDescriptors on the same
+// pyramid, as OpenCV takes them from its octaves >= 0).
+// OpenCV 4.6's calcSIFTDescriptor (d = 4, n = 8, SIFT_DESCR_SCL_FCTR 3, SIFT_DESCR_MAG_THR 0.2,
+// SIFT_INT_DESCR_FCTR 512, values saturated to 0-255) for a keypoint at ptf (pixels of img) with
+// orientation ori (degrees, OpenCV's 360 - angle) and scale scl, into dst (128 floats).
+void sift_descriptor(const cv::Mat& img, cv::Point2f ptf, float ori, float scl, float* dst) {
+    constexpr int d = 4, n = 8;
+    const cv::Point pt(cvRound(ptf.x), cvRound(ptf.y));
+    float cos_t = std::cos(ori * static_cast<float>(CV_PI / 180)), sin_t = std::sin(ori * static_cast<float>(CV_PI / 180));
+    const float bins_per_rad = n / 360.f, exp_scale = -1.f / (d * d * 0.5f), hist_width = 3.f * scl;
+    int radius = cvRound(hist_width * 1.4142135623730951f * (d + 1) * 0.5f);
+    radius = std::min(radius, static_cast<int>(std::sqrt(double(img.cols) * img.cols + double(img.rows) * img.rows)));
+    cos_t /= hist_width;
+    sin_t /= hist_width;
+    const int rows = img.rows, cols = img.cols;
+    float hist[(d + 2) * (d + 2) * (n + 2)] = {};
+    for (int i = -radius; i <= radius; ++i)
+        for (int j = -radius; j <= radius; ++j) {
+            const float c_rot = static_cast<float>(j) * cos_t - static_cast<float>(i) * sin_t;
+            const float r_rot = static_cast<float>(j) * sin_t + static_cast<float>(i) * cos_t;
+            float rbin = r_rot + d / 2 - 0.5f, cbin = c_rot + d / 2 - 0.5f;
+            const int r = pt.y + i, c = pt.x + j;
+            if (!(rbin > -1 && rbin < d && cbin > -1 && cbin < d && r > 0 && r < rows - 1 && c > 0 && c < cols - 1)) continue;
+            const float dx = img.at<float>(r, c + 1) - img.at<float>(r, c - 1);
+            const float dy = img.at<float>(r - 1, c) - img.at<float>(r + 1, c);
+            const float mag = std::sqrt(dx * dx + dy * dy) * std::exp((c_rot * c_rot + r_rot * r_rot) * exp_scale);
+            float obin = (cv::fastAtan2(dy, dx) - ori) * bins_per_rad;
+            const int r0 = cvFloor(rbin), c0 = cvFloor(cbin);
+            int o0 = cvFloor(obin);
+            rbin -= static_cast<float>(r0);
+            cbin -= static_cast<float>(c0);
+            obin -= static_cast<float>(o0);
+            if (o0 < 0) o0 += n;
+            if (o0 >= n) o0 -= n;
+            // tri-linear interpolation
+            const float v_r1 = mag * rbin, v_r0 = mag - v_r1;
+            const float v_rc11 = v_r1 * cbin, v_rc10 = v_r1 - v_rc11, v_rc01 = v_r0 * cbin, v_rc00 = v_r0 - v_rc01;
+            const float v_rco111 = v_rc11 * obin, v_rco110 = v_rc11 - v_rco111, v_rco101 = v_rc10 * obin,
+                        v_rco100 = v_rc10 - v_rco101, v_rco011 = v_rc01 * obin, v_rco010 = v_rc01 - v_rco011,
+                        v_rco001 = v_rc00 * obin, v_rco000 = v_rc00 - v_rco001;
+            const int idx = ((r0 + 1) * (d + 2) + c0 + 1) * (n + 2) + o0;
+            hist[idx] += v_rco000;
+            hist[idx + 1] += v_rco001;
+            hist[idx + (n + 2)] += v_rco010;
+            hist[idx + (n + 3)] += v_rco011;
+            hist[idx + (d + 2) * (n + 2)] += v_rco100;
+            hist[idx + (d + 2) * (n + 2) + 1] += v_rco101;
+            hist[idx + (d + 3) * (n + 2)] += v_rco110;
+            hist[idx + (d + 3) * (n + 2) + 1] += v_rco111;
+        }
+    for (int i = 0; i < d; ++i)  // the orientation histograms are circular
+        for (int j = 0; j < d; ++j) {
+            const int idx = ((i + 1) * (d + 2) + (j + 1)) * (n + 2);
+            hist[idx] += hist[idx + n];
+            hist[idx + 1] += hist[idx + n + 1];
+            for (int k = 0; k < n; ++k) dst[(i * d + j) * n + k] = hist[idx + k];
+        }
+    constexpr int len = d * d * n;
+    float nrm2 = 0;
+    for (int k = 0; k < len; ++k) nrm2 += dst[k] * dst[k];
+    const float thr = std::sqrt(nrm2) * 0.2f;
+    nrm2 = 0;
+    for (int k = 0; k < len; ++k) {
+        dst[k] = std::min(dst[k], thr);
+        nrm2 += dst[k] * dst[k];
+    }
+    nrm2 = 512.f / std::max(std::sqrt(nrm2), FLT_EPSILON);
+    for (int k = 0; k < len; ++k) dst[k] = static_cast<float>(cv::saturate_cast<uchar>(dst[k] * nrm2));
+}
+
+std::vector<cv::KeyPoint> dog_keypoints(const cv::Mat& shifted, const SiftOptions& o, cv::Mat* descriptors = nullptr) {
     const int L = o.octave_layers;
     const double k = std::pow(2.0, 1.0 / L);
     std::vector<double> blur(static_cast<size_t>(L + 3));
@@ -271,6 +341,18 @@ std::vector<cv::KeyPoint> dog_keypoints(const cv::Mat& shifted, const SiftOption
                 }
             }
     }
+    if (descriptors) {  // calcDescriptors: on the keypoint's Gaussian layer, angle 360 - kp.angle
+        descriptors->create(static_cast<int>(out.size()), 128, CV_32F);
+        for (size_t i = 0; i < out.size(); ++i) {
+            const cv::KeyPoint& kp = out[i];
+            const int oc = kp.octave & 255, layer = (kp.octave >> 8) & 255;
+            const float scale = 1.f / static_cast<float>(1 << oc);
+            float angle = 360.f - kp.angle;
+            if (std::abs(angle - 360.f) < FLT_EPSILON) angle = 0.f;
+            sift_descriptor(g[static_cast<size_t>(oc)][static_cast<size_t>(layer)], kp.pt * scale, angle, kp.size * scale * 0.5f,
+                            descriptors->ptr<float>(static_cast<int>(i)));
+        }
+    }
     return out;
 }
 
@@ -323,17 +405,14 @@ SiftFeatures sift_features(const std::vector<std::uint8_t>& gray, int size, cons
     if (options.backend == SiftBackend::OpenCV) {
         sift->detectAndCompute(image, cv::noArray(), keypoints, descriptors);
     } else if (options.backend == SiftBackend::OpenCVOctave0) {
-        // Detection on the view resampled at i - 1/4 on both axes (OpenCV's octave-0 grid, see
-        // dog_keypoints), positions moved to the view, then OpenCV's descriptors of the view: all
-        // keypoints have octave >= 0, so compute() builds its pyramid from the view without doubling
-        // (compute() takes 8-bit images only, hence the view rather than the resampled floats).
+        // Detection and descriptors on the view resampled at i - 1/4 on both axes (OpenCV's
+        // octave-0 grid, see dog_keypoints), in one pyramid; positions moved to the view.
         cv::Mat view, shifted;
         image.convertTo(view, CV_32F);
         const cv::Mat tap = (cv::Mat_<float>(1, 3) << 0.25f, 0.75f, 0.f);
         cv::sepFilter2D(view, shifted, CV_32F, tap, tap.t(), cv::Point(-1, -1), 0, cv::BORDER_REPLICATE);
-        keypoints = dog_keypoints(shifted, options);
+        keypoints = dog_keypoints(shifted, options, &descriptors);
         for (cv::KeyPoint& k : keypoints) k.pt -= cv::Point2f(kDoubledOffset, kDoubledOffset);  // to the view
-        if (!keypoints.empty()) sift->compute(image, keypoints, descriptors);
     } else {
         cv::Mat half;
         cv::resize(image, half, cv::Size(std::max(1, size / 2), std::max(1, size / 2)), 0, 0, cv::INTER_AREA);
