@@ -26,11 +26,11 @@ const std::vector<FilterSpec>& view_filter_table() {
                       {"views_folder", K::String, 0, "Write the views to (optional)",
                        "A folder for the 66 depth images as PNG; empty: do not write them.", {}, ""},
                       {"seed", K::Int, 0, "Random seed", "Seed of the rectilinearity restarts.", {}},
-                      {"sift", K::Enum, 4, "SIFT extractor",
-                       "opencv: OpenCV's SIFT on the 8-bit view; opencv-half: the same with its first "
+                      {"sift", K::Enum, 0, "SIFT extractor",
+                       "opencv: OpenCV's SIFT on the 8-bit view (default); opencv-half: the same with its first "
                        "octave at the view's resolution (faster); vlfeat: VLFeat's SIFT at its defaults on the "
                        "float depth; opencv-fast: opencv-half's keypoints with descriptors of the full view; "
-                       "opencv-octave0 (default): opencv's keypoints from octave 0 up, found without its doubled image. A "
+                       "opencv-octave0: opencv's keypoints from octave 0 up, found without its doubled image. A "
                        "codebook must come from the same extractor.",
                        {"opencv", "opencv-half", "vlfeat", "opencv-fast", "opencv-octave0"}}},
                      kNothing, kNothing});

@@ -143,7 +143,6 @@ TEST(Sift, BackendNamesRoundTrip) {
 TEST(Sift, FastBackendDescribesHalfViewKeypointsAtTheViewResolution) {
     const auto bumpy = synthetic_depth(true);
     SiftOptions half, fast, full;
-    full.backend = SiftBackend::OpenCV;
     half.backend = SiftBackend::OpenCVHalf;
     fast.backend = SiftBackend::OpenCVFast;
     const SiftFeatures h = sift_features(bumpy, 256, half), f = sift_features(bumpy, 256, fast),
@@ -214,7 +213,6 @@ TEST(Sift, KeypointsAreInTheViewsPixelCoordinates) {
 // descriptors one per keypoint in OpenCV's format; deterministic.
 TEST(Sift, Octave0BackendReproducesOpenCVsKeypointsFromOctaveZero) {
     SiftOptions full, oct0;
-    full.backend = SiftBackend::OpenCV;
     oct0.backend = SiftBackend::OpenCVOctave0;
     std::map<int, long> reference, ours, matched;
     double cosine_sum = 0;

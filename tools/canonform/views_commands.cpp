@@ -26,7 +26,7 @@ struct ViewArgs {
     int image_size = 256;
     std::uint64_t seed = 0;
     bool repair = false;
-    std::string sift = "opencv-octave0";
+    std::string sift = "opencv";
 
     void add(CLI::App* c) {
         c->add_option("--sift", sift, "SIFT extractor: opencv, opencv-half, opencv-fast, opencv-octave0 or vlfeat (sift_features.h)")

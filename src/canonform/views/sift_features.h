@@ -5,8 +5,7 @@
 // using Clock Matching and Bag-of-Features", Machine Vision and Applications 24, 2013 (Sec. 3.2);
 // Pickup et al., Pattern Recognition 2015 (CM-BOF on canonical forms).
 //
-// Five extractors (SiftBackend; `--sift` in the tool and `retrieve`, a parameter of the view filter;
-// the default is opencv-octave0, which keeps opencv's retrieval measures at two thirds of its cost):
+// Five extractors (SiftBackend; `--sift` in the tool and `retrieve`, a parameter of the view filter):
 // - opencv: OpenCV's cv::SIFT on the 8-bit view, as described below. OpenCV doubles the image
 //   before its first octave (first octave -1): a 512 x 512 pyramid for a 256 x 256 view, which is
 //   most of its cost.
@@ -120,7 +119,7 @@ struct SiftFeatures {
 /// Options of sift_descriptors(); the names follow cv::SIFT::create. The thresholds apply to the
 /// OpenCV backends; vlfeat uses VLFeat's defaults (peak 0, edge 10, first octave 0).
 struct SiftOptions {
-    SiftBackend backend = SiftBackend::OpenCVOctave0;  ///< the extractor (default: opencv-octave0, README "SIFT backends")
+    SiftBackend backend = SiftBackend::OpenCV;  ///< the extractor
     double contrast_threshold = kDefaultContrastThreshold;  ///< OpenCV contrastThreshold (>= 0)
     double edge_threshold = 10;   ///< principal-curvature ratio limit (VLFeat and OpenCV default 10)
     int max_features = 0;         ///< keep the strongest n keypoints; 0 = all
