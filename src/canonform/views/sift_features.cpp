@@ -102,6 +102,11 @@ void half_to_full(std::vector<cv::KeyPoint>& keypoints) {
     }
 }
 
+// Provenance: the detector and descriptor below are adapted from OpenCV 4.6's
+// modules/features2d/src/sift.simd.hpp (Apache License 2.0, the licence of OpenCV >= 4.5; OpenCV's
+// SIFT derives from Rob Hess's implementation), so that their keypoints and descriptors equal
+// OpenCV's; the adaptation (octave-0 grid, one pyramid for both) is ours.
+//
 // opencv-octave0's detector: OpenCV 4.6's own DoG detector (sift.simd.hpp: findScaleSpaceExtrema,
 // adjustLocalExtrema, calcOrientationHist, same constants, float arithmetic and keypoint packing)
 // restricted to OpenCV's octaves >= 0, computed on the view itself instead of on OpenCV's doubled
