@@ -1,5 +1,7 @@
 #include "view_filter_table.h"
 
+#include "canonform/views/sift_features.h"
+
 namespace canonform::plugin {
 
 const std::vector<FilterSpec>& view_filter_table() {
@@ -32,7 +34,7 @@ const std::vector<FilterSpec>& view_filter_table() {
                        "float depth; opencv-fast: opencv-half's keypoints with descriptors of the full view; "
                        "opencv-octave0: opencv's keypoints from octave 0 up, found without its doubled image. A "
                        "codebook must come from the same extractor.",
-                       {"opencv", "opencv-half", "vlfeat", "opencv-fast", "opencv-octave0"}}},
+                       views::sift_backend_names()}},
                      kNothing, kNothing});
         return t;
     }();

@@ -18,6 +18,17 @@ using namespace canonform::views;
 
 namespace {
 
+// OpenCV's descriptor format: finite integer values 0-255, every row of L2 norm about 512.
+void expect_opencv_descriptor_format(const SiftDescriptors& d) {
+    EXPECT_TRUE(d.allFinite());
+    EXPECT_GE(d.minCoeff(), 0.f);
+    EXPECT_LE(d.maxCoeff(), 255.f);
+    for (Eigen::Index r = 0; r < d.rows(); ++r) {
+        EXPECT_NEAR(d.row(r).norm(), 512.f, 100.f);
+        EXPECT_EQ(d.row(r), d.row(r).array().round().matrix());  // OpenCV's integer values
+    }
+}
+
 // A synthetic 8-bit depth view: a sphere with nine Gaussian bumps (bumps = true) or a capsule
 // stick figure; background 0.
 std::vector<std::uint8_t> synthetic_depth(bool bumps, int n = 256) {
@@ -166,13 +177,7 @@ TEST(Sift, FastBackendDescribesHalfViewKeypointsAtTheViewResolution) {
     }
     const long doubled = std::count_if(o.keypoints.begin(), o.keypoints.end(), [](const SiftKeypoint& k) { return k.octave < 0; });
     EXPECT_GT(doubled, 0);  // opencv's first octave is the doubled view
-    EXPECT_TRUE(f.descriptors.allFinite());
-    EXPECT_GE(f.descriptors.minCoeff(), 0.f);
-    EXPECT_LE(f.descriptors.maxCoeff(), 255.f);
-    for (Eigen::Index r = 0; r < f.descriptors.rows(); ++r) {
-        EXPECT_NEAR(f.descriptors.row(r).norm(), 512.f, 100.f);
-        EXPECT_EQ(f.descriptors.row(r), f.descriptors.row(r).array().round().matrix());  // OpenCV's integer values
-    }
+    expect_opencv_descriptor_format(f.descriptors);
     EXPECT_FALSE(f.descriptors == h.descriptors);
     // Close to opencv-half's all the same (same keypoint, same scale, nearly the same image).
     double mean_cos = 0;
@@ -240,13 +245,7 @@ TEST(Sift, Octave0BackendReproducesOpenCVsKeypointsFromOctaveZero) {
                 }
             }
         }
-        EXPECT_TRUE(f.descriptors.allFinite());
-        EXPECT_GE(f.descriptors.minCoeff(), 0.f);
-        EXPECT_LE(f.descriptors.maxCoeff(), 255.f);
-        for (Eigen::Index r = 0; r < f.descriptors.rows(); ++r) {
-            EXPECT_NEAR(f.descriptors.row(r).norm(), 512.f, 100.f);
-            EXPECT_EQ(f.descriptors.row(r), f.descriptors.row(r).array().round().matrix());  // OpenCV's integer values
-        }
+        expect_opencv_descriptor_format(f.descriptors);
         const SiftFeatures again = sift_features(img, 256, oct0);
         EXPECT_TRUE(again.descriptors == f.descriptors);  // deterministic
     }

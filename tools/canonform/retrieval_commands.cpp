@@ -82,7 +82,7 @@ void add_experiment_options(CLI::App* c, ExperimentArgs& a) {
                                     "resolution), opencv-fast (opencv-half's keypoints, descriptors of the full "
                                     "view), opencv-octave0 (opencv's keypoints of octaves >= 0, found without "
                                     "doubling the view) or vlfeat (VLFeat's defaults on the float depth)")
-        ->check(CLI::IsMember({"opencv", "opencv-half", "opencv-fast", "opencv-octave0", "vlfeat"}));
+        ->check(CLI::IsMember(views::sift_backend_names()));
     add_repair_flag(c, a.o.repair);
 }
 

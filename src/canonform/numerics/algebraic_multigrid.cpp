@@ -322,8 +322,8 @@ AmgPreconditioner::AmgPreconditioner(const Eigen::SparseMatrix<double>& A0, cons
             RowSparse Pf = compressed_rows(
                 n, nc,
                 [&](Eigen::Index i) {
-                    Eigen::Index count = 0;
                     if (keep_tentative(i)) return Eigen::Index(1);
+                    Eigen::Index count = 0;
                     for (RowSparse::InnerIterator it(P, i); it; ++it)
                         if (it.value() != 0) ++count;
                     return count;

@@ -17,25 +17,22 @@ extern "C" {
 
 namespace canonform::views {
 
-SiftBackend parse_sift_backend(const std::string& name) {
-    if (name == "opencv") return SiftBackend::OpenCV;
-    if (name == "opencv-half") return SiftBackend::OpenCVHalf;
-    if (name == "opencv-fast") return SiftBackend::OpenCVFast;
-    if (name == "opencv-octave0") return SiftBackend::OpenCVOctave0;
-    if (name == "vlfeat") return SiftBackend::VLFeat;
-    throw InputError("SIFT: unknown backend '" + name + "' (opencv, opencv-half, opencv-fast, opencv-octave0 or vlfeat).");
+const std::vector<std::string>& sift_backend_names() {
+    static const std::vector<std::string> names = {"opencv", "opencv-half", "vlfeat", "opencv-fast", "opencv-octave0"};
+    return names;
 }
 
-std::string sift_backend_name(SiftBackend backend) {
-    switch (backend) {
-        case SiftBackend::OpenCV: return "opencv";
-        case SiftBackend::OpenCVHalf: return "opencv-half";
-        case SiftBackend::OpenCVFast: return "opencv-fast";
-        case SiftBackend::OpenCVOctave0: return "opencv-octave0";
-        case SiftBackend::VLFeat: return "vlfeat";
+SiftBackend parse_sift_backend(const std::string& name) {
+    const auto& names = sift_backend_names();
+    std::string choices;
+    for (size_t k = 0; k < names.size(); ++k) {
+        if (names[k] == name) return static_cast<SiftBackend>(k);
+        choices += (k ? ", " : "") + names[k];
     }
-    return "opencv";
+    throw InputError("SIFT: unknown backend '" + name + "' (" + choices + ").");
 }
+
+std::string sift_backend_name(SiftBackend backend) { return sift_backend_names().at(static_cast<size_t>(backend)); }
 
 namespace {
 
@@ -188,6 +185,9 @@ void sift_descriptor(const cv::Mat& img, cv::Point2f ptf, float ori, float scl, 
     for (int k = 0; k < len; ++k) dst[k] = static_cast<float>(cv::saturate_cast<uchar>(dst[k] * nrm2));
 }
 
+// An angle of 360 degrees (within FLT_EPSILON) as 0, as OpenCV writes orientations.
+float zero_for_360(float degrees) { return std::abs(degrees - 360.f) < FLT_EPSILON ? 0.f : degrees; }
+
 std::vector<cv::KeyPoint> dog_keypoints(const cv::Mat& shifted, const SiftOptions& o, cv::Mat* descriptors = nullptr) {
     const int L = o.octave_layers;
     const double k = std::pow(2.0, 1.0 / L);
@@ -199,13 +199,12 @@ std::vector<cv::KeyPoint> dog_keypoints(const cv::Mat& shifted, const SiftOption
     }
     const int octaves = std::max(1, static_cast<int>(std::lround(std::log2(std::min(shifted.rows, shifted.cols)))) - 2);
     std::vector<std::vector<cv::Mat>> g(static_cast<size_t>(octaves)), d(static_cast<size_t>(octaves));
-    const cv::Mat& f = shifted;
     const double base_blur = std::sqrt(std::max(o.sigma * o.sigma - 0.25, 0.01));  // SIFT_INIT_SIGMA 0.5
     for (int oc = 0; oc < octaves; ++oc) {
         auto& G = g[static_cast<size_t>(oc)];
         G.resize(static_cast<size_t>(L + 3));
         if (oc == 0) {
-            cv::GaussianBlur(f, G[0], cv::Size(), base_blur, base_blur);
+            cv::GaussianBlur(shifted, G[0], cv::Size(), base_blur, base_blur);
         } else {
             const cv::Mat& src = g[static_cast<size_t>(oc - 1)][static_cast<size_t>(L)];
             cv::resize(src, G[0], cv::Size(src.cols / 2, src.rows / 2), 0, 0, cv::INTER_NEAREST);
@@ -262,15 +261,20 @@ std::vector<cv::KeyPoint> dog_keypoints(const cv::Mat& shifted, const SiftOption
                                          (at(l, y + 1, x) - at(l, y - 1, x)) * 0.5f * img_scale,
                                          (at(l + 1, y, x) - at(l - 1, y, x)) * 0.5f * img_scale);
                     };
+                    // The in-layer second derivatives (dxx, dyy, dxy): the refinement's and the edge test's.
+                    auto hessian_xy = [&](int l, int y, int x) {
+                        const float v2 = at(l, y, x) * 2;
+                        return cv::Vec3f((at(l, y, x + 1) + at(l, y, x - 1) - v2) * img_scale,
+                                         (at(l, y + 1, x) + at(l, y - 1, x) - v2) * img_scale,
+                                         (at(l, y + 1, x + 1) - at(l, y + 1, x - 1) - at(l, y - 1, x + 1) + at(l, y - 1, x - 1)) *
+                                             0.25f * img_scale);
+                    };
                     int step = 0;
                     for (; step < max_steps; ++step) {
                         const cv::Vec3f dD = gradient(li, rr, cc);
-                        const float v2 = at(li, rr, cc) * 2;
-                        const float dxx = (at(li, rr, cc + 1) + at(li, rr, cc - 1) - v2) * img_scale;
-                        const float dyy = (at(li, rr + 1, cc) + at(li, rr - 1, cc) - v2) * img_scale;
-                        const float dss = (at(li + 1, rr, cc) + at(li - 1, rr, cc) - v2) * img_scale;
-                        const float dxy = (at(li, rr + 1, cc + 1) - at(li, rr + 1, cc - 1) - at(li, rr - 1, cc + 1) +
-                                           at(li, rr - 1, cc - 1)) * 0.25f * img_scale;
+                        const cv::Vec3f hxy = hessian_xy(li, rr, cc);
+                        const float dxx = hxy[0], dyy = hxy[1], dxy = hxy[2];
+                        const float dss = (at(li + 1, rr, cc) + at(li - 1, rr, cc) - at(li, rr, cc) * 2) * img_scale;
                         const float dxs = (at(li + 1, rr, cc + 1) - at(li + 1, rr, cc - 1) - at(li - 1, rr, cc + 1) +
                                            at(li - 1, rr, cc - 1)) * 0.25f * img_scale;
                         const float dys = (at(li + 1, rr + 1, cc) - at(li + 1, rr - 1, cc) - at(li - 1, rr + 1, cc) +
@@ -295,12 +299,8 @@ std::vector<cv::KeyPoint> dog_keypoints(const cv::Mat& shifted, const SiftOption
                     if (step >= max_steps) continue;
                     const float contrast = at(li, rr, cc) * img_scale + gradient(li, rr, cc).dot(cv::Vec3f(xc, xr, xi)) * 0.5f;
                     if (std::abs(contrast) * static_cast<float>(L) < contrast_threshold) continue;
-                    const float v2 = at(li, rr, cc) * 2.f;
-                    const float dxx = (at(li, rr, cc + 1) + at(li, rr, cc - 1) - v2) * img_scale;
-                    const float dyy = (at(li, rr + 1, cc) + at(li, rr - 1, cc) - v2) * img_scale;
-                    const float dxy = (at(li, rr + 1, cc + 1) - at(li, rr + 1, cc - 1) - at(li, rr - 1, cc + 1) +
-                                       at(li, rr - 1, cc - 1)) * 0.25f * img_scale;
-                    const float tr = dxx + dyy, det = dxx * dyy - dxy * dxy;
+                    const cv::Vec3f hxy = hessian_xy(li, rr, cc);
+                    const float tr = hxy[0] + hxy[1], det = hxy[0] * hxy[1] - hxy[2] * hxy[2];
                     if (det <= 0 || tr * tr * edge >= (edge + 1) * (edge + 1) * det) continue;
                     cv::KeyPoint kp;
                     const float unit = static_cast<float>(1 << oc);
@@ -339,8 +339,7 @@ std::vector<cv::KeyPoint> dog_keypoints(const cv::Mat& shifted, const SiftOption
                         if (!(smooth[b] > left && smooth[b] > right && smooth[b] >= peak)) continue;
                         float bin = static_cast<float>(b) + 0.5f * (left - right) / (left - 2 * smooth[b] + right);
                         bin = bin < 0 ? bins + bin : bin >= bins ? bin - bins : bin;
-                        kp.angle = 360.f - (360.f / bins) * bin;
-                        if (std::abs(kp.angle - 360.f) < FLT_EPSILON) kp.angle = 0.f;
+                        kp.angle = zero_for_360(360.f - (360.f / bins) * bin);
                         out.push_back(kp);
                     }
                 }
@@ -352,9 +351,7 @@ std::vector<cv::KeyPoint> dog_keypoints(const cv::Mat& shifted, const SiftOption
             const cv::KeyPoint& kp = out[i];
             const int oc = kp.octave & 255, layer = (kp.octave >> 8) & 255;
             const float scale = 1.f / static_cast<float>(1 << oc);
-            float angle = 360.f - kp.angle;
-            if (std::abs(angle - 360.f) < FLT_EPSILON) angle = 0.f;
-            sift_descriptor(g[static_cast<size_t>(oc)][static_cast<size_t>(layer)], kp.pt * scale, angle, kp.size * scale * 0.5f,
+            sift_descriptor(g[static_cast<size_t>(oc)][static_cast<size_t>(layer)], kp.pt * scale, zero_for_360(360.f - kp.angle), kp.size * scale * 0.5f,
                             descriptors->ptr<float>(static_cast<int>(i)));
         }
     }

@@ -94,7 +94,10 @@ inline constexpr double kDefaultContrastThreshold = 0.001;
 /// The SIFT implementation (see above).
 enum class SiftBackend { OpenCV, OpenCVHalf, VLFeat, OpenCVFast, OpenCVOctave0 };
 
-/// "opencv", "opencv-half", "opencv-fast", "opencv-octave0" or "vlfeat" (InputError naming the choices otherwise), and back.
+/// Every backend's name, in SiftBackend's order (which is also the order of the view filter's
+/// `sift` enum): "opencv", "opencv-half", "vlfeat", "opencv-fast", "opencv-octave0".
+const std::vector<std::string>& sift_backend_names();
+/// A name of sift_backend_names() (InputError naming the choices otherwise), and back.
 SiftBackend parse_sift_backend(const std::string& name);
 std::string sift_backend_name(SiftBackend backend);
 
