@@ -1,4 +1,6 @@
 #include "canonform/surface/gaussian_curvature.h"
+#include "canonform/common/errors.h"
+#include "canonform/surface/mesh_topology.h"
 #include "canonform/procedural/procedural_meshes.h"
 #include "canonform/surface/vertex_areas.h"
 
@@ -46,4 +48,14 @@ TEST(VertexAreas, SumToSurfaceArea) {
     EXPECT_GT(A.minCoeff(), 0.0);
     const Mesh d = make_disc(700, 1.0);
     EXPECT_NEAR(vertex_areas(d.V, d.F).sum(), M_PI, 0.02 * M_PI);
+}
+
+TEST(GaussianCurvature, KnownBoundaryFlagsGiveTheSameCurvature) {
+    // The canonical form passes validate_mesh's boundary flags instead of finding them again.
+    const Mesh d = make_disc(500);
+    const MeshReport report = validate_mesh(d.V, d.F);
+    EXPECT_TRUE(gaussian_curvature(d.V, d.F, report.boundary) == gaussian_curvature(d.V, d.F));
+    const Mesh s = make_icosphere(2);
+    EXPECT_TRUE(gaussian_curvature(s.V, s.F, validate_mesh(s.V, s.F).boundary) == gaussian_curvature(s.V, s.F));
+    EXPECT_THROW(gaussian_curvature(d.V, d.F, std::vector<bool>(3, false)), InputError);
 }

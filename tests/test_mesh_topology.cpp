@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <utility>
 #include <vector>
 
@@ -134,7 +135,19 @@ TEST(MeshTopology, EdgesAndBoundaryMatchASortedReference) {
     // unique_edges() and boundary_vertices() sort half-edges by buckets (linear time); the
     // reference sorts them all with std::sort, as they did before.
     const Mesh d = make_disc(700);
-    for (const Mesh* m : {&d}) {
+    // A fan: vertex 0 joined to 40 rim vertices, so its bucket of half-edges is larger than the
+    // insertion sort takes (the stable_sort fallback), rim faces listed in shuffled order.
+    Mesh fan;
+    const int rim = 40;
+    fan.V.resize(rim + 1, 3);
+    fan.V.row(0) << 0, 0, 0.3;
+    for (int k = 0; k < rim; ++k) fan.V.row(k + 1) << std::cos(2 * M_PI * k / rim), std::sin(2 * M_PI * k / rim), 0;
+    fan.F.resize(rim - 1, 3);  // open: one gap in the rim
+    for (int k = 0; k + 1 < rim; ++k) {
+        const int j = (k * 17) % (rim - 1);
+        fan.F.row(k) << 0, j + 1, j + 2;
+    }
+    for (const Mesh* m : {&d, static_cast<const Mesh*>(&fan)}) {
         const Eigen::MatrixXi& F = m->F;
         std::vector<std::pair<int, int>> half;
         for (int f = 0; f < F.rows(); ++f)
@@ -162,5 +175,9 @@ TEST(MeshTopology, EdgesAndBoundaryMatchASortedReference) {
         for (bool b : bnd)
             if (b) ++on;
         EXPECT_GT(on, 0u);  // the disc has a boundary
+        // validate_mesh derives both from one sort of the half-edges: the same results.
+        const MeshReport report = validate_mesh(m->V, F);
+        EXPECT_TRUE(report.edge_list == E);
+        EXPECT_EQ(report.boundary, ref);
     }
 }

@@ -114,6 +114,24 @@ TEST(Smacof, GuttmanTransformEqualsPseudoInverseSolution) {
     EXPECT_LT((solver.guttman(X) - expected).cwiseAbs().maxCoeff(), 1e-10);
 }
 
+TEST(Smacof, AGivenOrderingOfVSolvesTheSameSteps) {
+    // The canonical form factors V with the conformal factor's ordering (feature points last)
+    // instead of AMD's: the Guttman steps must be the same up to rounding.
+    const Mesh s = make_icosphere(3);
+    const StressPairs p = distorted_pairs(s);
+    const int n = static_cast<int>(s.V.rows());
+    const SmacofSolver amd(n, p);
+    SmacofSolverOptions o;
+    o.linear_solver = LinearSolver::Direct;
+    o.ordering.resize(static_cast<size_t>(n - 1));
+    for (int k = 0; k < n - 1; ++k) o.ordering[static_cast<size_t>(k)] = n - 2 - k;  // reversed
+    const SmacofSolver given(n, p, o);
+    const Eigen::MatrixXd X = random_points(n, 5);
+    EXPECT_LT((given.guttman(X) - amd.guttman(X)).cwiseAbs().maxCoeff(), 1e-10);
+    o.ordering.pop_back();  // wrong length: named, not used
+    EXPECT_THROW(SmacofSolver(n, p, o), InputError);
+}
+
 TEST(Smacof, RejectsADisconnectedPairGraphAndBadWeights) {
     StressPairs p;
     p.add(0, 1, 1.0, 1.0);

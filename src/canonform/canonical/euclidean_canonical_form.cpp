@@ -40,6 +40,27 @@ StressPairs canonical_form_pairs(const Eigen::MatrixXd& V, const Eigen::MatrixXi
     return pairs;
 }
 
+namespace {
+/// SMACOF's V and the conformal factor's Laplacian share the mesh's edges; V adds the feature
+/// points' clique. So V's factorisation reuses the Laplacian's fill-reducing ordering (which
+/// saves CHOLMOD's AMD step) with the feature points moved to the end, where their clique is
+/// one dense trailing block, as AMD itself would place dense rows. Indices are those of the
+/// pinned systems (vertex v > 0 is row v - 1).
+std::vector<int> smacof_ordering(const std::vector<int>& laplacian_ordering, const std::vector<int>& features) {
+    if (laplacian_ordering.empty()) return {};
+    std::vector<char> is_feature(laplacian_ordering.size(), 0);
+    for (const int f : features)
+        if (f > 0 && static_cast<size_t>(f) <= is_feature.size()) is_feature[static_cast<size_t>(f - 1)] = 1;
+    std::vector<int> order;
+    order.reserve(laplacian_ordering.size());
+    for (const int k : laplacian_ordering)
+        if (!is_feature[static_cast<size_t>(k)]) order.push_back(k);
+    for (const int k : laplacian_ordering)
+        if (is_feature[static_cast<size_t>(k)]) order.push_back(k);
+    return order;
+}
+}  // namespace
+
 EuclideanCanonicalFormResult euclidean_canonical_form(const Eigen::MatrixXd& V0, const Eigen::MatrixXi& F,
                                                       const EuclideanCanonicalFormOptions& options) {
     const auto t0 = std::chrono::steady_clock::now();
@@ -56,6 +77,7 @@ EuclideanCanonicalFormResult euclidean_canonical_form(const Eigen::MatrixXd& V0,
     // Sub-steps report into [0, 0.1] (conformal factor) and [0.1, 1] (SMACOF).
     ConformalFactorOptions cf_opt;
     cf_opt.validate = false;
+    cf_opt.boundary = report.boundary;
     cf_opt.linear_solver = options.linear_solver;
     if (options.progress)
         cf_opt.progress = [&](double f, const char* s) { return options.progress(0.08 * f, s); };
@@ -73,6 +95,7 @@ EuclideanCanonicalFormResult euclidean_canonical_form(const Eigen::MatrixXd& V0,
 
     SmacofSolverOptions solver_opt;
     solver_opt.linear_solver = options.linear_solver;
+    solver_opt.ordering = smacof_ordering(cf.ordering, fp.indices);
     const SmacofSolver solver(static_cast<int>(V.rows()),
                               canonical_form_pairs(V, E, cf.normalized, fp.indices, options), solver_opt);
     report_progress(options.progress, 0.1, "SMACOF: V factorised");

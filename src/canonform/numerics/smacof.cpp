@@ -184,7 +184,7 @@ SmacofSolver::SmacofSolver(int num_points, StressPairs pairs, const SmacofSolver
     multigrid_ = use_multigrid(options_.linear_solver, n_, options_.multigrid_from);
     if (multigrid_)
         amg_ = AmgPreconditioner(Vr);
-    else if (!factor_.compute(Vr))
+    else if (!factor_.compute(Vr, options_.ordering))
         throw NumericalError("SMACOF: the Cholesky factorisation of V failed");
 }
 

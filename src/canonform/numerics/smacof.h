@@ -251,6 +251,9 @@ struct SmacofSolverOptions {
     LinearSolver linear_solver = LinearSolver::Auto;
     int multigrid_from = kMultigridFrom;  ///< Auto: points from which Multigrid is used
     int vcycles_per_step = 1;    ///< Multigrid: V-cycles per Guttman step (>= 1)
+    /// Direct: fill-reducing ordering of V with point 0 pinned (num_points - 1 entries, entry
+    /// k = point ordering[k] + 1 eliminated k-th; see SparseCholesky::compute); empty = AMD.
+    std::vector<int> ordering;
 };
 
 /// Weighted SMACOF for a fixed set of pairs: builds and factors V once, then iterates Guttman

@@ -681,7 +681,7 @@ bool surface_nets(const BodySdf& sdf, const Eigen::AlignedBox3d& box, double h,
                 blk.b[0] = bx;
                 blk.b[1] = by;
                 blk.b[2] = bz;
-                blk.ids.assign(ids, ids + n_ids);
+                blk.ids = std::vector<int>(ids, ids + n_ids);  // (assign() on the empty vector: a GCC 12 -Wnonnull false positive)
                 slot[static_cast<size_t>((static_cast<long>(bz) * nb[1] + by) * nb[0] + bx)] =
                     static_cast<int>(blocks.size());
                 blocks.push_back(std::move(blk));

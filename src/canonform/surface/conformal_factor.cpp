@@ -24,13 +24,13 @@ Eigen::MatrixXd normalize_scale(const Eigen::MatrixXd& V, Eigen::RowVector3d* ce
 
 ConformalFactorResult conformal_factor(const Eigen::MatrixXd& V0, const Eigen::MatrixXi& F,
                                        const ConformalFactorOptions& options) {
-    if (options.validate) validate_mesh(V0, F);
+    const std::vector<bool> boundary = options.validate ? validate_mesh(V0, F).boundary : options.boundary;
     report_progress(options.progress, 0.0, "conformal factor: curvature");
     Eigen::MatrixXd V = normalize_scale(V0);
     const Eigen::Index n = V.rows();
 
     ConformalFactorResult r;
-    r.curvature = gaussian_curvature(V, F);
+    r.curvature = gaussian_curvature(V, F, boundary);
     const Eigen::VectorXd A = vertex_areas(V, F);
     r.target = r.curvature.sum() * A / A.sum();
     const Eigen::VectorXd rhs = r.curvature - r.target;  // (D - W) phi = K0 - KT, see header
@@ -66,6 +66,7 @@ ConformalFactorResult conformal_factor(const Eigen::MatrixXd& V0, const Eigen::M
         phi.tail(n - 1) = solver.solve(Eigen::MatrixXd(rhs.tail(n - 1)));
         if (!solver.ok())
             throw NumericalError("conformal factor: the linear solve failed");
+        r.ordering = solver.ordering();
     }
     if (!phi.allFinite())
         throw NumericalError("conformal factor: the linear solve produced non-finite values");

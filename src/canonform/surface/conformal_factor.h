@@ -29,6 +29,8 @@
 
 #include <Eigen/Core>
 
+#include <vector>
+
 namespace canonform {
 
 /// Options of conformal_factor().
@@ -36,6 +38,9 @@ struct ConformalFactorOptions {
     double residual_tolerance = 1e-6;  ///< max ||L phi - rhs||_inf / ||rhs||_inf accepted
     LinearSolver linear_solver = LinearSolver::Auto;  ///< how eq. (7) is solved
     bool validate = true;              ///< run validate_mesh() first (InputError on bad input)
+    /// Boundary vertices (#V flags, MeshReport::boundary) when the caller validated the mesh
+    /// itself; empty = found from F (or taken from validate_mesh's report).
+    std::vector<bool> boundary;
     ProgressFn progress;               ///< optional progress callback
 };
 
@@ -46,6 +51,11 @@ struct ConformalFactorResult {
     Eigen::VectorXd curvature;   ///< K^0 (#V, radians)
     Eigen::VectorXd target;      ///< K^T (#V, radians)
     double residual = 0;         ///< relative residual of the solve
+    /// Fill-reducing ordering of the direct solver's factorisation of the Laplacian with vertex 0
+    /// pinned (#V - 1 entries; entry k = vertex ordering[k] + 1 eliminated k-th); empty with the
+    /// multigrid solver or without CHOLMOD. The Euclidean canonical form reuses it for SMACOF's
+    /// V, which lives on the same edges.
+    std::vector<int> ordering;
 };
 
 /// Conformal factor of the mesh (V #V x 3, F #F x 3). Throws InputError on bad input,

@@ -1,5 +1,6 @@
 #include "canonform/surface/gaussian_curvature.h"
 
+#include "canonform/common/errors.h"
 #include "canonform/surface/mesh_topology.h"
 
 #include <Eigen/Geometry>
@@ -8,8 +9,11 @@
 
 namespace canonform {
 
-Eigen::VectorXd gaussian_curvature(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F) {
-    const auto boundary = boundary_vertices(static_cast<int>(V.rows()), F);
+Eigen::VectorXd gaussian_curvature(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
+                                   const std::vector<bool>& known_boundary) {
+    if (!known_boundary.empty() && static_cast<Eigen::Index>(known_boundary.size()) != V.rows())
+        throw InputError("gaussian_curvature: the boundary flags do not have one entry per vertex");
+    const auto boundary = known_boundary.empty() ? boundary_vertices(static_cast<int>(V.rows()), F) : known_boundary;
     Eigen::VectorXd K(V.rows());
     for (Eigen::Index v = 0; v < V.rows(); ++v) K(v) = boundary[static_cast<size_t>(v)] ? M_PI : 2 * M_PI;
     for (Eigen::Index f = 0; f < F.rows(); ++f) {

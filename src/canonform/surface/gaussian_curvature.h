@@ -10,9 +10,13 @@
 
 #include <Eigen/Core>
 
+#include <vector>
+
 namespace canonform {
 
 /// Angle-deficit Gaussian curvature per vertex (#V); boundary vertices use pi (eq. 8).
-Eigen::VectorXd gaussian_curvature(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F);
+/// `boundary` (#V flags, e.g. MeshReport::boundary of validate_mesh) if known, else found from F.
+Eigen::VectorXd gaussian_curvature(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
+                                   const std::vector<bool>& boundary = {});
 
 }  // namespace canonform

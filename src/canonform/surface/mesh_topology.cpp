@@ -37,19 +37,28 @@ std::vector<std::pair<long long, int>> sorted_edge_keys(const Eigen::MatrixXi& F
     for (size_t v = 0; v < static_cast<size_t>(n); ++v) {
         const size_t end = start[v];
         // Faces are already ascending within the bucket: a stable sort by key keeps them so.
-        if (end - begin > 1)
-            std::stable_sort(keys.begin() + static_cast<std::ptrdiff_t>(begin), keys.begin() + static_cast<std::ptrdiff_t>(end),
-                             [](const auto& x, const auto& y) { return x.first < y.first; });
+        // Buckets hold a vertex's half-edges to larger neighbours (about 3): an insertion sort,
+        // stable and without std::stable_sort's buffer allocation per bucket; large fans fall
+        // back to it.
+        const auto by_key = [](const auto& x, const auto& y) { return x.first < y.first; };
+        if (end - begin > 32) {
+            std::stable_sort(keys.begin() + static_cast<std::ptrdiff_t>(begin),
+                             keys.begin() + static_cast<std::ptrdiff_t>(end), by_key);
+        } else {
+            for (size_t k = begin + 1; k < end; ++k) {
+                const auto key = keys[k];
+                size_t j = k;
+                for (; j > begin && by_key(key, keys[j - 1]); --j) keys[j] = keys[j - 1];
+                keys[j] = key;
+            }
+        }
         begin = end;
     }
     return keys;
 }
 
-}  // namespace
-
-Eigen::MatrixXi unique_edges(const Eigen::MatrixXi& F) {
-    const long long n = F.size() ? static_cast<long long>(F.maxCoeff()) + 1 : 0;
-    auto keys = sorted_edge_keys(F, n);
+/// The unique edges (a < b, ascending) of sorted half-edge keys a * n + b.
+Eigen::MatrixXi edges_of_keys(const std::vector<std::pair<long long, int>>& keys, long long n) {
     std::vector<long long> uniq;
     uniq.reserve(keys.size() / 2 + 1);
     for (size_t k = 0; k < keys.size(); ++k)
@@ -62,9 +71,9 @@ Eigen::MatrixXi unique_edges(const Eigen::MatrixXi& F) {
     return E;
 }
 
-std::vector<bool> boundary_vertices(int n, const Eigen::MatrixXi& F) {
+/// Vertices on an edge of one face, from sorted half-edge keys a * n + b.
+std::vector<bool> boundary_of_keys(const std::vector<std::pair<long long, int>>& keys, int n) {
     std::vector<bool> on_boundary(static_cast<size_t>(n), false);
-    auto keys = sorted_edge_keys(F, n);
     for (size_t k = 0; k < keys.size();) {
         size_t m = k;
         while (m < keys.size() && keys[m].first == keys[k].first) ++m;
@@ -75,6 +84,17 @@ std::vector<bool> boundary_vertices(int n, const Eigen::MatrixXi& F) {
         k = m;
     }
     return on_boundary;
+}
+
+}  // namespace
+
+Eigen::MatrixXi unique_edges(const Eigen::MatrixXi& F) {
+    const long long n = F.size() ? static_cast<long long>(F.maxCoeff()) + 1 : 0;
+    return edges_of_keys(sorted_edge_keys(F, n), n);
+}
+
+std::vector<bool> boundary_vertices(int n, const Eigen::MatrixXi& F) {
+    return boundary_of_keys(sorted_edge_keys(F, n), n);
 }
 
 MeshReport validate_mesh(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
@@ -185,7 +205,7 @@ MeshReport validate_mesh(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
                "Unreferenced Vertices'";
         throw InputError(msg.str());
     }
-    r.edge_list = unique_edges(F);
+    r.edge_list = edges_of_keys(keys, n);  // = unique_edges(F): the same sorted keys
     connected_components(static_cast<int>(n), r.edge_list, &r.components);
     if (options.require_single_component && r.components > 1) {
         msg << "the mesh has " << r.components
@@ -193,8 +213,8 @@ MeshReport validate_mesh(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
                "MeshLab's 'Remove Isolated pieces (wrt Diameter)'";
         throw InputError(msg.str());
     }
-    const auto bnd = boundary_vertices(static_cast<int>(n), F);
-    r.boundary_loops_vertices = static_cast<int>(std::count(bnd.begin(), bnd.end(), true));
+    r.boundary = boundary_of_keys(keys, static_cast<int>(n));  // = boundary_vertices(n, F)
+    r.boundary_loops_vertices = static_cast<int>(std::count(r.boundary.begin(), r.boundary.end(), true));
     r.euler_characteristic = r.vertices - r.edges + r.faces;
     return r;
 }

@@ -30,6 +30,7 @@ struct MeshReport {
     int boundary_loops_vertices = 0;  ///< vertices on a boundary
     int euler_characteristic = 0;     ///< V - E + F
     Eigen::MatrixXi edge_list;        ///< unique_edges(F), #E x 2 (filled once the edges are checked)
+    std::vector<bool> boundary;       ///< boundary_vertices(), #V flags (filled with edge_list)
 };
 
 /// Options of validate_mesh(): which conditions are errors.
