@@ -1,6 +1,7 @@
 #include "canonform/views/sift_features.h"
 
 #include <opencv2/core.hpp>
+#include <opencv2/core/hal/hal.hpp>
 #include <opencv2/features2d.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -131,40 +132,58 @@ void sift_descriptor(const cv::Mat& img, cv::Point2f ptf, float ori, float scl, 
     sin_t /= hist_width;
     const int rows = img.rows, cols = img.cols;
     float hist[(d + 2) * (d + 2) * (n + 2)] = {};
+    // As OpenCV: the window's samples first, then exp, atan and magnitude over all of them at once
+    // (cv::hal's vectorised functions), then the tri-linear binning.
+    const size_t window = static_cast<size_t>(2 * radius + 1) * static_cast<size_t>(2 * radius + 1);
+    thread_local std::vector<float> buffer;
+    buffer.resize(window * 7);
+    float *X = buffer.data(), *Y = X + window, *Ori = Y + window, *Mag = Ori + window, *W = Mag + window,
+          *RBin = W + window, *CBin = RBin + window;
+    int samples = 0;
     for (int i = -radius; i <= radius; ++i)
         for (int j = -radius; j <= radius; ++j) {
             const float c_rot = static_cast<float>(j) * cos_t - static_cast<float>(i) * sin_t;
             const float r_rot = static_cast<float>(j) * sin_t + static_cast<float>(i) * cos_t;
-            float rbin = r_rot + d / 2 - 0.5f, cbin = c_rot + d / 2 - 0.5f;
+            const float rbin = r_rot + d / 2 - 0.5f, cbin = c_rot + d / 2 - 0.5f;
             const int r = pt.y + i, c = pt.x + j;
             if (!(rbin > -1 && rbin < d && cbin > -1 && cbin < d && r > 0 && r < rows - 1 && c > 0 && c < cols - 1)) continue;
-            const float dx = img.at<float>(r, c + 1) - img.at<float>(r, c - 1);
-            const float dy = img.at<float>(r - 1, c) - img.at<float>(r + 1, c);
-            const float mag = std::sqrt(dx * dx + dy * dy) * std::exp((c_rot * c_rot + r_rot * r_rot) * exp_scale);
-            float obin = (cv::fastAtan2(dy, dx) - ori) * bins_per_rad;
-            const int r0 = cvFloor(rbin), c0 = cvFloor(cbin);
-            int o0 = cvFloor(obin);
-            rbin -= static_cast<float>(r0);
-            cbin -= static_cast<float>(c0);
-            obin -= static_cast<float>(o0);
-            if (o0 < 0) o0 += n;
-            if (o0 >= n) o0 -= n;
-            // tri-linear interpolation
-            const float v_r1 = mag * rbin, v_r0 = mag - v_r1;
-            const float v_rc11 = v_r1 * cbin, v_rc10 = v_r1 - v_rc11, v_rc01 = v_r0 * cbin, v_rc00 = v_r0 - v_rc01;
-            const float v_rco111 = v_rc11 * obin, v_rco110 = v_rc11 - v_rco111, v_rco101 = v_rc10 * obin,
-                        v_rco100 = v_rc10 - v_rco101, v_rco011 = v_rc01 * obin, v_rco010 = v_rc01 - v_rco011,
-                        v_rco001 = v_rc00 * obin, v_rco000 = v_rc00 - v_rco001;
-            const int idx = ((r0 + 1) * (d + 2) + c0 + 1) * (n + 2) + o0;
-            hist[idx] += v_rco000;
-            hist[idx + 1] += v_rco001;
-            hist[idx + (n + 2)] += v_rco010;
-            hist[idx + (n + 3)] += v_rco011;
-            hist[idx + (d + 2) * (n + 2)] += v_rco100;
-            hist[idx + (d + 2) * (n + 2) + 1] += v_rco101;
-            hist[idx + (d + 3) * (n + 2)] += v_rco110;
-            hist[idx + (d + 3) * (n + 2) + 1] += v_rco111;
+            X[samples] = img.at<float>(r, c + 1) - img.at<float>(r, c - 1);
+            Y[samples] = img.at<float>(r - 1, c) - img.at<float>(r + 1, c);
+            RBin[samples] = rbin;
+            CBin[samples] = cbin;
+            W[samples] = (c_rot * c_rot + r_rot * r_rot) * exp_scale;
+            ++samples;
         }
+    cv::hal::fastAtan2(Y, X, Ori, samples, true);
+    cv::hal::magnitude32f(X, Y, Mag, samples);
+    cv::hal::exp32f(W, W, samples);
+    for (int k = 0; k < samples; ++k) {
+        float rbin = RBin[k], cbin = CBin[k];
+        float obin = (Ori[k] - ori) * bins_per_rad;
+        const float mag = Mag[k] * W[k];
+        const int r0 = cvFloor(rbin), c0 = cvFloor(cbin);
+        int o0 = cvFloor(obin);
+        rbin -= static_cast<float>(r0);
+        cbin -= static_cast<float>(c0);
+        obin -= static_cast<float>(o0);
+        if (o0 < 0) o0 += n;
+        if (o0 >= n) o0 -= n;
+        // tri-linear interpolation
+        const float v_r1 = mag * rbin, v_r0 = mag - v_r1;
+        const float v_rc11 = v_r1 * cbin, v_rc10 = v_r1 - v_rc11, v_rc01 = v_r0 * cbin, v_rc00 = v_r0 - v_rc01;
+        const float v_rco111 = v_rc11 * obin, v_rco110 = v_rc11 - v_rco111, v_rco101 = v_rc10 * obin,
+                    v_rco100 = v_rc10 - v_rco101, v_rco011 = v_rc01 * obin, v_rco010 = v_rc01 - v_rco011,
+                    v_rco001 = v_rc00 * obin, v_rco000 = v_rc00 - v_rco001;
+        const int idx = ((r0 + 1) * (d + 2) + c0 + 1) * (n + 2) + o0;
+        hist[idx] += v_rco000;
+        hist[idx + 1] += v_rco001;
+        hist[idx + (n + 2)] += v_rco010;
+        hist[idx + (n + 3)] += v_rco011;
+        hist[idx + (d + 2) * (n + 2)] += v_rco100;
+        hist[idx + (d + 2) * (n + 2) + 1] += v_rco101;
+        hist[idx + (d + 3) * (n + 2)] += v_rco110;
+        hist[idx + (d + 3) * (n + 2) + 1] += v_rco111;
+    }
     for (int i = 0; i < d; ++i)  // the orientation histograms are circular
         for (int j = 0; j < d; ++j) {
             const int idx = ((i + 1) * (d + 2) + (j + 1)) * (n + 2);
@@ -315,19 +334,32 @@ std::vector<cv::KeyPoint> dog_keypoints(const cv::Mat& shifted, const SiftOption
                     const int radius = cvRound(4.5f * scl);  // SIFT_ORI_RADIUS = 3 * SIFT_ORI_SIG_FCTR
                     const float expf_scale = -1.f / (2.f * (1.5f * scl) * (1.5f * scl));
                     float hist[bins] = {};
+                    const size_t window = static_cast<size_t>(2 * radius + 1) * static_cast<size_t>(2 * radius + 1);
+                    thread_local std::vector<float> buffer;
+                    buffer.resize(window * 5);
+                    float *X = buffer.data(), *Y = X + window, *W = Y + window, *Ori = W + window, *Mag = Ori + window;
+                    int len = 0;
                     for (int dy = -radius; dy <= radius; ++dy) {
                         const int y = rr + dy;
                         if (y <= 0 || y >= rows - 1) continue;
                         for (int dx = -radius; dx <= radius; ++dx) {
                             const int x = cc + dx;
                             if (x <= 0 || x >= cols - 1) continue;
-                            const float gx = img.at<float>(y, x + 1) - img.at<float>(y, x - 1);
-                            const float gy = img.at<float>(y - 1, x) - img.at<float>(y + 1, x);
-                            int bin = cvRound((bins / 360.f) * cv::fastAtan2(gy, gx));
-                            if (bin >= bins) bin -= bins;
-                            if (bin < 0) bin += bins;
-                            hist[bin] += std::exp(static_cast<float>(dx * dx + dy * dy) * expf_scale) * std::sqrt(gx * gx + gy * gy);
+                            X[len] = img.at<float>(y, x + 1) - img.at<float>(y, x - 1);
+                            Y[len] = img.at<float>(y - 1, x) - img.at<float>(y + 1, x);
+                            W[len] = static_cast<float>(dx * dx + dy * dy) * expf_scale;
+                            ++len;
                         }
+                    }
+                    // As OpenCV: exp, atan and magnitude over the whole window (cv::hal, vectorised).
+                    cv::hal::exp32f(W, W, len);
+                    cv::hal::fastAtan2(Y, X, Ori, len, true);
+                    cv::hal::magnitude32f(X, Y, Mag, len);
+                    for (int k = 0; k < len; ++k) {
+                        int bin = cvRound((bins / 360.f) * Ori[k]);
+                        if (bin >= bins) bin -= bins;
+                        if (bin < 0) bin += bins;
+                        hist[bin] += W[k] * Mag[k];
                     }
                     float smooth[bins];
                     for (int b = 0; b < bins; ++b)
