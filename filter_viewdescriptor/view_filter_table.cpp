@@ -32,7 +32,8 @@ const std::vector<FilterSpec>& view_filter_table() {
                        "opencv: OpenCV's SIFT on the 8-bit view (default); opencv-half: the same with its first "
                        "octave at the view's resolution (faster); vlfeat: VLFeat's SIFT at its defaults on the "
                        "float depth; opencv-fast: opencv-half's keypoints with descriptors of the full view; "
-                       "opencv-octave0: opencv's keypoints from octave 0 up, found without its doubled image. A "
+                       "opencv-octave0: opencv's keypoints from octave 0 up, found without its doubled image; "
+                       "opencv-octave0-fine: the same plus an approximate octave -1 on the view itself. A "
                        "codebook must come from the same extractor.",
                        views::sift_backend_names()}},
                      kNothing, kNothing});

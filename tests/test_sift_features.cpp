@@ -137,7 +137,7 @@ TEST(Sift, SyntheticDepthKeypointCounts) {
 }
 
 TEST(Sift, BackendNamesRoundTrip) {
-    for (const char* name : {"opencv", "opencv-half", "opencv-fast", "opencv-octave0", "vlfeat"})
+    for (const char* name : {"opencv", "opencv-half", "opencv-fast", "opencv-octave0", "opencv-octave0-fine", "vlfeat"})
         EXPECT_EQ(sift_backend_name(parse_sift_backend(name)), name);
     try {
         parse_sift_backend("surf");
@@ -264,4 +264,54 @@ TEST(Sift, Octave0BackendReproducesOpenCVsKeypointsFromOctaveZero) {
     EXPECT_GE(double(total_matched), 0.9 * double(total));
     std::printf("[sift] mean cosine of matched descriptors %.4f\n", cosine_sum / double(total_matched));
     EXPECT_GT(cosine_sum / double(total_matched), 0.98);
+}
+
+// opencv-octave0-fine is opencv-octave0 plus keypoints of an extra, finer octave reported at octave
+// -1: its keypoints at octaves >= 0 and their descriptors are opencv-octave0's, in the same order,
+// after the octave -1 ones, which are smaller (finer scale) and inside the view; descriptors in
+// OpenCV's format; deterministic.
+TEST(Sift, Octave0FineBackendAddsAnOctaveMinusOne) {
+    SiftOptions oct0, fine;
+    oct0.backend = SiftBackend::OpenCVOctave0;
+    fine.backend = SiftBackend::OpenCVOctave0Fine;
+    long extra_total = 0;
+    for (const bool bumps : {true, false}) {
+        const auto img = synthetic_depth(bumps);
+        const SiftFeatures a = sift_features(img, 256, oct0), b = sift_features(img, 256, fine);
+        ASSERT_EQ(static_cast<size_t>(b.descriptors.rows()), b.keypoints.size());
+        size_t extra = 0;
+        while (extra < b.keypoints.size() && b.keypoints[extra].octave == -1) ++extra;
+        ASSERT_EQ(b.keypoints.size(), extra + a.keypoints.size()) << "bumps " << bumps;
+        std::vector<float> fine_sizes, octave0_sizes;
+        for (size_t i = 0; i < extra; ++i) {
+            const SiftKeypoint& k = b.keypoints[i];
+            EXPECT_GE(k.x, 0.f);
+            EXPECT_LT(k.x, 256.f);
+            EXPECT_GE(k.y, 0.f);
+            EXPECT_LT(k.y, 256.f);
+            fine_sizes.push_back(k.size);
+        }
+        for (size_t i = 0; i < a.keypoints.size(); ++i) {
+            const SiftKeypoint &p = a.keypoints[i], &q = b.keypoints[extra + i];
+            EXPECT_EQ(p.x, q.x);
+            EXPECT_EQ(p.y, q.y);
+            EXPECT_EQ(p.size, q.size);
+            EXPECT_EQ(p.angle, q.angle);
+            EXPECT_EQ(p.octave, q.octave);
+            EXPECT_GE(q.octave, 0);
+            if (q.octave == 0) octave0_sizes.push_back(q.size);
+        }
+        EXPECT_TRUE(b.descriptors.bottomRows(a.descriptors.rows()) == a.descriptors);
+        if (!fine_sizes.empty() && !octave0_sizes.empty()) {
+            std::sort(fine_sizes.begin(), fine_sizes.end());
+            std::sort(octave0_sizes.begin(), octave0_sizes.end());
+            EXPECT_LT(fine_sizes[fine_sizes.size() / 2], octave0_sizes[octave0_sizes.size() / 2]);
+        }
+        expect_opencv_descriptor_format(b.descriptors);
+        EXPECT_TRUE(b.descriptors == sift_features(img, 256, fine).descriptors);  // deterministic
+        std::printf("[sift] %s: opencv-octave0 %zu keypoints, opencv-octave0-fine %zu more at octave -1\n",
+                    bumps ? "bumpy sphere" : "stick figure", a.keypoints.size(), extra);
+        extra_total += static_cast<long>(extra);
+    }
+    EXPECT_GT(extra_total, 0);
 }

@@ -81,7 +81,8 @@ void add_experiment_options(CLI::App* c, ExperimentArgs& a) {
     c->add_option("--sift", a.sift, "SIFT extractor: opencv (default), opencv-half (first octave at the view's "
                                     "resolution), opencv-fast (opencv-half's keypoints, descriptors of the full "
                                     "view), opencv-octave0 (opencv's keypoints of octaves >= 0, found without "
-                                    "doubling the view) or vlfeat (VLFeat's defaults on the float depth)")
+                                    "doubling the view), opencv-octave0-fine (the same plus an approximate octave -1 on "
+                                    "the view) or vlfeat (VLFeat's defaults on the float depth)")
         ->check(CLI::IsMember(views::sift_backend_names()));
     add_repair_flag(c, a.o.repair);
 }

@@ -29,7 +29,7 @@ struct ViewArgs {
     std::string sift = "opencv";
 
     void add(CLI::App* c) {
-        c->add_option("--sift", sift, "SIFT extractor: opencv, opencv-half, opencv-fast, opencv-octave0 or vlfeat (sift_features.h)")
+        c->add_option("--sift", sift, "SIFT extractor: opencv, opencv-half, opencv-fast, opencv-octave0, opencv-octave0-fine or vlfeat (sift_features.h)")
             ->check(CLI::IsMember(views::sift_backend_names()));
         c->add_option("--size", image_size, "pixels per side of each depth view")->check(CLI::Range(32, 2048));
         c->add_option("--seed", seed, "seed of the rectilinearity restarts (and of the codebook)")

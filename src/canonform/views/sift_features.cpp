@@ -19,7 +19,8 @@ extern "C" {
 namespace canonform::views {
 
 const std::vector<std::string>& sift_backend_names() {
-    static const std::vector<std::string> names = {"opencv", "opencv-half", "vlfeat", "opencv-fast", "opencv-octave0"};
+    static const std::vector<std::string> names = {"opencv",      "opencv-half",    "vlfeat",
+                                                   "opencv-fast", "opencv-octave0", "opencv-octave0-fine"};
     return names;
 }
 
@@ -87,6 +88,9 @@ int keypoint_octave(const cv::KeyPoint& k) { return static_cast<std::int8_t>(k.o
 // feature. Without doubling (compute() of keypoints of octave >= 0) it reads a keypoint's position
 // as the image position itself.
 constexpr float kDoubledOffset = 0.25f;
+
+// Layers of opencv-octave0-fine's extra octave (see sift_features()).
+constexpr int kFineOctaveLayers = 2;
 
 // OpenCV keypoints of the half view moved to the full view, as compute() without doubling reads
 // them: half-view pixel i covers full pixels 2i and 2i + 1 (INTER_AREA), i.e. full = 2 h + 0.5;
@@ -207,7 +211,9 @@ void sift_descriptor(const cv::Mat& img, cv::Point2f ptf, float ori, float scl, 
 // An angle of 360 degrees (within FLT_EPSILON) as 0, as OpenCV writes orientations.
 float zero_for_360(float degrees) { return std::abs(degrees - 360.f) < FLT_EPSILON ? 0.f : degrees; }
 
-std::vector<cv::KeyPoint> dog_keypoints(const cv::Mat& shifted, const SiftOptions& o, cv::Mat* descriptors = nullptr) {
+// At most max_octaves octaves (opencv-octave0-fine's extra octave is one).
+std::vector<cv::KeyPoint> dog_keypoints(const cv::Mat& shifted, const SiftOptions& o, cv::Mat* descriptors = nullptr,
+                                        int max_octaves = INT_MAX) {
     const int L = o.octave_layers;
     const double k = std::pow(2.0, 1.0 / L);
     std::vector<double> blur(static_cast<size_t>(L + 3));
@@ -216,7 +222,8 @@ std::vector<cv::KeyPoint> dog_keypoints(const cv::Mat& shifted, const SiftOption
         const double prev = std::pow(k, i - 1) * o.sigma, total = prev * k;
         blur[static_cast<size_t>(i)] = std::sqrt(total * total - prev * prev);
     }
-    const int octaves = std::max(1, static_cast<int>(std::lround(std::log2(std::min(shifted.rows, shifted.cols)))) - 2);
+    const int octaves =
+        std::min(max_octaves, std::max(1, static_cast<int>(std::lround(std::log2(std::min(shifted.rows, shifted.cols)))) - 2));
     std::vector<std::vector<cv::Mat>> g(static_cast<size_t>(octaves)), d(static_cast<size_t>(octaves));
     const double base_blur = std::sqrt(std::max(o.sigma * o.sigma - 0.25, 0.01));  // SIFT_INIT_SIGMA 0.5
     for (int oc = 0; oc < octaves; ++oc) {
@@ -438,7 +445,7 @@ SiftFeatures sift_features(const std::vector<std::uint8_t>& gray, int size, cons
     cv::Mat descriptors;
     if (options.backend == SiftBackend::OpenCV) {
         sift->detectAndCompute(image, cv::noArray(), keypoints, descriptors);
-    } else if (options.backend == SiftBackend::OpenCVOctave0) {
+    } else if (options.backend == SiftBackend::OpenCVOctave0 || options.backend == SiftBackend::OpenCVOctave0Fine) {
         // Detection and descriptors on the view resampled at i - 1/4 on both axes (OpenCV's
         // octave-0 grid, see dog_keypoints), in one pyramid; positions moved to the view.
         cv::Mat view, shifted;
@@ -447,6 +454,23 @@ SiftFeatures sift_features(const std::vector<std::uint8_t>& gray, int size, cons
         cv::sepFilter2D(view, shifted, CV_32F, tap, tap.t(), cv::Point(-1, -1), 0, cv::BORDER_REPLICATE);
         keypoints = dog_keypoints(shifted, options, &descriptors);
         for (cv::KeyPoint& k : keypoints) k.pt -= cv::Point2f(kDoubledOffset, kDoubledOffset);  // to the view
+        if (options.backend == SiftBackend::OpenCVOctave0Fine) {
+            // The approximate octave -1: one octave on the view itself (not resampled, not
+            // doubled) from sigma / 2, the scale of OpenCV's doubled octave, with 2 layers (3 pick
+            // up the 8-bit quantisation: ten times opencv's octave -1 keypoints). Its keypoints are
+            // reported at octave -1, before the others (as OpenCV orders them).
+            SiftOptions fine = options;
+            fine.sigma = options.sigma * 0.5;
+            fine.octave_layers = kFineOctaveLayers;
+            cv::Mat fine_descriptors;
+            std::vector<cv::KeyPoint> extra = dog_keypoints(view, fine, &fine_descriptors, 1);
+            for (cv::KeyPoint& k : extra) k.octave = (k.octave & ~255) | 255;  // octave -1 in OpenCV's packing
+            if (!extra.empty()) {
+                keypoints.insert(keypoints.begin(), extra.begin(), extra.end());
+                if (descriptors.empty()) descriptors = fine_descriptors;
+                else cv::vconcat(fine_descriptors, descriptors, descriptors);
+            }
+        }
     } else {
         cv::Mat half;
         cv::resize(image, half, cv::Size(std::max(1, size / 2), std::max(1, size / 2)), 0, 0, cv::INTER_AREA);
