@@ -118,8 +118,10 @@ TEST(Sift, EveryBackendFindsKeypointsDeterministically) {
 
 TEST(Sift, SyntheticDepthKeypointCounts) {
     const auto figure = synthetic_depth(false), bumpy = synthetic_depth(true);
-    const auto f = sift_descriptors(figure, 256), b = sift_descriptors(bumpy, 256);
-    SiftOptions opencv_default;
+    SiftOptions opencv;  // the counts of kDefaultContrastThreshold's table are OpenCV's
+    opencv.backend = SiftBackend::OpenCV;
+    const auto f = sift_descriptors(figure, 256, opencv), b = sift_descriptors(bumpy, 256, opencv);
+    SiftOptions opencv_default = opencv;
     opencv_default.contrast_threshold = 0.04;
     const auto b04 = sift_descriptors(bumpy, 256, opencv_default);
     std::printf("[sift] keypoints (contrast threshold %.4g): stick figure %ld, bumpy sphere %ld; bumpy sphere at "
@@ -133,7 +135,7 @@ TEST(Sift, SyntheticDepthKeypointCounts) {
     EXPECT_GT(b.rows(), b04.rows());  // the lowered threshold keeps the weak interior extrema
     EXPECT_TRUE(f.allFinite());
     EXPECT_GE(f.minCoeff(), 0.f);
-    EXPECT_TRUE(f == sift_descriptors(figure, 256));  // deterministic
+    EXPECT_TRUE(f == sift_descriptors(figure, 256, opencv));  // deterministic
 }
 
 TEST(Sift, BackendNamesRoundTrip) {
@@ -156,6 +158,7 @@ TEST(Sift, FastBackendDescribesHalfViewKeypointsAtTheViewResolution) {
     SiftOptions half, fast, full;
     half.backend = SiftBackend::OpenCVHalf;
     fast.backend = SiftBackend::OpenCVFast;
+    full.backend = SiftBackend::OpenCV;
     const SiftFeatures h = sift_features(bumpy, 256, half), f = sift_features(bumpy, 256, fast),
                        o = sift_features(bumpy, 256, full);
     ASSERT_GE(f.keypoints.size(), 5u);
@@ -218,6 +221,7 @@ TEST(Sift, KeypointsAreInTheViewsPixelCoordinates) {
 // descriptors one per keypoint in OpenCV's format; deterministic.
 TEST(Sift, Octave0BackendReproducesOpenCVsKeypointsFromOctaveZero) {
     SiftOptions full, oct0;
+    full.backend = SiftBackend::OpenCV;
     oct0.backend = SiftBackend::OpenCVOctave0;
     std::map<int, long> reference, ours, matched;
     double cosine_sum = 0;
@@ -274,6 +278,7 @@ TEST(Sift, Octave0FineBackendAddsAnOctaveMinusOne) {
     SiftOptions oct0, fine;
     oct0.backend = SiftBackend::OpenCVOctave0;
     fine.backend = SiftBackend::OpenCVOctave0Fine;
+    EXPECT_EQ(SiftOptions{}.backend, SiftBackend::OpenCVOctave0Fine);  // the default extractor
     long extra_total = 0;
     for (const bool bumps : {true, false}) {
         const auto img = synthetic_depth(bumps);

@@ -131,7 +131,7 @@ struct SiftFeatures {
 /// Options of sift_descriptors(); the names follow cv::SIFT::create. The thresholds apply to the
 /// OpenCV backends; vlfeat uses VLFeat's defaults (peak 0, edge 10, first octave 0).
 struct SiftOptions {
-    SiftBackend backend = SiftBackend::OpenCV;  ///< the extractor
+    SiftBackend backend = SiftBackend::OpenCVOctave0Fine;  ///< the extractor (default since issue 13: README, "A cheaper default?")
     double contrast_threshold = kDefaultContrastThreshold;  ///< OpenCV contrastThreshold (>= 0)
     double edge_threshold = 10;   ///< principal-curvature ratio limit (VLFeat and OpenCV default 10)
     int max_features = 0;         ///< keep the strongest n keypoints; 0 = all
