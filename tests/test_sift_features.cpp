@@ -118,8 +118,10 @@ TEST(Sift, EveryBackendFindsKeypointsDeterministically) {
 
 TEST(Sift, SyntheticDepthKeypointCounts) {
     const auto figure = synthetic_depth(false), bumpy = synthetic_depth(true);
-    const auto f = sift_descriptors(figure, 256), b = sift_descriptors(bumpy, 256);
-    SiftOptions opencv_default;
+    SiftOptions opencv;  // the counts of kDefaultContrastThreshold's table are OpenCV's
+    opencv.backend = SiftBackend::OpenCV;
+    const auto f = sift_descriptors(figure, 256, opencv), b = sift_descriptors(bumpy, 256, opencv);
+    SiftOptions opencv_default = opencv;
     opencv_default.contrast_threshold = 0.04;
     const auto b04 = sift_descriptors(bumpy, 256, opencv_default);
     std::printf("[sift] keypoints (contrast threshold %.4g): stick figure %ld, bumpy sphere %ld; bumpy sphere at "
@@ -133,11 +135,11 @@ TEST(Sift, SyntheticDepthKeypointCounts) {
     EXPECT_GT(b.rows(), b04.rows());  // the lowered threshold keeps the weak interior extrema
     EXPECT_TRUE(f.allFinite());
     EXPECT_GE(f.minCoeff(), 0.f);
-    EXPECT_TRUE(f == sift_descriptors(figure, 256));  // deterministic
+    EXPECT_TRUE(f == sift_descriptors(figure, 256, opencv));  // deterministic
 }
 
 TEST(Sift, BackendNamesRoundTrip) {
-    for (const char* name : {"opencv", "opencv-half", "opencv-fast", "opencv-octave0", "vlfeat"})
+    for (const char* name : {"opencv", "opencv-half", "opencv-fast", "opencv-octave0", "opencv-octave0-fine", "vlfeat"})
         EXPECT_EQ(sift_backend_name(parse_sift_backend(name)), name);
     try {
         parse_sift_backend("surf");
@@ -156,6 +158,7 @@ TEST(Sift, FastBackendDescribesHalfViewKeypointsAtTheViewResolution) {
     SiftOptions half, fast, full;
     half.backend = SiftBackend::OpenCVHalf;
     fast.backend = SiftBackend::OpenCVFast;
+    full.backend = SiftBackend::OpenCV;
     const SiftFeatures h = sift_features(bumpy, 256, half), f = sift_features(bumpy, 256, fast),
                        o = sift_features(bumpy, 256, full);
     ASSERT_GE(f.keypoints.size(), 5u);
@@ -218,6 +221,7 @@ TEST(Sift, KeypointsAreInTheViewsPixelCoordinates) {
 // descriptors one per keypoint in OpenCV's format; deterministic.
 TEST(Sift, Octave0BackendReproducesOpenCVsKeypointsFromOctaveZero) {
     SiftOptions full, oct0;
+    full.backend = SiftBackend::OpenCV;
     oct0.backend = SiftBackend::OpenCVOctave0;
     std::map<int, long> reference, ours, matched;
     double cosine_sum = 0;
@@ -264,4 +268,55 @@ TEST(Sift, Octave0BackendReproducesOpenCVsKeypointsFromOctaveZero) {
     EXPECT_GE(double(total_matched), 0.9 * double(total));
     std::printf("[sift] mean cosine of matched descriptors %.4f\n", cosine_sum / double(total_matched));
     EXPECT_GT(cosine_sum / double(total_matched), 0.98);
+}
+
+// opencv-octave0-fine is opencv-octave0 plus keypoints of an extra, finer octave reported at octave
+// -1: its keypoints at octaves >= 0 and their descriptors are opencv-octave0's, in the same order,
+// after the octave -1 ones, which are smaller (finer scale) and inside the view; descriptors in
+// OpenCV's format; deterministic.
+TEST(Sift, Octave0FineBackendAddsAnOctaveMinusOne) {
+    SiftOptions oct0, fine;
+    oct0.backend = SiftBackend::OpenCVOctave0;
+    fine.backend = SiftBackend::OpenCVOctave0Fine;
+    EXPECT_EQ(SiftOptions{}.backend, SiftBackend::OpenCVOctave0Fine);  // the default extractor
+    long extra_total = 0;
+    for (const bool bumps : {true, false}) {
+        const auto img = synthetic_depth(bumps);
+        const SiftFeatures a = sift_features(img, 256, oct0), b = sift_features(img, 256, fine);
+        ASSERT_EQ(static_cast<size_t>(b.descriptors.rows()), b.keypoints.size());
+        size_t extra = 0;
+        while (extra < b.keypoints.size() && b.keypoints[extra].octave == -1) ++extra;
+        ASSERT_EQ(b.keypoints.size(), extra + a.keypoints.size()) << "bumps " << bumps;
+        std::vector<float> fine_sizes, octave0_sizes;
+        for (size_t i = 0; i < extra; ++i) {
+            const SiftKeypoint& k = b.keypoints[i];
+            EXPECT_GE(k.x, 0.f);
+            EXPECT_LT(k.x, 256.f);
+            EXPECT_GE(k.y, 0.f);
+            EXPECT_LT(k.y, 256.f);
+            fine_sizes.push_back(k.size);
+        }
+        for (size_t i = 0; i < a.keypoints.size(); ++i) {
+            const SiftKeypoint &p = a.keypoints[i], &q = b.keypoints[extra + i];
+            EXPECT_EQ(p.x, q.x);
+            EXPECT_EQ(p.y, q.y);
+            EXPECT_EQ(p.size, q.size);
+            EXPECT_EQ(p.angle, q.angle);
+            EXPECT_EQ(p.octave, q.octave);
+            EXPECT_GE(q.octave, 0);
+            if (q.octave == 0) octave0_sizes.push_back(q.size);
+        }
+        EXPECT_TRUE(b.descriptors.bottomRows(a.descriptors.rows()) == a.descriptors);
+        if (!fine_sizes.empty() && !octave0_sizes.empty()) {
+            std::sort(fine_sizes.begin(), fine_sizes.end());
+            std::sort(octave0_sizes.begin(), octave0_sizes.end());
+            EXPECT_LT(fine_sizes[fine_sizes.size() / 2], octave0_sizes[octave0_sizes.size() / 2]);
+        }
+        expect_opencv_descriptor_format(b.descriptors);
+        EXPECT_TRUE(b.descriptors == sift_features(img, 256, fine).descriptors);  // deterministic
+        std::printf("[sift] %s: opencv-octave0 %zu keypoints, opencv-octave0-fine %zu more at octave -1\n",
+                    bumps ? "bumpy sphere" : "stick figure", a.keypoints.size(), extra);
+        extra_total += static_cast<long>(extra);
+    }
+    EXPECT_GT(extra_total, 0);
 }

@@ -1,6 +1,7 @@
 #include "canonform/views/sift_features.h"
 
 #include <opencv2/core.hpp>
+#include <opencv2/core/hal/hal.hpp>
 #include <opencv2/features2d.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -18,7 +19,8 @@ extern "C" {
 namespace canonform::views {
 
 const std::vector<std::string>& sift_backend_names() {
-    static const std::vector<std::string> names = {"opencv", "opencv-half", "vlfeat", "opencv-fast", "opencv-octave0"};
+    static const std::vector<std::string> names = {"opencv",      "opencv-half",    "vlfeat",
+                                                   "opencv-fast", "opencv-octave0", "opencv-octave0-fine"};
     return names;
 }
 
@@ -87,6 +89,9 @@ int keypoint_octave(const cv::KeyPoint& k) { return static_cast<std::int8_t>(k.o
 // as the image position itself.
 constexpr float kDoubledOffset = 0.25f;
 
+// Layers of opencv-octave0-fine's extra octave (see sift_features()).
+constexpr int kFineOctaveLayers = 2;
+
 // OpenCV keypoints of the half view moved to the full view, as compute() without doubling reads
 // them: half-view pixel i covers full pixels 2i and 2i + 1 (INTER_AREA), i.e. full = 2 h + 0.5;
 // with the reported h = true h + 0.25 that is full = 2 h(reported). Size x 2; octave + 1 (the
@@ -131,40 +136,58 @@ void sift_descriptor(const cv::Mat& img, cv::Point2f ptf, float ori, float scl, 
     sin_t /= hist_width;
     const int rows = img.rows, cols = img.cols;
     float hist[(d + 2) * (d + 2) * (n + 2)] = {};
+    // As OpenCV: the window's samples first, then exp, atan and magnitude over all of them at once
+    // (cv::hal's vectorised functions), then the tri-linear binning.
+    const size_t window = static_cast<size_t>(2 * radius + 1) * static_cast<size_t>(2 * radius + 1);
+    thread_local std::vector<float> buffer;
+    buffer.resize(window * 7);
+    float *X = buffer.data(), *Y = X + window, *Ori = Y + window, *Mag = Ori + window, *W = Mag + window,
+          *RBin = W + window, *CBin = RBin + window;
+    int samples = 0;
     for (int i = -radius; i <= radius; ++i)
         for (int j = -radius; j <= radius; ++j) {
             const float c_rot = static_cast<float>(j) * cos_t - static_cast<float>(i) * sin_t;
             const float r_rot = static_cast<float>(j) * sin_t + static_cast<float>(i) * cos_t;
-            float rbin = r_rot + d / 2 - 0.5f, cbin = c_rot + d / 2 - 0.5f;
+            const float rbin = r_rot + d / 2 - 0.5f, cbin = c_rot + d / 2 - 0.5f;
             const int r = pt.y + i, c = pt.x + j;
             if (!(rbin > -1 && rbin < d && cbin > -1 && cbin < d && r > 0 && r < rows - 1 && c > 0 && c < cols - 1)) continue;
-            const float dx = img.at<float>(r, c + 1) - img.at<float>(r, c - 1);
-            const float dy = img.at<float>(r - 1, c) - img.at<float>(r + 1, c);
-            const float mag = std::sqrt(dx * dx + dy * dy) * std::exp((c_rot * c_rot + r_rot * r_rot) * exp_scale);
-            float obin = (cv::fastAtan2(dy, dx) - ori) * bins_per_rad;
-            const int r0 = cvFloor(rbin), c0 = cvFloor(cbin);
-            int o0 = cvFloor(obin);
-            rbin -= static_cast<float>(r0);
-            cbin -= static_cast<float>(c0);
-            obin -= static_cast<float>(o0);
-            if (o0 < 0) o0 += n;
-            if (o0 >= n) o0 -= n;
-            // tri-linear interpolation
-            const float v_r1 = mag * rbin, v_r0 = mag - v_r1;
-            const float v_rc11 = v_r1 * cbin, v_rc10 = v_r1 - v_rc11, v_rc01 = v_r0 * cbin, v_rc00 = v_r0 - v_rc01;
-            const float v_rco111 = v_rc11 * obin, v_rco110 = v_rc11 - v_rco111, v_rco101 = v_rc10 * obin,
-                        v_rco100 = v_rc10 - v_rco101, v_rco011 = v_rc01 * obin, v_rco010 = v_rc01 - v_rco011,
-                        v_rco001 = v_rc00 * obin, v_rco000 = v_rc00 - v_rco001;
-            const int idx = ((r0 + 1) * (d + 2) + c0 + 1) * (n + 2) + o0;
-            hist[idx] += v_rco000;
-            hist[idx + 1] += v_rco001;
-            hist[idx + (n + 2)] += v_rco010;
-            hist[idx + (n + 3)] += v_rco011;
-            hist[idx + (d + 2) * (n + 2)] += v_rco100;
-            hist[idx + (d + 2) * (n + 2) + 1] += v_rco101;
-            hist[idx + (d + 3) * (n + 2)] += v_rco110;
-            hist[idx + (d + 3) * (n + 2) + 1] += v_rco111;
+            X[samples] = img.at<float>(r, c + 1) - img.at<float>(r, c - 1);
+            Y[samples] = img.at<float>(r - 1, c) - img.at<float>(r + 1, c);
+            RBin[samples] = rbin;
+            CBin[samples] = cbin;
+            W[samples] = (c_rot * c_rot + r_rot * r_rot) * exp_scale;
+            ++samples;
         }
+    cv::hal::fastAtan2(Y, X, Ori, samples, true);
+    cv::hal::magnitude32f(X, Y, Mag, samples);
+    cv::hal::exp32f(W, W, samples);
+    for (int k = 0; k < samples; ++k) {
+        float rbin = RBin[k], cbin = CBin[k];
+        float obin = (Ori[k] - ori) * bins_per_rad;
+        const float mag = Mag[k] * W[k];
+        const int r0 = cvFloor(rbin), c0 = cvFloor(cbin);
+        int o0 = cvFloor(obin);
+        rbin -= static_cast<float>(r0);
+        cbin -= static_cast<float>(c0);
+        obin -= static_cast<float>(o0);
+        if (o0 < 0) o0 += n;
+        if (o0 >= n) o0 -= n;
+        // tri-linear interpolation
+        const float v_r1 = mag * rbin, v_r0 = mag - v_r1;
+        const float v_rc11 = v_r1 * cbin, v_rc10 = v_r1 - v_rc11, v_rc01 = v_r0 * cbin, v_rc00 = v_r0 - v_rc01;
+        const float v_rco111 = v_rc11 * obin, v_rco110 = v_rc11 - v_rco111, v_rco101 = v_rc10 * obin,
+                    v_rco100 = v_rc10 - v_rco101, v_rco011 = v_rc01 * obin, v_rco010 = v_rc01 - v_rco011,
+                    v_rco001 = v_rc00 * obin, v_rco000 = v_rc00 - v_rco001;
+        const int idx = ((r0 + 1) * (d + 2) + c0 + 1) * (n + 2) + o0;
+        hist[idx] += v_rco000;
+        hist[idx + 1] += v_rco001;
+        hist[idx + (n + 2)] += v_rco010;
+        hist[idx + (n + 3)] += v_rco011;
+        hist[idx + (d + 2) * (n + 2)] += v_rco100;
+        hist[idx + (d + 2) * (n + 2) + 1] += v_rco101;
+        hist[idx + (d + 3) * (n + 2)] += v_rco110;
+        hist[idx + (d + 3) * (n + 2) + 1] += v_rco111;
+    }
     for (int i = 0; i < d; ++i)  // the orientation histograms are circular
         for (int j = 0; j < d; ++j) {
             const int idx = ((i + 1) * (d + 2) + (j + 1)) * (n + 2);
@@ -188,7 +211,9 @@ void sift_descriptor(const cv::Mat& img, cv::Point2f ptf, float ori, float scl, 
 // An angle of 360 degrees (within FLT_EPSILON) as 0, as OpenCV writes orientations.
 float zero_for_360(float degrees) { return std::abs(degrees - 360.f) < FLT_EPSILON ? 0.f : degrees; }
 
-std::vector<cv::KeyPoint> dog_keypoints(const cv::Mat& shifted, const SiftOptions& o, cv::Mat* descriptors = nullptr) {
+// At most max_octaves octaves (opencv-octave0-fine's extra octave is one).
+std::vector<cv::KeyPoint> dog_keypoints(const cv::Mat& shifted, const SiftOptions& o, cv::Mat* descriptors = nullptr,
+                                        int max_octaves = INT_MAX) {
     const int L = o.octave_layers;
     const double k = std::pow(2.0, 1.0 / L);
     std::vector<double> blur(static_cast<size_t>(L + 3));
@@ -197,7 +222,8 @@ std::vector<cv::KeyPoint> dog_keypoints(const cv::Mat& shifted, const SiftOption
         const double prev = std::pow(k, i - 1) * o.sigma, total = prev * k;
         blur[static_cast<size_t>(i)] = std::sqrt(total * total - prev * prev);
     }
-    const int octaves = std::max(1, static_cast<int>(std::lround(std::log2(std::min(shifted.rows, shifted.cols)))) - 2);
+    const int octaves =
+        std::min(max_octaves, std::max(1, static_cast<int>(std::lround(std::log2(std::min(shifted.rows, shifted.cols)))) - 2));
     std::vector<std::vector<cv::Mat>> g(static_cast<size_t>(octaves)), d(static_cast<size_t>(octaves));
     const double base_blur = std::sqrt(std::max(o.sigma * o.sigma - 0.25, 0.01));  // SIFT_INIT_SIGMA 0.5
     for (int oc = 0; oc < octaves; ++oc) {
@@ -315,19 +341,32 @@ std::vector<cv::KeyPoint> dog_keypoints(const cv::Mat& shifted, const SiftOption
                     const int radius = cvRound(4.5f * scl);  // SIFT_ORI_RADIUS = 3 * SIFT_ORI_SIG_FCTR
                     const float expf_scale = -1.f / (2.f * (1.5f * scl) * (1.5f * scl));
                     float hist[bins] = {};
+                    const size_t window = static_cast<size_t>(2 * radius + 1) * static_cast<size_t>(2 * radius + 1);
+                    thread_local std::vector<float> buffer;
+                    buffer.resize(window * 5);
+                    float *X = buffer.data(), *Y = X + window, *W = Y + window, *Ori = W + window, *Mag = Ori + window;
+                    int len = 0;
                     for (int dy = -radius; dy <= radius; ++dy) {
                         const int y = rr + dy;
                         if (y <= 0 || y >= rows - 1) continue;
                         for (int dx = -radius; dx <= radius; ++dx) {
                             const int x = cc + dx;
                             if (x <= 0 || x >= cols - 1) continue;
-                            const float gx = img.at<float>(y, x + 1) - img.at<float>(y, x - 1);
-                            const float gy = img.at<float>(y - 1, x) - img.at<float>(y + 1, x);
-                            int bin = cvRound((bins / 360.f) * cv::fastAtan2(gy, gx));
-                            if (bin >= bins) bin -= bins;
-                            if (bin < 0) bin += bins;
-                            hist[bin] += std::exp(static_cast<float>(dx * dx + dy * dy) * expf_scale) * std::sqrt(gx * gx + gy * gy);
+                            X[len] = img.at<float>(y, x + 1) - img.at<float>(y, x - 1);
+                            Y[len] = img.at<float>(y - 1, x) - img.at<float>(y + 1, x);
+                            W[len] = static_cast<float>(dx * dx + dy * dy) * expf_scale;
+                            ++len;
                         }
+                    }
+                    // As OpenCV: exp, atan and magnitude over the whole window (cv::hal, vectorised).
+                    cv::hal::exp32f(W, W, len);
+                    cv::hal::fastAtan2(Y, X, Ori, len, true);
+                    cv::hal::magnitude32f(X, Y, Mag, len);
+                    for (int k = 0; k < len; ++k) {
+                        int bin = cvRound((bins / 360.f) * Ori[k]);
+                        if (bin >= bins) bin -= bins;
+                        if (bin < 0) bin += bins;
+                        hist[bin] += W[k] * Mag[k];
                     }
                     float smooth[bins];
                     for (int b = 0; b < bins; ++b)
@@ -406,7 +445,7 @@ SiftFeatures sift_features(const std::vector<std::uint8_t>& gray, int size, cons
     cv::Mat descriptors;
     if (options.backend == SiftBackend::OpenCV) {
         sift->detectAndCompute(image, cv::noArray(), keypoints, descriptors);
-    } else if (options.backend == SiftBackend::OpenCVOctave0) {
+    } else if (options.backend == SiftBackend::OpenCVOctave0 || options.backend == SiftBackend::OpenCVOctave0Fine) {
         // Detection and descriptors on the view resampled at i - 1/4 on both axes (OpenCV's
         // octave-0 grid, see dog_keypoints), in one pyramid; positions moved to the view.
         cv::Mat view, shifted;
@@ -415,6 +454,23 @@ SiftFeatures sift_features(const std::vector<std::uint8_t>& gray, int size, cons
         cv::sepFilter2D(view, shifted, CV_32F, tap, tap.t(), cv::Point(-1, -1), 0, cv::BORDER_REPLICATE);
         keypoints = dog_keypoints(shifted, options, &descriptors);
         for (cv::KeyPoint& k : keypoints) k.pt -= cv::Point2f(kDoubledOffset, kDoubledOffset);  // to the view
+        if (options.backend == SiftBackend::OpenCVOctave0Fine) {
+            // The approximate octave -1: one octave on the view itself (not resampled, not
+            // doubled) from sigma / 2, the scale of OpenCV's doubled octave, with 2 layers (3 pick
+            // up the 8-bit quantisation: ten times opencv's octave -1 keypoints). Its keypoints are
+            // reported at octave -1, before the others (as OpenCV orders them).
+            SiftOptions fine = options;
+            fine.sigma = options.sigma * 0.5;
+            fine.octave_layers = kFineOctaveLayers;
+            cv::Mat fine_descriptors;
+            std::vector<cv::KeyPoint> extra = dog_keypoints(view, fine, &fine_descriptors, 1);
+            for (cv::KeyPoint& k : extra) k.octave = (k.octave & ~255) | 255;  // octave -1 in OpenCV's packing
+            if (!extra.empty()) {
+                keypoints.insert(keypoints.begin(), extra.begin(), extra.end());
+                if (descriptors.empty()) descriptors = fine_descriptors;
+                else cv::vconcat(fine_descriptors, descriptors, descriptors);
+            }
+        }
     } else {
         cv::Mat half;
         cv::resize(image, half, cv::Size(std::max(1, size / 2), std::max(1, size / 2)), 0, 0, cv::INTER_AREA);
