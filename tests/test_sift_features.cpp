@@ -18,6 +18,15 @@ using namespace canonform::views;
 
 namespace {
 
+/// The same keypoint to the bit: position, size, angle and OpenCV's packed octave.
+void expect_same_keypoint(const SiftKeypoint& a, const SiftKeypoint& b) {
+    EXPECT_EQ(a.x, b.x);
+    EXPECT_EQ(a.y, b.y);
+    EXPECT_EQ(a.size, b.size);
+    EXPECT_EQ(a.angle, b.angle);
+    EXPECT_EQ(a.octave, b.octave);
+}
+
 // OpenCV's descriptor format: finite integer values 0-255, every row of L2 norm about 512.
 void expect_opencv_descriptor_format(const SiftDescriptors& d) {
     EXPECT_TRUE(d.allFinite());
@@ -167,11 +176,7 @@ TEST(Sift, FastBackendDescribesHalfViewKeypointsAtTheViewResolution) {
     ASSERT_EQ(static_cast<size_t>(o.descriptors.rows()), o.keypoints.size());
     for (size_t i = 0; i < f.keypoints.size(); ++i) {
         const SiftKeypoint &a = f.keypoints[i], &b = h.keypoints[i];
-        EXPECT_EQ(a.x, b.x);
-        EXPECT_EQ(a.y, b.y);
-        EXPECT_EQ(a.size, b.size);
-        EXPECT_EQ(a.angle, b.angle);
-        EXPECT_EQ(a.octave, b.octave);
+        expect_same_keypoint(a, b);
         EXPECT_GE(a.octave, 0);
         EXPECT_GE(a.x, 0.f);
         EXPECT_LT(a.x, 256.f);
@@ -298,11 +303,7 @@ TEST(Sift, Octave0FineBackendAddsAnOctaveMinusOne) {
         }
         for (size_t i = 0; i < a.keypoints.size(); ++i) {
             const SiftKeypoint &p = a.keypoints[i], &q = b.keypoints[extra + i];
-            EXPECT_EQ(p.x, q.x);
-            EXPECT_EQ(p.y, q.y);
-            EXPECT_EQ(p.size, q.size);
-            EXPECT_EQ(p.angle, q.angle);
-            EXPECT_EQ(p.octave, q.octave);
+            expect_same_keypoint(p, q);
             EXPECT_GE(q.octave, 0);
             if (q.octave == 0) octave0_sizes.push_back(q.size);
         }

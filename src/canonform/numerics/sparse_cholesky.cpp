@@ -10,6 +10,14 @@
 
 namespace canonform {
 
+namespace {
+void check_shapes(const Eigen::SparseMatrix<double>& A, const std::vector<int>& ordering) {
+    if (A.rows() != A.cols()) throw InputError("sparse Cholesky: the matrix is not square");
+    if (!ordering.empty() && static_cast<Eigen::Index>(ordering.size()) != A.rows())
+        throw InputError("sparse Cholesky: the given ordering does not have one entry per row");
+}
+}  // namespace
+
 #ifdef CANONFORM_HAVE_CHOLMOD
 // CHOLMOD called directly rather than through Eigen's CholmodSimplicialLDLT, with the settings
 // that wrapper uses (simplicial, factor kept as LDL^T, default orderings), so the factor and the
@@ -63,16 +71,9 @@ cholmod_sparse view_lower(const Eigen::SparseMatrix<double>& A) {
 }
 }  // namespace
 
-SparseCholesky::SparseCholesky() : impl_(std::make_unique<Impl>()) {}
-SparseCholesky::~SparseCholesky() = default;
-SparseCholesky::SparseCholesky(SparseCholesky&&) noexcept = default;
-SparseCholesky& SparseCholesky::operator=(SparseCholesky&&) noexcept = default;
-
 bool SparseCholesky::compute(const Eigen::SparseMatrix<double>& A, const std::vector<int>& ordering) {
     ok_ = false;
-    if (A.rows() != A.cols()) throw InputError("sparse Cholesky: the matrix is not square");
-    if (!ordering.empty() && static_cast<Eigen::Index>(ordering.size()) != A.rows())
-        throw InputError("sparse Cholesky: the given ordering does not have one entry per row");
+    check_shapes(A, ordering);
     Eigen::SparseMatrix<double> compressed;
     const Eigen::SparseMatrix<double>* M = &A;
     if (!A.isCompressed()) {
@@ -134,15 +135,8 @@ struct SparseCholesky::Impl {
     Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower> factor;
 };
 
-SparseCholesky::SparseCholesky() : impl_(std::make_unique<Impl>()) {}
-SparseCholesky::~SparseCholesky() = default;
-SparseCholesky::SparseCholesky(SparseCholesky&&) noexcept = default;
-SparseCholesky& SparseCholesky::operator=(SparseCholesky&&) noexcept = default;
-
 bool SparseCholesky::compute(const Eigen::SparseMatrix<double>& A, const std::vector<int>& ordering) {
-    if (A.rows() != A.cols()) throw InputError("sparse Cholesky: the matrix is not square");
-    if (!ordering.empty() && static_cast<Eigen::Index>(ordering.size()) != A.rows())
-        throw InputError("sparse Cholesky: the given ordering does not have one entry per row");
+    check_shapes(A, ordering);
     impl_->factor.compute(A);  // Eigen's own AMD ordering: a given one is not used here
     ok_ = impl_->factor.info() == Eigen::Success;
     return ok_;
@@ -159,5 +153,10 @@ Eigen::MatrixXd SparseCholesky::solve(const Eigen::MatrixXd& B) const {
 const char* SparseCholesky::backend() { return "Eigen SimplicialLDLT"; }
 
 #endif
+
+SparseCholesky::SparseCholesky() : impl_(std::make_unique<Impl>()) {}
+SparseCholesky::~SparseCholesky() = default;
+SparseCholesky::SparseCholesky(SparseCholesky&&) noexcept = default;
+SparseCholesky& SparseCholesky::operator=(SparseCholesky&&) noexcept = default;
 
 }  // namespace canonform

@@ -28,7 +28,9 @@ Eigen::MatrixXd normalize_scale(const Eigen::MatrixXd& V, Eigen::RowVector3d* ce
 
 ConformalFactorResult conformal_factor(const Eigen::MatrixXd& V0, const Eigen::MatrixXi& F,
                                        const ConformalFactorOptions& options) {
-    const std::vector<bool> boundary = options.validate ? validate_mesh(V0, F).boundary : options.boundary;
+    MeshReport report;  // the boundary comes with the validation, or from the caller's
+    if (options.validate) report = validate_mesh(V0, F);
+    const std::vector<bool>& boundary = options.validate ? report.boundary : options.boundary;
     report_progress(options.progress, 0.0, "conformal factor: curvature");
     Eigen::MatrixXd V = normalize_scale(V0);
     const Eigen::Index n = V.rows();
