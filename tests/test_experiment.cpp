@@ -101,6 +101,28 @@ TEST(Experiment, WritesEveryOutputAndReusesItsCache) {
     EXPECT_NE(report.find("| euclidean-N_beta65 |"), std::string::npos);
 }
 
+TEST(Experiment, ASeedSharesTheViewsAndNoiseDoesNot) {
+    // The seed seeds the codebook (and the noise): without noise, a run with another seed takes
+    // every form and view from the cache and trains its own codebook; with noise it recomputes.
+    auto o = options("canonform_test_experiment_seed", {"none"});
+    fs::remove_all(o.out);
+    const retrieval::Experiment e0(o);
+    ASSERT_EQ(e0.run()[0].cached, 0);
+    auto o1 = o;
+    o1.seed = 1;
+    const retrieval::Experiment e1(o1);
+    EXPECT_EQ(e1.cache_entry(o.methods[0], 0), e0.cache_entry(o.methods[0], 0));
+    EXPECT_EQ(e1.run()[0].cached, 6);
+    std::size_t codebooks = 0;
+    for (const auto& f : fs::directory_iterator(o.out + "/cache"))
+        codebooks += f.path().filename().string().rfind("codebook_", 0) == 0;
+    EXPECT_EQ(codebooks, 2u);
+    auto n0 = o, n1 = o1;
+    n0.noise = n1.noise = 0.1;
+    EXPECT_NE(retrieval::Experiment(n0).cache_entry(o.methods[0], 0), retrieval::Experiment(n1).cache_entry(o.methods[0], 0));
+    EXPECT_NE(retrieval::Experiment(n0).cache_entry(o.methods[0], 0), e0.cache_entry(o.methods[0], 0));
+}
+
 TEST(Experiment, FailuresAreListedAndBadCollectionsRefused) {
     auto o = options("canonform_test_experiment_bad", {"none"});
     o.labels = o.out + "_labels.csv";

@@ -153,8 +153,10 @@ Experiment::Experiment(ExperimentOptions options, std::vector<Model> models)
 std::string Experiment::cache_entry(const MethodSpec& method, std::size_t k) const {
     const ExperimentOptions& o = options_;
     std::ostringstream params;
-    params << method.cache_key() << "|simplify=" << o.simplify << "|noise=" << o.noise << "|seed=" << o.seed
-           << "|views=v1" << (o.repair ? "|repair" : "")
+    // The form and its views depend on the seed only through the noise (the codebook's seed is
+    // in the codebook's key): without noise, runs with other seeds share these entries.
+    params << method.cache_key() << "|simplify=" << o.simplify << "|noise=" << o.noise
+           << (o.noise > 0 ? "|seed=" + std::to_string(o.seed) : std::string()) << "|views=v1" << (o.repair ? "|repair" : "")
            << (o.views.sift.backend != views::SiftBackend::OpenCV ? "|sift=" + views::sift_backend_name(o.views.sift.backend)
                                                                   : std::string());
     return o.out + "/cache/" + io::hex(io::fnv1a(params.str(), models_[k].hash));

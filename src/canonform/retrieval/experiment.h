@@ -105,6 +105,8 @@ public:
     MeshFeatures mesh_features(const MethodSpec& method, std::size_t model) const;
     /// The cache entry of one mesh under one method: RUN/cache/KEY, with KEY from the file's
     /// content and the parameters; mesh_features() keeps KEY.cfvd (the features) and KEY.ply (the form).
+    /// The seed is part of KEY only with noise: without it, runs that differ only in the seed (the
+    /// codebook's) share the entries.
     std::string cache_entry(const MethodSpec& method, std::size_t model) const;
     /// How each method's codebook is trained (options.codebook_training with its words and seed), on
     /// the good meshes' features stacked in collection order (views::stack_features()).
