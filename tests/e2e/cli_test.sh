@@ -92,6 +92,18 @@ check "retrieve: a changed parameter (--noise) recomputes" grep -q "(0 from the 
 check "retrieve: the forms of the changed parameter replace the others" bash -c "! cmp -s run/euclidean-N/forms/a0.ply run_n_a0.ply"
 "$cf" retrieve --dataset coll --out run --method euclidean-N --words 50 > run3b.out 2> run3b.err
 check "retrieve: back to the first parameters, the cached forms are restored" bash -c "grep -q '(6 from the cache, 0 failed)' run3b.err && cmp -s run/euclidean-N/forms/a0.ply run_n_a0.ply"
+# --seed seeds the codebook (and the noise), not the forms and views: another seed takes them from the cache
+cp -r run run_seed
+"$cf" retrieve --dataset coll --out run_seed --method none,euclidean-N --words 50 --seed 1 > run4.out 2> run4.err
+check "retrieve: another --seed takes every form and view from the cache" bash -c "[ \$(grep -c '(6 from the cache, 0 failed)' run4.err) -eq 2 ]"
+check "retrieve: another --seed trains other codebooks" bash -c "[ \$(ls run_seed/cache/codebook_*.bin | wc -l) -gt \$(ls run/cache/codebook_*.bin | wc -l) ]"
+/usr/bin/python3 "$tools/paired_nn.py" run/none run/euclidean-N run_seed/none run_seed/euclidean-N > paired.out 2>&1
+check "paired_nn.py: per-pair NN equals the runs' metrics, and a summary over the pairs" /usr/bin/python3 -c "
+import json, re
+out = open('paired.out').read()
+nn = [float(x) for x in re.findall(r'NN ([0-9.]+) vs ([0-9.]+)', out)[0]]
+assert nn == [round(json.load(open('run/%s/metrics.json' % m))['micro']['nn'], 3) for m in ('none', 'euclidean-N')], (out, nn)
+assert 'over 2 pairs: right in a majority of pairs' in out, out"
 # beta: part of the cache key (the variant's default, 130, is the same computation as no beta)
 "$cf" retrieve --dataset coll --out run --method euclidean-N:beta=130 --words 50 > run5.out 2> run5.err
 check "retrieve: euclidean-N:beta=130 is the default beta (all from the cache)" grep -q "\[euclidean-N_beta130\] 6 meshes in .* (6 from the cache, 0 failed)" run5.err

@@ -245,6 +245,11 @@ views::Codebook Experiment::codebook(const MethodSpec& method, const std::vector
         key += "|" + views::codebook_method_name(co.method) + "|sample=" + std::to_string(co.sample) +
                "|iterations=" + std::to_string(co.kmeans_iterations);  // (the old key is Lloyd's on all)
     if (o.views.sift.backend != views::SiftBackend::OpenCV) key += "|sift=" + views::sift_backend_name(o.views.sift.backend);
+    // The features it is trained on also depend on these (they were missing from the key, so a
+    // run with --noise or --simplify reused the codebook of the plain run in the same folder).
+    if (o.simplify > 0) key += "|simplify=" + std::to_string(o.simplify);
+    if (o.noise > 0) key += "|noise=" + std::to_string(o.noise);
+    if (o.repair) key += "|repair";
     std::uint64_t h = io::fnv1a(key);
     std::vector<const std::vector<views::SiftDescriptors>*> sets;
     for (size_t k : good) {
