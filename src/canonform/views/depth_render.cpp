@@ -42,15 +42,26 @@ struct P2 {
     double x, y;
 };
 
-// Twice the signed area of (a, b, p), evaluated with (a, b) in a canonical order so that the value
-// for the reversed edge is the exact negation.
-inline double edge_fn(const P2& a, const P2& b, double px, double py) {
-    const bool swap = (b.x < a.x) || (b.x == a.x && b.y < a.y);
-    const P2& s = swap ? b : a;
-    const P2& t = swap ? a : b;
-    const double v = (t.x - s.x) * (py - s.y) - (t.y - s.y) * (px - s.x);
-    return swap ? -v : v;
-}
+// One edge function of a triangle: twice the signed area of (a, b, p), evaluated with (a, b) in a
+// canonical order so that the value for the reversed edge is the exact negation (neighbouring
+// triangles then agree on which of them covers a pixel centre on their shared edge). The
+// canonical order, the differences and the row's term are set up once per triangle and row; the
+// value per pixel is the same expression in the same order as evaluating it whole.
+struct EdgeFn {
+    double sx, sy, dx, dy, negate;  // canonical start, t - s, -1 when (a, b) was swapped
+    EdgeFn(const P2& a, const P2& b) {
+        const bool swap = (b.x < a.x) || (b.x == a.x && b.y < a.y);
+        const P2& s = swap ? b : a;
+        const P2& t = swap ? a : b;
+        sx = s.x;
+        sy = s.y;
+        dx = t.x - s.x;
+        dy = t.y - s.y;
+        negate = swap ? -1.0 : 1.0;
+    }
+    double row(double py) const { return dx * (py - sy); }
+    double at(double row_term, double px) const { return negate * (row_term - dy * (px - sx)); }
+};
 
 }  // namespace
 
@@ -102,16 +113,18 @@ DepthImage render_depth(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
         const double za = z[static_cast<size_t>(ia)], zb = z[static_cast<size_t>(ib)],
                      zc = z[static_cast<size_t>(ic)];
         const int c0 = static_cast<int>(x0), c1 = static_cast<int>(x1);
+        const EdgeFn ea(b, c), eb(c, a), ec(a, b);
         for (int row = static_cast<int>(y0); row <= static_cast<int>(y1); ++row) {
             const double py = row;
+            const double ra = ea.row(py), rb = eb.row(py), rc = ec.row(py);
             float* line = buf + static_cast<size_t>(row) * size;
             for (int col = c0; col <= c1; ++col) {
                 const double px = col;
-                const double wa = edge_fn(b, c, px, py);
+                const double wa = ea.at(ra, px);
                 if (sgn * wa < 0) continue;
-                const double wb = edge_fn(c, a, px, py);
+                const double wb = eb.at(rb, px);
                 if (sgn * wb < 0) continue;
-                const double wc = edge_fn(a, b, px, py);
+                const double wc = ec.at(rc, px);
                 if (sgn * wc < 0) continue;
                 double d = (wa * za + wb * zb + wc * zc) * inv_area;
                 d = std::min(1.0, std::max(0.0, d));
