@@ -22,6 +22,7 @@
 #include <random>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <vector>
 
 using canonform::bench::Clock;
@@ -64,6 +65,27 @@ int main(int argc, char** argv) {
         return o;
     };
 
+    // Per backend: a codebook from this mesh's own features (the assignment's cost is what
+    // matters; the whole descriptor (compute_views + histograms) and SIFT alone are timed below).
+    // Trained before anything is timed, then a pause: OpenBLAS's worker threads (FAISS's k-means
+    // runs on BLAS) spin-wait for a while after start-up and after each BLAS call, and that spin
+    // is process CPU time. Timed right after start-up, the single-threaded pose normalisation
+    // measured 0.020 or 0.035-0.045 CPU s depending on the process (its thread's CPU time was
+    // 0.020 in every one; with OPENBLAS_NUM_THREADS=1 always 0.020).
+    std::map<std::string, Codebook> cbs;
+    std::map<std::string, std::vector<double>> total, sift;
+    std::map<std::string, long> keypoints;
+    for (const auto& b : backends) {
+        ViewDescriptorOptions o;
+        o.sift = sift_options(b);
+        const ViewSet vs = compute_views(m.V, m.F, o);
+        std::vector<const std::vector<SiftDescriptors>*> sets = {&vs.features};
+        const SiftDescriptors all = stack_features(sets);
+        keypoints[b] = long(all.rows());
+        cbs[b] = Codebook::train(all, {});
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(500));
+
     // Pose normalisation alone.
     std::vector<double> pose_cpu;
     for (int r = 0; r < repeats; ++r) {
@@ -94,20 +116,6 @@ int main(int argc, char** argv) {
                 "\"pose_every_face_cpu_s\": %.4f, \"renders_cpu_s\": %.4f}\n", long(m.V.rows()), repeats, median(pose_cpu),
                 median(pose_exact_cpu), median(render_cpu));
 
-    // Per backend: a codebook from this mesh's own features (the assignment's cost is what
-    // matters), then the whole descriptor (compute_views + histograms) and SIFT alone.
-    std::map<std::string, Codebook> cbs;
-    std::map<std::string, std::vector<double>> total, sift;
-    std::map<std::string, long> keypoints;
-    for (const auto& b : backends) {
-        ViewDescriptorOptions o;
-        o.sift = sift_options(b);
-        const ViewSet vs = compute_views(m.V, m.F, o);
-        std::vector<const std::vector<SiftDescriptors>*> sets = {&vs.features};
-        const SiftDescriptors all = stack_features(sets);
-        keypoints[b] = long(all.rows());
-        cbs[b] = Codebook::train(all, {});
-    }
     for (int r = 0; r < repeats; ++r)
         for (const auto& b : backends) {  // interleaved: the load hits every backend alike
             ViewDescriptorOptions o;
