@@ -178,6 +178,9 @@ RULES = [
 
 def load(run, method):
     d = os.path.join(run, method)
+    for f in ("models.csv", "distances.bin"):
+        if not os.path.isfile(os.path.join(d, f)):
+            sys.exit("fused_rules.py: no %s (is %s a finished run with method %s?)" % (os.path.join(d, f), run, method))
     rows = [line.split(",") for line in open(os.path.join(d, "models.csv")).read().splitlines()[1:] if line]
     names = [r[0] for r in rows]
     D = np.fromfile(os.path.join(d, "distances.bin"), dtype="<f4").reshape(len(names), len(names))
@@ -238,8 +241,10 @@ def main():
         def score(F, labels):
             mat = os.path.join(tmp, "fused.bin")
             np.asarray(F, dtype="<f4").tofile(mat)
-            j = json.loads(subprocess.run([cf, "evaluate", mat, "--labels", labels, "--json"], check=True,
-                                          capture_output=True, text=True).stdout)["micro"]
+            p = subprocess.run([cf, "evaluate", mat, "--labels", labels, "--json"], capture_output=True, text=True)
+            if p.returncode != 0:
+                sys.exit("fused_rules.py: %s evaluate failed: %s" % (cf, p.stderr.strip()))
+            j = json.loads(p.stdout)["micro"]
             m = [j[key] for key in ("nn", "first_tier", "second_tier", "e_measure", "dcg")]
             return m + [sum(m) / 5]
 
