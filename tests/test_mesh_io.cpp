@@ -164,6 +164,17 @@ TEST(MeshIo, AHeaderThatLiesIsRefusedBeforeAllocating) {
     put(list, std::uint32_t(4000000000u));
     EXPECT_NE(refusal(list, io::MeshFormat::Ply).find("more than the rest of the file holds"), std::string::npos);
     fuzz_seed("mesh_ply", "lying_list.ply", list);
+    // An ASCII list count beyond any integer type (found by fuzz_mesh_ply: the message converted it
+    // to an unsigned 64-bit integer, undefined behaviour), and one that is infinite.
+    for (const auto& [count, expected] : std::vector<std::pair<std::string, std::string>>{
+             {"22222222222222222222222223", "claims 22222222222222221849395200 entries"}, {"1e400", "bad list length"}}) {
+        const std::string ascii = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                                  "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n"
+                                  "0 0 0\n1 0 0\n0 1 0\n" + count + " 0 1 2\n";
+        const std::string m = refusal(ascii, io::MeshFormat::Ply);
+        EXPECT_NE(m.find(expected), std::string::npos) << m;
+        fuzz_seed("mesh_ply", "huge_ascii_list_" + std::to_string(count.size()) + ".ply", ascii);
+    }
     // Binary STL: 80-byte header, a count of 40 million triangles, one triangle of data.
     std::string stl(80, 'x');
     put(stl, std::uint32_t(40000000));

@@ -6,6 +6,7 @@
 
 #include <charconv>
 #include <cmath>
+#include <cstdio>
 #include <cstdint>
 #include <cstdlib>
 #include <cstring>
@@ -376,12 +377,17 @@ public:
     /// A list's entry count, checked against what is left of the file.
     long long list_count(const PlyProperty& p, const char* what) {
         const double c = value(p.count_type, what);
-        if (!(c >= 0) || c != std::floor(c)) fail(name_, std::string("bad list length in ") + what);
+        if (!(c >= 0) || !std::isfinite(c) || c != std::floor(c)) fail(name_, std::string("bad list length in ") + what);
         const u64 min_each = format_ == PlyFormat::Ascii ? 2 : static_cast<u64>(ply_size(p.type));
         const u64 left = format_ == PlyFormat::Ascii ? b_.size() - pos_ + 1 : b_.size() - pos_;
-        if (c > static_cast<double>(left / min_each))
-            fail(name_, "a list in " + std::string(what) + " claims " + std::to_string(static_cast<u64>(c)) +
+        if (c > static_cast<double>(left / min_each)) {
+            // The count as written, whatever its size (an ASCII count is read as a double: the
+            // fuzzer's 2.2e25 has no u64, and converting it was undefined behaviour).
+            char claimed[400];
+            std::snprintf(claimed, sizeof claimed, "%.0f", c);
+            fail(name_, "a list in " + std::string(what) + " claims " + claimed +
                             " entries, more than the rest of the file holds: the file lies (truncated or corrupt)");
+        }
         return static_cast<long long>(c);
     }
 
