@@ -113,10 +113,12 @@ TEST(Experiment, ASeedSharesTheViewsAndNoiseDoesNot) {
     const retrieval::Experiment e1(o1);
     EXPECT_EQ(e1.cache_entry(o.methods[0], 0), e0.cache_entry(o.methods[0], 0));
     EXPECT_EQ(e1.run()[0].cached, 6);
-    std::size_t codebooks = 0;
-    for (const auto& f : fs::directory_iterator(o.out + "/cache"))
-        codebooks += f.path().filename().string().rfind("codebook_", 0) == 0;
-    EXPECT_EQ(codebooks, 2u);
+    const auto codebooks = [&] {
+        std::size_t n = 0;
+        for (const auto& f : fs::directory_iterator(o.out + "/cache")) n += f.path().filename().string().rfind("codebook_", 0) == 0;
+        return n;
+    };
+    EXPECT_EQ(codebooks(), 2u);
     // Noise (and simplification) change the features, so the codebook too: a noisy run in the
     // same folder trains its own instead of taking the plain run's.
     auto noisy = o;
@@ -125,10 +127,7 @@ TEST(Experiment, ASeedSharesTheViewsAndNoiseDoesNot) {
     auto simplified = o;
     simplified.simplify = 300;
     EXPECT_EQ(retrieval::Experiment(simplified).run()[0].cached, 0);
-    codebooks = 0;
-    for (const auto& f : fs::directory_iterator(o.out + "/cache"))
-        codebooks += f.path().filename().string().rfind("codebook_", 0) == 0;
-    EXPECT_EQ(codebooks, 4u);
+    EXPECT_EQ(codebooks(), 4u);
     auto n0 = o, n1 = o1;
     n0.noise = n1.noise = 0.1;
     EXPECT_NE(retrieval::Experiment(n0).cache_entry(o.methods[0], 0), retrieval::Experiment(n1).cache_entry(o.methods[0], 0));

@@ -42,6 +42,8 @@ import tempfile
 
 import numpy as np
 
+from run_matrices import load_method
+
 WEIGHTS = [0.5, 0.6, 0.7, 0.75, 0.8, 0.85, 0.875, 0.9, 0.925, 0.95]
 
 
@@ -177,14 +179,7 @@ RULES = [
 
 
 def load(run, method):
-    d = os.path.join(run, method)
-    for f in ("models.csv", "distances.bin"):
-        if not os.path.isfile(os.path.join(d, f)):
-            sys.exit("fused_rules.py: no %s (is %s a finished run with method %s?)" % (os.path.join(d, f), run, method))
-    rows = [line.split(",") for line in open(os.path.join(d, "models.csv")).read().splitlines()[1:] if line]
-    names = [r[0] for r in rows]
-    D = np.fromfile(os.path.join(d, "distances.bin"), dtype="<f4").reshape(len(names), len(names))
-    return names, {r[0]: r[1] for r in rows}, D.astype(np.float64)
+    return load_method(os.path.join(run, method))
 
 
 def parse(argv):

@@ -21,6 +21,8 @@ import tempfile
 
 import numpy as np
 
+from run_matrices import load_method
+
 args = sys.argv[1:]
 rule = "zscore"
 if "--rule" in args:
@@ -34,9 +36,7 @@ weights = [float(w) for w in args[4:]] or [k / 10 for k in range(11)]
 
 
 def load(method):
-    d = os.path.join(run, method)
-    names = [line.split(",")[0] for line in open(os.path.join(d, "models.csv")).read().splitlines()[1:] if line]
-    D = np.fromfile(os.path.join(d, "distances.bin"), dtype="<f4").reshape(len(names), len(names))
+    names, _, D = load_method(os.path.join(run, method))
     return names, D
 
 
@@ -77,7 +77,7 @@ Da = Da[np.ix_(ia, ia)].astype(np.float64)
 Db = Db[np.ix_(ib, ib)].astype(np.float64)
 normalise = median_normalised if rule == "median" else row_zscores
 Na, Nb = normalise(Da), normalise(Db)
-classes = dict(line.split(",")[:2] for line in open(os.path.join(run, a, "models.csv")).read().splitlines()[1:] if line)
+classes = load_method(os.path.join(run, a))[1]
 rows = []
 with tempfile.TemporaryDirectory() as tmp:
     labels = os.path.join(tmp, "labels.csv")

@@ -9,23 +9,17 @@ pairs, how many queries each side gets right in a majority of the pairs, and how
 have the same outcome in every pair on both sides. Queries are the models of models.csv (every
 model is a query, its nearest other model decides), so both folders must list the same models.
 """
-import csv
 import math
-import os
 import sys
 
 import numpy as np
 
+from run_matrices import load_method
+
 
 def nn_hits(folder):
-    rows = list(csv.DictReader(open(os.path.join(folder, "models.csv"))))
-    names = [r["name"] for r in rows]
-    labels = np.array([r["class"] for r in rows])
-    n = len(rows)
-    D = np.fromfile(os.path.join(folder, "distances.bin"), dtype="<f4")
-    if D.size != n * n:
-        sys.exit(f"{folder}: distances.bin has {D.size} entries, models.csv {n} models")
-    D = D.reshape(n, n).astype(float)
+    names, classes, D = load_method(folder)
+    labels = np.array([classes[n] for n in names])
     np.fill_diagonal(D, np.inf)
     return names, labels[D.argmin(axis=1)] == labels
 
