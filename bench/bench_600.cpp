@@ -9,7 +9,7 @@
 // the machine may be shared, and CPU seconds are what an extrapolation to 2 idle cores needs.
 // Prints one JSON line per stage.
 //   canonform_bench_600 MESH... [--models 600] [--words 1500] [--sample 100000] [--threads 2] [--all]
-//       [--sift opencv|opencv-half|opencv-fast|opencv-octave0|opencv-octave0-fine|vlfeat]
+//       [--sift opencv|opencv-half|opencv-fast|vlfeat]
 // (--all: also FAISS k-means on every descriptor, no sample)
 #include "canonform/views/bag_of_features.h"
 #include "canonform/views/codebook.h"

@@ -3,7 +3,7 @@
 // most 0.30 CPU s; a 600 x 600 clock-matching distance matrix in at most 60 s on 2 cores). CPU
 // seconds of the process (all threads; the machine may be shared), medians over the repeats,
 // the backends interleaved. Prints JSON lines.
-//   canonform_bench_views MESH [--repeats R] [--backends opencv,opencv-half,opencv-fast,opencv-octave0,opencv-octave0-fine,vlfeat]
+//   canonform_bench_views MESH [--repeats R] [--backends opencv,opencv-half,opencv-fast,vlfeat]
 // A backend may carry OpenCV options: NAME@CONTRAST[@LAYERS], e.g. opencv-half@0.0005@4.
 #include "canonform/views/bag_of_features.h"
 #include "canonform/views/codebook.h"
@@ -40,7 +40,7 @@ double cpu() {
 int main(int argc, char** argv) {
     using namespace canonform::views;
     if (argc < 2) {
-        std::fprintf(stderr, "usage: canonform_bench_views MESH [--repeats R] [--backends opencv,opencv-half,opencv-fast,opencv-octave0,opencv-octave0-fine,vlfeat]\n");
+        std::fprintf(stderr, "usage: canonform_bench_views MESH [--repeats R] [--backends opencv,opencv-half,opencv-fast,vlfeat]\n");
         return 2;
     }
     int repeats = 5;

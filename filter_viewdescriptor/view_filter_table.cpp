@@ -28,12 +28,10 @@ const std::vector<FilterSpec>& view_filter_table() {
                       {"views_folder", K::String, 0, "Write the views to (optional)",
                        "A folder for the 66 depth images as PNG; empty: do not write them.", {}, ""},
                       {"seed", K::Int, 0, "Random seed", "Seed of the rectilinearity restarts.", {}},
-                      {"sift", K::Enum, 5, "SIFT extractor",
-                       "opencv: OpenCV's SIFT on the 8-bit view; opencv-half: the same with its first "
+                      {"sift", K::Enum, 0, "SIFT extractor",
+                       "opencv (default): OpenCV's SIFT on the 8-bit view; opencv-half: the same with its first "
                        "octave at the view's resolution (faster); vlfeat: VLFeat's SIFT at its defaults on the "
-                       "float depth; opencv-fast: opencv-half's keypoints with descriptors of the full view; "
-                       "opencv-octave0: opencv's keypoints from octave 0 up, found without its doubled image; "
-                       "opencv-octave0-fine (default): the same plus an approximate octave -1 on the view itself. A "
+                       "float depth; opencv-fast: opencv-half's keypoints with descriptors of the full view. A "
                        "codebook must come from the same extractor.",
                        views::sift_backend_names()}},
                      kNothing, kNothing});

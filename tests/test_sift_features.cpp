@@ -148,7 +148,7 @@ TEST(Sift, SyntheticDepthKeypointCounts) {
 }
 
 TEST(Sift, BackendNamesRoundTrip) {
-    for (const char* name : {"opencv", "opencv-half", "opencv-fast", "opencv-octave0", "opencv-octave0-fine", "vlfeat"})
+    for (const char* name : {"opencv", "opencv-half", "opencv-fast", "vlfeat"})
         EXPECT_EQ(sift_backend_name(parse_sift_backend(name)), name);
     try {
         parse_sift_backend("surf");
@@ -207,7 +207,7 @@ TEST(Sift, FastBackendDescribesHalfViewKeypointsAtTheViewResolution) {
 TEST(Sift, KeypointsAreInTheViewsPixelCoordinates) {
     for (const auto& [cx, cy] : std::vector<std::pair<double, double>>{{100.5, 140.5}, {131.0, 90.0}}) {
         const auto img = blob(cx, cy, 6.0);
-        for (const SiftBackend b : {SiftBackend::OpenCV, SiftBackend::OpenCVHalf, SiftBackend::OpenCVFast, SiftBackend::OpenCVOctave0}) {
+        for (const SiftBackend b : {SiftBackend::OpenCV, SiftBackend::OpenCVHalf, SiftBackend::OpenCVFast}) {
             SiftOptions o;
             o.backend = b;
             const SiftFeatures f = sift_features(img, 256, o);
@@ -216,108 +216,4 @@ TEST(Sift, KeypointsAreInTheViewsPixelCoordinates) {
             EXPECT_LT(best, 0.15) << sift_backend_name(b) << " at (" << cx << ", " << cy << ")";
         }
     }
-}
-
-// opencv-octave0 reproduces OpenCV's own keypoints at octaves >= 0 without OpenCV's doubled image:
-// on the synthetic views, nearly every keypoint opencv reports at octave o >= 0 has an opencv-octave0
-// keypoint within half a pixel of that octave (2^o / 2 view pixels), of the same size (10%) and
-// orientation (5 degrees), with nearly opencv's descriptor (mean cosine > 0.98: our port of OpenCV's
-// descriptor on the same grid); the counts per octave agree within 15%; nothing at octave -1;
-// descriptors one per keypoint in OpenCV's format; deterministic.
-TEST(Sift, Octave0BackendReproducesOpenCVsKeypointsFromOctaveZero) {
-    SiftOptions full, oct0;
-    full.backend = SiftBackend::OpenCV;
-    oct0.backend = SiftBackend::OpenCVOctave0;
-    std::map<int, long> reference, ours, matched;
-    double cosine_sum = 0;
-    for (const bool bumps : {true, false}) {
-        const auto img = synthetic_depth(bumps);
-        const SiftFeatures o = sift_features(img, 256, full), f = sift_features(img, 256, oct0);
-        ASSERT_EQ(static_cast<size_t>(f.descriptors.rows()), f.keypoints.size());
-        for (const SiftKeypoint& k : f.keypoints) {
-            EXPECT_GE(k.octave, 0);
-            ++ours[k.octave];
-        }
-        for (const SiftKeypoint& k : o.keypoints) {
-            if (k.octave < 0) continue;
-            ++reference[k.octave];
-            const double tolerance = 0.5 * double(1 << k.octave);
-            for (size_t j = 0; j < f.keypoints.size(); ++j) {
-                const SiftKeypoint& q = f.keypoints[j];
-                double angle = std::abs(q.angle - k.angle);
-                angle = std::min(angle, 360 - angle);
-                if (std::hypot(q.x - k.x, q.y - k.y) < tolerance && std::abs(std::log(q.size / k.size)) < 0.1 && angle < 5) {
-                    ++matched[k.octave];
-                    const auto a = o.descriptors.row(&k - o.keypoints.data()), b = f.descriptors.row(static_cast<Eigen::Index>(j));
-                    cosine_sum += a.dot(b) / (a.norm() * b.norm());
-                    break;
-                }
-            }
-        }
-        expect_opencv_descriptor_format(f.descriptors);
-        const SiftFeatures again = sift_features(img, 256, oct0);
-        EXPECT_TRUE(again.descriptors == f.descriptors);  // deterministic
-    }
-    long total = 0, total_matched = 0;
-    for (const auto& [octave, n] : reference) {
-        std::printf("[sift] octave %d: opencv %ld keypoints, opencv-octave0 %ld, opencv's matched %ld\n", octave, n, ours[octave],
-                    matched[octave]);
-        total += n;
-        total_matched += matched[octave];
-        if (n >= 10) {
-            EXPECT_NEAR(double(ours[octave]), double(n), 0.15 * double(n)) << "octave " << octave;
-        }
-    }
-    ASSERT_GE(reference[0], 10);  // the octave in question is populated
-    EXPECT_GE(double(matched[0]), 0.9 * double(reference[0]));
-    EXPECT_GE(double(total_matched), 0.9 * double(total));
-    std::printf("[sift] mean cosine of matched descriptors %.4f\n", cosine_sum / double(total_matched));
-    EXPECT_GT(cosine_sum / double(total_matched), 0.98);
-}
-
-// opencv-octave0-fine is opencv-octave0 plus keypoints of an extra, finer octave reported at octave
-// -1: its keypoints at octaves >= 0 and their descriptors are opencv-octave0's, in the same order,
-// after the octave -1 ones, which are smaller (finer scale) and inside the view; descriptors in
-// OpenCV's format; deterministic.
-TEST(Sift, Octave0FineBackendAddsAnOctaveMinusOne) {
-    SiftOptions oct0, fine;
-    oct0.backend = SiftBackend::OpenCVOctave0;
-    fine.backend = SiftBackend::OpenCVOctave0Fine;
-    EXPECT_EQ(SiftOptions{}.backend, SiftBackend::OpenCVOctave0Fine);  // the default extractor
-    long extra_total = 0;
-    for (const bool bumps : {true, false}) {
-        const auto img = synthetic_depth(bumps);
-        const SiftFeatures a = sift_features(img, 256, oct0), b = sift_features(img, 256, fine);
-        ASSERT_EQ(static_cast<size_t>(b.descriptors.rows()), b.keypoints.size());
-        size_t extra = 0;
-        while (extra < b.keypoints.size() && b.keypoints[extra].octave == -1) ++extra;
-        ASSERT_EQ(b.keypoints.size(), extra + a.keypoints.size()) << "bumps " << bumps;
-        std::vector<float> fine_sizes, octave0_sizes;
-        for (size_t i = 0; i < extra; ++i) {
-            const SiftKeypoint& k = b.keypoints[i];
-            EXPECT_GE(k.x, 0.f);
-            EXPECT_LT(k.x, 256.f);
-            EXPECT_GE(k.y, 0.f);
-            EXPECT_LT(k.y, 256.f);
-            fine_sizes.push_back(k.size);
-        }
-        for (size_t i = 0; i < a.keypoints.size(); ++i) {
-            const SiftKeypoint &p = a.keypoints[i], &q = b.keypoints[extra + i];
-            expect_same_keypoint(p, q);
-            EXPECT_GE(q.octave, 0);
-            if (q.octave == 0) octave0_sizes.push_back(q.size);
-        }
-        EXPECT_TRUE(b.descriptors.bottomRows(a.descriptors.rows()) == a.descriptors);
-        if (!fine_sizes.empty() && !octave0_sizes.empty()) {
-            std::sort(fine_sizes.begin(), fine_sizes.end());
-            std::sort(octave0_sizes.begin(), octave0_sizes.end());
-            EXPECT_LT(fine_sizes[fine_sizes.size() / 2], octave0_sizes[octave0_sizes.size() / 2]);
-        }
-        expect_opencv_descriptor_format(b.descriptors);
-        EXPECT_TRUE(b.descriptors == sift_features(img, 256, fine).descriptors);  // deterministic
-        std::printf("[sift] %s: opencv-octave0 %zu keypoints, opencv-octave0-fine %zu more at octave -1\n",
-                    bumps ? "bumpy sphere" : "stick figure", a.keypoints.size(), extra);
-        extra_total += static_cast<long>(extra);
-    }
-    EXPECT_GT(extra_total, 0);
 }

@@ -91,7 +91,7 @@ std::vector<std::string> split_list(const std::string& text);
 struct ExperimentArgs {
     retrieval::ExperimentOptions o;
     std::string methods = "none,euclidean-N";
-    std::string sift = "opencv-octave0-fine";
+    std::string sift = views::sift_backend_name(views::SiftOptions{}.backend);  // the library's default
 };
 void add_experiment_options(CLI::App* command, ExperimentArgs& args);
 /// The options parsed: labels default, SIFT backend, codebook method or file, methods (fused ones

@@ -78,10 +78,9 @@ void add_experiment_options(CLI::App* c, ExperimentArgs& a) {
     c->add_option("--noise", a.o.noise, "vertex noise, as a fraction of the mean edge length")
         ->check(finite_range(0, 10));
     c->add_option("--seed", a.o.seed, "seed of the noise and the codebook")->check(finite_range(0, 4294967295.0));
-    c->add_option("--sift", a.sift, "SIFT extractor: opencv-octave0-fine (default: opencv-octave0 plus an approximate octave -1), opencv, opencv-half (first octave at the view's "
+    c->add_option("--sift", a.sift, "SIFT extractor: opencv (default), opencv-half (first octave at the view's "
                                     "resolution), opencv-fast (opencv-half's keypoints, descriptors of the full "
-                                    "view), opencv-octave0 (opencv's keypoints of octaves >= 0, found without "
-                                    "doubling the view), or vlfeat (VLFeat's defaults on the float depth)")
+                                    "view), or vlfeat (VLFeat's defaults on the float depth)")
         ->check(CLI::IsMember(views::sift_backend_names()));
     add_repair_flag(c, a.o.repair);
 }

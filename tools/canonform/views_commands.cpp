@@ -26,10 +26,10 @@ struct ViewArgs {
     int image_size = 256;
     std::uint64_t seed = 0;
     bool repair = false;
-    std::string sift = "opencv-octave0-fine";
+    std::string sift = views::sift_backend_name(views::SiftOptions{}.backend);  // the library's default
 
     void add(CLI::App* c) {
-        c->add_option("--sift", sift, "SIFT extractor: opencv-octave0-fine (default), opencv, opencv-half, opencv-fast, opencv-octave0 or vlfeat (sift_features.h)")
+        c->add_option("--sift", sift, "SIFT extractor: opencv (default), opencv-half, opencv-fast or vlfeat (sift_features.h)")
             ->check(CLI::IsMember(views::sift_backend_names()));
         c->add_option("--size", image_size, "pixels per side of each depth view")->check(CLI::Range(32, 2048));
         c->add_option("--seed", seed, "seed of the rectilinearity restarts (and of the codebook)")

@@ -5,7 +5,7 @@
 // using Clock Matching and Bag-of-Features", Machine Vision and Applications 24, 2013 (Sec. 3.2);
 // Pickup et al., Pattern Recognition 2015 (CM-BOF on canonical forms).
 //
-// Six extractors (SiftBackend; `--sift` in the tool and `retrieve`, a parameter of the view filter):
+// Four extractors (SiftBackend; `--sift` in the tool and `retrieve`, a parameter of the view filter):
 // - opencv: OpenCV's cv::SIFT on the 8-bit view, as described below. OpenCV doubles the image
 //   before its first octave (first octave -1): a 512 x 512 pyramid for a 256 x 256 view, which is
 //   most of its cost.
@@ -19,25 +19,6 @@
 //   (measured: retrieval like opencv-half's, not opencv's - README, "SIFT backends").
 //   Our departure from Lowe's single-pyramid pipeline: detection and description use two pyramids
 //   (the half view's doubled image and the view itself) of the same scale.
-// - opencv-octave0: opencv's own keypoints of octaves >= 0 without its doubled image. OpenCV 4.6's
-//   detector (findScaleSpaceExtrema: 26-neighbour extrema of the DoG layers 1..3, integer
-//   pre-threshold, adjustLocalExtrema's refinement with contrast and edge tests, orientation
-//   histogram, keypoint packing) is re-implemented here on OpenCV's octave-0 grid: OpenCV's octave 0
-//   is the nearest-neighbour half of its doubled image, i.e. the view resampled at i - 1/4 on both
-//   axes (0.25 * I[i-1] + 0.75 * I[i]), blurred to sigma. That resampling, not the blur, is what a
-//   plain first octave 0 on the view lacks (it finds a third of opencv's octave-0 keypoints).
-//   Descriptors: OpenCV 4.6's calcSIFTDescriptor, ported, on the same pyramid (cv::SIFT::compute
-//   would build a second pyramid, and takes 8-bit images only). Departure from opencv: no octave
-//   -1 keypoints. Measured: 94% of opencv's octave-0 keypoints and all of octaves >= 1 found
-//   (position within half a pixel of the octave, size 10%, angle 5 degrees), 7% more at octave 0,
-//   descriptors of the matched keypoints opencv's (mean cosine 1.000) (README).
-// - opencv-octave0-fine: opencv-octave0 plus an approximate octave -1: one more octave, on the view
-//   itself (not resampled, not doubled), from sigma / 2 (the scale of OpenCV's doubled octave),
-//   with 2 DoG layers, the same detector and descriptor; its keypoints are reported at octave -1.
-//   Departure from opencv: OpenCV finds its octave -1 keypoints on the doubled view, which costs
-//   four times the pixels; on the view itself 2 layers find about as many (3 layers find ten
-//   times as many: the 8-bit steps). Measured: retrieval like opencv's, which opencv-octave0's
-//   lacks (README, "A cheaper default?").
 // - vlfeat: VLFeat's vl_sift (Debian's libvlfeat-dev, 0.9.21) on the float depth image scaled to
 //   [0, 255] (no 8-bit rounding) with VLFeat's defaults, as CM-BOF's public code calls it: first
 //   octave 0, 3 levels per octave, peak threshold 0, edge threshold 10; one descriptor per
@@ -99,11 +80,10 @@ using SiftDescriptors = Eigen::Matrix<float, Eigen::Dynamic, 128, Eigen::RowMajo
 inline constexpr double kDefaultContrastThreshold = 0.001;
 
 /// The SIFT implementation (see above).
-enum class SiftBackend { OpenCV, OpenCVHalf, VLFeat, OpenCVFast, OpenCVOctave0, OpenCVOctave0Fine };
+enum class SiftBackend { OpenCV, OpenCVHalf, VLFeat, OpenCVFast };
 
 /// Every backend's name, in SiftBackend's order (which is also the order of the view filter's
-/// `sift` enum): "opencv", "opencv-half", "vlfeat", "opencv-fast", "opencv-octave0",
-/// "opencv-octave0-fine".
+/// `sift` enum): "opencv", "opencv-half", "vlfeat", "opencv-fast".
 const std::vector<std::string>& sift_backend_names();
 /// A name of sift_backend_names() (InputError naming the choices otherwise), and back.
 SiftBackend parse_sift_backend(const std::string& name);
@@ -111,15 +91,13 @@ std::string sift_backend_name(SiftBackend backend);
 
 /// One keypoint at the feature's position in the view's pixel coordinates (pixel centres at
 /// integers). OpenCV reports positions 0.25 pixel off when it doubles the image (see
-/// sift_features.cpp); that is corrected here (opencv-octave0's carry the same offset from its
-/// resampled grid, corrected too), and opencv-half's and opencv-fast's keypoints are mapped from the
-/// half view.
+/// sift_features.cpp); that is corrected here, and opencv-half's and opencv-fast's keypoints are
+/// mapped from the half view.
 struct SiftKeypoint {
     float x = 0, y = 0;  ///< position (column, row)
     float size = 0;      ///< OpenCV's KeyPoint::size (diameter) for the OpenCV backends; VLFeat's sigma for vlfeat
     float angle = 0;     ///< orientation in degrees (OpenCV's convention for the OpenCV backends)
-    int octave = 0;      ///< pyramid octave relative to the view (-1: opencv's doubled image, opencv-octave0-fine's
-                         ///< extra octave; >= 0 for the others)
+    int octave = 0;      ///< pyramid octave relative to the view (-1: opencv's doubled image; >= 0 for the others)
 };
 
 /// Keypoints and their descriptors (row i describes keypoints[i]).
@@ -131,7 +109,7 @@ struct SiftFeatures {
 /// Options of sift_descriptors(); the names follow cv::SIFT::create. The thresholds apply to the
 /// OpenCV backends; vlfeat uses VLFeat's defaults (peak 0, edge 10, first octave 0).
 struct SiftOptions {
-    SiftBackend backend = SiftBackend::OpenCVOctave0Fine;  ///< the extractor (default since issue 13: README, "A cheaper default?")
+    SiftBackend backend = SiftBackend::OpenCV;  ///< the extractor
     double contrast_threshold = kDefaultContrastThreshold;  ///< OpenCV contrastThreshold (>= 0)
     double edge_threshold = 10;   ///< principal-curvature ratio limit (VLFeat and OpenCV default 10)
     int max_features = 0;         ///< keep the strongest n keypoints; 0 = all
