@@ -47,14 +47,14 @@ ActionOutputs depth_view_descriptor(MeshDocument& md, const ParamValues& p, cons
     opt.image_size = size;
     opt.pose.seed = static_cast<std::uint64_t>(p.get_int("seed"));
     const int sift = p.get_int("sift");
-    const auto& sift_names = views::sift_backend_names();  // the filter's enum, in SiftBackend's order
+    const auto& sift_names = views::builtin_sift_backend_names();  // the filter's enum
     if (sift < 0 || sift >= static_cast<int>(sift_names.size())) {
         std::string choices;
         for (size_t k = 0; k < sift_names.size(); ++k)
             choices += (k == 0 ? "" : k + 1 == sift_names.size() ? " or " : ", ") + std::to_string(k) + " (" + sift_names[k] + ")";
         throw InputError("the SIFT extractor must be " + choices);
     }
-    opt.sift.backend = static_cast<views::SiftBackend>(sift);
+    opt.sift.backend = views::parse_sift_backend(sift_names[static_cast<size_t>(sift)]);
     const views::Codebook* codebook = nullptr;
     views::Codebook cb;
     if (!cb_path.empty()) {

@@ -2,11 +2,18 @@
 
 #include "canonform/views/sift_features.h"
 
+#include <algorithm>
+
 namespace canonform::plugin {
 
 const std::vector<FilterSpec>& view_filter_table() {
     static const std::vector<FilterSpec> table = [] {
         using K = ParamKind;
+        // The choices are the extractors built into the views library; the default is the library's.
+        const auto& sift_names = views::builtin_sift_backend_names();
+        const double sift_default = static_cast<double>(
+            std::find(sift_names.begin(), sift_names.end(), views::sift_backend_name(views::SiftOptions{}.backend)) -
+            sift_names.begin());
         std::vector<FilterSpec> t;
         t.push_back({int(ViewFilterId::DepthViewDescriptor), "Depth view descriptor", "compute_depth_view_descriptor",
                      "depth_view_descriptor.mlx", FilterKind::Measure,
@@ -28,12 +35,11 @@ const std::vector<FilterSpec>& view_filter_table() {
                       {"views_folder", K::String, 0, "Write the views to (optional)",
                        "A folder for the 66 depth images as PNG; empty: do not write them.", {}, ""},
                       {"seed", K::Int, 0, "Random seed", "Seed of the rectilinearity restarts.", {}},
-                      {"sift", K::Enum, 0, "SIFT extractor",
-                       "opencv (default): OpenCV's SIFT on the 8-bit view; opencv-half: the same with its first "
-                       "octave at the view's resolution (faster); vlfeat: VLFeat's SIFT at its defaults on the "
-                       "float depth; opencv-fast: opencv-half's keypoints with descriptors of the full view. A "
-                       "codebook must come from the same extractor.",
-                       views::sift_backend_names()}},
+                      {"sift", K::Enum, sift_default, "SIFT extractor",
+                       "canonform (default): the project's own SIFT (Lowe 2004) on the depth view, at the "
+                       "view's resolution with an approximate finer octave. A codebook must come from the same "
+                       "extractor (the canonform tool also offers OpenCV's SIFT, `--sift opencv`).",
+                       views::builtin_sift_backend_names()}},
                      kNothing, kNothing});
         return t;
     }();

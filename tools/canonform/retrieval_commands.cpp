@@ -78,9 +78,8 @@ void add_experiment_options(CLI::App* c, ExperimentArgs& a) {
     c->add_option("--noise", a.o.noise, "vertex noise, as a fraction of the mean edge length")
         ->check(finite_range(0, 10));
     c->add_option("--seed", a.o.seed, "seed of the noise and the codebook")->check(finite_range(0, 4294967295.0));
-    c->add_option("--sift", a.sift, "SIFT extractor: opencv (default), opencv-half (first octave at the view's "
-                                    "resolution), opencv-fast (opencv-half's keypoints, descriptors of the full "
-                                    "view), or vlfeat (VLFeat's defaults on the float depth)")
+    c->add_option("--sift", a.sift, "SIFT extractor: canonform (default: the project's own, Lowe 2004) or opencv "
+                                    "(OpenCV's cv::SIFT); see docs/sift.md")
         ->check(CLI::IsMember(views::sift_backend_names()));
     add_repair_flag(c, a.o.repair);
 }

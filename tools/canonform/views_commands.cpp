@@ -29,7 +29,7 @@ struct ViewArgs {
     std::string sift = views::sift_backend_name(views::SiftOptions{}.backend);  // the library's default
 
     void add(CLI::App* c) {
-        c->add_option("--sift", sift, "SIFT extractor: opencv (default), opencv-half, opencv-fast or vlfeat (sift_features.h)")
+        c->add_option("--sift", sift, "SIFT extractor: canonform (default: the project's own, Lowe 2004) or opencv (OpenCV's cv::SIFT); see docs/sift.md")
             ->check(CLI::IsMember(views::sift_backend_names()));
         c->add_option("--size", image_size, "pixels per side of each depth view")->check(CLI::Range(32, 2048));
         c->add_option("--seed", seed, "seed of the rectilinearity restarts (and of the codebook)")
