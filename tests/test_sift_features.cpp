@@ -214,10 +214,11 @@ TEST(Sift, KeypointsAndDescriptorsAsDocumented) {
             largest[k.octave] = std::max(largest[k.octave], k.size);
         }
         EXPECT_GT(per_octave[0], 0);
-        // Octave o holds sizes 2 sigma 2^o in [2 sigma0 2^o / 2^(1/2s)...): octaves do not overlap much.
+        // Octave o >= 0 holds sizes 2 sigma0 2^o 2^(j/3) for DoG images j = 1..3 and offsets up to
+        // 0.6; octave -1 2 (sigma0 / 2) 2^(j/2), j = 1..2.
         for (const auto& [o, n] : per_octave) {
-            const double lo = 2 * 1.6 * std::ldexp(1.0, o) * std::pow(2.0, 1.0 / 3 - 0.5 / 3);
-            const double hi = 2 * 1.6 * std::ldexp(1.0, o) * std::pow(2.0, 1.0 + 0.5 / 3);
+            const double lo = o < 0 ? 2 * 0.8 * std::pow(2.0, 0.4 / 2) : 2 * 1.6 * std::ldexp(1.0, o) * std::pow(2.0, 0.4 / 3);
+            const double hi = o < 0 ? 2 * 0.8 * std::pow(2.0, 2.6 / 2) : 2 * 1.6 * std::ldexp(1.0, o) * std::pow(2.0, 3.6 / 3);
             EXPECT_GE(smallest[o], 0.99 * lo) << "octave " << o;
             EXPECT_LE(largest[o], 1.01 * hi) << "octave " << o;
         }
@@ -239,9 +240,9 @@ TEST(Sift, KeypointsAndDescriptorsAsDocumented) {
         for (const SiftKeypoint& k : s.keypoints) EXPECT_GE(k.response, r[4]);
     }
     long fine = 0;  // the approximate octave -1 holds keypoints of rendered views
-    for (const Image& v : figure_views(4))
-        for (const SiftKeypoint& k : sift_features(v, kN).keypoints) fine += k.octave == -1;
-    EXPECT_GT(fine, 10);
+    for (const Image& v : figure_views(8))
+        for (const SiftKeypoint& k : depth_sift_features(v, kN).keypoints) fine += k.octave == -1;
+    EXPECT_GT(fine, 0);
     std::vector<std::uint8_t> gray(kN * kN);
     Image as_float(kN * kN);
     const Image img = synthetic(true);
@@ -250,18 +251,19 @@ TEST(Sift, KeypointsAndDescriptorsAsDocumented) {
         as_float[i] = gray[i] / 255.f;
     }
     EXPECT_TRUE(sift_descriptors(gray, kN) == sift_descriptors(as_float, kN));
-    EXPECT_TRUE(depth_sift_descriptors(img, kN) == sift_descriptors(img, kN));  // depth as it is
+    EXPECT_TRUE(depth_sift_descriptors(img, kN) == sift_descriptors(gray, kN));  // a depth view as 8 bits
 }
 
 // Lowe's keypoints are covariant with rotations of the image. A quarter turn and a mirror image
-// permute the pixels exactly, so the keypoints found on the view's own grid (octaves -1 and 0) must
-// come back at the mapped positions, with the same size and the mapped angle - all but a few, which
-// the rounding of the other summation order of the separable blur can tip (the rows of the turned
-// view are the columns of the view). Octaves 1 and up take every second pixel of a 256-pixel view,
-// and the turned view's even pixels are the view's odd ones, so there the keypoints are those of a
-// grid half a pixel of that octave away: most come back, within the looser tolerance of the octave.
+// permute the pixels exactly, so the keypoints of the approximate octave -1, found on the view's own
+// grid, must come back at the mapped positions, with the same size and the mapped angle - all but a
+// few, which the rounding of the other summation order of the separable blur can tip (the rows of
+// the turned view are the columns of the view). Octaves 0 and up lie on other grids: the doubled
+// image's (the view at i - 1/4) and every second pixel of it. A quarter turn or a mirror image maps
+// such a grid onto one half a pixel of the octave away, so there the keypoints are those of a
+// slightly different sampling: most come back, within the looser tolerance of the octave.
 TEST(Sift, KeypointsRepeatUnderQuarterTurnsAndMirroring) {
-    std::vector<Image> views = figure_views(4);
+    std::vector<Image> views = figure_views(8);
     views.push_back(synthetic(true));
     views.push_back(synthetic(false));
     size_t fine_total = 0, coarse_total = 0, fine_hit[2] = {0, 0}, coarse_hit[2] = {0, 0};
@@ -269,7 +271,7 @@ TEST(Sift, KeypointsRepeatUnderQuarterTurnsAndMirroring) {
         const SiftFeatures a = sift_features(v, kN);
         const SiftFeatures moved[2] = {sift_features(rotate90(v), kN), sift_features(flip(v), kN)};
         for (const SiftKeypoint& k : a.keypoints) {
-            const bool grid = k.octave <= 0;
+            const bool grid = k.octave < 0;
             (grid ? fine_total : coarse_total) += 1;
             for (int t = 0; t < 2; ++t) {
                 const double x = t == 0 ? kN - 1 - k.y : kN - 1 - k.x, y = t == 0 ? k.x : k.y;
@@ -285,14 +287,14 @@ TEST(Sift, KeypointsRepeatUnderQuarterTurnsAndMirroring) {
         }
     }
     const auto rate = [](size_t hit, size_t n) { return double(hit) / double(std::max<size_t>(n, 1)); };
-    std::printf("[sift] 6 views: of %zu keypoints at octaves -1 and 0, %.3f come back under a quarter turn and %.3f "
-                "mirrored; of %zu at octaves >= 1, %.3f and %.3f\n",
+    std::printf("[sift] 10 views: of %zu keypoints at octave -1, %.3f come back under a quarter turn and %.3f "
+                "mirrored; of %zu at octaves >= 0, %.3f and %.3f\n",
                 fine_total, rate(fine_hit[0], fine_total), rate(fine_hit[1], fine_total), coarse_total,
                 rate(coarse_hit[0], coarse_total), rate(coarse_hit[1], coarse_total));
-    ASSERT_GE(fine_total, 100u);
-    ASSERT_GE(coarse_total, 50u);
+    ASSERT_GE(fine_total, 10u);
+    ASSERT_GE(coarse_total, 100u);
     for (int t = 0; t < 2; ++t) {
-        EXPECT_GE(rate(fine_hit[t], fine_total), 0.97);
+        EXPECT_GE(rate(fine_hit[t], fine_total), 0.9);
         EXPECT_GE(rate(coarse_hit[t], coarse_total), 0.6);
     }
 }
@@ -340,9 +342,9 @@ TEST(Sift, MatchedDescriptorsAgreeUnderASmallRotation) {
 
 // A Gaussian blob of sigma s is an extremum of D at the centre and at the scale sigma with
 // sigma sqrt(k) = s: D(sigma) = L(k sigma) - L(sigma) is largest in magnitude where
-// 1/(s^2 + sigma^2) - 1/(s^2 + k^2 sigma^2) is, i.e. sigma^2 = s^2 / k.
+// 1/(s^2 + sigma^2) - 1/(s^2 + k^2 sigma^2) is, i.e. sigma^2 = s^2 / k (k = 2^(1/3) in octaves 0
+// and up, 2^(1/2) in the approximate octave -1).
 TEST(Sift, BlobIsFoundAtItsCentreAndScale) {
-    const double k = std::pow(2.0, 1.0 / 3);
     for (const double s : {2.0, 3.0, 5.0, 8.0, 13.0, 21.0}) {
         const double cx = 120.3, cy = 131.6;
         Image img(kN * kN);
@@ -355,7 +357,7 @@ TEST(Sift, BlobIsFoundAtItsCentreAndScale) {
         for (const SiftKeypoint& q : f.keypoints)
             if (!best || q.response > best->response) best = &q;
         ASSERT_NE(best, nullptr) << "s = " << s;
-        const double sigma = best->size / 2;
+        const double sigma = best->size / 2, k = std::pow(2.0, best->octave < 0 ? 0.5 : 1.0 / 3);
         std::printf("[sift] blob sigma %.0f: strongest keypoint at (%.2f, %.2f), sigma sqrt(k) %.2f\n", s, best->x, best->y,
                     sigma * std::sqrt(k));
         EXPECT_LT(std::hypot(best->x - cx, best->y - cy), 0.05 * s + 0.1) << "s = " << s;

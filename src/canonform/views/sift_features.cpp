@@ -7,6 +7,7 @@
 #include <cstring>
 #include <memory>
 #include <string>
+#include <cstdlib>
 
 #if defined(__SSE__)
 #include <xmmintrin.h>
@@ -434,7 +435,8 @@ constexpr float kClip = 0.2f;              // Lowe Sec. 6.1
 constexpr int kMaxFits = 5;                // sub-pixel fits per extremum (ours)
 constexpr double kPreTest = 0.5;           // |D| >= kPreTest * t before the fit (ours)
 constexpr int kMinOctaveSize = 8;          // octaves while the view is at least this wide at the octave
-constexpr int kFineMargin = 2;             // octave -1 keypoints this far from the background are dropped
+constexpr int kFineLayers = 2;             // DoG images searched in the approximate octave -1 (ours)
+constexpr int kOrientationSmoothing = 2;   // passes of [1 2 1] / 4 over the orientation histogram (ours)
 
 struct Settings {
     int layers = 3;
@@ -462,17 +464,8 @@ public:
     SiftFeatures run();
 
 private:
-    // Whether a background (0) pixel of the view (or the view's edge) lies within `r` pixels
-    // (Chebyshev distance) of pixel (x, y).
-    bool touches_background(int x, int y, int r) const {
-        if (x - r < 0 || y - r < 0 || x + r >= size_ || y + r >= size_) return true;
-        for (int yy = y - r; yy <= y + r; ++yy)
-            for (int xx = x - r; xx <= x + r; ++xx)
-                if (image_[static_cast<size_t>(yy) * static_cast<size_t>(size_) + static_cast<size_t>(xx)] == 0.f) return true;
-        return false;
-    }
-
-    void octave(int o, int jmin, std::vector<Plane>& g);
+    void stack(const Plane& input, int octaves, int label, float offset);
+    void octave(int o, std::vector<Plane>& g, int label, float offset);
     bool refine(const std::vector<Plane>& g, int jmin, int jmax, int& x, int& y, int& j, double off[3],
                 double& value) const;
     void orientations(const Plane& L, const Candidate& c, std::vector<double>& angles);
@@ -486,6 +479,7 @@ private:
     Workspace& ws_ = workspace();
     std::vector<SiftKeypoint> keys_;
     std::vector<float> ring_;  // the extremum scan's DoG rows
+    std::vector<float> shifted_;  // the view on the doubled image's grid
     std::vector<float> wx_, wy_, dx2_, dy2_;  // window weights
     std::vector<float> desc_;  // 128 per keypoint
 };
@@ -493,62 +487,46 @@ private:
 double layer_sigma(const Settings& st, int j) { return st.sigma0 * exp2_det(double(j) / st.layers); }
 
 SiftFeatures Extractor::run() {
-    const Rect box = box_;  // the object's box (the background is 0)
     SiftFeatures out;
-    if (box.empty()) return out;
-
-    const int jmin = o_.fine_octave ? -st_.layers : 0;
-    const int jmax = st_.layers + 2;  // Gaussian images j = jmin..jmax
-    std::vector<Plane> g;
-    Rect obj = box;
-    Plane prev_base;  // octave o's image j = layers (2 sigma0), for octave o + 1 (in the other bank)
-    for (int o = 0; (size_ >> o) >= kMinOctaveSize || o == 0; ++o) {
-        const int lo = o == 0 ? jmin : 0;
-        const int count = jmax - lo + 1;
-        // Supports: the object's box grown by 4 sigma_j; the frame holds the largest.
-        const Rect frame = obj.grown(support_radius(layer_sigma(st_, jmax)));
-        const size_t cells = static_cast<size_t>(frame.width()) * static_cast<size_t>(frame.height());
-        g.assign(static_cast<size_t>(count), Plane{});
-        for (int i = 0; i < count; ++i) {
-            Plane& p = g[static_cast<size_t>(i)];
-            p.data = ws_.plane(o & 1, i, cells + 16);  // (+16: a block of samples may read past a row)
-            p.frame = frame;
-            p.stride = frame.width();
-            p.support = obj.grown(support_radius(layer_sigma(st_, lo + i)));
-        }
-        Plane& first = g[0];
-        if (o == 0) {
-            // The view (0 outside it) blurred from input_blur to sigma_lo.
-            Plane view;
-            view.data = const_cast<float*>(image_);
-            view.frame = {0, 0, size_, size_};
-            view.stride = size_;
-            view.support = box;
-            const double s = layer_sigma(st_, lo);
-            blur(view, first, gaussian_kernel(std::sqrt(s * s - o_.input_blur * o_.input_blur)), ws_);
-        } else {
-            // Every second pixel of every second row of the previous octave's image j = layers.
-            for (int y = first.support.y0; y < first.support.y1; ++y) {
-                float* r = first.row(y);
-                const int py = 2 * y;
-                const bool row_in = py >= prev_base.support.y0 && py < prev_base.support.y1;
-                for (int x = first.support.x0; x < first.support.x1; ++x) {
-                    const int px = 2 * x;
-                    r[x] = row_in && px >= prev_base.support.x0 && px < prev_base.support.x1 ? prev_base.at(px, py) : 0.f;
-                }
-            }
-        }
-        for (int i = 1; i < count; ++i) {
-            const double a = layer_sigma(st_, lo + i - 1), b = layer_sigma(st_, lo + i);
-            blur(g[static_cast<size_t>(i - 1)], g[static_cast<size_t>(i)], gaussian_kernel(std::sqrt(b * b - a * a)), ws_);
-        }
-        octave(o, lo, g);
-        // The next octave's base, and its object box (the pixels covering this one's, halved).
-        prev_base = g[static_cast<size_t>(st_.layers - lo)];
-        const auto half_floor = [](int v) { return v >= 0 ? v / 2 : -((-v + 1) / 2); };
-        obj = {half_floor(obj.x0), half_floor(obj.y0), half_floor(obj.x1 - 1) + 1, half_floor(obj.y1 - 1) + 1};
+    if (box_.empty()) return out;
+    const Settings main = st_;
+    // The approximate octave -1 (step 1): the view itself, one octave of kFineLayers from sigma / 2.
+    if (o_.fine_octave) {
+        st_.layers = kFineLayers;
+        st_.sigma0 = main.sigma0 / 2;
+        Plane view;
+        view.data = const_cast<float*>(image_);
+        view.frame = {0, 0, size_, size_};
+        view.stride = size_;
+        view.support = box_;
+        stack(view, 1, -1, 0.f);
+        st_ = main;
     }
-
+    // Octaves 0 and up on the doubled image's grid: the view linearly interpolated at i - 1/4 on
+    // both axes, 0.75 v[i] + 0.25 v[i - 1] (0 outside the view), support one pixel wider.
+    const int n = size_ + 1;
+    const Rect box{box_.x0, box_.y0, std::min(box_.x1 + 1, n), std::min(box_.y1 + 1, n)};
+    shifted_.assign(static_cast<size_t>(n) * static_cast<size_t>(n), 0.f);
+    std::vector<float> across(static_cast<size_t>(n));
+    for (int y = box.y0; y < box.y1; ++y) {
+        float* r = shifted_.data() + static_cast<size_t>(y) * static_cast<size_t>(n);
+        const float* v = y < size_ ? image_ + static_cast<size_t>(y) * static_cast<size_t>(size_) : nullptr;
+        const float* u = y > 0 ? image_ + static_cast<size_t>(y - 1) * static_cast<size_t>(size_) : nullptr;
+        for (int x = box.x0; x < box.x1; ++x) {
+            const auto h = [&](const float* row) {  // along the row: 0.75 row[x] + 0.25 row[x - 1]
+                if (!row) return 0.f;
+                const float here = x < size_ ? row[x] : 0.f, left = x > 0 ? row[x - 1] : 0.f;
+                return 0.75f * here + 0.25f * left;
+            };
+            r[x] = 0.75f * h(v) + 0.25f * h(u);
+        }
+    }
+    Plane grid;
+    grid.data = shifted_.data();
+    grid.frame = {0, 0, n, n};
+    grid.stride = n;
+    grid.support = box;
+    stack(grid, 1000, 0, 0.25f);
     // max_features: the strongest, in the order found.
     std::vector<size_t> keep(keys_.size());
     for (size_t i = 0; i < keep.size(); ++i) keep[i] = i;
@@ -566,10 +544,61 @@ SiftFeatures Extractor::run() {
     return out;
 }
 
+// One scale space (step 1): from `input` (0 outside its support, blur input_blur), octaves 0 ..
+// octaves - 1 of st_'s sampling; keypoints labelled octave `label` + o, at view position
+// (octave-0 coordinate) - offset.
+void Extractor::stack(const Plane& input, int octaves, int label, float offset) {
+    const int jmax = st_.layers + 2;  // Gaussian images j = 0..jmax
+    std::vector<Plane> g;
+    Rect obj = input.support;
+    Plane prev_base;  // octave o's image j = layers (2 sigma0), for octave o + 1 (in the other bank)
+    for (int o = 0; o < octaves && ((size_ >> o) >= kMinOctaveSize || o == 0); ++o) {
+        const int count = jmax + 1;
+        // Supports: the object's box grown by 4 sigma_j; the frame holds the largest.
+        const Rect frame = obj.grown(support_radius(layer_sigma(st_, jmax)));
+        const size_t cells = static_cast<size_t>(frame.width()) * static_cast<size_t>(frame.height());
+        g.assign(static_cast<size_t>(count), Plane{});
+        for (int i = 0; i < count; ++i) {
+            Plane& p = g[static_cast<size_t>(i)];
+            p.data = ws_.plane(o & 1, i, cells + 16);  // (+16: a block of samples may read past a row)
+            p.frame = frame;
+            p.stride = frame.width();
+            p.support = obj.grown(support_radius(layer_sigma(st_, i)));
+        }
+        Plane& first = g[0];
+        if (o == 0) {
+            // The input (0 outside it) blurred from input_blur to sigma0.
+            const double s = st_.sigma0;
+            blur(input, first, gaussian_kernel(std::sqrt(s * s - o_.input_blur * o_.input_blur)), ws_);
+        } else {
+            // Every second pixel of every second row of the previous octave's image j = layers.
+            for (int y = first.support.y0; y < first.support.y1; ++y) {
+                float* r = first.row(y);
+                const int py = 2 * y;
+                const bool row_in = py >= prev_base.support.y0 && py < prev_base.support.y1;
+                for (int x = first.support.x0; x < first.support.x1; ++x) {
+                    const int px = 2 * x;
+                    r[x] = row_in && px >= prev_base.support.x0 && px < prev_base.support.x1 ? prev_base.at(px, py) : 0.f;
+                }
+            }
+        }
+        for (int i = 1; i < count; ++i) {
+            const double a = layer_sigma(st_, i - 1), b = layer_sigma(st_, i);
+            blur(g[static_cast<size_t>(i - 1)], g[static_cast<size_t>(i)], gaussian_kernel(std::sqrt(b * b - a * a)), ws_);
+        }
+        octave(o, g, label + o, offset);
+        // The next octave's base, and its object box (the pixels covering this one's, halved).
+        prev_base = g[static_cast<size_t>(st_.layers)];
+        const auto half_floor = [](int v) { return v >= 0 ? v / 2 : -((-v + 1) / 2); };
+        obj = {half_floor(obj.x0), half_floor(obj.y0), half_floor(obj.x1 - 1) + 1, half_floor(obj.y1 - 1) + 1};
+    }
+}
+
 // Extrema of the octave's DoG images, refined and tested, then oriented and described.
-void Extractor::octave(int o, int jmin, std::vector<Plane>& g) {
+void Extractor::octave(int o, std::vector<Plane>& g, int label, float offset) {
+    const int jmin = 0;
     const int count = static_cast<int>(g.size());
-    const int jmax = jmin + count - 1;  // Gaussian j = jmin..jmax; DoG j = jmin..jmax-1; search jmin+1..jmax-2
+    const int jmax = jmin + count - 1;  // Gaussian j = 0..jmax; DoG j = 0..jmax-1; search 1..jmax-2
     // The view's pixels at this octave (keypoints must lie in the view).
     const Rect inside{0, 0, ((size_ - 1) >> o) + 1, ((size_ - 1) >> o) + 1};
     const float pre = static_cast<float>(kPreTest * st_.threshold);
@@ -669,12 +698,11 @@ void Extractor::octave(int o, int jmin, std::vector<Plane>& g) {
                     c.fy = static_cast<float>(off[1]);
                     c.sigma = static_cast<float>(st_.sigma0 * exp2_det((J + off[2]) / st_.layers));
                     const double scale = std::ldexp(1.0, o);
-                    c.key.x = static_cast<float>((X + off[0]) * scale);
-                    c.key.y = static_cast<float>((Y + off[1]) * scale);
+                    c.key.x = static_cast<float>((X + off[0]) * scale) - offset;
+                    c.key.y = static_cast<float>((Y + off[1]) * scale) - offset;
                     if (c.key.x < 0 || c.key.y < 0 || c.key.x > size_ - 1 || c.key.y > size_ - 1) continue;
                     c.key.size = static_cast<float>(2.0 * c.sigma * scale);
-                    c.key.octave = J <= 0 ? o - 1 : o;  // j <= 0 only with fine_octave at octave 0
-                    if (J <= 0 && touches_background(X, Y, kFineMargin)) continue;  // step 2: the silhouette's staircase
+                    c.key.octave = label;
                     c.key.response = static_cast<float>(std::abs(value));
                     found.push_back(c);
                 }
@@ -706,6 +734,7 @@ bool Extractor::refine(const std::vector<Plane>& g, int jmin, int jmax, int& x, 
     const auto D = [&](int jj, int xx, int yy) -> double {
         return double(g[static_cast<size_t>(jj + 1 - jmin)].at(xx, yy)) - double(g[static_cast<size_t>(jj - jmin)].at(xx, yy));
     };
+    int px = x, py = y, pj = j;  // the sample before this one
     for (int fit = 0; fit < kMaxFits; ++fit) {
         const double c = D(j, x, y);
         const double gx = 0.5 * (D(j, x + 1, y) - D(j, x - 1, y));
@@ -726,7 +755,14 @@ bool Extractor::refine(const std::vector<Plane>& g, int jmin, int jmax, int& x, 
         off[1] = -(a01 * gx + a11 * gy + a12 * gs) / det;
         off[2] = -(a02 * gx + a12 * gy + a22 * gs) / det;
         if (!std::isfinite(off[0]) || !std::isfinite(off[1]) || !std::isfinite(off[2])) return false;
-        if (std::abs(off[0]) <= 0.5 && std::abs(off[1]) <= 0.5 && std::abs(off[2]) <= 0.5) {
+        // The extremum lies at the fit when every offset is within half a sample (Lowe Sec. 4); also
+        // when the move would go back to the sample before (the extremum lies between the two, the
+        // fits disagree by a little: ours, accepted within 0.6 of a sample rather than dropped).
+        const int mx = off[0] > 0.5 ? 1 : off[0] < -0.5 ? -1 : 0, my = off[1] > 0.5 ? 1 : off[1] < -0.5 ? -1 : 0,
+                  mj = off[2] > 0.5 ? 1 : off[2] < -0.5 ? -1 : 0;
+        const bool back = fit > 0 && x + mx == px && y + my == py && j + mj == pj && std::abs(off[0]) <= 0.6 &&
+                          std::abs(off[1]) <= 0.6 && std::abs(off[2]) <= 0.6;
+        if ((mx == 0 && my == 0 && mj == 0) || back) {
             value = c + 0.5 * (gx * off[0] + gy * off[1] + gs * off[2]);  // D(x^)
             if (std::abs(value) < st_.threshold) return false;
             const double tr = hxx + hyy, dt = hxx * hyy - hxy * hxy;
@@ -735,9 +771,12 @@ bool Extractor::refine(const std::vector<Plane>& g, int jmin, int jmax, int& x, 
         }
         // Move one sample towards the offset in each coordinate beyond 0.5; stay where all three
         // DoG images are computed.
-        x += off[0] > 0.5 ? 1 : off[0] < -0.5 ? -1 : 0;
-        y += off[1] > 0.5 ? 1 : off[1] < -0.5 ? -1 : 0;
-        j += off[2] > 0.5 ? 1 : off[2] < -0.5 ? -1 : 0;
+        px = x;
+        py = y;
+        pj = j;
+        x += mx;
+        y += my;
+        j += mj;
         if (j < jmin + 1 || j > jmax - 2) return false;
         const Rect region = g[static_cast<size_t>(j - 1 - jmin)].support.grown(-1);
         if (x < region.x0 || x >= region.x1 || y < region.y0 || y >= region.y1) return false;
@@ -816,6 +855,21 @@ void Extractor::orientations(const Plane& L, const Candidate& c, std::vector<dou
                 hist[b0 + 1 == kOrientationBins ? 0 : b0 + 1] += f * w;
             }
         }
+    }
+    static const int smooth_passes = getenv("CF_SMOOTH") ? atoi(getenv("CF_SMOOTH")) : 0;  // EXPERIMENT
+    for (int pass = 0; pass < smooth_passes; ++pass) {  // circular [1 2 1] / 4
+        float sm[kOrientationBins];
+        for (int i = 0; i < kOrientationBins; ++i)
+            sm[i] = 0.25f * (hist[(i + kOrientationBins - 1) % kOrientationBins] + hist[(i + 1) % kOrientationBins]) + 0.5f * hist[i];
+        std::copy(sm, sm + kOrientationBins, hist);
+    }
+    // Smoothed by a Gaussian of one bin (two passes of the circular [1 2 1] / 4).
+    for (int pass = 0; pass < kOrientationSmoothing; ++pass) {
+        float smooth[kOrientationBins];
+        for (int i = 0; i < kOrientationBins; ++i)
+            smooth[i] = 0.25f * (hist[(i + kOrientationBins - 1) % kOrientationBins] + hist[(i + 1) % kOrientationBins]) +
+                        0.5f * hist[i];
+        std::copy(smooth, smooth + kOrientationBins, hist);
     }
     float top = 0;
     for (float h : hist) top = std::max(top, h);
@@ -1050,15 +1104,8 @@ SiftDescriptors sift_descriptors(const std::vector<std::uint8_t>& gray, int size
 
 SiftFeatures depth_sift_features(const std::vector<float>& depth, int size, const SiftOptions& options) {
     check_size(depth.size(), size, "values");
-    if (options.backend == SiftBackend::Canonform) {
-        bool in_range = true;  // (a rendered view always is: no copy then)
-        for (float v : depth) in_range = in_range && v >= 0.f && v <= 1.f;
-        if (in_range) return sift_features(depth, size, options);
-        std::vector<float> image(depth.size());
-        for (size_t i = 0; i < depth.size(); ++i) image[i] = std::isfinite(depth[i]) ? std::clamp(depth[i], 0.f, 1.f) : depth[i];
-        return sift_features(image, size, options);
-    }
-    std::vector<float> image(depth.size());  // OpenCV's SIFT takes 8 bits
+    // The 8-bit view, round(255 depth) / 255, for both extractors (step 1).
+    std::vector<float> image(depth.size());
     for (size_t i = 0; i < depth.size(); ++i)
         image[i] = static_cast<float>(std::round(255.0 * std::clamp(static_cast<double>(depth[i]), 0.0, 1.0))) / 255.f;
     return sift_features(image, size, options);

@@ -16,48 +16,50 @@
 // Descriptors of two extractors differ, so they never share a codebook (retrieval cache keys
 // include the extractor).
 //
-// The canonform extractor, step by step (image values in [0, 1]: depth, or gray level / 255).
+// The canonform extractor, step by step (image values in [0, 1]; a depth view is taken as 8 bits,
+// round(255 depth) / 255, as OpenCV takes it - measured: docs/sift.md).
 // 1. Scale space (Lowe Sec. 3, eq. 1). L(x, y, sigma) = G(sigma) * I; D = L(k sigma) - L(sigma),
 //    k = 2^(1/s), s = octave_layers (3, Lowe Sec. 3.2), sigma_0 = sigma (1.6, Lowe Sec. 3.3).
 //    An octave holds s + 3 Gaussian images sigma_0 k^j (j = 0..s+2) and s + 2 DoG images; each
 //    Gaussian image is the previous one blurred by sqrt(sigma_j^2 - sigma_(j-1)^2) (the incremental
 //    blur of Lowe Sec. 3), and the next octave starts from image j = s (2 sigma_0) taking every
-//    second pixel of every second row (Lowe Sec. 3).
-//    Departures:
-//    - Octave 0 is the view itself. Lowe doubles the image first (Sec. 3.3, four times the
-//      pixels); we do not. Instead, with fine_octave (default), octave 0 also holds the s images
-//      below sigma_0 (sigma_0 k^j, j = -s..-1, from sigma_0 / 2) on the same grid: an approximate
-//      octave -1, the scales Lowe's doubled image covers, sampled at the view's resolution rather
-//      than at twice it. Its keypoints are reported at octave -1.
-//    - The view is taken to have blur input_blur (0, not Lowe's 0.5 of a camera, Sec. 3.3): the
-//      renderer samples the surface at pixel centres without any blur. The first image is blurred
-//      by sqrt(sigma_start^2 - input_blur^2).
-//    - Outside the view the image is 0 (background, which is also the view's own background). The
-//      blur is a separable Gaussian truncated at 4 sigma and normalised to sum 1, its taps
-//      computed in double by our own exp (below) and rounded to float. Each image is computed only
-//      over its support - the bounding box of the view's non-zero pixels grown by the radii of the
-//      blurs so far - outside which it is exactly 0: a view costs in proportion to the object's
-//      size, not the image's.
-//    - Octaves: while the octave's view is at least 8 pixels wide (6 for a 256 view).
-// 2. Extrema (Lowe Sec. 3.1): a sample of DoG images j = 1..s (and j = 1-s..0 with fine_octave)
-//    larger than all 26 neighbours or smaller than all of them, with |D| >= 0.5 t (a pre-test of
-//    ours: t is the contrast threshold below). Searched where the three DoG images involved are
-//    computed (their supports' intersection, less one pixel) and inside the view.
-//    Departure: an extremum of the approximate octave -1 with a background pixel within 2 pixels
-//    is dropped. At these scales (sigma 1 to 1.6 pixels) the silhouette is a staircase of whole
-//    pixels (the renderer samples pixel centres), and every step makes an extremum that passes
-//    the edge test: on 8 test views about 2100 such keypoints against 67 inside the object, where
-//    OpenCV's doubled octave finds 79 in all (docs/sift.md). Inside the object the depth is smooth.
+//    second pixel of every second row (Lowe Sec. 3). The view is taken to have blur input_blur =
+//    0.5 (Lowe Sec. 3.3), so the first image is blurred by sqrt(sigma_0^2 - 0.5^2).
+//    Octave 0 lies where Lowe's would: Lowe first doubles the image by linear interpolation (Sec.
+//    3.3) and his octave 0 takes every second pixel of the doubled image's pyramid. With pixel
+//    centres at half pixels, doubled pixel 2i is the view at i - 1/4, that is 0.75 v[i] + 0.25
+//    v[i - 1] along each axis: that resampled view, blurred to sigma_0, is our octave 0, and its
+//    keypoints are moved back by the quarter pixel. We do not compute the doubled image's own
+//    octave (-1; four times the pixels). Instead, with fine_octave (default), an approximate octave
+//    -1 on the view itself: one octave from sigma_0 / 2 with 2 DoG layers (k = 2^(1/2)), searched
+//    in DoG images 1 and 2 (scales 1.13 and 1.6 pixels), keypoints reported at octave -1. (With 3
+//    layers, or on the doubled grid, it finds the silhouette's pixel staircase: hundreds of
+//    keypoints per view.) These choices are measured (docs/sift.md): octave 0 on the view itself
+//    found a third of the octave-0 keypoints of OpenCV's SIFT (which doubles the image) and lost 0.07
+//    of first tier on the procedural collection; the octave -1 adds 0.04.
+//    Outside the view the image is 0 (background, which is also the view's own background). The
+//    blur is a separable Gaussian truncated at 4 sigma and normalised to sum 1, its taps computed in
+//    double by our own exp (below) and rounded to float. Each image is computed only over its
+//    support - the bounding box of the view's non-zero pixels grown by 4 sigma_j - outside which it
+//    is taken as 0: a view costs in proportion to the object's size, not the image's.
+//    Octaves: while the octave's view is at least 8 pixels wide (6 for a 256 view).
+// 2. Extrema (Lowe Sec. 3.1): a sample of DoG images j = 1..s larger than all 26 neighbours or
+//    smaller than all of them, with |D| >= 0.5 t (a pre-test of ours: t is the contrast threshold
+//    below). Searched where the three DoG images involved are computed (their supports'
+//    intersection, less one pixel).
 // 3. Sub-pixel refinement (Lowe Sec. 4, eqs. 2-3): the 3 x 3 system of D's Hessian and gradient
 //    (central differences in x, y and scale) gives the offset x^; when a coordinate of x^ exceeds
 //    0.5 the sample moves to the neighbour in that direction and the fit is repeated - at most 5
-//    fits (a cap of ours), else the extremum is dropped, as is one whose Hessian is singular.
+//    fits (a cap of ours), else the extremum is dropped, as is one whose Hessian is singular. A
+//    move back to the previous sample (the extremum lies between the two) ends the fit when every
+//    coordinate is within 0.6 (ours; such extrema were dropped otherwise, e.g. a blob centred
+//    between two samples).
 //    Contrast test (Lowe Sec. 4): |D(x^)| = |D + 0.5 dD/dx . x^| >= t, with
 //    t = contrast_threshold / s: Lowe's threshold (0.03 on [0, 1]) in the convention of OpenCV's
 //    public contrastThreshold parameter, which is divided by the layers per octave (the OpenCV
 //    documentation of SIFT::create), so one option means the same for both extractors. Our default
 //    0.001 (t = 0.00033, a twelfth of a gray level) keeps the weak interior extrema of depth
-//    views: kDefaultContrastThreshold.
+//    views: kDefaultContrastThreshold. The same t for the approximate octave -1.
 //    Edge test (Lowe Sec. 4.1, eq. 4): the 2 x 2 spatial Hessian H at the sample must have
 //    Det(H) > 0 and Tr(H)^2 / Det(H) < (r + 1)^2 / r, r = edge_threshold (10, Lowe).
 //    Scale of a keypoint: sigma = sigma_0 k^(j + x^_scale) in octave pixels (the DoG image's
@@ -67,9 +69,10 @@
 //    theta = atan2(dy, dx) (y = row, downwards: theta grows clockwise on screen, OpenCV's
 //    documented KeyPoint::angle convention). A 36-bin histogram over 360 degrees of m times a
 //    Gaussian of sigma_w = 1.5 sigma centred at the sub-pixel position, over the pixels within
-//    3 sigma_w (our radius); each vote is shared linearly between its two nearest bins (ours:
-//    Lowe does not say). Every local maximum (strictly above both neighbours) of at least 80% of
-//    the highest makes a keypoint (Lowe Sec. 5); its angle is the vertex of the parabola through
+//    3 sigma_w (our radius); each vote is shared linearly between its two nearest bins, and the
+//    histogram is smoothed by a Gaussian of one bin (two passes of [1 2 1] / 4, circular) - both
+//    ours: Lowe does not say. Every local maximum (strictly above both neighbours) of at least 80%
+//    of the highest makes a keypoint (Lowe Sec. 5); its angle is the vertex of the parabola through
 //    the bin and its two neighbours.
 //    Samples: every p-th pixel of every p-th row, aligned on the keypoint's sample, with
 //    p = max(1, floor(3 sigma / 4)) - at least 4 samples per descriptor bin width along each axis,
@@ -77,19 +80,19 @@
 // 5. Descriptor (Lowe Sec. 6.1): a 4 x 4 grid of 8-bin orientation histograms on the keypoint's
 //    rotated frame; spatial bins 3 sigma wide (Lowe samples a 16 x 16 array at the keypoint's
 //    scale; the bin width of 3 sigma is VLFeat's documented magnification factor, which OpenCV
-//    uses too). Every pixel of the Gaussian image whose rotated position falls within half a bin
-//    of the grid contributes m times a Gaussian of sigma = 2 bins (half the grid width, Lowe) of
-//    its distance to the keypoint, spread trilinearly over the two nearest bins in each of row,
-//    column and orientation with weights 1 - d (Lowe). The 128 values are normalised to unit
-//    length, clipped at 0.2 and normalised again (Lowe); then stored as OpenCV stores them:
-//    min(255, round(512 v)), integers with L2 norm about 512.
+//    uses too). Every sample whose rotated position falls within half a bin of the grid contributes
+//    m times a Gaussian of sigma = 2 bins (half the grid width, Lowe) of its distance to the
+//    keypoint, spread trilinearly over the two nearest bins in each of row, column and orientation
+//    with weights 1 - d (Lowe). The 128 values are normalised to unit length, clipped at 0.2 and
+//    normalised again (Lowe); then stored as OpenCV stores them: min(255, round(512 v)), integers
+//    with L2 norm about 512.
 //    Layout: value (r * 4 + c) * 8 + o, r the row and c the column of the rotated grid (rows along
 //    the keypoint's direction turned 90 degrees clockwise on screen, columns along it), o the
 //    orientation bin, 45 degrees each, counted from the keypoint's angle anticlockwise on screen.
 //    That is OpenCV's layout (found by comparing with cv::SIFT::compute's output on the same
 //    keypoints), so the two extractors' descriptors of a keypoint can be compared value by value:
-//    on the test views the nearest of OpenCV's descriptors is the same keypoint's for 94% of ours,
-//    mean cosine 0.995 (tests/test_sift_features.cpp).
+//    on the test views the nearest of OpenCV's descriptors is the same keypoint's for 96% of ours,
+//    mean cosine 0.99 (tests/test_sift_features.cpp).
 // Order: by octave (-1 first), DoG image, row, column; a keypoint's orientations in the order of
 // their histogram bins. max_features > 0 keeps the keypoints of largest |D(x^)| (ties: that order).
 //
@@ -155,7 +158,7 @@ struct SiftFeatures {
 };
 
 /// Options of sift_features(); the thresholds mean the same for both extractors (cv::SIFT::create's
-/// parameters). fine_octave and input_blur are the canonform extractor's.
+/// parameters). fine_octave and input_blur are the canonform extractor's (step 1).
 struct SiftOptions {
     SiftBackend backend = SiftBackend::Canonform;            ///< the extractor
     double contrast_threshold = kDefaultContrastThreshold;  ///< t * octave_layers (>= 0), see step 3
@@ -164,7 +167,7 @@ struct SiftOptions {
     double sigma = 1.6;           ///< sigma_0, the blur of each octave's first image (> 0)
     int octave_layers = 3;        ///< s, DoG images searched per octave (>= 1)
     bool fine_octave = true;      ///< canonform: the approximate octave -1 (step 1)
-    double input_blur = 0.0;      ///< canonform: the blur the view is taken to have (>= 0, < sigma / 2)
+    double input_blur = 0.5;      ///< canonform: the blur the view is taken to have (>= 0, < sigma / 2; Lowe's 0.5)
 };
 
 /// Registers an extractor that lives in another library (opencv_sift.h's register_opencv_sift()
@@ -187,8 +190,8 @@ SiftDescriptors sift_descriptors(const std::vector<float>& image, int size, cons
 SiftFeatures sift_features(const std::vector<std::uint8_t>& gray, int size, const SiftOptions& options = {});
 SiftDescriptors sift_descriptors(const std::vector<std::uint8_t>& gray, int size, const SiftOptions& options = {});
 
-/// The same for a depth view in [0, 1] (values clamped to it): canonform takes the depth as it is,
-/// opencv sees it as 8 bits (round(255 depth)), as OpenCV's SIFT takes 8-bit images.
+/// The same for a depth view in [0, 1] (values clamped to it), taken as 8 bits (round(255 depth))
+/// by both extractors (step 1).
 SiftFeatures depth_sift_features(const std::vector<float>& depth, int size, const SiftOptions& options = {});
 SiftDescriptors depth_sift_descriptors(const std::vector<float>& depth, int size, const SiftOptions& options = {});
 
