@@ -795,9 +795,9 @@ Rect window(const Plane& L, const Candidate& c, double radius) {
 }
 
 // Sampling of the orientation and descriptor windows: every p-th pixel of every p-th row (aligned
-// on the keypoint's sample), p = max(1, floor(w / 4)) for the descriptor's bin width w = 3 sigma:
-// at least 4 x 4 samples per bin, as Lowe's 16 x 16 sample array over 4 x 4 bins (Sec. 6.1).
-int sample_step(float sigma) { return std::max(1, static_cast<int>(kBinWidth * double(sigma) / 4.0)); }
+// on the keypoint's sample), p = max(1, round(w / 4)) for the descriptor's bin width w = 3 sigma:
+// about 4 x 4 samples per bin (at least 3), as Lowe's 16 x 16 sample array over 4 x 4 bins (Sec. 6.1).
+int sample_step(float sigma) { return std::max(1, static_cast<int>(kBinWidth * double(sigma) / 4.0 + 0.5)); }
 
 // Lowe Sec. 5: the orientations (radians, [0, 2 pi)) of a keypoint from the histogram of gradient
 // directions in L around it. Offsets are taken from the sample (integer) and then the sub-pixel

@@ -75,8 +75,9 @@
 //    of the highest makes a keypoint (Lowe Sec. 5); its angle is the vertex of the parabola through
 //    the bin and its two neighbours.
 //    Samples: every p-th pixel of every p-th row, aligned on the keypoint's sample, with
-//    p = max(1, floor(3 sigma / 4)) - at least 4 samples per descriptor bin width along each axis,
-//    as Lowe's 16 x 16 sample array over the 4 x 4 bins (Sec. 6.1); the same for the descriptor.
+//    p = max(1, round(3 sigma / 4)) - about 4 (at least 3) samples per descriptor bin width along
+//    each axis, as Lowe's 16 x 16 sample array over the 4 x 4 bins (Sec. 6.1; every pixel, as
+//    OpenCV takes, is up to 25 per bin and costs 3 times as much); the same for the descriptor.
 // 5. Descriptor (Lowe Sec. 6.1): a 4 x 4 grid of 8-bin orientation histograms on the keypoint's
 //    rotated frame; spatial bins 3 sigma wide (Lowe samples a 16 x 16 array at the keypoint's
 //    scale; the bin width of 3 sigma is VLFeat's documented magnification factor, which OpenCV
