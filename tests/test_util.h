@@ -9,8 +9,25 @@
 #include <functional>
 #include <random>
 #include <string>
+#include <vector>
 
 namespace canonform::test {
+
+/// The results of fn() with Eigen's matrix products blocked as on CPUs with L1 data caches of
+/// 16, 32, 48 and 64 KiB (Eigen reads the cache sizes from CPUID at run time and splits the inner
+/// dimension of a product into blocks sized from them, so the rounding of a product can depend on
+/// the CPU). The cache sizes in force before are restored.
+template <typename Fn>
+auto under_l1_cache_sizes(Fn fn) -> std::vector<decltype(fn())> {
+    const std::ptrdiff_t l1 = Eigen::l1CacheSize(), l2 = Eigen::l2CacheSize(), l3 = Eigen::l3CacheSize();
+    std::vector<decltype(fn())> out;
+    for (std::ptrdiff_t kib : {16, 32, 48, 64}) {
+        Eigen::setCpuCacheSizes(kib * 1024, 512 * 1024, 8 * 1024 * 1024);
+        out.push_back(fn());
+    }
+    Eigen::setCpuCacheSizes(l1, l2, l3);
+    return out;
+}
 
 /// A random rotation (uniform from a seeded quaternion).
 inline Eigen::Matrix3d random_rotation(unsigned seed) {
