@@ -2,6 +2,7 @@
 
 #include "canonform/numerics/mds.h"
 #include "canonform/numerics/rigid_alignment.h"
+#include "test_util.h"
 
 #include <gtest/gtest.h>
 
@@ -414,4 +415,18 @@ TEST(Mds, TimingsAtN2000) {
                 tc, c.iterations, c.final_stress, tl, l.landmarks.size(), l.final_stress, ts, s.iterations,
                 s.final_stress);
     EXPECT_LT(s.final_stress, c.final_stress);
+}
+
+TEST(Mds, SameBitsWhateverTheCpuCacheSizes) {
+    // Eigen blocks a matrix product by the cache sizes that CPUID reports; none of the three MDS
+    // depends on them (their products with a long inner dimension are summed in fixed blocks).
+    const MatrixXd D = great_circle_distances(sphere_points(700, 9));
+    MdsOptions o;
+    o.threads = 1;
+    o.max_iterations = 20;
+    o.landmarks = 300;  // a landmark block longer than Eigen's product blocks
+    for (MdsMethod m : {MdsMethod::Classical, MdsMethod::Landmark, MdsMethod::LeastSquares}) {
+        const auto runs = canonform::test::under_l1_cache_sizes([&] { return mds(D, m, o).X; });
+        for (const MatrixXd& X : runs) EXPECT_TRUE((X.array() == runs[0].array()).all()) << static_cast<int>(m);
+    }
 }

@@ -6,6 +6,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include <array>
 #include <functional>
 #include <random>
 #include <string>
@@ -13,16 +14,19 @@
 
 namespace canonform::test {
 
-/// The results of fn() with Eigen's matrix products blocked as on CPUs with L1 data caches of
-/// 16, 32, 48 and 64 KiB (Eigen reads the cache sizes from CPUID at run time and splits the inner
-/// dimension of a product into blocks sized from them, so the rounding of a product can depend on
-/// the CPU). The cache sizes in force before are restored.
+/// The results of fn() with Eigen's matrix products blocked as on CPUs with L1 / L2 / L3 caches of
+/// 16 KiB / 256 KiB / 2 MiB, 32 KiB / 512 KiB / 8 MiB, 48 KiB / 1.25 MiB / 30 MiB and
+/// 64 KiB / 512 KiB / 16 MiB (qemu64) (Eigen reads the cache sizes from CPUID at run time and
+/// splits the inner dimension of a product into blocks sized from L1, so the rounding of a product
+/// can depend on the CPU). The cache sizes in force before are restored.
 template <typename Fn>
 auto under_l1_cache_sizes(Fn fn) -> std::vector<decltype(fn())> {
     const std::ptrdiff_t l1 = Eigen::l1CacheSize(), l2 = Eigen::l2CacheSize(), l3 = Eigen::l3CacheSize();
     std::vector<decltype(fn())> out;
-    for (std::ptrdiff_t kib : {16, 32, 48, 64}) {
-        Eigen::setCpuCacheSizes(kib * 1024, 512 * 1024, 8 * 1024 * 1024);
+    const std::ptrdiff_t K = 1024;
+    for (const auto& c : {std::array<std::ptrdiff_t, 3>{16 * K, 256 * K, 2048 * K}, {32 * K, 512 * K, 8192 * K},
+                          {48 * K, 1280 * K, 30720 * K}, {64 * K, 512 * K, 16384 * K}}) {
+        Eigen::setCpuCacheSizes(c[0], c[1], c[2]);
         out.push_back(fn());
     }
     Eigen::setCpuCacheSizes(l1, l2, l3);

@@ -221,6 +221,28 @@ private:
     std::vector<PassScratch> scratch_;
 };
 
+/// A^T B (or A B) with the inner dimension summed in blocks of 64, in order. Eigen's matrix product
+/// splits a long inner dimension into blocks sized from the L1 cache that CPUID reports (Eigen's
+/// smallest such block, for an 8 KiB L1, holds 96 doubles), so its rounding depended on the CPU;
+/// a product of 64 leaves it nothing to split.
+constexpr Index kInnerBlock = 64;
+MatrixXd transpose_times(const MatrixXd& A, const MatrixXd& B) {
+    MatrixXd out = MatrixXd::Zero(A.cols(), B.cols());
+    for (Index k = 0; k < A.rows(); k += kInnerBlock) {
+        const Index len = std::min(kInnerBlock, A.rows() - k);
+        out.noalias() += A.middleRows(k, len).transpose() * B.middleRows(k, len);
+    }
+    return out;
+}
+MatrixXd times(const MatrixXd& A, const MatrixXd& B) {
+    MatrixXd out = MatrixXd::Zero(A.rows(), B.cols());
+    for (Index k = 0; k < A.cols(); k += kInnerBlock) {
+        const Index len = std::min(kInnerBlock, A.cols() - k);
+        out.noalias() += A.middleCols(k, len) * B.middleRows(k, len);
+    }
+    return out;
+}
+
 /// Orthonormal basis (n x p) of the columns of Z (Householder QR; rank deficiency is completed by
 /// arbitrary orthonormal directions).
 MatrixXd orthonormalise(const MatrixXd& Z) {
@@ -266,7 +288,7 @@ EigenPairs top_eigenpairs(Index n, int k, const std::function<MatrixXd(const Mat
         if (sigma != 0) Z += sigma * Q;
         if (!Z.allFinite()) throw NumericalError("eigensolver: the operator produced non-finite values");
         // Rayleigh-Ritz on span(Q): H = Q^T (B + sigma) Q, Ritz vectors U = Q W, (B + sigma) U = Z W.
-        MatrixXd H = Q.transpose() * Z;
+        MatrixXd H = transpose_times(Q, Z);
         H = 0.5 * (H + H.transpose()).eval();
         Eigen::SelfAdjointEigenSolver<MatrixXd> es(H);
         if (es.info() != Eigen::Success) throw NumericalError("eigensolver: the Rayleigh-Ritz step failed");
@@ -348,7 +370,7 @@ MdsResult classical_mds(const MatrixXd& D, const MdsOptions& options) {
             for (Index i0 = bounds[static_cast<size_t>(t)]; i0 < r1; i0 += kRows) {
                 const Index nb = std::min(kRows, r1 - i0);
                 S.leftCols(nb) = D.middleCols(i0, nb).array().square().matrix();
-                Z.middleRows(i0, nb).noalias() = S.leftCols(nb).transpose() * Y;
+                Z.middleRows(i0, nb) = transpose_times(S.leftCols(nb), Y);
             }
         });
         centre(Z);
@@ -420,7 +442,7 @@ MdsResult landmark_mds(const MatrixXd& D, const MdsOptions& options) {
         e.vectors = es.eigenvectors().rowwise().reverse().leftCols(dim);
         fix_signs(e.vectors);
     } else {
-        e = detail::top_eigenpairs(L, dim, [&BL](const MatrixXd& Q) { return MatrixXd(BL * Q); },
+        e = detail::top_eigenpairs(L, dim, [&BL](const MatrixXd& Q) { return times(BL, Q); },
                                    options.eigen_tolerance, options.eigen_max_iterations, options.seed, {});
     }
     report_progress(options.progress, 0.6, "landmark MDS: landmark block embedded");
@@ -433,7 +455,7 @@ MdsResult landmark_mds(const MatrixXd& D, const MdsOptions& options) {
     MatrixXd S(n, L);
     for (Index l = 0; l < L; ++l)
         S.col(l) = D.col(r.landmarks[static_cast<size_t>(l)]).array().square() - mean_sq(l);
-    r.X.noalias() = -0.5 * S * Pinv_t;
+    r.X = -0.5 * times(S, Pinv_t);
     centre(r.X);
     r.converged = true;
     r.eigenvalues = e.values;
