@@ -28,6 +28,7 @@ mls() {  # meshlabserver with a virtual X server; output in $log
 mls cf.log -i fig.ply -o ml_cf.ply -m vq vc -s "$scripts/conformal_factor.mlx"
 check "Conformal factor: meshlabserver succeeds" test $? -eq 0
 check "Conformal factor: plugin loaded and logged" grep -q "Conformal factor of 'fig.ply'" cf.log
+check "Conformal factor: the log names the version ($("$cf" --version))" grep -q "$("$cf" --version): Conformal factor" cf.log
 "$cf" conformal fig.ply ref_cf.ply
 "$plycheck" ml_cf.ply ref_cf.ply > cf.json
 check "Conformal factor: saved quality equals the tool's (float precision)" \

@@ -21,6 +21,10 @@ dpkg-deb -c "$deb" | awk '{print $6}' > contents.txt
 check "holds both plugins and the meshlabserver scripts under $plugins" \
   bash -c "grep -qx .$plugins/libfilter_canonical.so contents.txt && grep -qx .$plugins/libfilter_viewdescriptor.so contents.txt &&
            grep -qx .$plugins/filter_canonical/euclidean_canonical_form.mlx contents.txt"
+check "holds its licence (/usr/share/doc/$name/copyright, GPL-3.0+)" \
+  bash -c "grep -qx ./usr/share/doc/$name/copyright contents.txt"
+check "its version is the tool's ($("$cf" --version))" \
+  bash -c "[ \"canonform \$(dpkg-deb -f '$deb' Version)\" = \"\$('$cf' --version)\" ]"
 
 before=$(dpkg-query -W -f='${Status}' "$name" 2>/dev/null || true)
 DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --reinstall "$deb" > apt.log 2>&1

@@ -89,6 +89,10 @@ const FilterSpec& filter_spec(const std::vector<FilterSpec>& table, int id);
 /// lines): every run of white space, line breaks and indentation included, becomes one space.
 std::string prose(const char* text);
 
+/// The first log line of every application of `spec`: "canonform VERSION: NAME", so that a
+/// MeshLab log or a bug report names the plugin's version.
+std::string log_header(const FilterSpec& spec);
+
 /// A MeshLab filter script (.mlx) applying `spec` with every parameter at its default.
 std::string default_script(const FilterSpec& spec);
 

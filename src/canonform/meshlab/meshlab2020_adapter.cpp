@@ -33,6 +33,7 @@ bool TableFilterPlugin2020::applyFilter(QAction* a, MeshDocument& md, const Rich
     canonform::plugin::ActionContext ctx;
     ctx.log = [this](const std::string& line) { Log("%s", line.c_str()); };
     ctx.progress = canonform::plugin::progress_to(cb);
+    Log("%s", canonform::plugin::log_header(s).c_str());
     try {
         apply_(s.id, md, values, ctx);
         return true;

@@ -62,6 +62,7 @@ std::map<std::string, QVariant> TableFilterPlugin2022::applyFilter(const QAction
     canonform::plugin::ActionContext ctx;
     ctx.log = [this](const std::string& line) { log(line); };
     ctx.progress = canonform::plugin::progress_to(cb);
+    log(canonform::plugin::log_header(s));
     try {
         return canonform::plugin::to_qvariant_map(apply_(s.id, md, values, ctx));
     } catch (const std::exception& e) {
