@@ -1,9 +1,11 @@
-"""Runs the README's pymeshlab examples as written, as far as the pymeshlab harness can show.
+"""Runs the pymeshlab examples of the README and the docs as written, as far as the pymeshlab harness
+can show.
 
-usage: readme_pymeshlab_test.py README WORKDIR CANONFORM [--release 2022.2|2025.7 HARNESS PLUGIN_DIR]...
+usage: readme_pymeshlab_test.py DOC[,DOC...] WORKDIR CANONFORM [--release 2022.2|2025.7 HARNESS PLUGIN_DIR]...
 
-Each ```python block of the README whose first line is "# pymeshlab 2022.2" (or "# pymeshlab 2025.7")
-is executed by Python as written, with a stand-in for the `pymeshlab` module of that release:
+Each ```python block of each DOC (README.md, docs/pymeshlab.md) whose first line is "# pymeshlab 2022.2"
+(or "# pymeshlab 2025.7") is executed by Python as written, with a stand-in for the `pymeshlab` module
+of that release:
 - it has exactly the module functions and MeshSet methods of that release (their names as that
   release's bindings define them, below); any other name raises AttributeError, as pymeshlab would;
 - load_plugin, MeshSet.load_new_mesh, number_meshes / mesh_number, set_current_mesh and
@@ -95,7 +97,7 @@ def stand_in(release, harness):
 
 
 def main():
-    readme, work, canonform = sys.argv[1:4]
+    docs, work, canonform = [os.path.abspath(d) for d in sys.argv[1].split(",")], sys.argv[2], sys.argv[3]
     releases, args = {}, sys.argv[4:]
     while args:
         assert args[0] == "--release", args
@@ -107,11 +109,12 @@ def main():
                    stdout=subprocess.DEVNULL)
     subprocess.run([canonform, "codebook", "codebook.bin", "figure.ply", "--words", "100"], check=True,
                    stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-    blocks = re.findall(r"```python\n(# pymeshlab (\d{4}\.\d+)\n.*?)```", open(readme).read(), re.S)
+    blocks = [(code, release, os.path.basename(doc)) for doc in docs
+              for code, release in re.findall(r"```python\n(# pymeshlab (\d{4}\.\d+)\n.*?)```", open(doc).read(), re.S)]
     failures, seen = 0, set()
-    for code, release in blocks:
+    for code, release, where in blocks:
         if release not in releases:
-            print(f"  FAIL a README example for pymeshlab {release}, which this build has no harness of")
+            print(f"  FAIL a {where} example for pymeshlab {release}, which this build has no harness of")
             failures += 1
             continue
         seen.add(release)
@@ -122,19 +125,19 @@ def main():
         out = io.StringIO()
         try:
             with contextlib.redirect_stdout(out):
-                exec(compile(code, f"README (pymeshlab {release})", "exec"), {})
-            print(f"  ok   the README's pymeshlab {release} example runs as written; it printed:")
+                exec(compile(code, f"{where} (pymeshlab {release})", "exec"), {})
+            print(f"  ok   the {where} pymeshlab {release} example runs as written; it printed:")
             for line in out.getvalue().splitlines():
                 print(f"         {line}")
         except Exception as e:  # the example's own failure, as a user would see it
-            print(f"  FAIL the README's pymeshlab {release} example: {type(e).__name__}: {e}")
+            print(f"  FAIL the {where} pymeshlab {release} example: {type(e).__name__}: {e}")
             print(out.getvalue())
             failures += 1
         finally:
             harness.close()
             del sys.modules["pymeshlab"]
     for release in sorted(set(releases) - seen):
-        print(f"  FAIL no README example for pymeshlab {release}")
+        print(f"  FAIL no example for pymeshlab {release} in {', '.join(os.path.basename(d) for d in docs)}")
         failures += 1
     print(f"{len(blocks) - failures} passed, {failures} failed")
     sys.exit(1 if failures else 0)
