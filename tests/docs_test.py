@@ -15,6 +15,9 @@ usage: /usr/bin/python3 tests/docs_test.py MODE --source DIR --work DIR [options
       and stylesheets; screenshots in WORK/preview
   examples --bin DIR --canonform CANONFORM
       the C++ examples of docs/library.md and README.md's (built into DIR) run on a generated figure
+  readme
+      README.md: at most 200 lines, no dates, load averages, machine paths or plans, the two commands,
+      and every link leads to a file (and heading) of the repository
   version --version X.Y.Z --canonform CANONFORM --params CANONFORM_PARAMS
       one version: CMake's project() version, `canonform --version`, the parameter dump the pages are
       generated from, and the newest release of CHANGELOG.md
@@ -126,6 +129,42 @@ def mode_examples(a):
           "README.md's C++ quick start (compiled as example_readme) writes canonical.ply", r.stderr)
 
 
+def slug(heading):
+    """The anchor MkDocs (and GitHub) give a heading."""
+    h = re.sub(r"[`*_]", "", heading.strip().lower())
+    h = re.sub(r"[^\w\- ]", "", h)
+    return re.sub(r"\s+", "-", h)
+
+
+def mode_readme(a):
+    path = os.path.join(a.source, "README.md")
+    with open(path) as f:
+        text = f.read()
+    lines = text.splitlines()
+    check(len(lines) <= 200, f"README.md has at most 200 lines ({len(lines)})")
+    notebook = [(k + 1, line) for k, line in enumerate(lines)
+                if re.search(r"\b20\d\d-\d\d-\d\d\b|load average|\bload \d|this machine|shared machine|/work/|/tmp/data|"
+                             r"not built|\bplan(ned)?\b|TODO", line, re.I)]
+    check(not notebook, "README.md has no dates, load averages, machine paths or plans",
+          "; ".join(f"line {n}: {line.strip()[:80]}" for n, line in notebook))
+    for cmd in ("tools/run_example.sh", "tools/run_tests.sh"):
+        check(re.search(r"^" + re.escape(cmd) + r"\s+# \d\. ", text, re.M) is not None, f"README.md gives command {cmd}")
+    bad = []
+    for target in re.findall(r"\]\(([^)\s]+)\)", text):
+        if re.match(r"[a-z]+:", target):
+            continue
+        file, _, anchor = target.partition("#")
+        full = os.path.join(a.source, file)
+        if not os.path.exists(full):
+            bad.append(f"{target}: no such file")
+        elif anchor and file.endswith(".md"):
+            with open(full) as f:
+                anchors = {slug(h) for h in re.findall(r"^#+ (.+)$", f.read(), re.M)}
+            if anchor not in anchors:
+                bad.append(f"{target}: no heading '#{anchor}' in {file}")
+    check(not bad, "every link of README.md leads to a file (and heading) of the repository", "; ".join(bad))
+
+
 def mode_version(a):
     r = run([a.canonform, "--version"])
     check(r.returncode == 0 and r.stdout.strip() == f"canonform {a.version}",
@@ -139,7 +178,7 @@ def mode_version(a):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("mode", choices=["generated", "site", "browser", "examples", "version"])
+    ap.add_argument("mode", choices=["generated", "site", "browser", "examples", "version", "readme"])
     ap.add_argument("--source", required=True)
     ap.add_argument("--work", required=True)
     ap.add_argument("--params")
