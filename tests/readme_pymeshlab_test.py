@@ -14,6 +14,8 @@ of that release:
   vectors arriving as 1-D numpy arrays as both releases convert them; a failure raises
   pymeshlab.PyMeshLabException with MeshLab's message;
 - the other methods raise NotImplementedError, and the test says so.
+Then every filter is applied once per release, and the keys of the dict it returns must be those of
+its row in the docs' table of what the filters return (docs/pymeshlab.md).
 What it cannot show: pymeshlab's own IO plugins (load_new_mesh reads the PLY with canonform's
 reader) and its Python packaging. The example's plugin folder '/path/to/canonform/build/...' is
 replaced by the build's; figure.ply and codebook.bin are generated in WORKDIR.
@@ -136,10 +138,43 @@ def main():
         finally:
             harness.close()
             del sys.modules["pymeshlab"]
+    # the table of what each filter returns (docs/pymeshlab.md): every filter applied once per
+    # release, its dict's keys against the table's row
+    table = {}
+    for doc in docs:
+        for name, cell in re.findall(r"^\| `([a-z_]+)` \| (.*) \|$", open(doc).read(), re.M):
+            keys = re.findall(r"`([a-z_]+)`", cell)
+            if name.startswith(("compute_", "generate_")) and keys:
+                table[name] = set(keys)
+    for release, (harness_path, plugins) in sorted(releases.items()):
+        if not table:
+            print("  FAIL no table of what the filters return")
+            failures += 1
+            break
+        harness = Harness(harness_path)
+        try:
+            for plugin in ("libfilter_canonical.so", "libfilter_viewdescriptor.so"):
+                harness.ask(RuntimeError, op="load_plugin", path=plugins + plugin)
+            for name, documented in sorted(table.items()):
+                harness.ask(RuntimeError, op="load_new_mesh", path=os.path.abspath("figure.ply"))
+                n = harness.ask(RuntimeError, op="mesh_number")
+                harness.ask(RuntimeError, op="set_current_mesh", id=n - 1)
+                kwargs = {"codebook_file": "codebook.bin", "output_file": ""} if "descriptor" in name else {}
+                got = set(harness.ask(RuntimeError, op="apply_filter", name=name, kwargs=kwargs) or {})
+                ok = got == documented
+                print(f"  {'ok  ' if ok else 'FAIL'} pymeshlab {release}: {name} returns the documented keys"
+                      + ("" if ok else f": missing from the table {sorted(got - documented)}, "
+                                       f"not returned {sorted(documented - got)}"))
+                failures += not ok
+        except RuntimeError as e:
+            print(f"  FAIL pymeshlab {release}: applying every filter: {e}")
+            failures += 1
+        finally:
+            harness.close()
     for release in sorted(set(releases) - seen):
         print(f"  FAIL no example for pymeshlab {release} in {', '.join(os.path.basename(d) for d in docs)}")
         failures += 1
-    print(f"{len(blocks) - failures} passed, {failures} failed")
+    print(f"{len(blocks)} examples and {len(table)} filters' outputs checked, {failures} failures")
     sys.exit(1 if failures else 0)
 
 
