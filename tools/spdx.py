@@ -52,7 +52,7 @@ def main():
         path = os.path.join(root, rel)
         with open(path, encoding="utf-8") as f:
             text = f.read()
-        if TAG in "\n".join(text.splitlines()[:3]):
+        if any(line.strip() == comment + TAG for line in text.splitlines()[:3]):
             continue
         if check:
             missing.append(rel)
