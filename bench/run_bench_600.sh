@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
 # Per-stage costs for the 600-mesh plan (docs/benchmarks.md, "600 meshes of 10k vertices"): six procedural
 # figures of 10k vertices (six body types, six poses) through bench_600, which prints wall and CPU
 # seconds per stage as JSON lines (bench/results/bench_600.jsonl) with the machine's load.

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """The documentation's tests (ctest -R docs): one mode per test.
 
 usage: /usr/bin/python3 tests/docs_test.py MODE --source DIR --work DIR [options]

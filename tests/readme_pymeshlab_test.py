@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Runs the pymeshlab examples of the README and the docs as written, as far as the pymeshlab harness
 can show.
 

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
 # Configures and builds canonform in ./build (or $CANONFORM_BUILD_DIR): the core, the plugins for
 # the installed MeshLab (float, build/meshlab/plugins: 2020.09 on Debian bookworm, 2022.02 on trixie,
 # 2025.07 on forky; with the canonform-meshlab runner from 2022.02 on), the canonform tool, the

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
 # Makes the Debian package of the plugins for the installed MeshLab, from a build (tools/build.sh):
 #   tools/package.sh [--build-dir DIR]      prints the path of the .deb it wrote (in DIR)
 #

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
 # The unit and end-to-end tests of the library and the canonform tool again in an
 # AddressSanitizer + UndefinedBehaviorSanitizer build (clang, any report fails the test), and every
 # libFuzzer target for a bounded time on the seeds the unit tests write (tests/fuzz). Called by

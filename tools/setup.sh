@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
 # canonform set-up: installs what is missing with apt, finds which MeshLab the system packages,
 # and fetches the Debian source packages the build needs into external/ (ignored by git).
 # Idempotent: a second run does nothing. Works on Debian bookworm, trixie and forky/sid:

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Puts the licence line `SPDX-License-Identifier: GPL-3.0-or-later` into every source file of the
 repository, or checks that every one has it.
 

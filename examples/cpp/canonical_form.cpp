@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The Euclidean canonical form of a mesh file: read, compute, write.
 //   example_canonical_form IN OUT [A|N]
 #include "canonform/canonical/euclidean_canonical_form.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Any canonical-form method of the registry, by name and parameters, as `canonform canonical
 // --method` and `canonform retrieve --method` take them.
 //   example_method_by_name IN OUT [SPEC]      SPEC e.g. "euclidean-N:beta=65" or "geodesic-classical"

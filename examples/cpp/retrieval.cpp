@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // View-based retrieval on a few generated figures: 66 depth views and SIFT per mesh, a codebook,
 // bag-of-features histograms, clock-matching distances and the psbTable measures.
 //   example_retrieval

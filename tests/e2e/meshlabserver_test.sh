@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
 # End-to-end tests of the filter_canonical plugin in the real meshlabserver (MeshLab 2020.09,
 # under xvfb-run), through a private prefix made by tools/install.sh --prefix (the documented
 # install without root). Each shipped script is run; the saved quality values and layers are

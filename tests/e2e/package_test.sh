@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
 # The Debian package of the plugins for this machine's MeshLab 2020.09 (tools/package.sh),
 # installed as the README says (apt install ./FILE.deb): the plugins and their scripts land in
 # MeshLab's own plugin folder, and the system's meshlabserver runs a filter from there; then the

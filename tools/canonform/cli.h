@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // canonform tool: what every command shares - the command table's entry type, usage errors,
 // progress on the terminal, JSON output and input checks.
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // canonform: the command-line tool on the same library as the MeshLab plugins, for batch work.
 //
 //   canonform COMMAND [ARGS] [OPTIONS]      canonform COMMAND --help: every option and default

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Opens pages of the built documentation site in headless Chromium: each must render with its
 stylesheets and every image loaded, and a screenshot of each is written.
 

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Checks a built documentation site: every internal link, anchor and image resolves.
 
 usage: /usr/bin/python3 tools/docs/check_site.py SITE_DIR

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Writes the generated parts of the documentation in docs/, or checks that they are up to date.
 
 usage: /usr/bin/python3 tools/docs/generate.py --params PARAMS.json --canonform CANONFORM [--check] [--root DIR]

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Writes every filter of both plugins and every canonical-form method of the registry, with all
 // their parameters, as JSON: `canonform_params [OUT.json]` (without OUT.json: on stdout). The documentation's filter
 // and pymeshlab pages are generated from it (tools/docs/generate.py), so they say what the filter

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Composes the pipeline picture from the tool's outputs (called by tools/docs/pipeline_picture.sh).
 
 usage: pipeline_picture.py OUT.png MESH.png PANELS.png CONTACT_SHEET.png DESCRIPTOR.cfvd DISTANCES.csv

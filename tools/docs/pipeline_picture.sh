@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
 # The picture of the pipeline on the documentation's home page, drawn from the tool's real output:
 #   mesh -> conformal factor -> feature points -> canonical form -> 66 depth views -> descriptor
 #   (one bag-of-features histogram per view) -> distances (clock matching) to the other models.

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Records the measures of a retrieval run folder as a result file the documentation shows.
 
 usage: /usr/bin/python3 tools/docs/record_run.py RUN OUT.json --command "canonform retrieve ..." \

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // canonform: the project's version, from the one number in CMakeLists.txt's project() (passed to
 // every target as CANONFORM_VERSION by src/CMakeLists.txt). `canonform --version`, the filters' log,
 // the packages and the documentation show it.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include "canonform/meshlab/filter_table.h"
 
 #include "canonform/common/version.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // canonform: the types of a plugin's filter table, shared by both plugins and every MeshLab API
 // adapter.
 //

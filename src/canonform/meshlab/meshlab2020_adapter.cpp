@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include "canonform/meshlab/meshlab2020_adapter.h"
 
 #include "canonform/meshlab/meshlab_adapter_common.h"

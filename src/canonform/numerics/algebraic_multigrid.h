@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // canonform: smoothed-aggregation algebraic multigrid (AMG) as a preconditioner for conjugate
 // gradients, for the large sparse symmetric positive definite systems of the core (SMACOF's V).
 //

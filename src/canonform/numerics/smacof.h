@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // canonform: weighted SMACOF (stress majorisation) on a sparse set of pairs.
 //
 // Reference: Pickup et al., Pattern Recognition 2015, eqs. (1)-(6); J. de Leeuw, "Applications of

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // canonform: the sparse LDL^T factorisation used by the core (factor once, solve many times).
 //
 // With CHOLMOD (SuiteSparse, Debian's libsuitesparse-dev) found at configure time, this is

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // canonform: late fusion of retrieval distance matrices (a "fused" method of `canonform retrieve`).
 //
 // Reference: none in Pickup et al. 2015; standard score-level fusion: E. A. Fox and J. A. Shaw,

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // canonform: geodesic distances on a triangle mesh by fast marching.
 //
 // Reference: R. Kimmel and J. A. Sethian, "Computing geodesic paths on manifolds", Proc. Natl.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // canonform: pose normalisation for the view-based descriptor of Lian et al. (CM-BOF): PCA and
 // rectilinearity, keeping the better of the two.
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // canonform: SIFT descriptors (difference-of-Gaussian keypoints) of one 8-bit depth view.
 //
 // Reference: D. G. Lowe, "Distinctive image features from scale-invariant keypoints", IJCV 60(2),
