@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
 # Refreshes the fuzz corpora kept in the repository (tests/fuzz/corpus/NAME/, one per libFuzzer
 # target; tests/fuzz/run_fuzz.sh starts every run from them): each target runs for SECONDS more
 # from the kept corpus, its build's working corpus and the unit tests' seeds, then everything is
