@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
 # Line coverage of the project's readers by the fuzz corpora kept in the repository
 # (tests/fuzz/corpus/) and the seeds the unit tests write: a clang build with source-based coverage
 # (-fprofile-instr-generate -fcoverage-mapping, no sanitizers) in BUILD_DIR (default ./build-cov),
