@@ -150,6 +150,23 @@ py::tuple canonical(const py::object& V, const py::object& F, const std::string&
     return py::make_tuple(array_out(r.V), info);
 }
 
+/// For bench/python_bench.py: seconds of the C++ call canonical() makes (the registry's run() on the
+/// library's matrices, validating first), timed in C++ with the GIL held and no progress function -
+/// what a C++ program pays, next to which the module's overhead is measured call by call.
+double cpp_call_seconds(const py::object& V, const py::object& F, const std::string& method_name) {
+    const CanonicalMethod& method = canonical_method(method_name);
+    const MethodSettings settings = method.settings();
+    const Eigen::MatrixXd v = vertices_in(V);
+    const Eigen::MatrixXi f = faces_in(F);
+    MethodContext context;
+    context.threads = 1;
+    const auto t0 = Clock::now();
+    const CanonicalForm r = method.run(v, f, settings, context);
+    const double seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+    if (r.V.rows() != v.rows()) throw NumericalError("unexpected form size");
+    return seconds;
+}
+
 py::list methods() {
     py::list out;
     for (const CanonicalMethod& m : canonical_methods()) {
@@ -266,6 +283,8 @@ this call in place of the tool's read/write/total seconds). The same doubles as
     m.def("canonical_methods", &methods, R"(The registry of canonical-form methods: a list of dicts
 {name, family, help, parameters: [{name, default, help, min, max, integer,
 choices, zero_means_default}]}, in the order the tool lists them.)");
+    m.def("_cpp_call_seconds", &cpp_call_seconds, py::arg("V"), py::arg("F"), py::arg("method") = "euclidean-N",
+          "For bench/python_bench.py: seconds of the bare C++ call canonical_form() makes (one thread).");
     m.def("simplify", &simplify, py::arg("V"), py::arg("F"), py::arg("vertices"),
           R"(Quadric edge collapse to about `vertices` vertices (MeshLab's filter, its
 defaults; `canonform simplify`). Returns (V float64 (n, 3), F int32 (m, 3)).)");

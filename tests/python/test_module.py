@@ -10,10 +10,12 @@ def test_imported_from_the_installed_wheel_not_the_source_tree():
     here = os.path.realpath(canonform.__file__)
     source = os.environ.get("CANONFORM_SOURCE_DIR")
     assert source, "CANONFORM_SOURCE_DIR must name the repository"
-    assert not here.startswith(os.path.realpath(source) + os.sep), here
+    # the venv's copy (the venv may sit in a build folder inside the clone), not the source package
     assert here.startswith(os.path.realpath(sys.prefix) + os.sep), (here, sys.prefix)
+    assert not here.startswith(os.path.realpath(os.path.join(source, "python")) + os.sep), here
     assert sys.prefix != sys.base_prefix, "the tests run in a venv"
-    assert os.getcwd() != os.path.realpath(source)
+    assert not any(os.path.realpath(p or ".") in (os.path.realpath(source), os.path.realpath(os.path.join(source, "python")))
+                   for p in sys.path), sys.path
 
 
 def test_stubs_declare_every_function_with_its_docstring():
@@ -56,3 +58,20 @@ def test_registry_lists_methods_with_parameters():
 def test_sift_default_is_a_backend():
     assert canonform.default_sift() in canonform.sift_backends()
     assert canonform.__version__.count(".") == 2
+
+
+def test_the_extension_exports_only_its_init_function():
+    """The static libraries' symbols (Eigen, vcglib, OpenCV glue) stay inside the extension: none can
+    bind to another extension's copies in the same process (pymeshlab's), nor theirs to ours."""
+    import glob
+    import shutil
+    import subprocess
+
+    so = glob.glob(os.path.join(os.path.dirname(canonform.__file__), "_canonform*.so"))
+    assert len(so) == 1, so
+    objdump = shutil.which("objdump")
+    assert objdump, "objdump (binutils) is needed"
+    table = subprocess.run([objdump, "-T", so[0]], capture_output=True, text=True, check=True).stdout
+    defined = [l.split()[-1] for l in table.splitlines()
+               if " g " in l and "*UND*" not in l and (" DF " in l or " DO " in l)]
+    assert defined == ["PyInit__canonform"], defined

@@ -82,3 +82,34 @@ def test_retrieve_refuses_bad_options_before_any_work(collection, tmp_path):
         with pytest.raises(ValueError, match=pattern):
             canonform.retrieve(d / "coll", tmp_path / "run", **args)
     assert not (tmp_path / "run" / "none").exists()
+
+
+def test_retrieve_bad_collections(collection, tmp_path):
+    coll = collection / "coll"
+    rows = (coll / "labels.csv").read_text().splitlines()
+    # a row naming a missing mesh: a listed failure, the run goes on
+    (coll / "labels_missing.csv").write_text("\n".join(rows + ["meshes/gone.ply,standard"]) + "\n")
+    lines = []
+    r = canonform.retrieve(coll, tmp_path / "run", ["none"], labels=coll / "labels_missing.csv", words=20,
+                           log=lines.append)
+    assert r["methods"]["none"]["failed"] == 1 and r["methods"]["none"]["meshes"] == 6
+    assert "gone" in (tmp_path / "run" / "none" / "failures.txt").read_text()
+    # a corrupt cache entry is recomputed, with a log line, and changes nothing
+    entry = sorted((tmp_path / "run" / "cache").glob("*.cfvd"))[0]
+    entry.write_bytes(b"garbage")
+    lines.clear()
+    again = canonform.retrieve(coll, tmp_path / "run", ["none"], labels=coll / "labels_missing.csv", words=20,
+                               log=lines.append)
+    assert again["methods"]["none"]["measures"] == r["methods"]["none"]["measures"]
+    assert again["methods"]["none"]["cached"] == 5 and any("corrupt cache entry recomputed" in l for l in lines), lines
+    # two models of one name, fewer than three models: refused before any work, naming them
+    (coll / "labels_twice.csv").write_text("\n".join(rows + [rows[1]]) + "\n")
+    with pytest.raises(ValueError, match="two models are named 'standard_0'"):
+        canonform.retrieve(coll, tmp_path / "run2", ["none"], labels=coll / "labels_twice.csv")
+    (coll / "labels_two.csv").write_text("\n".join(rows[:3]) + "\n")
+    with pytest.raises(ValueError, match="at least three meshes"):
+        canonform.retrieve(coll, tmp_path / "run3", ["none"], labels=coll / "labels_two.csv")
+    assert not (tmp_path / "run2" / "none").exists() and not (tmp_path / "run3" / "none").exists()
+    # classes of two models or fewer: evaluate refuses when no class has three
+    with pytest.raises(ValueError, match="no class has more than two models"):
+        canonform.evaluate(np.ones((4, 4)) - np.eye(4), ["a", "a", "b", "b"])
