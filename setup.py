@@ -2,10 +2,11 @@
 
     pip install --no-build-isolation --no-index .        # docs/python.md
 
-The extension and its stubs come from the CMake target canonform_python (python/CMakeLists.txt):
-in an existing build folder when CANONFORM_PYTHON_BUILD_DIR names one (nothing is compiled twice:
-the tests and CI build the wheel this way), else in build/pip/ of this repository, configured
-with only the library and the module. The rest of the package is python/canonform/. Setuptools'
+The extension and its stubs come from the CMake target canonform_python (python/CMakeLists.txt),
+built in an existing build folder when CANONFORM_PYTHON_BUILD_DIR names one (nothing is compiled
+twice: the tests and CI build the wheel this way) or when the repository's build/ (tools/build.sh)
+makes the module for this Python, else in build/pip/, configured with only the library and the
+module. The rest of the package is python/canonform/. Setuptools'
 own working files go under that build folder too, never into the source tree.
 """
 import os
@@ -26,9 +27,28 @@ def version():
         return re.search(r"project\(canonform VERSION ([0-9.]+)", f.read()).group(1)
 
 
+def same_python(build):
+    """True if the CMake build in `build` makes the module for this interpreter (a venv's counts as
+    the interpreter it was made from)."""
+    try:
+        with open(os.path.join(build, "CMakeCache.txt"), encoding="utf-8") as f:
+            cache = dict(re.findall(r"^([A-Za-z_]+):[A-Z]+=(.*)$", f.read(), re.M))
+    except OSError:
+        return False
+    exe = cache.get("Python_EXECUTABLE") or cache.get("_Python_EXECUTABLE")
+    ours = getattr(sys, "_base_executable", sys.executable)
+    return cache.get("CANONFORM_PYTHON") == "ON" and bool(exe) and os.path.realpath(exe) == os.path.realpath(ours)
+
+
 def cmake_build_dir():
+    """CANONFORM_PYTHON_BUILD_DIR; else the repository's build/ (tools/build.sh) when it makes the
+    module for this Python; else build/pip/, a build of the library and the module alone."""
     given = os.environ.get("CANONFORM_PYTHON_BUILD_DIR")
-    return os.path.abspath(given) if given else os.path.join(HERE, "build", "pip")
+    if given:
+        return os.path.abspath(given)
+    if same_python(os.path.join(HERE, "build")):
+        return os.path.join(HERE, "build")
+    return os.path.join(HERE, "build", "pip")
 
 
 class CMakeBuild(build_ext):
