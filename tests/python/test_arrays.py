@@ -90,4 +90,4 @@ def test_the_gil_is_released_during_a_computation(mesh):
     t.join()
     during = [x for x in ticks if start < x < end]
     # a thread that needs the GIL kept running while the library worked
-    assert end - start > 0.05 and len(during) >= 0.3 * (end - start) / 0.002, (len(during), end - start)
+    assert end - start > 0.05 and len(during) >= 0.1 * (end - start) / 0.002, (len(during), end - start)
