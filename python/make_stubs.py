@@ -21,6 +21,14 @@ ARG_TYPES = {
     "descriptors": f"Iterable[{ARRAY}]", "codebook": f"{ARRAY} | {PATH} | None",
     "methods": "Sequence[str] | str", "progress": "Callable[[float, str], bool | None] | None",
     "log": "Callable[[str], object] | None", "kwargs": "str | float | int",
+    "write_mesh.F": f"{ARRAY} | None", "retrieve.labels": f"{PATH} | None",
+    "evaluate.labels": f"{PATH} | Sequence[object]",
+}
+# Return types of the functions that return different things (declared as any Python object).
+RETURNS = {
+    "read_mesh": "tuple[NDArray[numpy.float64], NDArray[numpy.int32]] | "
+                 "tuple[NDArray[numpy.float64], NDArray[numpy.int32], NDArray[numpy.float64]]",
+    "view_descriptor": "NDArray[numpy.float32] | list[NDArray[numpy.float32]]",
 }
 TYPE_NAMES = [  # pybind11's names -> typing's
     (r"numpy\.ndarray\[numpy\.(\w+)\]", r"NDArray[numpy.\1]"),
@@ -87,11 +95,11 @@ def stub(name, fn):
         an, _, default = a.partition(" = ")
         argname, _, t = an.partition(": ")
         if t in ("object", "Iterable", "") or star:  # any Python object (or iterable): the type by name
-            t = ARG_TYPES.get(argname, "Any")
+            t = ARG_TYPES.get(f"{name}.{argname}", ARG_TYPES.get(argname, "Any"))
         else:
             t = typed(t)
         args.append(f"{star}{argname}: {t}" + (f" = {default}" if default else ""))
-    ret = typed(m.group(2))
+    ret = RETURNS.get(name, typed(m.group(2)))
     body = rest.strip().replace('"""', "'''")
     return f'def {name}({", ".join(args)}) -> {ret}:\n    """{body}"""\n'
 

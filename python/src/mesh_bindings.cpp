@@ -17,7 +17,9 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <tuple>
 #include <variant>
+#include <vector>
 
 namespace canonform::python {
 
@@ -116,7 +118,7 @@ py::array_t<std::int64_t> features(const py::object& V, const py::object& F, int
     return indices_out(fp.indices);
 }
 
-py::tuple canonical(const py::object& V, const py::object& F, const std::string& method_name, int threads,
+std::tuple<py::array_t<double>, py::dict> canonical(const py::object& V, const py::object& F, const std::string& method_name, int threads,
                     const py::object& progress, const py::kwargs& params) {
     const auto t0 = Clock::now();
     MethodSpec spec;
@@ -147,7 +149,7 @@ py::tuple canonical(const py::object& V, const py::object& F, const std::string&
     info["faces"] = f.rows();
     for (const auto& [key, value] : r.summary) info[text(key)] = summary_value(value);
     info["total_seconds"] = std::chrono::duration<double>(Clock::now() - t0).count();
-    return py::make_tuple(array_out(r.V), info);
+    return {array_out(r.V), info};
 }
 
 /// For bench/python_bench.py: seconds of the C++ call canonical() makes (the registry's run() on the
@@ -167,8 +169,8 @@ double cpp_call_seconds(const py::object& V, const py::object& F, const std::str
     return seconds;
 }
 
-py::list methods() {
-    py::list out;
+std::vector<py::dict> methods() {
+    std::vector<py::dict> out;
     for (const CanonicalMethod& m : canonical_methods()) {
         py::list params;
         for (const MethodParameter& p : m.parameters) {
@@ -190,12 +192,13 @@ py::list methods() {
                                                            : "none";
         d["help"] = text(m.help);
         d["parameters"] = params;
-        out.append(d);
+        out.push_back(d);
     }
     return out;
 }
 
-py::tuple simplify(const py::object& V, const py::object& F, int vertices) {
+std::tuple<py::array_t<double>, py::array_t<std::int32_t>> simplify(const py::object& V, const py::object& F,
+                                                                     int vertices) {
     const Eigen::MatrixXd v = vertices_in(V);
     const Eigen::MatrixXi f = faces_in(F);
     Call call;
@@ -203,18 +206,18 @@ py::tuple simplify(const py::object& V, const py::object& F, int vertices) {
         validate_mesh(v, f);
         return simplify_mesh(Mesh{v, f}, vertices);
     });
-    return py::make_tuple(array_out(s.V), array_out(s.F));
+    return {array_out(s.V), array_out(s.F)};
 }
 
-py::tuple repair(const py::object& V, const py::object& F) {
+std::tuple<py::array_t<double>, py::array_t<std::int32_t>, py::str> repair(const py::object& V, const py::object& F) {
     const Eigen::MatrixXd v = vertices_in(V);
     const Eigen::MatrixXi f = faces_in(F);
     Call call;
     const MeshRepair r = call.run([&] { return repair_mesh(v, f); });
-    return py::make_tuple(array_out(r.mesh.V), array_out(r.mesh.F), text(r.summary()));
+    return {array_out(r.mesh.V), array_out(r.mesh.F), text(r.summary())};
 }
 
-py::tuple figure(int vertices, int pose, const std::string& body) {
+std::tuple<py::array_t<double>, py::array_t<std::int32_t>> figure(int vertices, int pose, const std::string& body) {
     if (vertices < 500 || vertices > 2000000)
         throw InputError("vertices must be between 500 and 2000000, got " + std::to_string(vertices));
     if (pose < 0) throw InputError("pose must be 0 or more, got " + std::to_string(pose));
@@ -227,7 +230,7 @@ py::tuple figure(int vertices, int pose, const std::string& body) {
     Call call;
     const Figure fig = call.run([&] { return make_figure(vertices, figure_pose(pose), proportions); });
     // rounded to float as `canonform generate` writes it (MeshLab 2020.09 computes in float)
-    return py::make_tuple(array_out(Eigen::MatrixXd(fig.mesh.V.cast<float>().cast<double>())), array_out(fig.mesh.F));
+    return {array_out(Eigen::MatrixXd(fig.mesh.V.cast<float>().cast<double>())), array_out(fig.mesh.F)};
 }
 
 }  // namespace

@@ -12,6 +12,8 @@
 
 #include <cmath>
 #include <optional>
+#include <tuple>
+#include <vector>
 
 namespace canonform::python {
 
@@ -209,10 +211,10 @@ py::array_t<float> read_distance_matrix(const py::object& path) {
     return array_out(Eigen::MatrixXf(D.cast<float>()));
 }
 
-py::list read_labels(const py::object& path) {
+std::vector<std::tuple<py::str, py::str>> read_labels(const py::object& path) {
     const std::string p = path_in(path);
-    py::list out;
-    for (const auto& row : Call().run([&] { return io::read_labels(p); })) out.append(py::make_tuple(text(row.path), text(row.label)));
+    std::vector<std::tuple<py::str, py::str>> out;
+    for (const auto& row : Call().run([&] { return io::read_labels(p); })) out.emplace_back(text(row.path), text(row.label));
     return out;
 }
 
