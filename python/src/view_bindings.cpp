@@ -229,7 +229,8 @@ or one of sift_backends(); seed: the pose's rectilinearity restarts.)");
 features: a float (n, 128) array, or a list of them (view_descriptor()'s raw
 features), or a list of such lists (several models), stacked in order. sample:
 descriptors drawn (seeded) to train on, 0 = all; method: "kmeans" (FAISS),
-"lloyd" or "random". Returns float32 (W, 128) words, W = min(words, descriptors).)");
+"lloyd" or "random". Returns float32 (words, 128); fewer descriptors than words
+raises InputError with both numbers.)");
     m.def("save_codebook", &save_codebook, py::arg("path"), py::arg("words"),
           "Writes words (W, 128) as a codebook file (the tool's format; atomic).");
     m.def("load_codebook", &load_codebook, py::arg("path"), "Reads a codebook file: float32 (W, 128) words.");

@@ -96,3 +96,8 @@ def test_bad_descriptors_are_value_errors():
         canonform.train_codebook(np.zeros((10, 64), np.float32))
     with pytest.raises(ValueError, match="words must be between"):
         canonform.train_codebook(np.zeros((10, 128), np.float32), words=0)
+
+
+def test_a_codebook_larger_than_its_training_set_is_refused():
+    with pytest.raises(ValueError, match="words"):
+        canonform.train_codebook(np.ones((30, 128), np.float32) * np.arange(30)[:, None], words=40)
