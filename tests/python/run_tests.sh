@@ -12,6 +12,8 @@ rm -rf "$work"
 mkdir -p "$work/dist"
 work=$(realpath "$work")
 t0=$(date +%s.%N)
+# Caches (pip's, matplotlib's font list) go under WORK_DIR too, not into the user's home.
+export XDG_CACHE_HOME=$work/cache MPLCONFIGDIR=$work/matplotlib PIP_NO_CACHE_DIR=1 PIP_DISABLE_PIP_VERSION_CHECK=1
 CANONFORM_PYTHON_BUILD_DIR=$build "$py" -m pip wheel --no-build-isolation --no-index --no-deps --quiet \
   --wheel-dir "$work/dist" "$src"
 t1=$(date +%s.%N)
