@@ -20,6 +20,15 @@ CHILD = textwrap.dedent("""
     elif what == "geodesic":  # fast marching from every vertex, then SMACOF on all pairs: tens of seconds
         V, F = canonform.figure(6000)
         call = lambda: canonform.canonical_form(V, F, "geodesic-ls", tolerance=0, max_iterations=100000)
+    elif what == "retrieve":  # a retrieval run over 30 meshes: stops between meshes
+        os.makedirs("coll", exist_ok=True)
+        rows = ["path,class"]
+        for body in ("standard", "long-arms", "short-legs", "stocky", "long-neck"):
+            for pose in range(6):
+                canonform.write_mesh(f"coll/{body}_{pose}.ply", *canonform.figure(800, pose=pose, body=body))
+                rows.append(f"{body}_{pose}.ply,{body}")
+        open("coll/labels.csv", "w").write("\\n".join(rows) + "\\n")
+        call = lambda: canonform.retrieve("coll", "run", ["euclidean-N", "euclidean-A"], words=50)
     else:  # clock matching of 1500 random descriptors: minutes
         rng = np.random.default_rng(1)
         H = [(rng.random((66, 300)) < 0.1).astype(np.float32) * 3 for _ in range(1500)]
@@ -34,10 +43,11 @@ CHILD = textwrap.dedent("""
 """)
 
 
-@pytest.mark.parametrize("what", ["smacof", "geodesic", "distances"])
+@pytest.mark.parametrize("what", ["smacof", "geodesic", "distances", "retrieve"])
 def test_ctrl_c_stops_a_long_call(what, tmp_path):
     (tmp_path / "child.py").write_text(CHILD)
-    r = subprocess.run([sys.executable, str(tmp_path / "child.py"), what], capture_output=True, text=True, timeout=120)
+    r = subprocess.run([sys.executable, str(tmp_path / "child.py"), what], capture_output=True, text=True, timeout=300,
+                       cwd=tmp_path)
     assert r.returncode == 0, r.stderr
     word, seconds = r.stdout.split()
     assert word == "interrupted", r.stdout
