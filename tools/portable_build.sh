@@ -22,6 +22,7 @@ flavours=(pymeshlab2022 pymeshlab2023 pymeshlab2025 meshlab2025)
 targets=()
 for f in "${flavours[@]}"; do targets+=("filter_canonical_$f" "filter_viewdescriptor_$f"); done
 mkdir -p "$build" "$out"
+build=$(realpath "$build") out=$(realpath "$out")
 t0=$SECONDS
 # --as-needed: a plugin names only the libraries it calls (not GLEW, GL or the Qt modules
 # meshlab-common's interface lists). No FAISS in bullseye: the plugins never train a codebook.
