@@ -51,7 +51,8 @@ wheel() {
   mkdir -p "$dest/lib"
   cp "$harness" "$dest/harness"
   cp "$common" "$dest/lib/libmeshlab-common.so"
-  "$src/tools/host.sh" bullseye patchelf --set-rpath '$ORIGIN/lib' "$dest/harness" >/dev/null 2>&1
+  "$src/tools/host.sh" bullseye bash -c 'patchelf --set-rpath "\$ORIGIN/lib" "$1/harness" &&
+                                         patchelf --set-rpath "\$ORIGIN" "$1/lib/libmeshlab-common.so"' rpath "$dest" >/dev/null 2>&1
   for lib in $(bare bash -c "cd '$dest' && ldd harness lib/libmeshlab-common.so" 2>/dev/null | awk '/not found/ {print $1}' | sort -u); do
     cp -L "$(/sbin/ldconfig -p | awk -v l="$lib" '$1 == l && /x86-64/ {print $NF; exit}')" "$dest/lib/"
   done
