@@ -185,4 +185,10 @@ check "MeshLab 2020.09's OFF loader crashes on face index 100000000 before any f
   bash -c "[ $rc -eq 139 ] || grep -q 'Segmentation fault' index.log"
 "$cf" conformal index.off bad_index.ply > index_cf.log 2>&1
 check "the canonform tool names the line instead" grep -q "face index 100000000 on line 15 is out of range" index_cf.log
+"$cf" check index.off --repair index_fixed.ply > index_check.log 2>&1
+check "canonform check names it with MeshLab's crash, and --repair writes a copy without that face" \
+  bash -c "grep -q 'dropped 1 faces' index_check.log && '$cf' check index.off | grep -q 'MeshLab crashes on this file'"
+mls index_fixed.log -i index_fixed.ply -o ml_index_fixed.ply
+rc=$?
+check "meshlabserver opens the repaired copy (exit $rc)" bash -c "[ $rc -eq 0 ] && [ -s ml_index_fixed.ply ] && grep -q '11 fn' index_fixed.log"
 finish

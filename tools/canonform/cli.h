@@ -27,6 +27,11 @@ struct UsageError : std::runtime_error {
     using std::runtime_error::runtime_error;
 };
 
+/// Ends a command with this exit status after it has said why itself (e.g. `check` finding problems).
+struct ExitStatus {
+    int code;
+};
+
 /// A progress line on stderr while stderr is a terminal ("[stage] 42%  12 s left"); empty otherwise.
 ProgressFn terminal_progress(bool quiet, const std::string& label = "");
 
@@ -102,7 +107,7 @@ retrieval::ExperimentOptions finish_experiment_options(const ExperimentArgs& arg
 using AddCommand = void(CLI::App& app);
 
 // The commands, in mesh_commands.cpp, views_commands.cpp and retrieval_commands.cpp.
-AddCommand add_conformal, add_features, add_canonical, add_simplify, add_generate, add_picture,  // one mesh
+AddCommand add_check, add_conformal, add_features, add_canonical, add_simplify, add_generate, add_picture,  // one mesh
     add_views, add_codebook, add_descriptor, add_distance,                                          // views
     add_retrieve, add_evaluate, add_grid,                                                            // retrieval
     add_stage, add_status, add_slurm, add_index, add_query;                                                     // sharded_commands.cpp

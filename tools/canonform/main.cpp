@@ -21,7 +21,7 @@ struct Command {
 
 /// Every command, in the order of `canonform --help`. A new command: one line here.
 const Command kCommands[] = {
-    {"conformal", add_conformal},   {"features", add_features}, {"canonical", add_canonical},
+    {"check", add_check},           {"conformal", add_conformal},   {"features", add_features}, {"canonical", add_canonical},
     {"simplify", add_simplify},     {"views", add_views},       {"codebook", add_codebook},
     {"descriptor", add_descriptor}, {"distance", add_distance}, {"retrieve", add_retrieve},
     {"evaluate", add_evaluate},     {"grid", add_grid},         {"generate", add_generate},
@@ -59,6 +59,8 @@ int main(int argc, char** argv) {
         std::cerr << "canonform" << (*command ? std::string(" ") + command : "") << ": " << e.what()
                   << "\n(`canonform" << (*command ? std::string(" ") + command : "") << " --help` lists the options)\n";
         return 2;
+    } catch (const ExitStatus& e) {
+        return e.code;
     } catch (const UsageError& e) {
         std::cerr << "canonform " << command << ": " << e.what() << "\n";
         return 2;

@@ -24,8 +24,9 @@
 //   reference FAISS was measured against (same measures, slower: README).
 // - Method::Random: `words` distinct descriptors drawn uniformly (the public re-implementation
 //   that Pickup et al. used picks random training descriptors).
-// - If there are no more descriptors than words, every descriptor becomes a word (in input order)
-//   and size() is the number of descriptors, possibly < options.words.
+// - Fewer training descriptors than words is refused (InputError with both numbers): the codebook
+//   never has fewer words than asked for. With exactly as many, every descriptor becomes a word
+//   (in input order).
 //
 // Assignment: nearest word in squared Euclidean distance, ties to the lower word index; computed
 // as |c|^2 - 2 x.c in blocks with Eigen's matrix product (float), so two words whose distances
