@@ -5,7 +5,9 @@
 
 Each A:B is a pair of files of the same kind:
   .json   every number of B equal to A's within rel * max(|a|, 1e-300) (integers and booleans
-          exactly); keys ending in "seconds" (timings) are skipped; strings equal;
+          exactly); keys ending in "seconds" (timings) are skipped; a "residual" (a solver's relative
+          residual, round-off of size 1e-14 whose digits are noise) must be below 1e-9 in both;
+          strings equal;
   .ply    every vertex property (ASCII or binary little-endian PLY): max |a - b| <= rel * max |a|
           per property, and the same vertex and face counts;
   .cfvd   (descriptor files) byte for byte.
@@ -81,6 +83,10 @@ def compare_numbers(a, b, rel, where, problems):
     if isinstance(a, dict) and isinstance(b, dict):
         for k in sorted(set(a) | set(b)):
             if k.endswith("seconds"):
+                continue
+            if k == "residual" and k in a and k in b:
+                if not (abs(a[k]) < 1e-9 and abs(b[k]) < 1e-9):
+                    problems.append(f"{where}{k}: {a[k]!r} vs {b[k]!r} (not both below 1e-9)")
                 continue
             if k not in a or k not in b:
                 problems.append(f"{where}{k}: only in one")

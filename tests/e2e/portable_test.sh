@@ -34,7 +34,8 @@ done
 
 # The system has none of the libraries the archives bundle -------------------------------------------
 bare ldconfig -p > ldconfig.txt 2>&1
-bare bash -c '. /etc/os-release; echo "$PRETTY_NAME, glibc $(ldd --version | head -n 1 | awk "{print \$NF}"), $(dpkg-query -W -f="MeshLab \${Version}, Qt \$(dpkg-query -W -f=\${Version} libqt5core5t64 2>/dev/null || dpkg-query -W -f=\${Version} libqt5core5a)" meshlab)"' > system.txt 2>&1
+bare bash -c '. /etc/os-release; echo "$PRETTY_NAME, glibc $(ldd --version | head -n 1 | awk "{print \$NF}")"' > system.txt 2>&1
+bare dpkg-query -W meshlab libqt5core5t64 2>/dev/null | tr '\t\n' '  ' >> system.txt
 originals=$(for d in "${dir[@]}"; do ls "$d/canonform.libs" 2>/dev/null; done | sed -E 's/-[0-9a-f]{8}(\.so)/\1/' | sort -u)
 present=$(for o in $originals; do grep -q "^[[:space:]]$o " ldconfig.txt && echo "$o"; done)
 # what a MeshLab process there loads anyway (MeshLab's own dependencies and its plugins')
@@ -67,7 +68,7 @@ declare -A harness=([pymeshlab2022.2]=pymeshlab2022 [pymeshlab2023.12]=pymeshlab
 for h in pymeshlab2022.2 pymeshlab2023.12 pymeshlab2025.7; do
   f=${harness[$h]}
   wheel "$build/tests/canonform_${f}_harness" "$build/$f/lib/libmeshlab-common.so" "$work/wheel-$f"
-  echo "    $h: harness + bookworm's meshlab-common $(strings "$build/$f/lib/libmeshlab-common.so" | grep -m1 -oE '^20[0-9]{2}\.[0-9]{2}d$' || true), lib/: $(ls "$work/wheel-$f/lib" | tr '\n' ' ')"
+  echo "    $h: harness + bookworm's meshlab-common $(strings "$build/$f/lib/libmeshlab-common.so" | grep -m1 -oE '20[0-9]{2}\.[0-9]{2}d' || true), lib/: $(ls "$work/wheel-$f/lib" | tr '\n' ' ')"
   others=()
   for o in pymeshlab2022.2 pymeshlab2023.12 pymeshlab2025.7; do
     [ "$o" = "$h" ] || others+=(--wrong-version "${dir[$o]}/libfilter_canonical.so")
