@@ -48,7 +48,7 @@ for h in pymeshlab2022.2 pymeshlab2023.12 pymeshlab2025.7 meshlab2025.07; do
     for _ in $(seq "$runs"); do
       serve "$harness" "$work/two" >> "$work/t_process"
       grep -q error "$work/answer" && { echo "load_plugin failed: $(cat "$work/answer")" >&2; exit 1; }
-      /usr/bin/python3 -c "import json,sys; print(sum(json.loads(l)['seconds'] for l in open(sys.argv[1])))" \
+      /usr/bin/python3 -c "import json,sys; print(round(sum(json.loads(l)['seconds'] for l in open(sys.argv[1])), 4))" \
         "$work/answer" >> "$work/t_load"
     done
     load=$(median < "$work/t_load")
