@@ -58,6 +58,7 @@ for host in "$@"; do
     continue
   fi
   stage=$(mktemp -d "$out/.stage.XXXXXX")
+  trap 'rm -rf "$stage"' EXIT
   log "$dir: bundling"
   python3 "$here/tools/portable_bundle.py" "$stage/$dir" "${plugins[@]}" >&2
   mkdir -p "$stage/$dir/scripts"
@@ -67,9 +68,8 @@ for host in "$@"; do
       load="MeshLab 2025.07 (AppImage, Flathub or Debian's package), single precision. Install:
   mkdir -p ~/.local/share/VCG/MeshLab_64bit_fp/MeshLabExtraPlugins/2025.07
   tar -xzf $dir.tar.gz --strip-components=1 -C ~/.local/share/VCG/MeshLab_64bit_fp/MeshLabExtraPlugins/2025.07
-then start MeshLab: the filters are in Filters > Remeshing, Simplification and Reconstruction and
-Filters > Quality Measure and Computations. The .mlx scripts are in scripts/ (Filters > Show current
-filter script > Open script).
+then start MeshLab: the five filters are in its Filters menu. The .mlx filter scripts are in
+scripts/. (Help > Plugin Info > Load Plugins would copy the .so alone, without canonform.libs/.)
 Uninstall: rm -r ~/.local/share/VCG/MeshLab_64bit_fp/MeshLabExtraPlugins/2025.07/{libfilter_canonical.so,libfilter_viewdescriptor.so,canonform.libs,scripts,INSTALL.txt}" ;;
     *)
       load="pymeshlab ${name#pymeshlab} (pip install pymeshlab==${name#pymeshlab}.*), double precision. Use:
