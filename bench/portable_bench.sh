@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
 # Figures of the portable archives (docs/install.md): the compressed size of each archive (target
 # <= 25 MB) and the time to load both plugins into a fresh pymeshlab harness process (target
 # <= 0.5 s), side by side in one run:

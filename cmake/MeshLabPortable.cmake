@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 # The portable flavours: both plugins for each MeshLab or pymeshlab release users install, compiled
 # in one build on Debian bullseye (glibc 2.31, GCC 10's libstdc++, Qt 5.15.2: tools/host.sh bullseye)
 # so that they load on any Linux at least that old. tools/package.sh --portable HOST configures this

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Compares two runs of the same filters (portable archive against today's build) to a relative tolerance.
 
     portable_compare.py [--rel 1e-6] A:B...

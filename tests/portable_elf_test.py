@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Reads every ELF file of a portable archive (tools/package.sh --portable), as auditwheel checks a wheel.
 
     portable_elf_test.py ARCHIVE.tar.gz... [--refuses HOST PLUGIN.so... SCRIPTS_DIR...]

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-3.0-or-later
 """The pymeshlab 2023.12 plugins, compiled against MeshLab 2025.07's headers (cmake/MeshLabPortable.cmake),
 leave undefined only MeshLab symbols that 2025.07's meshlab-common exports.
 

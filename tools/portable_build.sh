@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
 # The inside of `tools/package.sh --portable`: runs in the Debian bullseye root filesystem
 # (tools/host.sh bullseye). One CMake build of the four portable flavours (cmake/MeshLabPortable.cmake),
 # then one archive per HOST asked for:

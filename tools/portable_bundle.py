@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Makes a plugin folder self-contained, as auditwheel does for a wheel (tools/package.sh --portable).
 
     portable_bundle.py OUT_DIR PLUGIN.so... [--libs NAME] [--allow SONAME...]

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
 # The portable archives (tools/package.sh --portable, built in Debian bullseye) on a Linux they were
 # not built on: Debian forky as `apt install meshlab` leaves it (tools/host.sh forky-bare: newer
 # glibc, GCC and Qt, and none of the libraries the archives bundle).
