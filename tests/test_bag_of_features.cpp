@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Tests of the CM-BOF view-descriptor core (SIFT: test_sift_features.cpp): codebook, bag-of-features
 // distances, clock matching, the descriptor file. Timings are printed (not asserted, except the
 // 600 x 600 distance matrix budget of 60 s).

@@ -1,9 +1,12 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
 # Refreshes the fuzz corpora kept in the repository (tests/fuzz/corpus/NAME/, one per libFuzzer
 # target; tests/fuzz/run_fuzz.sh starts every run from them): each target runs for SECONDS more
 # from the kept corpus, its build's working corpus and the unit tests' seeds, then everything is
 # minimised with libFuzzer's -merge=1 (the smallest inputs that keep every feature seen) into a new
-# corpus of inputs of at most MAX_LEN bytes, which replaces the kept one. Commit the result.
+# corpus of inputs of at most MAX_LEN bytes (default 16384; the mesh corpora are kept at 2048:
+# small meshes reach the same code, and the repository stays small), which replaces the kept one.
+# Commit the result.
 #
 #   tools/fuzz_corpus.sh [--seconds S] [--max-len BYTES] [--only NAME] [BUILD_DIR]
 #

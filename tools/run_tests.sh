@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
 # README command 2: sets up, builds, and runs every test (unit, property and end-to-end tests
 # through the canonform tool and the real meshlabserver) with ctest; then, unless
 # CANONFORM_SANITIZER_TESTS=0 or ctest arguments are given, the unit and end-to-end tests again

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
 # Runs a command as root inside a throwaway copy-on-write view of this machine's own root
 # filesystem, so that whatever it installs, removes or overwrites (apt-get install ./x.deb, dpkg's
 # database, MeshLab's plugin folder, /usr/local) never reaches the machine:

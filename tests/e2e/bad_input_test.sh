@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
 # Hostile and broken input through every command of the canonform tool (issue 11): each answers
 # exit 1 (2 for usage) with a message naming the real cause, writes no output and leaves no
 # temporary file; --repair lets a mesh with 5 zero-area faces through with one log line; every

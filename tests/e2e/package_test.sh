@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
 # The Debian package of the plugins for this machine's MeshLab 2020.09 (tools/package.sh),
 # installed as the README says (apt install ./FILE.deb): the plugins and their scripts land in
 # MeshLab's own plugin folder, and the system's meshlabserver runs a filter from there; then the
@@ -40,6 +41,10 @@ dpkg-deb -c "$deb" | awk '{print $6}' > contents.txt
 check "holds both plugins and the meshlabserver scripts under $plugins" \
   bash -c "grep -qx .$plugins/libfilter_canonical.so contents.txt && grep -qx .$plugins/libfilter_viewdescriptor.so contents.txt &&
            grep -qx .$plugins/filter_canonical/euclidean_canonical_form.mlx contents.txt"
+check "holds its licence (/usr/share/doc/$name/copyright, GPL-3.0+)" \
+  bash -c "grep -qx ./usr/share/doc/$name/copyright contents.txt"
+check "its version is the tool's ($("$cf" --version))" \
+  bash -c "[ \"canonform \$(dpkg-deb -f '$deb' Version)\" = \"\$('$cf' --version)\" ]"
 
 DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --reinstall "$deb" > apt.log 2>&1
 check "apt-get install ./$(basename "$deb")" bash -c "dpkg-query -W -f='\${Status}' $name | grep -q 'install ok installed'"

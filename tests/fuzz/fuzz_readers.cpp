@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // libFuzzer target of one reader of the project's files (chosen at compile time by
 // CANONFORM_FUZZ_READER): the bytes are a file of that kind. A reader may refuse them - with an
 // InputError, which names the cause - and must do nothing else: no crash, no sanitizer report, no

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
 # Runs one libFuzzer target for a bounded time and fails on any finding (crash, sanitizer report,
 # leak, timeout, out-of-memory), whose input is kept in FINDINGS/ with the report.
 #   run_fuzz.sh TARGET SEEDS CORPUS FINDINGS SECONDS [libFuzzer options...]

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // canonform tool: what every command shares - the command table's entry type, usage errors,
 // progress on the terminal, JSON output and input checks.
 //
@@ -52,7 +53,7 @@ Mesh read_input_mesh(const std::string& path, bool repair, bool quiet, bool vali
 /// read_input_mesh() for the commands that work on one large mesh (conformal, features, canonical),
 /// which first makes freed memory stay with the process for reuse instead of going back to the
 /// system (glibc's malloc returns large blocks with munmap, and they are faulted in again at their
-/// next use; the figures are in README, "Canonical form at scale"). The peak stays the peak of the
+/// next use; the figures are in docs/benchmarks.md, "Canonical form at scale"). The peak stays the peak of the
 /// live data.
 Mesh read_large_mesh(const std::string& path, bool repair, bool quiet);
 

@@ -1,10 +1,14 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // canonform: the command-line tool on the same library as the MeshLab plugins, for batch work.
 //
 //   canonform COMMAND [ARGS] [OPTIONS]      canonform COMMAND --help: every option and default
+//   canonform --version                     the version (CMakeLists.txt's project())
 //
 // Meshes in: OFF, PLY, OBJ or STL; meshes out: binary PLY, written atomically. Exit status: 0 ok,
 // 1 bad input or failure (a message on stderr names the problem), 2 usage error.
 #include "cli.h"
+
+#include "canonform/common/version.h"
 
 #include <cstring>
 #include <iostream>
@@ -42,6 +46,7 @@ int main(int argc, char** argv) {
                  "and view-based shape retrieval.\nMeshes: OFF, PLY, OBJ or STL in; binary PLY out. "
                  "`canonform COMMAND --help` lists a command's options and defaults.",
                  "canonform"};
+    app.set_version_flag("--version", std::string("canonform ") + canonform::version());
     app.option_defaults()->always_capture_default();
     app.require_subcommand(1);
     for (const Command& c : kCommands) c.add(app);
@@ -54,6 +59,8 @@ int main(int argc, char** argv) {
         app.parse(argc, argv);
         return 0;
     } catch (const CLI::CallForHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::CallForVersion& e) {
         return app.exit(e);
     } catch (const CLI::ParseError& e) {
         std::cerr << "canonform" << (*command ? std::string(" ") + command : "") << ": " << e.what()

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // canonform tool: the commands on one mesh - check, conformal, features, canonical, simplify,
 // generate, picture.
 #include "cli.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // canonform tool: a retrieval run beyond one machine - stage (one stage, one shard) and status.
 #include "cli.h"
 

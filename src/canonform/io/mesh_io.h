@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // canonform: reading and writing mesh files - OFF, PLY (ASCII and binary), OBJ and STL (ASCII and
 // binary) in and out, by file extension.
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // canonform: feature points from the conformal factor.
 //
 // Reference: Pickup et al., Pattern Recognition 2015, Section 4: "we sample the sqrt(N) vertices

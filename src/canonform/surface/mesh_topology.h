@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // canonform: combinatorial helpers on an indexed triangle mesh (V #V x 3, F #F x 3).
 //
 // Undirected edge list, boundary vertices (adjacency and components of the edge graph are in
