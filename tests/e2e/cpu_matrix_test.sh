@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
 # The same results on every x86-64 CPU: the canonform tool run as another CPU by qemu user-mode
 # emulation (Debian's qemu-user) against the same binary run natively, on the same input files.
 #   cpu_matrix_test.sh prepare CANONFORM WORKDIR           native inputs and reference outputs

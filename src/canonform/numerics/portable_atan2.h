@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // canonform: an arctangent whose result is the same on every x86-64 CPU.
 //
 // Why: glibc's libm picks its implementation of atan2 (and of sin, cos, atan, acos, exp, log, pow)
