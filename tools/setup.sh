@@ -58,6 +58,11 @@ esac
 if [ "$codename" = bookworm ] && [ "${CANONFORM_HOSTS:-1}" != 0 ]; then
   PACKAGES+=(mmdebstrap)
 fi
+# The CPU matrix (tests/e2e/cpu_matrix_test.sh, docs/cpu.md) runs the tests as other x86-64 CPUs
+# with Debian's qemu-user (qemu-x86_64 -cpu MODEL); the tests are skipped without it.
+if [ "$codename" = bookworm ] && [ "${CANONFORM_CPU_MATRIX:-1}" != 0 ]; then
+  PACKAGES+=(qemu-user)
+fi
 # The Slurm test cluster (tools/slurm_cluster.sh: `canonform slurm` end to end) runs on bookworm:
 # a one-node slurmctld + slurmd with munge authentication; not needed in the host root filesystems.
 if [ "$codename" = bookworm ] && [ "${CANONFORM_SLURM_TESTS:-1}" != 0 ]; then
