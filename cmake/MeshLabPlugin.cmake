@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 # The MeshLab builds ("flavours") a plugin is compiled for, and the function that compiles a
 # plugin for each of them from one set of sources.
 #
@@ -19,11 +20,13 @@ set(CANONFORM_PLUGIN_INSTALL_DIR "lib/x86_64-linux-gnu/meshlab/plugins" CACHE ST
     "Plugin directory relative to the install prefix (where Debian's MeshLab looks: /usr/<this>)")
 
 # canonform_meshlab_flavour(NAME COMMON target API 2020|2022|2025 SCALAR float|double VERSION v
-#                           DIR dir [INSTALLED])
+#                           DIR dir [INSTALLED] [NO_TWIN] [NO_PLUGINS])
+# NO_TWIN: no WRONG_PRECISION twin for this flavour (the portable flavours, cmake/MeshLabPortable.cmake).
+# NO_PLUGINS: no plugins at all, only its MeshSet (src/CMakeLists.txt) for the pymeshlab harness.
 function(canonform_meshlab_flavour name)
-  cmake_parse_arguments(F "INSTALLED" "COMMON;API;SCALAR;VERSION;DIR" "" ${ARGN})
+  cmake_parse_arguments(F "INSTALLED;NO_TWIN;NO_PLUGINS" "COMMON;API;SCALAR;VERSION;DIR" "" ${ARGN})
   set_property(GLOBAL APPEND PROPERTY CANONFORM_MESHLAB_FLAVOURS ${name})
-  foreach(k COMMON API SCALAR VERSION DIR INSTALLED)
+  foreach(k COMMON API SCALAR VERSION DIR INSTALLED NO_TWIN NO_PLUGINS)
     set_property(GLOBAL PROPERTY CANONFORM_FLAVOUR_${name}_${k} "${F_${k}}")
   endforeach()
 endfunction()
@@ -52,9 +55,12 @@ function(canonform_add_meshlab_plugin name)
                    "${glue}/meshlab_document.h")
   get_property(flavours GLOBAL PROPERTY CANONFORM_MESHLAB_FLAVOURS)
   foreach(f ${flavours})
-    foreach(k COMMON API SCALAR VERSION DIR INSTALLED)
+    foreach(k COMMON API SCALAR VERSION DIR INSTALLED NO_TWIN NO_PLUGINS)
       canonform_flavour_get(${k} ${f} ${k})
     endforeach()
+    if(NO_PLUGINS)
+      continue()
+    endif()
     if(API EQUAL 2020)
       set(adapter "${glue}/meshlab2020_adapter.cpp" "${glue}/meshlab2020_adapter.h")
     else()
@@ -66,7 +72,7 @@ function(canonform_add_meshlab_plugin name)
       set(target ${name}_${f})
     endif()
     set(variants ${target})
-    if(P_WRONG_PRECISION AND NOT API EQUAL 2020)
+    if(P_WRONG_PRECISION AND NOT API EQUAL 2020 AND NOT NO_TWIN)
       list(APPEND variants ${target}_wrong_precision)
     endif()
     foreach(t ${variants})

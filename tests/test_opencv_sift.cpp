@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Tests of opencv_sift.h: OpenCV's SIFT through its public API as the `opencv` extractor, and
 // OpenCV's descriptors of given keypoints.
 #include "canonform/views/opencv_sift.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Tests of sift_features.h: the canonform SIFT extractor (Lowe 2004, our implementation) by its
 // properties - repeatability under exact rotations and flips of the view, descriptors under a small
 // rotation, the scale of a blob of known size, agreement with OpenCV's descriptors on the same

@@ -1,10 +1,11 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
 # The unit and end-to-end tests of the library and the canonform tool again in an
 # AddressSanitizer + UndefinedBehaviorSanitizer build (clang, any report fails the test), and every
 # libFuzzer target for a bounded time on the seeds the unit tests write (tests/fuzz). Called by
 # tools/run_tests.sh (so CI runs it); builds in ./build-san (or $CANONFORM_SAN_BUILD_DIR) only what
-# these tests need: no plugins (they run inside the non-instrumented meshlabserver; see the README,
-# "Tests"), no benchmarks.
+# these tests need: no plugins (they run inside the non-instrumented meshlabserver; see docs/testing.md), no
+# benchmarks.
 #   tools/sanitizer_tests.sh [ctest arguments]     CANONFORM_FUZZ_SECONDS=N (default 15 per target)
 set -euo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
@@ -16,7 +17,7 @@ echo "[sanitizers] clang ASan+UBSan+libFuzzer build in $build (log: $log)"
 if ! { CC=clang CXX=clang++ cmake -S "$here" -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
          "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -gline-tables-only" -DCANONFORM_SANITIZE=address,undefined \
          -DCANONFORM_FUZZ=ON -DCANONFORM_FUZZ_SECONDS="${CANONFORM_FUZZ_SECONDS:-15}" -DCANONFORM_BUILD_PLUGINS=OFF \
-         -DCANONFORM_BUILD_BENCH=OFF -DCANONFORM_MESHLAB2022=OFF &&
+         -DCANONFORM_BUILD_BENCH=OFF -DCANONFORM_MESHLAB2022=OFF -DCANONFORM_PYTHON=OFF &&
        targets=$(cmake --build "$build" --target help | grep -oE '(canonform_tests|canonform_plycheck|canonform|fuzz_[a-z_]+)$' | sort -u) &&
        cmake --build "$build" -j"$(nproc)" --target $targets; } > "$log" 2>&1; then
   grep -E -B2 -A8 "error|Error" "$log" | head -80

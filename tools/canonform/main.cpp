@@ -1,12 +1,15 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // canonform: the command-line tool on the same library as the MeshLab plugins, for batch work.
 //
 //   canonform COMMAND [ARGS] [OPTIONS]      canonform COMMAND --help: every option and default
+//   canonform --version                     the version (CMakeLists.txt's project())
 //
 // Meshes in: OFF, PLY, OBJ or STL; meshes out: binary PLY, written atomically. Exit status: 0 ok,
 // 1 bad input or failure (a message on stderr names the problem), 2 usage error.
 #include "cli.h"
 
 #include "canonform/views/opencv_sift.h"
+#include "canonform/common/version.h"
 
 #include <cstring>
 #include <iostream>
@@ -23,7 +26,7 @@ struct Command {
 
 /// Every command, in the order of `canonform --help`. A new command: one line here.
 const Command kCommands[] = {
-    {"conformal", add_conformal},   {"features", add_features}, {"canonical", add_canonical},
+    {"check", add_check},           {"conformal", add_conformal},   {"features", add_features}, {"canonical", add_canonical},
     {"simplify", add_simplify},     {"views", add_views},       {"codebook", add_codebook},
     {"descriptor", add_descriptor}, {"distance", add_distance}, {"retrieve", add_retrieve},
     {"evaluate", add_evaluate},     {"grid", add_grid},         {"generate", add_generate},
@@ -45,6 +48,7 @@ int main(int argc, char** argv) {
                  "and view-based shape retrieval.\nMeshes: OFF, PLY, OBJ or STL in; binary PLY out. "
                  "`canonform COMMAND --help` lists a command's options and defaults.",
                  "canonform"};
+    app.set_version_flag("--version", std::string("canonform ") + canonform::version());
     app.option_defaults()->always_capture_default();
     app.require_subcommand(1);
     for (const Command& c : kCommands) c.add(app);
@@ -58,10 +62,14 @@ int main(int argc, char** argv) {
         return 0;
     } catch (const CLI::CallForHelp& e) {
         return app.exit(e);
+    } catch (const CLI::CallForVersion& e) {
+        return app.exit(e);
     } catch (const CLI::ParseError& e) {
         std::cerr << "canonform" << (*command ? std::string(" ") + command : "") << ": " << e.what()
                   << "\n(`canonform" << (*command ? std::string(" ") + command : "") << " --help` lists the options)\n";
         return 2;
+    } catch (const ExitStatus& e) {
+        return e.code;
     } catch (const UsageError& e) {
         std::cerr << "canonform " << command << ": " << e.what() << "\n";
         return 2;

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // canonform: feature points from the conformal factor.
 //
 // Reference: Pickup et al., Pattern Recognition 2015, Section 4: "we sample the sqrt(N) vertices
@@ -36,7 +37,7 @@ struct FeaturePointOptions {
     int ring = 2;                     ///< k of the k-ring neighbourhood (1, 2 or 3 in the paper)
     FeatureFill fill = FeatureFill::None;
     std::uint64_t seed = 0;           ///< seed of the random fill
-    int count = -1;                   ///< target count; -1 means ceil(sqrt(#V))
+    int count = -1;                   ///< target count; -1 means ceil(sqrt(#V)); more than #V is refused
 };
 
 /// Result of feature_points().

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // canonform: checks and small helpers shared by bag_of_features.cpp and bag_of_features_matrix.cpp
 // (private to the views library; the algorithms are documented in bag_of_features.h).
 #pragma once

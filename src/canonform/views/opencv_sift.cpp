@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include "canonform/views/opencv_sift.h"
 
 #include <opencv2/core.hpp>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // canonform: the `opencv` SIFT extractor - OpenCV's cv::SIFT through its public API - in a library of
 // its own (canonform::views_opencv), so that only the programs that want it link OpenCV: the
 // canonform tool, the tests and the benchmarks. The view filter does not.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // canonform: SIFT keypoints and descriptors of one depth view - the project's own implementation of
 // Lowe's method, and the choice of extractor.
 //
