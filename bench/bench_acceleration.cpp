@@ -35,6 +35,10 @@
 #include <vector>
 
 using namespace canonform;
+using namespace canonform::numerics;
+using namespace canonform::surface;
+using namespace canonform::canonical;
+using namespace canonform::procedural;
 
 namespace {
 

@@ -4,7 +4,7 @@
 #include "canonform/canonical/method_registry.h"
 #include "canonform/numerics/smacof.h"
 
-namespace canonform::plugin {
+namespace canonform::meshlab {
 
 namespace {
 
@@ -32,15 +32,15 @@ ParamSpec tolerance_param() {
 }
 
 /// The labels of a filter's methods (its enum), from the registry.
-std::vector<std::string> method_labels(MethodFamily family) {
+std::vector<std::string> method_labels(canonical::MethodFamily family) {
     std::vector<std::string> labels;
-    for (const CanonicalMethod* m : canonical_methods_of(family)) labels.push_back(m->label);
+    for (const canonical::CanonicalMethod* m : canonical::canonical_methods_of(family)) labels.push_back(m->label);
     return labels;
 }
 
 /// The enum index of method `name` among its family's methods.
-double method_index(MethodFamily family, const std::string& name) {
-    const auto methods = canonical_methods_of(family);
+double method_index(canonical::MethodFamily family, const std::string& name) {
+    const auto methods = canonical::canonical_methods_of(family);
     for (size_t k = 0; k < methods.size(); ++k)
         if (methods[k]->name == name) return static_cast<double>(k);
     return 0;
@@ -48,9 +48,9 @@ double method_index(MethodFamily family, const std::string& name) {
 
 /// The enum index of the default SMACOF acceleration.
 double acceleration_index() {
-    const auto names = smacof_acceleration_names();
+    const auto names = numerics::smacof_acceleration_names();
     for (size_t k = 0; k < names.size(); ++k)
-        if (names[k] == to_string(kDefaultSmacofAcceleration)) return static_cast<double>(k);
+        if (names[k] == to_string(numerics::kDefaultSmacofAcceleration)) return static_cast<double>(k);
     return 0;
 }
 
@@ -60,7 +60,7 @@ ParamSpec acceleration_param() {
             "none: plain Guttman steps; relaxed: X + 2(G(X) - X) (de Leeuw); rre / mpe: reduced-rank / "
             "minimal-polynomial vector extrapolation (Rosman et al. 2008); anderson: Anderson acceleration. "
             "A step that would raise the stress is replaced by the plain step.",
-            smacof_acceleration_names()};
+            numerics::smacof_acceleration_names()};
 }
 
 }  // namespace
@@ -107,9 +107,9 @@ std::vector<FilterSpec> make_filter_table() {
                  10); variant N normalises both weight groups (eq. 10, beta = 130). The result keeps the
                  input's faces, vertex order and units; feature points are selected and the conformal factor
                  is stored in the vertex quality.)"),
-                 {{"variant", K::Enum, method_index(MethodFamily::Euclidean, "euclidean-N"), "Variant",
+                 {{"variant", K::Enum, method_index(canonical::MethodFamily::Euclidean, "euclidean-N"), "Variant",
                    "A: additional random feature points (beta 10); N: normalised weightings (eq. 10, beta 130).",
-                   method_labels(MethodFamily::Euclidean)},
+                   method_labels(canonical::MethodFamily::Euclidean)},
                   {"alpha", K::Float, 10, "Alpha", "Target distance of every feature-point pair, in "
                    "units of the mesh radius (the paper uses 10).", {}},
                   {"beta", K::Float, 0, "Beta (0 = variant default)",
@@ -129,17 +129,17 @@ std::vector<FilterSpec> make_filter_table() {
                  least squares (SMACOF, all pairs), classical, or fast (landmark) MDS. Its memory grows like
                  N^2 and its time like N^2 log N: the filter estimates both first and refuses, naming them,
                  above the limits below. Same output conventions as 'Euclidean canonical form'.)"),
-                 {{"method", K::Enum, method_index(MethodFamily::Geodesic, "geodesic-ls"), "MDS method",
+                 {{"method", K::Enum, method_index(canonical::MethodFamily::Geodesic, "geodesic-ls"), "MDS method",
                    "least squares: SMACOF on all pairs (Elad-Kimmel, the paper's LS); classical: double "
                    "centring and the top three eigenvectors (C); fast: landmark MDS (F).",
-                   method_labels(MethodFamily::Geodesic)},
+                   method_labels(canonical::MethodFamily::Geodesic)},
                   tolerance_param(),
                   {"max_iterations", K::Int, 500, "Maximum iterations", "SMACOF iteration cap.", {}},
                   {"acceleration", K::Enum, acceleration_index(), "SMACOF acceleration",
                    "Least squares only. none: plain Guttman steps; relaxed: X + 2(G(X) - X) (de Leeuw); rre / mpe: reduced-rank / "
                    "minimal-polynomial vector extrapolation (Rosman et al. 2008); anderson: Anderson acceleration. "
                    "A step that would raise the stress is replaced by the plain step.",
-                   smacof_acceleration_names()},
+                   numerics::smacof_acceleration_names()},
                   {"max_memory_gib", K::Float, 4, "Memory limit (GiB)",
                    "Refuse meshes whose estimated memory (an N x N distance matrix) exceeds this.", {}},
                   {"max_seconds", K::Float, 600, "Time limit (s)",
@@ -156,4 +156,4 @@ const std::vector<FilterSpec>& filter_table() {
     return table;
 }
 
-}  // namespace canonform::plugin
+}  // namespace canonform::meshlab

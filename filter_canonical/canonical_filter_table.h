@@ -5,11 +5,11 @@
 
 #include "canonform/meshlab/filter_table.h"
 
-namespace canonform::plugin {
+namespace canonform::meshlab {
 
 enum class FilterId : int {
     ConformalFactor = 0,
-    FeaturePoints = 1,
+    surface::FeaturePoints = 1,
     EuclideanCanonicalForm = 2,
     GeodesicCanonicalForm = 3,
 };
@@ -20,4 +20,4 @@ const std::vector<FilterSpec>& filter_table();
 /// The table built anew from the registry as it is now (tests of a method added at run time).
 std::vector<FilterSpec> make_filter_table();
 
-}  // namespace canonform::plugin
+}  // namespace canonform::meshlab

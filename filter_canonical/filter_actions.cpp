@@ -23,7 +23,7 @@
 #include <type_traits>
 #include <variant>
 
-namespace canonform::plugin {
+namespace canonform::meshlab {
 
 namespace {
 
@@ -37,13 +37,13 @@ MeshModel& current_mesh(MeshDocument& md) {
 /// by commit_repair() only once the computation has succeeded, so a failure leaves it unchanged.
 struct FilterInput {
     BridgedMesh<CMeshO> b;              ///< what to compute on (repaired if asked)
-    std::optional<MeshRepair> repair;   ///< the repair, if it changed something
+    std::optional<surface::MeshRepair> repair;   ///< the repair, if it changed something
 };
 
 FilterInput filter_input(MeshModel& mm, const ParamValues& p, const ActionContext& ctx) {
     FilterInput in{to_eigen(mm.cm), {}};
     if (p.values.count("repair") && p.get_bool("repair")) {  // scripts written before it have no "repair": off
-        MeshRepair r = repair_mesh(in.b.V, in.b.F);
+        surface::MeshRepair r = surface::repair_mesh(in.b.V, in.b.F);
         ctx.log("'" + mm.label().toStdString() + "': " + r.summary());
         if (r.changed()) in.repair = std::move(r);
     }
@@ -59,7 +59,7 @@ FilterInput filter_input(MeshModel& mm, const ParamValues& p, const ActionContex
 /// updated - and returns the current mesh bridged again: its rows are those of in.b.
 BridgedMesh<CMeshO> commit_repair(MeshModel& mm, FilterInput& in) {
     if (!in.repair) return std::move(in.b);
-    const MeshRepair& r = *in.repair;
+    const surface::MeshRepair& r = *in.repair;
     CMeshO& m = mm.cm;
     std::vector<CMeshO::FacePointer> faces;
     for (auto& f : m.face)
@@ -91,7 +91,7 @@ BridgedMesh<CMeshO> commit_repair(MeshModel& mm, FilterInput& in) {
 /// an acceptable one: boundaries are allowed (eq. 8 treats their vertices) but change the result.
 template <class Bridged>
 void validate_and_note(const Bridged& b, const ActionContext& ctx) {
-    const MeshReport r = validate_mesh(b.V, b.F);
+    const surface::MeshReport r = surface::validate_mesh(b.V, b.F);
     if (r.boundary_edges > 0) {
         std::ostringstream m;
         m << "note: the mesh is open (" << r.boundary_edges << " boundary edges, " << r.boundary_loops_vertices
@@ -108,12 +108,12 @@ QString layer_name(const MeshModel& mm, const char* suffix) {
 
 /// The conformal factor of a bridged mesh, after validate_and_note().
 template <class Bridged>
-ConformalFactorResult validated_conformal_factor(const Bridged& b, const ActionContext& ctx) {
+surface::ConformalFactorResult validated_conformal_factor(const Bridged& b, const ActionContext& ctx) {
     validate_and_note(b, ctx);
-    ConformalFactorOptions opt;
+    surface::ConformalFactorOptions opt;
     opt.progress = ctx.progress;
     opt.validate = false;
-    return conformal_factor(b.V, b.F, opt);
+    return surface::conformal_factor(b.V, b.F, opt);
 }
 
 void check_ring(int ring) {
@@ -123,7 +123,7 @@ void check_ring(int ring) {
 ActionOutputs conformal_factor_action(MeshDocument& md, const ParamValues& p, const ActionContext& ctx) {
     MeshModel& mm = current_mesh(md);
     FilterInput in = filter_input(mm, p, ctx);
-    const ConformalFactorResult cf = validated_conformal_factor(in.b, ctx);
+    const surface::ConformalFactorResult cf = validated_conformal_factor(in.b, ctx);
     const bool normalized = p.get_bool("normalize");
     const auto b = commit_repair(mm, in);  // everything computed: now change the document
     mm.updateDataMask(MeshModel::MM_VERTQUALITY);
@@ -146,12 +146,12 @@ ActionOutputs feature_points_action(MeshDocument& md, const ParamValues& p, cons
     const int ring = p.get_int("ring");
     check_ring(ring);
     FilterInput in = filter_input(mm, p, ctx);
-    const ConformalFactorResult cf = validated_conformal_factor(in.b, ctx);
-    FeaturePointOptions opt;
+    const surface::ConformalFactorResult cf = validated_conformal_factor(in.b, ctx);
+    surface::FeaturePointOptions opt;
     opt.ring = ring;
-    opt.fill = p.get_int("fill") == 1 ? FeatureFill::Random : FeatureFill::None;
+    opt.fill = p.get_int("fill") == 1 ? surface::FeatureFill::Random : surface::FeatureFill::None;
     opt.seed = static_cast<std::uint64_t>(p.get_int("seed"));
-    const FeaturePoints fp = feature_points(in.b.F, cf.normalized, opt);
+    const surface::FeaturePoints fp = surface::feature_points(in.b.F, cf.normalized, opt);
 
     // Everything computed: now change the document.
     const auto b = commit_repair(mm, in);
@@ -173,11 +173,11 @@ ActionOutputs feature_points_action(MeshDocument& md, const ParamValues& p, cons
     std::ostringstream log;
     log << "Feature points of '" << mm.label().toStdString() << "': " << fp.indices.size() << " selected ("
         << fp.num_maxima << " local maxima over the " << ring << "-ring of " << fp.total_maxima << " found, "
-        << fp.num_random << " random; target ceil(sqrt(" << b.V.rows() << ")) = " << sqrt_count(int(b.V.rows()))
+        << fp.num_random << " random; target ceil(sqrt(" << b.V.rows() << ")) = " << surface::sqrt_count(int(b.V.rows()))
         << ")";
     ctx.log(log.str());
     return {{"selected", int(fp.indices.size())}, {"maxima", int(fp.num_maxima)}, {"random", int(fp.num_random)},
-            {"target", int(sqrt_count(int(b.V.rows())))}};
+            {"target", int(surface::sqrt_count(int(b.V.rows())))}};
 }
 
 /// Writes a canonical form X (#V x 3, rows as in `b`) into a new layer named after `mm` (or in
@@ -209,7 +209,7 @@ void write_canonical_form(MeshDocument& md, MeshModel& mm, const Bridged& b, con
 
 /// The settings of `method` from the filter's parameters of the same names (the others keep the
 /// method's defaults).
-MethodSettings method_settings(const CanonicalMethod& method, const FilterSpec& spec, const ParamValues& p) {
+canonical::MethodSettings method_settings(const canonical::CanonicalMethod& method, const FilterSpec& spec, const ParamValues& p) {
     std::vector<std::pair<std::string, std::string>> given;
     for (const ParamSpec& fp : spec.params) {
         if (!method.parameter(fp.name)) continue;
@@ -236,18 +236,18 @@ ActionOutputs canonical_form_action(FilterId id, MeshDocument& md, const ParamVa
     MeshModel& mm = current_mesh(md);
     const FilterSpec& spec = filter_spec(filter_table(), int(id));
     const bool euclidean = id == FilterId::EuclideanCanonicalForm;
-    const auto methods = canonical_methods_of(euclidean ? MethodFamily::Euclidean : MethodFamily::Geodesic);
+    const auto methods = canonical::canonical_methods_of(euclidean ? canonical::MethodFamily::Euclidean : canonical::MethodFamily::Geodesic);
     const int choice = p.get_int(euclidean ? "variant" : "method");
     if (choice < 0 || choice >= static_cast<int>(methods.size())) throw InputError("unknown method choice");
-    const CanonicalMethod& method = *methods[static_cast<size_t>(choice)];
-    const MethodSettings settings = method_settings(method, spec, p);
+    const canonical::CanonicalMethod& method = *methods[static_cast<size_t>(choice)];
+    const canonical::MethodSettings settings = method_settings(method, spec, p);
 
     FilterInput in = filter_input(mm, p, ctx);
     validate_and_note(in.b, ctx);
-    MethodContext context;
+    canonical::MethodContext context;
     context.progress = ctx.progress;
     context.validate = false;  // validate_and_note() above
-    const CanonicalForm r = method.run(in.b.V, in.b.F, settings, context);
+    const canonical::CanonicalForm r = method.run(in.b.V, in.b.F, settings, context);
     if (!r.V.allFinite()) throw NumericalError(method.name + " gave a form with NaN or infinite coordinates");
     const auto b = commit_repair(mm, in);  // everything computed: now change the document
     write_canonical_form(md, mm, b, r.V, r.quality.size() ? &r.quality : nullptr,
@@ -275,4 +275,4 @@ ActionOutputs apply_filter_action(int id, MeshDocument& md, const ParamValues& p
     throw InputError("unknown filter");
 }
 
-}  // namespace canonform::plugin
+}  // namespace canonform::meshlab

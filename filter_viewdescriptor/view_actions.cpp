@@ -14,7 +14,7 @@
 #include <numeric>
 #include <sstream>
 
-namespace canonform::plugin {
+namespace canonform::meshlab {
 
 namespace {
 
@@ -106,4 +106,4 @@ ActionOutputs apply_view_action(int id, MeshDocument& md, const ParamValues& par
     throw InputError("unknown filter");
 }
 
-}  // namespace canonform::plugin
+}  // namespace canonform::meshlab

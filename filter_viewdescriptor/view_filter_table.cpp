@@ -5,7 +5,7 @@
 
 #include <algorithm>
 
-namespace canonform::plugin {
+namespace canonform::meshlab {
 
 const std::vector<FilterSpec>& view_filter_table() {
     static const std::vector<FilterSpec> table = [] {
@@ -47,4 +47,4 @@ const std::vector<FilterSpec>& view_filter_table() {
     return table;
 }
 
-}  // namespace canonform::plugin
+}  // namespace canonform::meshlab

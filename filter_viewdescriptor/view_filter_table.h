@@ -5,11 +5,11 @@
 
 #include "canonform/meshlab/filter_table.h"
 
-namespace canonform::plugin {
+namespace canonform::meshlab {
 
 enum class ViewFilterId : int { DepthViewDescriptor = 100 };
 
 /// The filters of filter_viewdescriptor, in menu order.
 const std::vector<FilterSpec>& view_filter_table();
 
-}  // namespace canonform::plugin
+}  // namespace canonform::meshlab

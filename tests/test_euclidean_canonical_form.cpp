@@ -11,6 +11,10 @@
 #include <cstdio>
 
 using namespace canonform;
+using namespace canonform::numerics;
+using namespace canonform::surface;
+using namespace canonform::canonical;
+using namespace canonform::procedural;
 
 namespace {
 

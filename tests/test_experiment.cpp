@@ -21,6 +21,8 @@
 #include <unistd.h>
 
 using namespace canonform;
+using namespace canonform::canonical;
+using namespace canonform::procedural;
 namespace fs = std::filesystem;
 
 namespace {

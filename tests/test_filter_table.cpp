@@ -11,7 +11,7 @@
 #include <set>
 #include <sstream>
 
-using namespace canonform::plugin;
+using namespace canonform::meshlab;
 
 TEST(FilterTable, NamesAreUniqueAndParametersSnakeCase) {
     std::set<std::string> names, python;

@@ -10,6 +10,9 @@
 #include <gtest/gtest.h>
 
 using namespace canonform;
+using namespace canonform::numerics;
+using namespace canonform::canonical;
+using namespace canonform::procedural;
 
 namespace {
 
@@ -135,13 +138,13 @@ TEST(MethodRegistry, AMethodAddedAtRunTimeIsPickedUpEverywhere) {
     EXPECT_NEAR((r.V.row(0) - c).norm(), 3 * (fig.mesh.V.row(0) - c).norm(), 1e-9);
     EXPECT_NE(message_of([] { parse_method_spec("toy-scaled:scale=50"); }).find("between"), std::string::npos);
     // The filter of its family lists it in its enum.
-    const auto table = plugin::make_filter_table();
-    const auto& geodesic = plugin::filter_spec(table, int(plugin::FilterId::GeodesicCanonicalForm));
+    const auto table = meshlab::make_filter_table();
+    const auto& geodesic = meshlab::filter_spec(table, int(meshlab::FilterId::GeodesicCanonicalForm));
     const auto& choices = geodesic.params[0].choices;
     EXPECT_EQ(choices.back(), "toy");
     EXPECT_EQ(choices.size(), 4u);
     unregister_canonical_method("toy-scaled");
     EXPECT_THROW(parse_method_spec("toy-scaled"), InputError);
-    EXPECT_EQ(plugin::filter_spec(plugin::make_filter_table(), int(plugin::FilterId::GeodesicCanonicalForm))
+    EXPECT_EQ(meshlab::filter_spec(meshlab::make_filter_table(), int(meshlab::FilterId::GeodesicCanonicalForm))
                   .params[0].choices.size(), 3u);
 }

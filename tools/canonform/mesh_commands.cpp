@@ -24,11 +24,11 @@ namespace canonform::cli {
 namespace {
 
 /// The conformal factor of a mesh already validated by validate_and_note().
-ConformalFactorResult conformal_of(const std::string& path, const Mesh& m) {
+surface::ConformalFactorResult conformal_of(const std::string& path, const Mesh& m) {
     return on_input(path, [&] {
-        ConformalFactorOptions o;
+        surface::ConformalFactorOptions o;
         o.validate = false;
-        return conformal_factor(m.V, m.F, o);
+        return surface::conformal_factor(m.V, m.F, o);
     });
 }
 
@@ -48,7 +48,7 @@ void add_conformal(CLI::App& app) {
     c->callback([a] {
         const auto t0 = std::chrono::steady_clock::now();
         const Mesh m = read_large_mesh(a->in, a->repair, a->json);
-        const ConformalFactorResult cf = conformal_of(a->in, m);
+        const surface::ConformalFactorResult cf = conformal_of(a->in, m);
         io::write_mesh(a->out, m.V, m.F, a->raw ? cf.raw : cf.normalized);
         if (a->json)
             print_json({{"vertices", m.V.rows()}, {"faces", m.F.rows()}, {"min", cf.raw.minCoeff()},
@@ -78,12 +78,12 @@ void add_features(CLI::App& app) {
     c->callback([a] {
         const auto t0 = std::chrono::steady_clock::now();
         const Mesh m = read_large_mesh(a->in, a->repair, a->json);
-        FeaturePointOptions opt;
+        surface::FeaturePointOptions opt;
         opt.ring = a->ring;
-        opt.fill = a->fill == "random" ? FeatureFill::Random : FeatureFill::None;
+        opt.fill = a->fill == "random" ? surface::FeatureFill::Random : surface::FeatureFill::None;
         opt.seed = a->seed;
-        const ConformalFactorResult cf = conformal_of(a->in, m);
-        const FeaturePoints fp = feature_points(m.F, cf.normalized, opt);
+        const surface::ConformalFactorResult cf = conformal_of(a->in, m);
+        const surface::FeaturePoints fp = surface::feature_points(m.F, cf.normalized, opt);
         Eigen::MatrixXd P(static_cast<Eigen::Index>(fp.indices.size()), 3);
         Eigen::VectorXd q(P.rows());
         for (size_t k = 0; k < fp.indices.size(); ++k) {
@@ -109,7 +109,7 @@ void add_canonical(CLI::App& app) {
     };
     auto a = std::make_shared<Args>();
     std::string names = "euclidean (with --variant)";
-    for (const auto& m : canonical_methods()) names += ", " + m.name;
+    for (const auto& m : canonical::canonical_methods()) names += ", " + m.name;
     auto* c = app.add_subcommand("canonical", "the canonical form of a mesh, by any method of the registry");
     add_in_out(c, a->in, a->out, "output mesh (the form; PLY quality: the conformal factor where the method has one)");
     c->add_option("--method", a->method, "the method: " + names);
@@ -118,7 +118,7 @@ void add_canonical(CLI::App& app) {
     // One option per parameter name; its help says which methods take it and their defaults.
     std::map<std::string, std::pair<const MethodParameter*, std::vector<std::string>>> params;
     std::vector<std::string> order;
-    for (const auto& m : canonical_methods())
+    for (const auto& m : canonical::canonical_methods())
         for (const auto& p : m.parameters) {
             auto& entry = params[p.name];
             if (!entry.first) {
@@ -146,27 +146,27 @@ void add_canonical(CLI::App& app) {
     add_repair_flag(c, a->repair);
     c->callback([a] {
         const auto t0 = std::chrono::steady_clock::now();
-        MethodSpec spec;
+        canonical::MethodSpec spec;
         spec.name = a->method == "euclidean" ? "euclidean-" + a->variant : a->method;
-        const CanonicalMethod& method = canonical_method(spec.name);
+        const canonical::CanonicalMethod& method = canonical::canonical_method(spec.name);
         for (const auto& [name, option] : a->options) {
             if (option->count() == 0) continue;
             if (!method.parameter(name)) throw UsageError("--" + name + " is not an option of method " + method.name);
             spec.given.emplace_back(name, a->values[name]);
         }
-        MethodSettings settings;
+        canonical::MethodSettings settings;
         try {
             settings = spec.settings();  // checks every value
         } catch (const InputError& e) {
             throw UsageError(e.what());
         }
-        MethodContext context;
+        canonical::MethodContext context;
         context.threads = a->threads;
         context.progress = terminal_progress(a->quiet || a->json);
         const Mesh m = read_large_mesh(a->in, a->repair, a->json || a->quiet);
         const double read_seconds = seconds_since(t0);
         context.validate = false;
-        const CanonicalForm r = on_input(a->in, [&] { return method.run(m.V, m.F, settings, context); });
+        const canonical::CanonicalForm r = on_input(a->in, [&] { return method.run(m.V, m.F, settings, context); });
         if (!r.V.allFinite())
             throw NumericalError("'" + a->in + "': method " + method.name + " gave a form with NaN or infinite coordinates");
         const auto t_write = std::chrono::steady_clock::now();
@@ -198,7 +198,7 @@ void add_simplify(CLI::App& app) {
     add_repair_flag(c, a->repair);
     c->callback([a] {
         const Mesh m = read_input_mesh(a->in, a->repair, false);
-        const Mesh s = on_input(a->in, [&] { return simplify_mesh(m, a->vertices); });
+        const Mesh s = on_input(a->in, [&] { return surface::simplify_mesh(m, a->vertices); });
         io::write_mesh(a->out, s.V, s.F);
         std::cerr << "simplified " << m.V.rows() << " -> " << s.V.rows() << " vertices\n";
     });
@@ -206,9 +206,9 @@ void add_simplify(CLI::App& app) {
 
 namespace {
 
-FigureProportions class_proportions(const std::string& name) {
+procedural::FigureProportions class_proportions(const std::string& name) {
     try {
-        return figure_class(name);
+        return procedural::figure_class(name);
     } catch (const std::invalid_argument& e) {
         throw UsageError(e.what());
     }
@@ -219,7 +219,7 @@ FigureProportions class_proportions(const std::string& name) {
 /// and differ between classes. DIR/meshes/CLASS_K.ply, DIR/labels.csv, DIR/corres/CLASS_K.vts
 /// (identity: every figure has the same vertex order, so these are exact correspondences).
 void generate_collection(const std::string& dir, int n, int poses, int seed, std::vector<std::string> classes) {
-    if (classes.empty()) classes = figure_class_names();
+    if (classes.empty()) classes = procedural::figure_class_names();
     if (classes.size() < 2) throw UsageError("--classes needs at least two classes");
     for (const auto& c : classes) class_proportions(c);
     io::make_directories(dir + "/meshes");
@@ -228,10 +228,10 @@ void generate_collection(const std::string& dir, int n, int poses, int seed, std
     labels << "path,class\n";
     for (int v = 1; v <= n; ++v) ident << v << "\n";
     for (size_t c = 0; c < classes.size(); ++c) {
-        const FigureProportions prop = class_proportions(classes[c]);
+        const procedural::FigureProportions prop = class_proportions(classes[c]);
         for (int k = 0; k < poses; ++k) {
-            const int pose_id = k < kFigureNamedPoses ? k : 1000 * (seed + 1) + 37 * static_cast<int>(c) + k;
-            const Figure fig = make_figure(n, figure_pose(pose_id), prop);
+            const int pose_id = k < procedural::kFigureNamedPoses ? k : 1000 * (seed + 1) + 37 * static_cast<int>(c) + k;
+            const procedural::Figure fig = procedural::make_figure(n, procedural::figure_pose(pose_id), prop);
             const std::string name = classes[c] + "_" + std::to_string(k);
             io::write_ply(dir + "/meshes/" + name + ".ply", fig.mesh.V.cast<float>().cast<double>(), fig.mesh.F);
             io::write_file_atomic(dir + "/corres/" + name + ".vts", ident.str());
@@ -267,7 +267,7 @@ void add_generate(CLI::App& app) {
             return generate_collection(a->collection, a->vertices, a->poses, a->seed, split_list(a->classes));
         }
         if (a->out.empty()) throw UsageError("generate needs OUT (or --collection DIR)");
-        const Figure fig = make_figure(a->vertices, figure_pose(a->pose), class_proportions(a->cls));
+        const procedural::Figure fig = procedural::make_figure(a->vertices, procedural::figure_pose(a->pose), class_proportions(a->cls));
         // Rounded to float, the precision MeshLab 2020.09 works in, so that the tool and MeshLab
         // compute on exactly the same coordinates.
         io::write_mesh(a->out, fig.mesh.V.cast<float>().cast<double>(), fig.mesh.F);
@@ -369,10 +369,10 @@ void add_check(CLI::App& app) {
             notes.push_back("MeshLab's OFF importer uses such an index as a pointer: MeshLab crashes on this file "
                             "before any filter runs; `canonform check FILE --repair OUT` drops those faces");
         }
-        MeshReport report;
-        for (const MeshProblem& p : mesh_problems(m.V, m.F, {}, &report)) problems.push_back(p.message);
+        surface::MeshReport report;
+        for (const surface::MeshProblem& p : surface::mesh_problems(m.V, m.F, {}, &report)) problems.push_back(p.message);
         // What --repair would change (merges and removals the filters' own 'Repair' also make).
-        const MeshRepair fix = m.F.rows() > 0 ? repair_mesh(m.V, m.F) : MeshRepair{};
+        const surface::MeshRepair fix = m.F.rows() > 0 ? surface::repair_mesh(m.V, m.F) : surface::MeshRepair{};
         if (fix.changed()) notes.push_back("--repair would " + fix.summary());
         if (report.boundary_edges > 0)
             notes.push_back("open surface: " + std::to_string(report.boundary_edges) + " boundary edges (allowed)");
@@ -384,12 +384,12 @@ void add_check(CLI::App& app) {
 
         if (!a->repair_out.empty()) {
             const Mesh& r = fix.changed() ? fix.mesh : m;
-            const std::vector<MeshProblem> left = mesh_problems(r.V, r.F);
+            const std::vector<surface::MeshProblem> left = surface::mesh_problems(r.V, r.F);
             io::write_mesh(a->repair_out, r.V, r.F);
             nlohmann::ordered_json rj = {{"output", a->repair_out}, {"vertices", r.V.rows()}, {"faces", r.F.rows()},
                                          {"dropped_faces", file.dropped_faces}, {"summary", fix.summary()}};
             std::vector<std::string> left_messages;
-            for (const MeshProblem& p : left) left_messages.push_back(p.message);
+            for (const surface::MeshProblem& p : left) left_messages.push_back(p.message);
             rj["problems_left"] = left_messages;
             j["repair"] = rj;
             if (!a->json) {

@@ -19,9 +19,9 @@
 
 namespace {
 
-using canonform::plugin::FilterKind;
-using canonform::plugin::FilterSpec;
-using canonform::plugin::ParamKind;
+using canonform::meshlab::FilterKind;
+using canonform::meshlab::FilterSpec;
+using canonform::meshlab::ParamKind;
 using nlohmann::ordered_json;
 
 const char* kind_name(ParamKind k) {
@@ -48,10 +48,10 @@ const char* menu(FilterKind k) {
 
 /// The registry's range of a parameter of that name (the family's methods first, then any method):
 /// [min, max], or null where the registry states none.
-ordered_json registry_range(const std::string& name, canonform::MethodFamily family) {
+ordered_json registry_range(const std::string& name, canonform::canonical::MethodFamily family) {
     const canonform::MethodParameter* found = nullptr;
     for (int pass = 0; pass < 2 && !found; ++pass)
-        for (const auto& m : canonform::canonical_methods()) {
+        for (const auto& m : canonform::canonical::canonical_methods()) {
             if (pass == 0 && m.family != family) continue;
             if (const auto* p = m.parameter(name); p && (p->min != 0 || p->max != 0)) {
                 found = p;
@@ -62,10 +62,10 @@ ordered_json registry_range(const std::string& name, canonform::MethodFamily fam
     return ordered_json::array({found->min, found->max});
 }
 
-canonform::MethodFamily family_of(const FilterSpec& f) {
+canonform::canonical::MethodFamily family_of(const FilterSpec& f) {
     const std::string py = f.python_name;
-    if (py == "generate_geodesic_canonical_form") return canonform::MethodFamily::Geodesic;
-    return canonform::MethodFamily::Euclidean;
+    if (py == "generate_geodesic_canonical_form") return canonform::canonical::MethodFamily::Geodesic;
+    return canonform::canonical::MethodFamily::Euclidean;
 }
 
 ordered_json filters(const std::vector<FilterSpec>& table) {
@@ -101,18 +101,18 @@ ordered_json filters(const std::vector<FilterSpec>& table) {
     return out;
 }
 
-const char* family_name(canonform::MethodFamily f) {
+const char* family_name(canonform::canonical::MethodFamily f) {
     switch (f) {
-    case canonform::MethodFamily::None: return "";
-    case canonform::MethodFamily::Euclidean: return "Euclidean canonical form";
-    case canonform::MethodFamily::Geodesic: return "Geodesic canonical form";
+    case canonform::canonical::MethodFamily::None: return "";
+    case canonform::canonical::MethodFamily::Euclidean: return "Euclidean canonical form";
+    case canonform::canonical::MethodFamily::Geodesic: return "Geodesic canonical form";
     }
     return "";
 }
 
 ordered_json methods() {
     ordered_json out = ordered_json::array();
-    for (const auto& m : canonform::canonical_methods()) {
+    for (const auto& m : canonform::canonical::canonical_methods()) {
         ordered_json params = ordered_json::array();
         for (const auto& p : m.parameters) {
             ordered_json j;
@@ -144,9 +144,9 @@ int main(int argc, char** argv) {
     }
     ordered_json j;
     j["version"] = canonform::version();
-    j["plugins"] = {{{"plugin", "filter_canonical"}, {"filters", filters(canonform::plugin::filter_table())}},
+    j["plugins"] = {{{"plugin", "filter_canonical"}, {"filters", filters(canonform::meshlab::filter_table())}},
                     {{"plugin", "filter_viewdescriptor"},
-                     {"filters", filters(canonform::plugin::view_filter_table())}}};
+                     {"filters", filters(canonform::meshlab::view_filter_table())}}};
     j["methods"] = methods();
     if (argc == 2) {
         std::ofstream out(argv[1]);

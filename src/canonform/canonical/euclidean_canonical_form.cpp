@@ -7,15 +7,15 @@
 
 #include <chrono>
 
-namespace canonform {
+namespace canonform::canonical {
 
-StressPairs canonical_form_pairs(const Eigen::MatrixXd& V, const Eigen::MatrixXi& E,
+numerics::StressPairs canonical_form_pairs(const Eigen::MatrixXd& V, const Eigen::MatrixXi& E,
                                  const Eigen::VectorXd& phi, const std::vector<int>& features,
                                  const EuclideanCanonicalFormOptions& options) {
     const bool normalised = options.variant == CanonicalVariant::N;
     const double beta = options.effective_beta();
     const double edge_scale = normalised ? beta / static_cast<double>(E.rows()) : beta;
-    StressPairs pairs;
+    numerics::StressPairs pairs;
     const size_t nf = features.size();
     const size_t capacity = static_cast<size_t>(E.rows()) + nf * nf / 2;
     pairs.i.reserve(capacity);  // all four: no doubling of a 1M-vertex mesh's 3M pairs
@@ -68,50 +68,50 @@ EuclideanCanonicalFormResult euclidean_canonical_form(const Eigen::MatrixXd& V0,
     if (!(options.alpha > 0)) throw InputError("alpha must be positive");
     if (options.max_iterations < 1) throw InputError("the iteration cap must be at least 1");
     if (!(options.tolerance >= 0)) throw InputError("the tolerance must be non-negative");
-    const MeshReport report = options.validate ? validate_mesh(V0, F) : MeshReport{};
+    const surface::MeshReport report = options.validate ? surface::validate_mesh(V0, F) : surface::MeshReport{};
     report_progress(options.progress, 0.0, "scaling");
 
     Eigen::RowVector3d centroid;
     double scale = 1;
-    const Eigen::MatrixXd V = normalize_scale(V0, &centroid, &scale);
+    const Eigen::MatrixXd V = surface::normalize_scale(V0, &centroid, &scale);
 
     // Sub-steps report into [0, 0.1] (conformal factor) and [0.1, 1] (SMACOF).
-    ConformalFactorOptions cf_opt;
+    surface::ConformalFactorOptions cf_opt;
     cf_opt.validate = false;
     cf_opt.boundary = report.boundary;
     cf_opt.linear_solver = options.linear_solver;
     if (options.progress)
         cf_opt.progress = [&](double f, const char* s) { return options.progress(0.08 * f, s); };
-    const ConformalFactorResult cf = conformal_factor(V, F, cf_opt);
+    const surface::ConformalFactorResult cf = surface::conformal_factor(V, F, cf_opt);
     const auto t1 = std::chrono::steady_clock::now();
 
-    const Eigen::MatrixXi E = report.edge_list.rows() ? report.edge_list : unique_edges(F);
-    const VertexAdjacency adj = vertex_adjacency(static_cast<int>(V.rows()), E);
-    FeaturePointOptions fp_opt;
+    const Eigen::MatrixXi E = report.edge_list.rows() ? report.edge_list : surface::unique_edges(F);
+    const numerics::VertexAdjacency adj = numerics::vertex_adjacency(static_cast<int>(V.rows()), E);
+    surface::FeaturePointOptions fp_opt;
     fp_opt.ring = options.ring;
     fp_opt.seed = options.seed;
-    fp_opt.fill = options.variant == CanonicalVariant::A ? FeatureFill::Random : FeatureFill::None;
-    const FeaturePoints fp = feature_points(adj, cf.normalized, fp_opt);
+    fp_opt.fill = options.variant == CanonicalVariant::A ? surface::FeatureFill::Random : surface::FeatureFill::None;
+    const surface::FeaturePoints fp = surface::feature_points(adj, cf.normalized, fp_opt);
     report_progress(options.progress, 0.09, "feature points");
 
-    SmacofSolverOptions solver_opt;
+    numerics::SmacofSolverOptions solver_opt;
     solver_opt.linear_solver = options.linear_solver;
     solver_opt.ordering = smacof_ordering(cf.ordering, fp.indices);
-    const SmacofSolver solver(static_cast<int>(V.rows()),
+    const numerics::SmacofSolver solver(static_cast<int>(V.rows()),
                               canonical_form_pairs(V, E, cf.normalized, fp.indices, options), solver_opt);
     report_progress(options.progress, 0.1, "SMACOF: V factorised");
 
-    SmacofOptions sm_opt;
+    numerics::SmacofOptions sm_opt;
     copy_iteration_options(options, sm_opt);
     sm_opt.record_history = options.record_history;
     const auto t2 = std::chrono::steady_clock::now();
     if (options.progress)
         sm_opt.progress = [&](double f, const char* s) { return options.progress(0.1 + 0.9 * f, s); };
-    SmacofResult sm = solver.solve(V, sm_opt);
+    numerics::SmacofResult sm = solver.solve(V, sm_opt);
     const auto t3 = std::chrono::steady_clock::now();
 
     EuclideanCanonicalFormResult r;
-    r.mean_relative_edge_change = mean_relative_edge_change(V, sm.X, E);
+    r.mean_relative_edge_change = surface::mean_relative_edge_change(V, sm.X, E);
     r.V = options.restore_scale ? Eigen::MatrixXd((sm.X * scale).rowwise() + centroid) : sm.X;
     r.phi = cf.normalized;
     r.features = fp.indices;
@@ -129,4 +129,4 @@ EuclideanCanonicalFormResult euclidean_canonical_form(const Eigen::MatrixXd& V0,
     return r;
 }
 
-}  // namespace canonform
+}  // namespace canonform::canonical

@@ -42,7 +42,7 @@
 #include <cstdint>
 #include <vector>
 
-namespace canonform {
+namespace canonform::canonical {
 
 /// The two variants of the paper (Section 4, Tables 2-5).
 enum class CanonicalVariant {
@@ -59,9 +59,9 @@ struct EuclideanCanonicalFormOptions {
     std::uint64_t seed = 0;       ///< seed of variant A's random fill
     double tolerance = 1e-5;      ///< SMACOF relative stress-decrease tolerance
     int max_iterations = 1000;    ///< SMACOF iteration cap
-    SmacofAcceleration acceleration = kDefaultSmacofAcceleration;  ///< SMACOF acceleration (smacof.h)
-    int acceleration_depth = kDefaultAccelerationDepth;            ///< RRE/MPE cycle - 1, Anderson memory
-    LinearSolver linear_solver = LinearSolver::Auto;  ///< conformal factor's and SMACOF's solver
+    numerics::SmacofAcceleration acceleration = numerics::kDefaultSmacofAcceleration;  ///< SMACOF acceleration (smacof.h)
+    int acceleration_depth = numerics::kDefaultAccelerationDepth;            ///< RRE/MPE cycle - 1, Anderson memory
+    numerics::LinearSolver linear_solver = numerics::LinearSolver::Auto;  ///< conformal factor's and SMACOF's solver
     bool restore_scale = true;    ///< return the result in the input's units and position
     bool record_history = false;  ///< keep the stress of every iteration
     bool validate = true;         ///< run validate_mesh() first (off only if the caller just did)
@@ -86,7 +86,7 @@ struct EuclideanCanonicalFormResult {
     double final_stress = 0;             ///< S(X_final)
     double mean_relative_edge_change = 0;///< mean over edges of |d_ij - delta_ij| / delta_ij
     double beta = 0;                     ///< beta used
-    LinearSolver linear_solver = LinearSolver::Direct;  ///< solver used (Direct or Multigrid)
+    numerics::LinearSolver linear_solver = numerics::LinearSolver::Direct;  ///< solver used (Direct or Multigrid)
     std::vector<double> stress_history;  ///< if record_history
     double seconds = 0;                  ///< wall time of the whole computation
     double conformal_factor_seconds = 0; ///< of which: the conformal factor
@@ -101,8 +101,8 @@ EuclideanCanonicalFormResult euclidean_canonical_form(const Eigen::MatrixXd& V, 
 
 /// The SMACOF pairs of step 4 for a scaled mesh V, its edges E (#E x 2), normalised phi and
 /// feature points; exposed for tests and for callers that want to run SMACOF themselves.
-StressPairs canonical_form_pairs(const Eigen::MatrixXd& V, const Eigen::MatrixXi& E,
+numerics::StressPairs canonical_form_pairs(const Eigen::MatrixXd& V, const Eigen::MatrixXi& E,
                                  const Eigen::VectorXd& phi, const std::vector<int>& features,
                                  const EuclideanCanonicalFormOptions& options);
 
-}  // namespace canonform
+}  // namespace canonform::canonical

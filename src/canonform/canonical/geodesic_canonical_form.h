@@ -27,15 +27,15 @@
 #include <cstddef>
 #include <string>
 
-namespace canonform {
+namespace canonform::canonical {
 
 /// Options of geodesic_canonical_form().
 struct GeodesicCanonicalFormOptions {
-    MdsMethod method = MdsMethod::LeastSquares;  ///< step 3: the paper's LS, C and F (landmark MDS)
+    numerics::MdsMethod method = numerics::MdsMethod::LeastSquares;  ///< step 3: the paper's LS, C and F (landmark MDS)
     double tolerance = 1e-5;         ///< SMACOF relative stress-decrease tolerance (LS only)
     int max_iterations = 500;        ///< SMACOF iteration cap (LS only)
-    SmacofAcceleration acceleration = kDefaultSmacofAcceleration;  ///< SMACOF acceleration (LS only, smacof.h)
-    int acceleration_depth = kDefaultAccelerationDepth;            ///< RRE/MPE cycle - 1, Anderson memory
+    numerics::SmacofAcceleration acceleration = numerics::kDefaultSmacofAcceleration;  ///< SMACOF acceleration (LS only, smacof.h)
+    int acceleration_depth = numerics::kDefaultAccelerationDepth;            ///< RRE/MPE cycle - 1, Anderson memory
     int threads = 0;                 ///< threads for the geodesics and SMACOF; 0 = all cores
     double max_memory_gib = 4.0;     ///< refuse when the estimate exceeds this (GiB)
     double max_seconds = 600.0;      ///< refuse when the estimated time exceeds this (s)
@@ -52,7 +52,7 @@ struct GeodesicCost {
 };
 
 /// Cost estimate from the vertex count (calibrated on a 2-core 2026 x86-64 machine; see the .cpp).
-GeodesicCost estimate_geodesic_canonical_form(long n, MdsMethod method, int threads = 0);
+GeodesicCost estimate_geodesic_canonical_form(long n, numerics::MdsMethod method, int threads = 0);
 
 /// Result of geodesic_canonical_form().
 struct GeodesicCanonicalFormResult {
@@ -73,4 +73,4 @@ struct GeodesicCanonicalFormResult {
 GeodesicCanonicalFormResult geodesic_canonical_form(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
                                                     const GeodesicCanonicalFormOptions& options = {});
 
-}  // namespace canonform
+}  // namespace canonform::canonical

@@ -11,21 +11,21 @@
 #include <mutex>
 #include <sstream>
 
-namespace canonform {
+namespace canonform::canonical {
 
 namespace {
 
 // --- the built-in methods -------------------------------------------------------------------------
 
 /// `smacof`: the method runs SMACOF (else the parameters are accepted and do not change the result).
-std::vector<MethodParameter> smacof_parameters(const char* max_iterations, bool smacof = true) {
+std::vector<MethodParameter> numerics::smacof_parameters(const char* max_iterations, bool smacof = true) {
     return {{"tolerance", "1e-5", "SMACOF stops when an iteration lowers the stress by less than this fraction",
              0, 1, false, {}, true, false, "tol"},
             {"max_iterations", max_iterations, "SMACOF iteration cap", 1, 1e7, true, {}, true, false, "max-iter"},
-            {"acceleration", to_string(kDefaultSmacofAcceleration),
+            {"acceleration", to_string(numerics::kDefaultSmacofAcceleration),
              "SMACOF acceleration: none (plain Guttman steps), relaxed, rre, mpe (vector extrapolation), anderson; "
              "every method keeps the stress from increasing",
-             0, 0, false, smacof_acceleration_names(), smacof}};
+             0, 0, false, numerics::smacof_acceleration_names(), smacof}};
 }
 
 /// The SMACOF settings every SMACOF-based method reads.
@@ -33,7 +33,7 @@ template <class Options>
 void read_smacof_settings(const MethodSettings& s, Options* o) {
     o->tolerance = s.number("tolerance");
     o->max_iterations = s.integer("max_iterations");
-    o->acceleration = parse_smacof_acceleration(s.text("acceleration"));
+    o->acceleration = numerics::parse_smacof_acceleration(s.text("acceleration"));
 }
 
 CanonicalMethod none_method() {
@@ -42,7 +42,7 @@ CanonicalMethod none_method() {
     m.label = "none";
     m.help = "the mesh itself (retrieval on the original meshes)";
     m.run = [](const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const MethodSettings&, const MethodContext& c) {
-        if (c.validate) validate_mesh(V, F);  // the same meshes as every other method, NaN never passed on
+        if (c.validate) surface::validate_mesh(V, F);  // the same meshes as every other method, NaN never passed on
         CanonicalForm r;
         r.V = V;
         r.summary = {{"method", std::string("none")}};
@@ -65,7 +65,7 @@ CanonicalMethod euclidean_method(CanonicalVariant variant) {
         {"beta", a ? "10" : "130", "edge-preservation weight (0: the variant's default)", 0, 1e9, false, {}, true, true},
         {"ring", "2", "k of the k-ring in which a feature point is a strict maximum", 1, 10, true},
         {"seed", "0", "seed of variant A's random feature points", 0, 4294967295.0, true}};
-    for (auto& p : smacof_parameters("1000")) m.parameters.push_back(p);
+    for (auto& p : numerics::smacof_parameters("1000")) m.parameters.push_back(p);
     m.parameters.push_back({"solver", "auto", "linear solver of SMACOF and the conformal factor", 0, 0, false,
                             {"auto", "direct", "multigrid"}, false});
     m.run = [variant](const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const MethodSettings& s,
@@ -78,9 +78,9 @@ CanonicalMethod euclidean_method(CanonicalVariant variant) {
         o.seed = static_cast<std::uint64_t>(s.number("seed"));
         read_smacof_settings(s, &o);
         const std::string& solver = s.text("solver");
-        o.linear_solver = solver == "direct"      ? LinearSolver::Direct
-                          : solver == "multigrid" ? LinearSolver::Multigrid
-                                                  : LinearSolver::Auto;
+        o.linear_solver = solver == "direct"      ? numerics::LinearSolver::Direct
+                          : solver == "multigrid" ? numerics::LinearSolver::Multigrid
+                                                  : numerics::LinearSolver::Auto;
         o.progress = c.progress;
         o.validate = c.validate;
         EuclideanCanonicalFormResult e = euclidean_canonical_form(V, F, o);
@@ -115,27 +115,27 @@ CanonicalMethod euclidean_method(CanonicalVariant variant) {
     return m;
 }
 
-CanonicalMethod geodesic_method(MdsMethod mds) {
+CanonicalMethod geodesic_method(numerics::MdsMethod mds) {
     CanonicalMethod m;
     m.family = MethodFamily::Geodesic;
     switch (mds) {
-    case MdsMethod::LeastSquares:
+    case numerics::MdsMethod::LeastSquares:
         m.name = "geodesic-ls";
         m.label = "least squares";
         m.help = "geodesic canonical form, least-squares MDS (SMACOF on all pairs; the paper's LS)";
         break;
-    case MdsMethod::Classical:
+    case numerics::MdsMethod::Classical:
         m.name = "geodesic-classical";
         m.label = "classical";
         m.help = "geodesic canonical form, classical MDS (the paper's C)";
         break;
-    case MdsMethod::Landmark:
+    case numerics::MdsMethod::Landmark:
         m.name = "geodesic-fast";
         m.label = "fast";
         m.help = "geodesic canonical form, fast (landmark) MDS (the paper's F)";
         break;
     }
-    m.parameters = smacof_parameters("500", mds == MdsMethod::LeastSquares);
+    m.parameters = numerics::smacof_parameters("500", mds == numerics::MdsMethod::LeastSquares);
     m.parameters.push_back({"max_memory_gib", "4", "refuse meshes whose estimated memory exceeds this (GiB)", 0, 1e6,
                             false, {}, false});
     m.parameters.push_back({"max_seconds", "600", "refuse meshes whose estimated time exceeds this (s)", 0, 1e9, false,
@@ -153,7 +153,7 @@ CanonicalMethod geodesic_method(MdsMethod mds) {
         GeodesicCanonicalFormResult g = geodesic_canonical_form(V, F, o);
         CanonicalForm r;
         r.V = std::move(g.V);
-        const std::string acceleration = mds == MdsMethod::LeastSquares ? to_string(o.acceleration) : "none";
+        const std::string acceleration = mds == numerics::MdsMethod::LeastSquares ? to_string(o.acceleration) : "none";
         r.summary = {{"method", name}, {"iterations", g.iterations}, {"acceleration", acceleration},
                      {"initial_stress", g.initial_stress}, {"final_stress", g.final_stress},
                      {"mean_relative_edge_change", g.mean_relative_edge_change},
@@ -175,9 +175,9 @@ std::vector<CanonicalMethod> builtin_methods() {
     return {none_method(),
             euclidean_method(CanonicalVariant::A),
             euclidean_method(CanonicalVariant::N),
-            geodesic_method(MdsMethod::LeastSquares),
-            geodesic_method(MdsMethod::Classical),
-            geodesic_method(MdsMethod::Landmark)};
+            geodesic_method(numerics::MdsMethod::LeastSquares),
+            geodesic_method(numerics::MdsMethod::Classical),
+            geodesic_method(numerics::MdsMethod::Landmark)};
 }
 
 // --- the registry ----------------------------------------------------------------------------------
@@ -347,4 +347,4 @@ MethodSpec parse_method_spec(const std::string& text) {
     return spec;
 }
 
-}  // namespace canonform
+}  // namespace canonform::canonical

@@ -7,7 +7,7 @@
 #include <sstream>
 #include <stdexcept>
 
-namespace canonform::plugin {
+namespace canonform::meshlab {
 
 namespace {
 
@@ -95,4 +95,4 @@ std::string default_script(const FilterSpec& spec) {
     return o.str();
 }
 
-}  // namespace canonform::plugin
+}  // namespace canonform::meshlab

@@ -16,7 +16,7 @@
 #include <variant>
 #include <vector>
 
-namespace canonform::plugin {
+namespace canonform::meshlab {
 
 enum class ParamKind { Bool, Int, Float, Enum, String };
 
@@ -97,4 +97,4 @@ std::string log_header(const FilterSpec& spec);
 /// A MeshLab filter script (.mlx) applying `spec` with every parameter at its default.
 std::string default_script(const FilterSpec& spec);
 
-}  // namespace canonform::plugin
+}  // namespace canonform::meshlab

@@ -27,7 +27,7 @@
 
 #include <vector>
 
-namespace canonform {
+namespace canonform::numerics {
 
 /// How a core algorithm solves its large sparse SPD systems (SMACOF's V, the conformal factor's
 /// Laplacian).
@@ -122,4 +122,4 @@ private:
     int sweeps_ = 1;
 };
 
-}  // namespace canonform
+}  // namespace canonform::numerics

@@ -9,7 +9,7 @@
 #include <cmath>
 #include <sstream>
 
-namespace canonform {
+namespace canonform::numerics {
 
 const char* to_string(SmacofAcceleration a) {
     switch (a) {
@@ -269,4 +269,4 @@ SmacofResult SmacofSolver::solve(const Eigen::MatrixXd& X0, const SmacofOptions&
     return r;
 }
 
-}  // namespace canonform
+}  // namespace canonform::numerics

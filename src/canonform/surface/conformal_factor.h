@@ -32,12 +32,12 @@
 
 #include <vector>
 
-namespace canonform {
+namespace canonform::surface {
 
 /// Options of conformal_factor().
 struct ConformalFactorOptions {
     double residual_tolerance = 1e-6;  ///< max ||L phi - rhs||_inf / ||rhs||_inf accepted
-    LinearSolver linear_solver = LinearSolver::Auto;  ///< how eq. (7) is solved
+    numerics::LinearSolver linear_solver = numerics::LinearSolver::Auto;  ///< how eq. (7) is solved
     bool validate = true;              ///< run validate_mesh() first (InputError on bad input)
     /// Boundary vertices (#V flags, MeshReport::boundary) when the caller validated the mesh
     /// itself; empty = found from F (or taken from validate_mesh's report).
@@ -70,4 +70,4 @@ ConformalFactorResult conformal_factor(const Eigen::MatrixXd& V, const Eigen::Ma
 Eigen::MatrixXd normalize_scale(const Eigen::MatrixXd& V, Eigen::RowVector3d* centroid = nullptr,
                                 double* scale = nullptr);
 
-}  // namespace canonform
+}  // namespace canonform::surface

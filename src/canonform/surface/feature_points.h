@@ -24,7 +24,7 @@
 #include <cstdint>
 #include <vector>
 
-namespace canonform {
+namespace canonform::surface {
 
 /// How to reach the target count when there are fewer local maxima than sqrt(N).
 enum class FeatureFill {
@@ -49,10 +49,10 @@ struct FeaturePoints {
 };
 
 /// Vertices that are strict maxima of `phi` (#V) over their k-ring in the graph `adjacency`.
-std::vector<int> local_maxima(const VertexAdjacency& adjacency, const Eigen::VectorXd& phi, int ring);
+std::vector<int> local_maxima(const numerics::VertexAdjacency& adjacency, const Eigen::VectorXd& phi, int ring);
 
 /// Feature points of a mesh with vertex adjacency `adjacency` and conformal factor `phi` (#V).
-FeaturePoints feature_points(const VertexAdjacency& adjacency, const Eigen::VectorXd& phi,
+FeaturePoints feature_points(const numerics::VertexAdjacency& adjacency, const Eigen::VectorXd& phi,
                              const FeaturePointOptions& options = {});
 
 /// Convenience overload building the adjacency from the faces F (#F x 3).
@@ -62,4 +62,4 @@ FeaturePoints feature_points(const Eigen::MatrixXi& F, const Eigen::VectorXd& ph
 /// ceil(sqrt(n)), computed exactly in integers.
 int sqrt_count(int n);
 
-}  // namespace canonform
+}  // namespace canonform::surface
