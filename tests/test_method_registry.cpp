@@ -105,7 +105,7 @@ TEST(MethodRegistry, EverySmacofMethodTakesAnAcceleration) {
     const CanonicalForm r = canonical_method("euclidean-N").run(
         fig.mesh.V, fig.mesh.F, parse_method_spec("euclidean-N:acceleration=none").settings(), {});
     EuclideanCanonicalFormOptions o;
-    o.acceleration = SmacofAcceleration::None;
+    o.smacof.acceleration = SmacofAcceleration::None;
     const EuclideanCanonicalFormResult e = euclidean_canonical_form(fig.mesh.V, fig.mesh.F, o);
     EXPECT_EQ((r.V - e.V).cwiseAbs().maxCoeff(), 0.0);
 }

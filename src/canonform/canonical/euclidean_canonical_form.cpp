@@ -65,8 +65,8 @@ EuclideanCanonicalFormResult euclidean_canonical_form(const Eigen::MatrixXd& V0,
                                                       const EuclideanCanonicalFormOptions& options) {
     const auto t0 = std::chrono::steady_clock::now();
     if (!(options.alpha > 0)) throw InputError("alpha must be positive");
-    if (options.max_iterations < 1) throw InputError("the iteration cap must be at least 1");
-    if (!(options.tolerance >= 0)) throw InputError("the tolerance must be non-negative");
+    if (options.smacof.max_iterations < 1) throw InputError("the iteration cap must be at least 1");
+    if (!(options.smacof.tolerance >= 0)) throw InputError("the tolerance must be non-negative");
     const MeshReport report = options.validate ? validate_mesh(V0, F) : MeshReport{};
     report_progress(options.progress, 0.0, "scaling");
 
@@ -86,9 +86,7 @@ EuclideanCanonicalFormResult euclidean_canonical_form(const Eigen::MatrixXd& V0,
 
     const Eigen::MatrixXi E = report.edge_list.rows() ? report.edge_list : unique_edges(F);
     const VertexAdjacency adj = vertex_adjacency(static_cast<int>(V.rows()), E);
-    FeaturePointOptions fp_opt;
-    fp_opt.ring = options.ring;
-    fp_opt.seed = options.seed;
+    FeaturePointOptions fp_opt = options.features;
     fp_opt.fill = options.variant == CanonicalVariant::A ? FeatureFill::Random : FeatureFill::None;
     const FeaturePoints fp = feature_points(adj, cf.normalized, fp_opt);
     report_progress(options.progress, 0.09, "feature points");
@@ -100,26 +98,25 @@ EuclideanCanonicalFormResult euclidean_canonical_form(const Eigen::MatrixXd& V0,
                               canonical_form_pairs(V, E, cf.normalized, fp.indices, options), solver_opt);
     report_progress(options.progress, 0.1, "SMACOF: V factorised");
 
-    SmacofOptions sm_opt;
-    copy_iteration_options(options, sm_opt);
-    sm_opt.record_history = options.record_history;
+    SmacofOptions sm_opt = options.smacof;
     const auto t2 = std::chrono::steady_clock::now();
     if (options.progress)
         sm_opt.progress = [&](double f, const char* s) { return options.progress(0.1 + 0.9 * f, s); };
+    else
+        sm_opt.progress = nullptr;
     SmacofResult sm = solver.solve(V, sm_opt);
     const auto t3 = std::chrono::steady_clock::now();
 
     EuclideanCanonicalFormResult r;
+    static_cast<SmacofStatistics&>(r) = std::move(sm);
     r.mean_relative_edge_change = mean_relative_edge_change(V, sm.X, E);
     r.V = options.restore_scale ? Eigen::MatrixXd((sm.X * scale).rowwise() + centroid) : sm.X;
     r.phi = cf.normalized;
     r.features = fp.indices;
     r.num_maxima = fp.num_maxima;
     r.num_random = fp.num_random;
-    copy_run_statistics(sm, r);
     r.beta = options.effective_beta();
     r.linear_solver = solver.linear_solver();
-    r.stress_history = std::move(sm.stress_history);
     report_progress(options.progress, 1.0, "done");
     r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     r.conformal_factor_seconds = std::chrono::duration<double>(t1 - t0).count();

@@ -78,21 +78,20 @@ GeodesicCanonicalFormResult geodesic_canonical_form(const Eigen::MatrixXd& V0, c
     if (!D.allFinite()) throw NumericalError("geodesic distances: some vertices were not reached");
 
     // Step 3: MDS in [0.7, 1]. Least squares starts from classical MDS (see the header).
-    MdsOptions mo;
-    copy_iteration_options(options, mo);
+    MdsOptions mo = options.mds;
+    mo.dim = 3;
     mo.threads = options.threads;
     mo.check_input = false;  // symmetric with zero diagonal by construction
+    mo.progress = nullptr;
     if (options.progress) mo.progress = [&](double f, const char* s) { return options.progress(0.7 + 0.3 * f, s); };
     const auto tm = std::chrono::steady_clock::now();
     MdsResult m = mds(D, options.method, mo);
     r.mds_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - tm).count();
     if (m.X.cols() != 3 || !m.X.allFinite()) throw NumericalError("MDS returned a non-finite configuration");
 
+    static_cast<SmacofStatistics&>(r) = std::move(m);  // X stays in m
     r.mean_relative_edge_change = mean_relative_edge_change(V, m.X, report.edge_list);
     r.V = options.restore_scale ? Eigen::MatrixXd((m.X * scale).rowwise() + centroid) : m.X;
-    r.iterations = m.iterations;
-    r.initial_stress = m.initial_stress;
-    r.final_stress = m.final_stress;
     report_progress(options.progress, 1.0, "done");
     r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     return r;

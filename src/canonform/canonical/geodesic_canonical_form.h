@@ -31,11 +31,10 @@ namespace canonform {
 /// Options of geodesic_canonical_form().
 struct GeodesicCanonicalFormOptions {
     MdsMethod method = MdsMethod::LeastSquares;  ///< step 3: the paper's LS, C and F (landmark MDS)
-    double tolerance = 1e-5;         ///< SMACOF relative stress-decrease tolerance (LS only)
-    int max_iterations = 500;        ///< SMACOF iteration cap (LS only)
-    SmacofAcceleration acceleration = kDefaultSmacofAcceleration;  ///< SMACOF acceleration (LS only, smacof.h)
-    int acceleration_depth = kDefaultAccelerationDepth;            ///< RRE/MPE cycle - 1, Anderson memory
-    int threads = 0;                 ///< threads for the geodesics and SMACOF; 0 = all cores
+    /// Step 3's MDS (mds.h): its SMACOF iteration (least squares only), landmarks and seed. Its
+    /// dim (3), threads, input check and progress are set from here.
+    MdsOptions mds;
+    int threads = 0;                 ///< threads for the geodesics and MDS; 0 = all cores
     double max_memory_gib = 4.0;     ///< refuse when the estimate exceeds this (GiB)
     double max_seconds = 600.0;      ///< refuse when the estimated time exceeds this (s)
     bool restore_scale = true;       ///< result in the input's units and position
@@ -53,12 +52,10 @@ struct GeodesicCost {
 /// Cost estimate from the vertex count (calibrated on a 2-core 2026 x86-64 machine; see the .cpp).
 GeodesicCost estimate_geodesic_canonical_form(long n, MdsMethod method, int threads = 0);
 
-/// Result of geodesic_canonical_form().
-struct GeodesicCanonicalFormResult {
+/// Result of geodesic_canonical_form(): the form, the MDS run's statistics (SmacofStatistics:
+/// SMACOF's for least squares, else the eigen/landmark steps; unit-radius frame) and the timings.
+struct GeodesicCanonicalFormResult : SmacofStatistics {
     Eigen::MatrixXd V;                    ///< canonical form, #V x 3 (same vertex order and faces)
-    int iterations = 0;                   ///< SMACOF iterations (LS; else the eigen/landmark steps)
-    double initial_stress = 0;            ///< stress of the start (unit-radius frame)
-    double final_stress = 0;              ///< stress of the result
     double mean_relative_edge_change = 0; ///< mean over edges of |d_ij - |e_ij|| / |e_ij|
     double geodesic_seconds = 0;          ///< wall time of step 2
     double mds_seconds = 0;               ///< wall time of step 3

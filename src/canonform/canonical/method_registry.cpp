@@ -28,8 +28,7 @@ std::vector<MethodParameter> smacof_parameters(const char* max_iterations, bool 
 }
 
 /// The SMACOF settings every SMACOF-based method reads.
-template <class Options>
-void read_smacof_settings(const MethodSettings& s, Options* o) {
+void read_smacof_settings(const MethodSettings& s, SmacofOptions* o) {
     o->tolerance = s.number("tolerance");
     o->max_iterations = s.integer("max_iterations");
     o->acceleration = parse_smacof_acceleration(s.text("acceleration"));
@@ -73,9 +72,9 @@ CanonicalMethod euclidean_method(CanonicalVariant variant) {
         o.variant = variant;
         o.alpha = s.number("alpha");
         o.beta = s.number("beta");
-        o.ring = s.integer("ring");
-        o.seed = static_cast<std::uint64_t>(s.number("seed"));
-        read_smacof_settings(s, &o);
+        o.features.ring = s.integer("ring");
+        o.features.seed = static_cast<std::uint64_t>(s.number("seed"));
+        read_smacof_settings(s, &o.smacof);
         const std::string& solver = s.text("solver");
         o.linear_solver = solver == "direct"      ? LinearSolver::Direct
                           : solver == "multigrid" ? LinearSolver::Multigrid
@@ -93,7 +92,7 @@ CanonicalMethod euclidean_method(CanonicalVariant variant) {
                      {"beta", e.beta},
                      {"feature_points", static_cast<int>(e.features.size())}, {"maxima", e.num_maxima},
                      {"random", e.num_random},
-                     {"iterations", e.iterations}, {"acceleration", std::string(to_string(o.acceleration))},
+                     {"iterations", e.iterations}, {"acceleration", std::string(to_string(o.smacof.acceleration))},
                      {"extrapolations", e.extrapolations}, {"rejections", e.rejections}, {"converged", e.converged},
                      {"initial_stress", e.initial_stress}, {"final_stress", e.final_stress},
                      {"solver", std::string(to_string(e.linear_solver))},
@@ -104,7 +103,7 @@ CanonicalMethod euclidean_method(CanonicalVariant variant) {
         d << "variant " << variant_name << ", alpha " << o.alpha << ", beta "
           << e.beta << ": " << V.rows() << " vertices, " << e.features.size() << " feature points ("
           << e.num_maxima << " maxima, " << e.num_random << " random), " << e.iterations << " SMACOF iterations ("
-          << to_string(o.acceleration) << ")"
+          << to_string(o.smacof.acceleration) << ")"
           << (e.converged ? "" : " (iteration cap reached)") << ", stress " << e.initial_stress << " -> "
           << e.final_stress << ", mean relative edge-length change " << e.mean_relative_edge_change << ", "
           << e.seconds << " s";
@@ -144,7 +143,7 @@ CanonicalMethod geodesic_method(MdsMethod mds) {
                         const MethodContext& c) {
         GeodesicCanonicalFormOptions o;
         o.method = mds;
-        read_smacof_settings(s, &o);
+        read_smacof_settings(s, &o.mds.smacof);
         o.max_memory_gib = s.number("max_memory_gib");
         o.max_seconds = s.number("max_seconds");
         o.threads = c.threads;
@@ -152,7 +151,7 @@ CanonicalMethod geodesic_method(MdsMethod mds) {
         GeodesicCanonicalFormResult g = geodesic_canonical_form(V, F, o);
         CanonicalForm r;
         r.V = std::move(g.V);
-        const std::string acceleration = mds == MdsMethod::LeastSquares ? to_string(o.acceleration) : "none";
+        const std::string acceleration = mds == MdsMethod::LeastSquares ? to_string(o.mds.smacof.acceleration) : "none";
         r.summary = {{"method", name}, {"iterations", g.iterations}, {"acceleration", acceleration},
                      {"initial_stress", g.initial_stress}, {"final_stress", g.final_stress},
                      {"mean_relative_edge_change", g.mean_relative_edge_change},

@@ -257,13 +257,8 @@ SmacofResult SmacofSolver::solve(const Eigen::MatrixXd& X0, const SmacofOptions&
     if (X0.rows() != n_ || X0.cols() < 1) throw InputError("SMACOF: the start has the wrong shape");
     if (!X0.allFinite()) throw InputError("SMACOF: the start has non-finite coordinates");
     StepWorkspace work;
-    GuttmanRun g = run_guttman([this, &work](const Eigen::MatrixXd& X, double* s) { return guttman(X, s, work); },
-                               X0.rowwise() - X0.colwise().mean(), options.tolerance, options.max_iterations,
-                               options.record_history, options.progress, 0.0, "SMACOF", options.acceleration,
-                               options.acceleration_depth);
-    SmacofResult r;
-    move_run_into(std::move(g), r);
-    return r;
+    return run_guttman([this, &work](const Eigen::MatrixXd& X, double* s) { return guttman(X, s, work); },
+                       X0.rowwise() - X0.colwise().mean(), options, "SMACOF");
 }
 
 }  // namespace canonform
