@@ -6,8 +6,6 @@
 
 namespace canonform::plugin {
 
-enum class ViewFilterId : int { DepthViewDescriptor = 100 };
-
 /// The filters of filter_viewdescriptor, in menu order.
 const std::vector<FilterSpec>& view_filter_table();
 

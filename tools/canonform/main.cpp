@@ -43,8 +43,19 @@ int main(int argc, char** argv) {
                  "`canonform COMMAND --help` lists a command's options and defaults.",
                  "canonform"};
     app.option_defaults()->always_capture_default();
-    app.require_subcommand(1);
     for (const Command& c : kCommands) c.add(app);
+    // `canonform --list-parameters [--json]`: every parameter definition, for the docs.
+    bool list_parameters = false, list_json = false;
+    app.add_flag("--list-parameters", list_parameters,
+                 "list every method's, filter's and command's parameters (with --json: as JSON, for the docs)");
+    app.add_flag("--json", list_json, "with --list-parameters: print JSON");
+    app.require_subcommand(0, 1);
+    app.callback([&] {
+        if (list_parameters)
+            print_parameter_listing(app, list_json);
+        else if (app.get_subcommands().empty())
+            throw CLI::RequiredError("A subcommand");
+    });
     const char* command = argc > 1 ? argv[1] : "";
     if (argc > 1 && argv[1][0] != '-' && !known(argv[1])) {
         std::cerr << "canonform: unknown command '" << argv[1] << "'\n" << app.help();

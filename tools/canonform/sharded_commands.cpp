@@ -318,8 +318,8 @@ void add_index(CLI::App& app) {
             for (const std::string& m : split_list(a->methods)) methods.push_back(parse_method_spec(m));
         }
         if (methods.empty())
-            for (const auto& m : canonical_methods()) {
-                const MethodSpec spec = parse_method_spec(m.name);
+            for (const CanonicalMethod* m : canonical_methods()) {
+                const MethodSpec spec = parse_method_spec(m->name);
                 if (io::is_file(a->run + "/" + spec.folder() + "/models.csv")) methods.push_back(spec);
             }
         if (methods.empty()) throw InputError("'" + a->run + "': no method folder with models.csv: name --method");

@@ -5,6 +5,7 @@
 #include "canonform/surface/mesh_topology.h"
 
 #include <chrono>
+#include <sstream>
 
 namespace canonform {
 
@@ -123,6 +124,79 @@ EuclideanCanonicalFormResult euclidean_canonical_form(const Eigen::MatrixXd& V0,
     r.setup_seconds = std::chrono::duration<double>(t2 - t1).count();
     r.smacof_seconds = std::chrono::duration<double>(t3 - t2).count();
     return r;
+}
+
+ParameterSet<EuclideanCanonicalFormOptions> euclidean_canonical_form_parameters(
+    const EuclideanCanonicalFormOptions& defaults) {
+    using O = EuclideanCanonicalFormOptions;
+    ParameterSet<O> s(defaults);
+    s.add(Parameter::number("alpha", 1e-6, 1e6)
+              .label("Alpha")
+              .help("target distance of every feature-point pair, in units of the mesh radius (the paper uses 10)"),
+          &O::alpha);
+    s.add(Parameter::number("beta", 0, 1e9)
+              .zero_means_default()
+              .label("Beta (0 = variant default)")
+              .help("edge-length preservation weight; 0: the variant's default, 10 for A and 130 for N"),
+          &O::beta);
+    s.include(feature_point_parameters(), &O::features, {"ring", "seed"});
+    s.include(smacof_parameters(), &O::smacof);
+    s.add(Parameter::choice("solver", linear_solver_names())
+              .label("Linear solver")
+              .help("linear solver of SMACOF and the conformal factor: auto (direct below " +
+                    std::to_string(kMultigridFrom) + " vertices, multigrid from there), direct or multigrid")
+              .affects_result(false),
+          &O::linear_solver);
+    return s;
+}
+
+CanonicalMethod euclidean_method(CanonicalVariant variant) {
+    const bool a = variant == CanonicalVariant::A;
+    const ParameterSet<EuclideanCanonicalFormOptions> parameters =
+        euclidean_canonical_form_parameters(EuclideanCanonicalFormOptions::of_variant(variant));
+    CanonicalMethod m;
+    m.name = a ? "euclidean-A" : "euclidean-N";
+    m.label = a ? "A" : "N";
+    m.family = MethodFamily::Euclidean;
+    m.family_default = variant == EuclideanCanonicalFormOptions().variant;
+    m.help = a ? "Euclidean canonical form, variant A (extra random feature points, beta 10)"
+               : "Euclidean canonical form, variant N (normalised weights, eq. 10, beta 130)";
+    m.parameters = parameters.parameters();
+    m.run = [parameters](const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const MethodSettings& s,
+                         const MethodContext& c) {
+        EuclideanCanonicalFormOptions o = parameters.read(s);
+        o.progress = c.progress;
+        o.validate = c.validate;
+        EuclideanCanonicalFormResult e = euclidean_canonical_form(V, F, o);
+        CanonicalForm r;
+        r.V = std::move(e.V);
+        r.quality = std::move(e.phi);
+        r.features = e.features;
+        // Grouped: the method, its feature points, the SMACOF run, the result, the timings.
+        const std::string variant_name = o.variant == CanonicalVariant::A ? "A" : "N";
+        r.summary = {{"method", std::string("euclidean")}, {"variant", variant_name}, {"alpha", o.alpha},
+                     {"beta", e.beta},
+                     {"feature_points", static_cast<int>(e.features.size())}, {"maxima", e.num_maxima},
+                     {"random", e.num_random},
+                     {"iterations", e.iterations}, {"acceleration", std::string(to_string(o.smacof.acceleration))},
+                     {"extrapolations", e.extrapolations}, {"rejections", e.rejections}, {"converged", e.converged},
+                     {"initial_stress", e.initial_stress}, {"final_stress", e.final_stress},
+                     {"solver", std::string(to_string(e.linear_solver))},
+                     {"mean_relative_edge_change", e.mean_relative_edge_change}, {"seconds", e.seconds},
+                     {"conformal_factor_seconds", e.conformal_factor_seconds}, {"setup_seconds", e.setup_seconds},
+                     {"smacof_seconds", e.smacof_seconds}};
+        std::ostringstream d;
+        d << "variant " << variant_name << ", alpha " << o.alpha << ", beta "
+          << e.beta << ": " << V.rows() << " vertices, " << e.features.size() << " feature points ("
+          << e.num_maxima << " maxima, " << e.num_random << " random), " << e.iterations << " SMACOF iterations ("
+          << to_string(o.smacof.acceleration) << ")"
+          << (e.converged ? "" : " (iteration cap reached)") << ", stress " << e.initial_stress << " -> "
+          << e.final_stress << ", mean relative edge-length change " << e.mean_relative_edge_change << ", "
+          << e.seconds << " s";
+        r.description = d.str();
+        return r;
+    };
+    return m;
 }
 
 }  // namespace canonform

@@ -33,6 +33,7 @@
 //   random fill).
 #pragma once
 
+#include "canonform/canonical/method_registry.h"
 #include "canonform/common/errors.h"
 #include "canonform/numerics/smacof.h"
 #include "canonform/surface/feature_points.h"
@@ -54,7 +55,7 @@ enum class CanonicalVariant {
 struct EuclideanCanonicalFormOptions {
     CanonicalVariant variant = CanonicalVariant::N;  ///< N: deterministic, see the header note
     double alpha = 10.0;          ///< target distance of feature pairs (unit-radius frame)
-    double beta = -1.0;           ///< edge-preservation weight; <= 0 means the variant's default
+    double beta = 0.0;            ///< edge-preservation weight; <= 0 means the variant's default
     /// Step 3: the k-ring, the seed and the count of the feature points (feature_points.h); their
     /// fill is the variant's (A: random, N: none), whatever `features.fill` says.
     FeaturePointOptions features;
@@ -74,6 +75,12 @@ struct EuclideanCanonicalFormOptions {
         return o;
     }
 };
+
+/// The parameters of these options a user sets - alpha, beta, ring, seed, tolerance,
+/// max_iterations, acceleration, solver - with their defaults from `defaults` (common/parameters.h;
+/// the registry lists them with of_variant()'s defaults).
+ParameterSet<EuclideanCanonicalFormOptions> euclidean_canonical_form_parameters(
+    const EuclideanCanonicalFormOptions& defaults = {});
 
 /// Result of euclidean_canonical_form(): the form, its feature points, the SMACOF run's statistics
 /// (SmacofStatistics, in the unit-radius frame) and the timings.
@@ -96,6 +103,10 @@ struct EuclideanCanonicalFormResult : SmacofStatistics {
 /// (validate_mesh), NumericalError on numerical failure, Cancelled if progress returns false.
 EuclideanCanonicalFormResult euclidean_canonical_form(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
                                                       const EuclideanCanonicalFormOptions& options = {});
+
+/// The registry's method euclidean-A or euclidean-N (method_registry.h): its parameters with the
+/// variant's defaults, its run, its summary.
+CanonicalMethod euclidean_method(CanonicalVariant variant);
 
 /// The SMACOF pairs of step 4 for a scaled mesh V, its edges E (#E x 2), normalised phi and
 /// feature points; exposed for tests and for callers that want to run SMACOF themselves.

@@ -18,6 +18,7 @@
 // both from N and refuses, naming the two figures, when they exceed limits the caller can raise.
 #pragma once
 
+#include "canonform/canonical/method_registry.h"
 #include "canonform/common/errors.h"
 #include "canonform/numerics/mds.h"
 
@@ -41,6 +42,11 @@ struct GeodesicCanonicalFormOptions {
     ProgressFn progress;             ///< optional progress callback
 };
 
+/// The parameters of these options a user sets - tolerance, max_iterations, acceleration (its
+/// MDS's), max_memory_gib, max_seconds - with their defaults from `defaults` (common/parameters.h).
+ParameterSet<GeodesicCanonicalFormOptions> geodesic_canonical_form_parameters(
+    const GeodesicCanonicalFormOptions& defaults = {});
+
 /// Estimated cost of geodesic_canonical_form() for n vertices.
 struct GeodesicCost {
     double bytes = 0;    ///< peak memory (dominated by the n x n distance matrix)
@@ -62,6 +68,9 @@ struct GeodesicCanonicalFormResult : SmacofStatistics {
     double seconds = 0;                   ///< wall time of everything
     GeodesicCost estimate;                ///< what was estimated beforehand
 };
+
+/// The registry's method geodesic-ls, geodesic-classical or geodesic-fast (method_registry.h).
+CanonicalMethod geodesic_method(MdsMethod mds);
 
 /// Computes the geodesic canonical form. Throws InputError on bad input or when the estimated
 /// memory or time exceeds the limits (the message names both figures and the option to raise),

@@ -491,6 +491,12 @@ MdsResult least_squares_mds(const MatrixXd& D, const MdsOptions& options, const 
     return r;
 }
 
+ParameterSet<MdsOptions> mds_parameters(const MdsOptions& defaults) {
+    ParameterSet<MdsOptions> s(defaults);
+    s.include(smacof_parameters(), &MdsOptions::smacof);
+    return s;
+}
+
 MdsResult mds(const MatrixXd& D, MdsMethod method, const MdsOptions& options) {
     switch (method) {
         case MdsMethod::LeastSquares: return least_squares_mds(D, options);

@@ -85,6 +85,10 @@ struct MdsOptions {
     ProgressFn progress;                ///< called every few iterations; false cancels (Cancelled)
 };
 
+/// The parameters of MdsOptions a user sets (its SMACOF iteration's: smacof_parameters()), with
+/// their defaults from `defaults`.
+ParameterSet<MdsOptions> mds_parameters(const MdsOptions& defaults = {});
+
 /// Result of the MDS solvers: X (#N x dim, centred at the origin) and the statistics of
 /// SmacofResult - SMACOF's for least squares; classical: iterations = subspace iterations,
 /// converged = true, the stresses S(X) (NaN if not computed); landmark: iterations 0,

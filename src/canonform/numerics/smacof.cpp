@@ -30,6 +30,24 @@ SmacofAcceleration parse_smacof_acceleration(const std::string& name) {
     throw InputError("unknown SMACOF acceleration '" + name + "' (none, relaxed, rre, mpe, anderson)");
 }
 
+ParameterSet<SmacofOptions> smacof_parameters(const SmacofOptions& defaults) {
+    ParameterSet<SmacofOptions> s(defaults);
+    s.add(Parameter::number("tolerance", 0, 1)
+              .label("Tolerance")
+              .help("SMACOF stops when an iteration lowers the stress by less than this fraction")
+              .alias("tol"),
+          &SmacofOptions::tolerance);
+    s.add(Parameter::integer("max_iterations", 1, 1e7).label("Maximum iterations").help("SMACOF iteration cap").alias("max-iter"),
+          &SmacofOptions::max_iterations);
+    s.add(Parameter::choice("acceleration", smacof_acceleration_names())
+              .label("SMACOF acceleration")
+              .help("none: plain Guttman steps; relaxed: X + 2(G(X) - X) (de Leeuw); rre / mpe: reduced-rank / "
+                    "minimal-polynomial vector extrapolation (Rosman et al. 2008); anderson: Anderson acceleration. "
+                    "A step that would raise the stress is replaced by the plain step"),
+          &SmacofOptions::acceleration);
+    return s;
+}
+
 namespace {
 
 double dot(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {

@@ -63,6 +63,7 @@
 
 #include "canonform/numerics/algebraic_multigrid.h"
 #include "canonform/common/errors.h"
+#include "canonform/common/parameters.h"
 #include "canonform/numerics/sparse_cholesky.h"
 
 #include <Eigen/Core>
@@ -117,6 +118,11 @@ struct SmacofOptions {
     SmacofOptions& with_max_iterations(int n) { max_iterations = n; return *this; }
     SmacofOptions& with_acceleration(SmacofAcceleration a) { acceleration = a; return *this; }
 };
+
+/// The parameters of SmacofOptions a user sets - tolerance, max_iterations, acceleration - with
+/// their defaults from `defaults` (common/parameters.h: the method registry, the filters, the tool
+/// and the docs derive from them).
+ParameterSet<SmacofOptions> smacof_parameters(const SmacofOptions& defaults = {});
 
 /// What a SMACOF run reports: counts and stresses. Every result that reports a run derives from
 /// it (SmacofResult, MdsResult, the canonical forms' results), so one assignment passes it on.
