@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Per-stage costs of a 600-model retrieval run (issue 5's plan: 600 meshes of 10k vertices in at
 // most 15 minutes on 2 cores). On a few real 10k-vertex meshes it measures, one mesh at a time on
 // one thread: the Euclidean canonical form (variant N and A) and the 66 depth views + SIFT. It

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Benchmark of SMACOF's accelerations (numerics/smacof.h) side by side in one run:
 //   canonform_bench_acceleration [--sizes 2000,10000,...] [--poses P] [--repeats R] [--variant N|A]
 //                                [--methods none,relaxed,rre,mpe,anderson] [--depth K]

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Benchmark of one canonical-form method on one mesh file:
 //   canonform_bench_canonical MESH [--method euclidean|NAME[:KEY=VALUE...]] (any method of the registry)
 //                             [--variant A|N] [--solver auto|direct|multigrid] [--repeats R] [--threads T]

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Query latency against an indexed collection (collection_index.h) of 10^5 models: the target is
 // at most 1 s per query on one core for the exact top 10. The collection's histograms are real
 // ones repeated (as bench_600 does): the canonical forms of a few 10k-vertex meshes, their 66

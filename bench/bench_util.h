@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // canonform benchmarks: small helpers shared by the bench programs.
 #pragma once
 

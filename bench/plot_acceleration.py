@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Plot of bench/run_bench_acceleration.sh: Guttman steps and SMACOF seconds per mesh against the
 vertex count (procedural figures), one line per acceleration.
    plot_acceleration.py acceleration.csv acceleration.png"""

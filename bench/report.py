@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Turns the benchmark's JSON lines into a CSV, a Markdown table and a log-log plot.
 
 usage: report.py RAW.jsonl OUT_PREFIX [--auto-from N]   (writes OUT_PREFIX.csv, .md, .png)

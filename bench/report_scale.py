@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Turns bench/run_bench_scale.sh's JSON lines into bench/results/canonical_scale.{csv,md}.
 
 usage: report_scale.py RAW.jsonl OUT_PREFIX

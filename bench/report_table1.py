@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Table 1 / Fig. 7 report: CSV, Markdown table (seconds and peak MiB per method and size, and the
 speed-up of the Euclidean form over geodesic least squares) and a log-log plot of time against
 vertices. usage: report_table1.py RAW.jsonl OUT_PREFIX"""

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
 # Benchmark of the Euclidean canonical form at about 2k, 10k, 50k and 200k vertices (procedural
 # figures, pose 1), single-threaded, medians of several runs measured in one run: variant N with
 # each of SMACOF's two linear solvers side by side (direct LDL^T factor, AMG V-cycle), both

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
 # SMACOF's accelerations side by side (bench/bench_acceleration.cpp): the Euclidean canonical form
 # (variant N; variant A at 2k and 10k) of procedural figures in several poses at 2k-200k vertices, of TOSCA and FAUST
 # (DATA/tosca_r5k, DATA/faust_r5k, with labels.csv and corres/), and least-squares MDS of a 2000-vertex

@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Query latency against an index of 10^5 models (README, "Beyond one machine"): six procedural
+# SPDX-License-Identifier: GPL-3.0-or-later
+# Query latency against an index of 10^5 models (docs/scale.md): six procedural
 # figures of 10k vertices (six body types) through bench_query, which repeats their real
 # histograms to 10^5 models and prints the index build and the top-10 query latency as JSON
 # lines (bench/results/bench_query.jsonl) with the machine's load.

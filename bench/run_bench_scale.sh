@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
 # The whole `canonform canonical` (Euclidean, variant N, defaults) of procedural figures of 200k and
 # 1M vertices (`canonform generate --vertices N`, pose 0), as a user runs it: wall and CPU seconds
 # (user + system, from /usr/bin/time), the time split by stage (read + validation, conformal

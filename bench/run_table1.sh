@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
 # The shape of the paper's Table 1 and Fig. 7: one articulated figure (16k vertices, pose 1)
 # simplified by quadric edge collapse to about 1k, 2k, 4k and 8k vertices (and generated at 50k
 # and 200k for the Euclidean method only); time and peak memory of Euclidean A and N and of

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 # Sourced by the bench scripts: six_figures BUILD_DIR DIR writes six procedural figures of 10k
 # vertices into DIR (the six body types, poses 1-6), the collection of the 600-mesh plan and the
 # query benchmark. bench_jsonl BUILD_DIR OUT BENCH [ARGS...] runs BENCH on six fresh figures (in a

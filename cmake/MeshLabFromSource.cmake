@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 # MeshLab's meshlab-common library compiled here from Debian's source package, in double
 # precision: what pymeshlab is (every pymeshlab release is MeshLab's meshlab-common built with
 # MESHLAB_SCALAR=double, behind pybind11). No Debian release packages such a library.

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 # The MeshLab the system has installed (Debian's `meshlab` package), as the target
 # meshlab_installed::common: its own libmeshlab-common.so, with the headers of the same release
 # from Debian's source package (external/, fetched by tools/setup.sh), in single precision as

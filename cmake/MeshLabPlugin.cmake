@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 # The MeshLab builds ("flavours") a plugin is compiled for, and the function that compiles a
 # plugin for each of them from one set of sources.
 #

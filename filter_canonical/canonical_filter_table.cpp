@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include "canonical_filter_table.h"
 
 #include "canonform/canonical/method_registry.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // canonform: the filter table of the filter_canonical plugin (plain C++; the types and the
 // conventions are in canonform/meshlab/filter_table.h).
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // canonform: what the filters of filter_canonical do to a MeshLab document, independent of the
 // plugin API (2020.09's MeshFilterInterface or 2022.02's FilterPlugin). An API adapter reads the
 // parameters into ParamValues, calls apply_filter_action(), and turns exceptions into its own

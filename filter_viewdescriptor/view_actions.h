@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // canonform: what the filter_viewdescriptor filters do to a MeshLab document, independent of the
 // plugin API: the adapters of canonform/meshlab call apply_view_action() with the parameter values.
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include "view_filter_table.h"
 
 #include "canonform/views/view_parameters.h"

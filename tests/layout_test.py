@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """The library's layout rules, checked on the sources and the built plugins.
 
 usage: /usr/bin/python3 tests/layout_test.py SOURCE_DIR [PLUGIN.so ...]

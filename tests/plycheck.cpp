@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Test helper: prints facts about a mesh file as JSON for the end-to-end tests:
 //   canonform_plycheck FILE [REFERENCE]
 // vertices, faces, quality range, and with REFERENCE: the largest quality and position

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // canonform: the plugins as pymeshlab 2022.2 and 2025.7 see them, without Python.
 //
 // pymeshlab 2022.2.x is MeshLab 2022.02's meshlab-common in double precision behind pybind11,

@@ -1,9 +1,12 @@
-"""Runs the README's pymeshlab examples as written, as far as the pymeshlab harness can show.
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""Runs the pymeshlab examples of the README and the docs as written, as far as the pymeshlab harness
+can show.
 
-usage: readme_pymeshlab_test.py README WORKDIR CANONFORM [--release 2022.2|2025.7 HARNESS PLUGIN_DIR]...
+usage: readme_pymeshlab_test.py DOC[,DOC...] WORKDIR CANONFORM [--release 2022.2|2025.7 HARNESS PLUGIN_DIR]...
 
-Each ```python block of the README whose first line is "# pymeshlab 2022.2" (or "# pymeshlab 2025.7")
-is executed by Python as written, with a stand-in for the `pymeshlab` module of that release:
+Each ```python block of each DOC (README.md, docs/pymeshlab.md) whose first line is "# pymeshlab 2022.2"
+(or "# pymeshlab 2025.7") is executed by Python as written, with a stand-in for the `pymeshlab` module
+of that release:
 - it has exactly the module functions and MeshSet methods of that release (their names as that
   release's bindings define them, below); any other name raises AttributeError, as pymeshlab would;
 - load_plugin, MeshSet.load_new_mesh, number_meshes / mesh_number, set_current_mesh and
@@ -12,6 +15,8 @@ is executed by Python as written, with a stand-in for the `pymeshlab` module of 
   vectors arriving as 1-D numpy arrays as both releases convert them; a failure raises
   pymeshlab.PyMeshLabException with MeshLab's message;
 - the other methods raise NotImplementedError, and the test says so.
+Then every filter is applied once per release, and the keys of the dict it returns must be those of
+its row in the docs' table of what the filters return (docs/pymeshlab.md).
 What it cannot show: pymeshlab's own IO plugins (load_new_mesh reads the PLY with canonform's
 reader) and its Python packaging. The example's plugin folder '/path/to/canonform/build/...' is
 replaced by the build's; figure.ply and codebook.bin are generated in WORKDIR.
@@ -95,7 +100,7 @@ def stand_in(release, harness):
 
 
 def main():
-    readme, work, canonform = sys.argv[1:4]
+    docs, work, canonform = [os.path.abspath(d) for d in sys.argv[1].split(",")], sys.argv[2], sys.argv[3]
     releases, args = {}, sys.argv[4:]
     while args:
         assert args[0] == "--release", args
@@ -107,11 +112,12 @@ def main():
                    stdout=subprocess.DEVNULL)
     subprocess.run([canonform, "codebook", "codebook.bin", "figure.ply", "--words", "100"], check=True,
                    stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-    blocks = re.findall(r"```python\n(# pymeshlab (\d{4}\.\d+)\n.*?)```", open(readme).read(), re.S)
+    blocks = [(code, release, os.path.basename(doc)) for doc in docs
+              for code, release in re.findall(r"```python\n(# pymeshlab (\d{4}\.\d+)\n.*?)```", open(doc).read(), re.S)]
     failures, seen = 0, set()
-    for code, release in blocks:
+    for code, release, where in blocks:
         if release not in releases:
-            print(f"  FAIL a README example for pymeshlab {release}, which this build has no harness of")
+            print(f"  FAIL a {where} example for pymeshlab {release}, which this build has no harness of")
             failures += 1
             continue
         seen.add(release)
@@ -122,21 +128,54 @@ def main():
         out = io.StringIO()
         try:
             with contextlib.redirect_stdout(out):
-                exec(compile(code, f"README (pymeshlab {release})", "exec"), {})
-            print(f"  ok   the README's pymeshlab {release} example runs as written; it printed:")
+                exec(compile(code, f"{where} (pymeshlab {release})", "exec"), {})
+            print(f"  ok   the {where} pymeshlab {release} example runs as written; it printed:")
             for line in out.getvalue().splitlines():
                 print(f"         {line}")
         except Exception as e:  # the example's own failure, as a user would see it
-            print(f"  FAIL the README's pymeshlab {release} example: {type(e).__name__}: {e}")
+            print(f"  FAIL the {where} pymeshlab {release} example: {type(e).__name__}: {e}")
             print(out.getvalue())
             failures += 1
         finally:
             harness.close()
             del sys.modules["pymeshlab"]
+    # the table of what each filter returns (docs/pymeshlab.md): every filter applied once per
+    # release, its dict's keys against the table's row
+    table = {}
+    for doc in docs:
+        for name, cell in re.findall(r"^\| `([a-z_]+)` \| (.*) \|$", open(doc).read(), re.M):
+            keys = re.findall(r"`([a-z_]+)`", cell)
+            if name.startswith(("compute_", "generate_")) and keys:
+                table[name] = set(keys)
+    for release, (harness_path, plugins) in sorted(releases.items()):
+        if not table:
+            print("  FAIL no table of what the filters return")
+            failures += 1
+            break
+        harness = Harness(harness_path)
+        try:
+            for plugin in ("libfilter_canonical.so", "libfilter_viewdescriptor.so"):
+                harness.ask(RuntimeError, op="load_plugin", path=plugins + plugin)
+            for name, documented in sorted(table.items()):
+                harness.ask(RuntimeError, op="load_new_mesh", path=os.path.abspath("figure.ply"))
+                n = harness.ask(RuntimeError, op="mesh_number")
+                harness.ask(RuntimeError, op="set_current_mesh", id=n - 1)
+                kwargs = {"codebook_file": "codebook.bin", "output_file": ""} if "descriptor" in name else {}
+                got = set(harness.ask(RuntimeError, op="apply_filter", name=name, kwargs=kwargs) or {})
+                ok = got == documented
+                print(f"  {'ok  ' if ok else 'FAIL'} pymeshlab {release}: {name} returns the documented keys"
+                      + ("" if ok else f": missing from the table {sorted(got - documented)}, "
+                                       f"not returned {sorted(documented - got)}"))
+                failures += not ok
+        except RuntimeError as e:
+            print(f"  FAIL pymeshlab {release}: applying every filter: {e}")
+            failures += 1
+        finally:
+            harness.close()
     for release in sorted(set(releases) - seen):
-        print(f"  FAIL no README example for pymeshlab {release}")
+        print(f"  FAIL no example for pymeshlab {release} in {', '.join(os.path.basename(d) for d in docs)}")
         failures += 1
-    print(f"{len(blocks) - failures} passed, {failures} failed")
+    print(f"{len(blocks)} examples and {len(table)} filters' outputs checked, {failures} failures")
     sys.exit(1 if failures else 0)
 
 

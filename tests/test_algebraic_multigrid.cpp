@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include "canonform/numerics/algebraic_multigrid.h"
 #include "canonform/surface/conformal_factor.h"
 #include "canonform/canonical/euclidean_canonical_form.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Tests of the CM-BOF view-descriptor core (SIFT: test_sift_features.cpp): codebook, bag-of-features
 // distances, clock matching, the descriptor file. Timings are printed (not asserted, except the
 // 600 x 600 distance matrix budget of 60 s).
@@ -326,10 +327,21 @@ TEST(Codebook, TrainingOnTheNamedRowsAloneGivesTheSameWords) {
         }
 }
 
-TEST(Codebook, FewerDescriptorsThanWordsUsesAll) {
+TEST(Codebook, FewerDescriptorsThanWordsIsRefusedWithBothNumbers) {
     std::mt19937_64 rng(10);
     const DescriptorMatrix X = random_descriptors(rng, 37);
-    const Codebook cb = Codebook::train(X, {});
+    try {
+        Codebook::train(X, {});  // 1500 words by default
+        FAIL() << "a 1500-word codebook of 37 descriptors was trained";
+    } catch (const InputError& e) {
+        const std::string m = e.what();
+        EXPECT_NE(m.find("1500 words"), std::string::npos) << m;
+        EXPECT_NE(m.find("only 37 training descriptors"), std::string::npos) << m;
+        EXPECT_NE(m.find("--words"), std::string::npos) << m;
+    }
+    CodebookOptions o;
+    o.words = 37;  // exactly as many: every descriptor is a word
+    const Codebook cb = Codebook::train(X, o);
     EXPECT_EQ(cb.size(), 37);
     EXPECT_TRUE(cb.words() == X);
     EXPECT_THROW(Codebook::train(DescriptorMatrix(0, 128), {}), InputError);

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The indexed collection: queries give the distance matrix's rows (the same order, the member
 // itself first), through the file format, and refuse what 16 bits cannot hold.
 #include "canonform/common/errors.h"

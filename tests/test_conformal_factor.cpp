@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include "canonform/surface/conformal_factor.h"
 #include "canonform/surface/cotan_laplacian.h"
 #include "canonform/surface/gaussian_curvature.h"

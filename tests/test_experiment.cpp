@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The retrieval Experiment on a small generated collection: outputs, cache, measures, and a
 // method added to the registry at run time.
 #include "canonform/common/errors.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include "canonform/surface/conformal_factor.h"
 #include "canonform/surface/feature_points.h"
 #include "canonform/procedural/procedural_meshes.h"
@@ -55,6 +56,10 @@ TEST(FeaturePoints, KeepsTheLargestAndFillsRandomlyToExactlySqrtN) {
     FeaturePoints fp = feature_points(g, phi, opt);
     EXPECT_EQ(fp.indices, (std::vector<int>{17, 13, 9}));
     EXPECT_EQ(fp.total_maxima, 6);  // 1, 5, 9, 13, 17 and the end vertex 19
+    opt.count = 21;  // more than the 20 vertices: refused, not silently cut to 20
+    EXPECT_THROW(feature_points(g, phi, opt), InputError);
+    opt.count = 20;
+    EXPECT_EQ(feature_points(g, phi, opt).indices.size(), 6u);  // all maxima (no fill asked for)
 
     // Only two maxima with ring 2 on a coarser pattern, then random fill to 5.
     Eigen::VectorXd psi = Eigen::VectorXd::LinSpaced(20, 0.0, 0.19);

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // io area: files and folders, CSV and label files, distance-matrix files, mesh files.
 #include "canonform/common/errors.h"
 #include "canonform/io/csv.h"

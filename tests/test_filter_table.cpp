@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The filter tables of both plugins: names, the parameters derived from the library's definitions
 // (common/parameters.h), the shipped .mlx scripts and the names pymeshlab scripts use.
 #include "canonical_filter_table.h"

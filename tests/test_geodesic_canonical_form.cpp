@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include "canonform/canonical/geodesic_canonical_form.h"
 #include "canonform/procedural/procedural_meshes.h"
 #include "test_util.h"

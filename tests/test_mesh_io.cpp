@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // io/mesh_io.h: the four formats in and out, and every way a mesh file can be broken or hostile
 // (issue 11): each refused with an InputError naming the cause, before any allocation or use.
 // The files built here are also the seeds of the mesh fuzz targets (tests/fuzz).

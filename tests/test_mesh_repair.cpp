@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // surface/mesh_repair.h: each step on a mesh built to need it, and the case - a mesh with
 // 5 zero-area faces that every method refused - let through with a log of what was removed.
 #include "canonform/canonical/method_registry.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include "canonform/common/errors.h"
 #include "canonform/surface/mesh_topology.h"
 #include "canonform/procedural/procedural_meshes.h"

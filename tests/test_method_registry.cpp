@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The method registry: names, parameters and calls parsed both ways, and a method added at run
 // time picked up by everything that lists methods (the filters' enums, method specs, runs).
 #include "canonform/canonical/euclidean_canonical_form.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Tests of core/procedural_meshes: icosphere, torus, disc and the articulated figure.
 //
 // The topology and geometry checks below are written independently of the library's own

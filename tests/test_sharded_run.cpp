@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The sharded retrieval run: the same bytes as the one-machine Experiment, resumable stages that
 // redo only what is missing, the order of stages, and the codebook's training sample.
 #include "canonform/common/errors.h"

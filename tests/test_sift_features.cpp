@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Tests of sift_features.h: SIFT descriptors of depth views with each backend.
 #include "canonform/views/sift_features.h"
 

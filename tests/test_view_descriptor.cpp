@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include "canonform/procedural/procedural_meshes.h"
 #include "canonform/views/view_descriptor.h"
 #include "canonform/views/view_directions.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Tests of the view-descriptor geometry: view directions, cube rotations, depth rendering and pose
 // normalisation (canonform/views).
 //

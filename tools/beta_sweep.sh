@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
 # The paper's Fig. 6: retrieval with the Euclidean canonical forms over a range of beta, both
 # variants, and the mean of the five measures against beta.
 #   tools/beta_sweep.sh DATASET RUN [--betas-a "B ..."] [--betas-n "B ..."] [retrieve options...]

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Shape and pose in a `canonform retrieve` run, measured with ground-truth correspondences.
 
 usage: /usr/bin/python3 tools/correspondence_analysis.py RUN DATASET [--pose-of REGEX]

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Candidate fusion rules for two methods of finished `canonform retrieve` runs (no recomputation).
 
 usage: /usr/bin/python3 tools/fused_rules.py CANONFORM RUN [RUN ...] [--target K] [--members A B]

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Weight sweep of a fused method from a finished `canonform retrieve` run (no recomputation).
 
 usage: /usr/bin/python3 tools/fused_sweep.py CANONFORM RUN_DIR METHOD_A METHOD_B [W ...] [--rule zscore|median]

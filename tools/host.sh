@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
 # Runs a command inside a Debian root filesystem of another release, with that release's own
 # MeshLab and our plugins built and installed there as a user of that system would:
 #

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
 # Installs the built plugins and the canonform tool.
 #   tools/install.sh [--build-dir DIR]                 as root: plugins into MeshLab's plugin folder
 #                                                      (/usr/lib/x86_64-linux-gnu/meshlab/plugins),

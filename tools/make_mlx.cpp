@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Writes the default MeshLab script (.mlx) of every filter of both plugins, from their filter
 // tables: `canonform_mlx CANONICAL_DIR VIEWDESCRIPTOR_DIR`. The shipped scripts in
 // filter_canonical/scripts and filter_viewdescriptor/scripts are its output (tests/

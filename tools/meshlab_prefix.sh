@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
 # Makes a private MeshLab 2020.09 prefix that loads extra plugins, without root:
 #   tools/meshlab_prefix.sh PREFIX PLUGIN.so [PLUGIN.so ...]
 # MeshLab looks for plugins only in <dir of its binary>/../lib/x86_64-linux-gnu/meshlab/plugins,

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
 # The paper's Table 5 (retrieval under vertex noise): `canonform retrieve --noise SIGMA` for each
 # sigma (Gaussian noise on every coordinate, sigma x the mean edge length of the mesh as retrieved,
 # i.e. after --simplify; seeded by --seed and the mesh), then tools/plot_noise.py.

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
 # Makes the Debian package of the plugins for the installed MeshLab, from a build (tools/build.sh):
 #   tools/package.sh [--build-dir DIR]      prints the path of the .deb it wrote (in DIR)
 #   tools/package.sh --dev [--build-dir DIR]   libcanonform-dev instead (see dev_package below)
@@ -12,7 +13,8 @@
 # Install it with `apt install ./canonform-plugins-meshlabYYYY_VERSION_ARCH.deb`; MeshLab then shows
 # the filters. Depends: that MeshLab release (the plugin manager accepts only its own version) and
 # the libraries the plugins link, as dpkg-shlibdeps finds them. Made with cmake --install (component
-# `plugins`) and dpkg-deb.
+# `plugins`) and dpkg-deb. The version is CMake's project() version (canonform --version); the
+# licence (GPL-3.0-or-later) is in /usr/share/doc/PACKAGE/copyright.
 set -euo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 build=${CANONFORM_BUILD_DIR:-$here/build}
@@ -110,6 +112,32 @@ touch "$stage/shlibs/debian/control"
 shlibs=$(cd "$stage/shlibs" && dpkg-shlibdeps -O --ignore-missing-info -l/usr/lib/x86_64-linux-gnu/meshlab \
            "${binaries[@]}" 2>"$stage/shlibdeps.log") || { cat "$stage/shlibdeps.log" >&2; die "dpkg-shlibdeps failed"; }
 shlibs=$(printf '%s\n' "$shlibs" | sed -n 's/^shlibs:Depends=//p')
+
+# the licence, as Debian's machine-readable copyright file (the full text is Debian's own
+# /usr/share/common-licenses/GPL-3, which LICENSE in the repository reproduces)
+mkdir -p "$root/usr/share/doc/$name"
+cat > "$root/usr/share/doc/$name/copyright" <<EOF
+Format: https://www.debian.org/doc/packaging-manuals/copyright-format/1.0/
+Upstream-Name: canonform
+Upstream-Contact: canonform developers <canonform@localhost>
+
+Files: *
+Copyright: the canonform developers
+License: GPL-3.0+
+
+License: GPL-3.0+
+ This program is free software: you can redistribute it and/or modify it under
+ the terms of the GNU General Public License as published by the Free Software
+ Foundation, either version 3 of the License, or (at your option) any later
+ version. The plugins link MeshLab's libmeshlab-common, which is GPL-3.0 too.
+ .
+ This program is distributed in the hope that it will be useful, but WITHOUT ANY
+ WARRANTY; without even the implied warranty of MERCHANTABILITY or FITNESS FOR A
+ PARTICULAR PURPOSE. See the GNU General Public License for more details.
+ .
+ On Debian systems, the complete text of the GNU General Public License version 3
+ can be found in '/usr/share/common-licenses/GPL-3'.
+EOF
 
 mkdir -p "$root/DEBIAN"
 size=$(du -sk "$root/usr" | cut -f1)

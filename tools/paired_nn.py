@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Nearest neighbour of two retrieval runs compared query by query (exact McNemar test).
 
 usage: /usr/bin/python3 tools/paired_nn.py A_DIR B_DIR [A_DIR B_DIR ...]

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """The paper's Fig. 6: mean of the five retrieval measures against beta, for both variants.
 
 usage: /usr/bin/python3 tools/plot_beta.py RUN_DIR [TITLE]

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """The paper's Table 5 (retrieval under vertex noise) as a curve: measures against noise sigma.
 
 usage: /usr/bin/python3 tools/plot_noise.py OUT_PREFIX SIGMA=RUN_DIR [SIGMA=RUN_DIR ...]

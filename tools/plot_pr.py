@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Precision-recall curves of every method of a `canonform retrieve` run on one plot.
 
 usage: /usr/bin/python3 tools/plot_pr.py RUN_DIR [TITLE]   (writes RUN_DIR/pr.png from RUN_DIR/*/pr.csv)

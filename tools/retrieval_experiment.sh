@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
 # A retrieval experiment with the canonform tool (a shell precursor of `canonform retrieve`):
 # canonical forms of every mesh of a labelled collection, a codebook trained on them, one
 # descriptor per mesh, the clock-matching distance matrix and the psbTable measures.

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
 # README command 1: the main job on a built-in example.
 # Sets up and builds everything, installs the plugin (as root into MeshLab's plugin folder, else
 # into a private MeshLab prefix under build/), generates a procedural articulated figure, and

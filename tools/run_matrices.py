@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """A method's distance matrix from a finished `canonform retrieve` run, for the scripts in tools/.
 
 load_method(folder) reads FOLDER/models.csv (name,class per model, in matrix order) and

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Reading a `canonform retrieve` run: the metrics.json of each method folder (plot_beta.py, plot_noise.py)."""
 import json
 import os

@@ -1,15 +1,46 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
 # README command 2: sets up, builds, and runs every test (unit, property and end-to-end tests
 # through the canonform tool and the real meshlabserver) with ctest; then, unless
 # CANONFORM_SANITIZER_TESTS=0 or ctest arguments are given, the unit and end-to-end tests again
 # under AddressSanitizer + UndefinedBehaviorSanitizer with a bounded run of every fuzz target
 # (tools/sanitizer_tests.sh).
+# The tests leave the machine as they found it: after the set-up (which may install packages), the
+# MeshLab plugin folder, /usr/local and the dpkg database are listed, and listed again at the end;
+# any difference fails the run. Each stage's wall time is printed.
 set -euo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 build=${CANONFORM_BUILD_DIR:-$here/build}
+t0=$(date +%s)
+stage() { echo "[tests] $1: $(( $(date +%s) - $2 )) s"; }
+
+"$here/tools/setup.sh"
+stage "set-up" "$t0"
+mkdir -p "$build"
+machine_state() {
+  # What a test must not change. Python's byte-code caches are left out (an import may write them).
+  { find /usr/lib/x86_64-linux-gnu/meshlab /usr/local -path '*/__pycache__' -prune -o -printf '%p %y %s %T@ %m\n' 2>/dev/null | sort
+    md5sum /var/lib/dpkg/status; ls /var/lib/dpkg/info | md5sum; }
+}
+machine_state > "$build/machine_state.before"
+
+t1=$(date +%s)
 CANONFORM_BUILD_DIR=$build "$here/tools/build.sh"
-cd "$build"
-ctest --output-on-failure -j"$(nproc)" "$@"
+stage "build" "$t1"
+t2=$(date +%s)
+(cd "$build" && ctest --output-on-failure -j"$(nproc)" "$@")
+stage "ctest" "$t2"
 if [ $# -eq 0 ] && [ "${CANONFORM_SANITIZER_TESTS:-1}" != "0" ]; then
+  t3=$(date +%s)
   "$here/tools/sanitizer_tests.sh"
+  stage "sanitizer build and tests" "$t3"
 fi
+
+machine_state > "$build/machine_state.after"
+if ! diff "$build/machine_state.before" "$build/machine_state.after" > "$build/machine_state.diff"; then
+  echo "[tests] FAILED: the tests changed the machine (MeshLab's plugin folder, /usr/local or dpkg's database):" >&2
+  head -40 "$build/machine_state.diff" >&2
+  exit 1
+fi
+echo "[tests] the machine is as the tests found it (MeshLab's plugin folder, /usr/local, dpkg's database)"
+stage "all" "$t0"

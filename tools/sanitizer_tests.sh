@@ -1,10 +1,11 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
 # The unit and end-to-end tests of the library and the canonform tool again in an
 # AddressSanitizer + UndefinedBehaviorSanitizer build (clang, any report fails the test), and every
 # libFuzzer target for a bounded time on the seeds the unit tests write (tests/fuzz). Called by
 # tools/run_tests.sh (so CI runs it); builds in ./build-san (or $CANONFORM_SAN_BUILD_DIR) only what
-# these tests need: no plugins (they run inside the non-instrumented meshlabserver; see the README,
-# "Tests"), no benchmarks.
+# these tests need: no plugins (they run inside the non-instrumented meshlabserver; see docs/testing.md), no
+# benchmarks.
 #   tools/sanitizer_tests.sh [ctest arguments]     CANONFORM_FUZZ_SECONDS=N (default 15 per target)
 set -euo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
 # Screenshots of MeshLab's GUI with the filter_canonical plugin, made headless under Xvfb:
 #   docs/images/meshlab_filters_menu.png      Filters > Smoothing, Fairing and Deformation, open,
 #                                             with "Euclidean canonical form" and "Geodesic canonical form"

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
 # Screenshots of the real MeshLab 2022.02 (Debian trixie) and 2025.07 (Debian forky) with our
 # filters: tools/screenshot_gui.sh run in each root filesystem of tools/host.sh, where the plugins
 # were built and apt-installed as a user there does, on a generated figure (5000 vertices, pose 4):

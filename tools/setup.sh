@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
 # canonform set-up: installs what is missing with apt, finds which MeshLab the system packages,
 # and fetches the Debian source packages the build needs into external/ (ignored by git).
 # Idempotent: a second run does nothing. Works on Debian bookworm, trixie and forky/sid:
@@ -15,7 +16,8 @@
 #
 #   tools/setup.sh                 # as root (or with sudo available)
 #   tools/setup.sh --packages      # print the apt packages every system needs, one a line, and exit
-#                                  # (bookworm adds mmdebstrap and the sanitizer tests' clang)
+#                                  # (bookworm adds mmdebstrap, the sanitizer tests' clang and the
+#                                  # documentation's mkdocs, mkdocs-material and chromium)
 #   tools/setup.sh --meshlab       # print the installed MeshLab's version (2020.09, 2022.02, 2025.07)
 #   MESHLAB_SRC=/path tools/setup.sh   # use an existing MeshLab 2020.09 source tree instead
 #
@@ -64,6 +66,12 @@ fi
 # UBSan and libFuzzer runtimes (libclang-rt-dev, the default clang's), llvm-symbolizer for reports.
 if [ "$codename" = bookworm ] && [ "${CANONFORM_SANITIZER_TESTS:-1}" != 0 ]; then
   PACKAGES+=(clang libclang-rt-dev llvm)
+fi
+
+# The documentation's tests (tests/docs_test.py) run on bookworm: MkDocs with mkdocs-material builds
+# the site (docs/, mkdocs.yml) and headless Chromium opens it; not needed in the host root filesystems.
+if [ "$codename" = bookworm ] && [ "${CANONFORM_DOCS_TESTS:-1}" != 0 ]; then
+  PACKAGES+=(mkdocs mkdocs-material chromium)
 fi
 
 log() { printf '[setup] %s\n' "$*"; }

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
 # A one-node Slurm test cluster on this machine, for the `canonform slurm` end-to-end test:
 # Debian's slurm-wlm and munge (tools/setup.sh installs them on bookworm), one slurmctld and one
 # slurmd on localhost with 2 CPUs, non-default ports, munge with its own key and socket, and every

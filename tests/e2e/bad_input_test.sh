@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
 # Hostile and broken input through every command of the canonform tool (issue 11): each answers
 # exit 1 (2 for usage) with a message naming the real cause, writes no output and leaves no
 # temporary file; --repair lets a mesh with 5 zero-area faces through with one log line; every
@@ -95,6 +96,9 @@ expect 2 "cannot hold a point cloud" "features to .stl is a usage error before a
 mkdir -p v1.2
 "$cf" descriptor fig.off fig.cfvd > /dev/null 2>&1
 "$cf" codebook cb.bin fig.off --words 20 > /dev/null 2>&1
+expect 1 "1000000 words asked for, but there are only" "codebook: more words than descriptors is refused, naming --words (was a silent codebook of every descriptor)" -- \
+  "$cf" codebook cb_big.bin fig.off --words 1000000
+check "  ... and no codebook file is written" test ! -e cb_big.bin
 for m in a b c; do "$cf" descriptor fig.off $m.cfvd --codebook cb.bin > /dev/null 2>&1; done
 check "an output without extension in a dotted folder (distance v1.2/D, was 'cannot write')" \
   bash -c "'$cf' distance v1.2/D a.cfvd b.cfvd c.cfvd 2>/dev/null && [ \$(stat -c %s v1.2/D) -eq 36 ] && '$cf' generate v1.2/G --vertices 500 && [ \"\$(head -c 3 v1.2/G)\" = ply ]"
@@ -156,6 +160,32 @@ for cmd in conformal features descriptor; do
   out=r_$cmd.ply; [ $cmd = descriptor ] && out=r.cfvd
   check "$cmd --repair lets the mesh through" "$cf" $cmd slivers.off $out --repair
 done
+
+# --- check: every problem named, also those MeshLab's importers crash on; --repair ---------------
+"$cf" generate chk.off --vertices 600 --pose 1 > /dev/null
+check "check: a good mesh -> exit 0, 'ok'" bash -c "'$cf' check chk.off | grep -q 'ok: the filters and the tool accept'"
+# face 0 names vertex 100000000 (MeshLab's OFF importer crashes), a duplicated face (non-manifold edges)
+awk 'NR==2 { print $1, $2 + 1, 0; next } NR==3+600 { print "3 0 1 100000000"; next } NR==4+600 { dup=$0 } { print } END { print dup }' chk.off > chk_bad.off
+"$cf" check chk_bad.off > chk1.out 2>&1
+rc=$?
+check "check: exit 1 and every problem named (index out of range with MeshLab's crash, non-manifold edges)" \
+  bash -c "[ $rc -eq 1 ] && grep -q 'face names a vertex the file does not have (first: face index 100000000' chk1.out &&
+           grep -q 'MeshLab crashes on this file' chk1.out && grep -q 'non-manifold edges' chk1.out && grep -q '(2 problems)' chk1.out"
+"$cf" check chk_bad.off --repair chk_fixed.ply > chk2.out 2>&1
+check "check --repair: drops the face, removes the duplicate, exit 0" \
+  bash -c "[ $? -eq 0 ] && grep -q 'dropped 1 faces' chk2.out && grep -q '1 duplicate face removed' chk2.out"
+check "check --repair: the repaired file passes check and the canonical form runs on it" \
+  bash -c "'$cf' check chk_fixed.ply > /dev/null && '$cf' canonical chk_fixed.ply chk_form.ply --quiet"
+"$cf" check chk_bad.off --json > chk.json
+check "check --json: problems and notes as JSON" json chk.json "len(j['problems']) == 2 and j['readable'] and j['vertices'] == 600"
+printf 'OFF\n1000000000000 1 0\n0 0 0\n' > chk_lies.off
+"$cf" check chk_lies.off --repair out_lies.ply > chk3.out 2>&1
+check "check: a header claiming 10^12 vertices -> unreadable, MeshLab's abort named, nothing written" \
+  bash -c "[ $? -eq 1 ] && grep -q 'header lies' chk3.out && grep -q 'MeshLab aborts' chk3.out && [ ! -e out_lies.ply ]"
+printf 'OFF\n4 1 0\n0 0 0\nnan 0 0\n0 1 0\n0 0 1\n3 0 1 2\n' > chk_nan.off
+"$cf" check chk_nan.off --repair chk_nan.ply > chk4.out 2>&1
+check "check --repair: NaN coordinates are named as still a problem (not invented), exit 1" \
+  bash -c "[ $? -eq 1 ] && grep -q 'still a problem .*NaN' chk4.out"
 
 # --- retrieve ----------------------------------------------------------------------------------
 mkdir -p coll

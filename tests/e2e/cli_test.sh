@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
 # End-to-end tests of the canonform tool: the three commands on a generated figure, --json
 # summaries, and every kind of bad input (clear message, exit 1, no output file left behind).
 #   cli_test.sh CANONFORM PLYCHECK WORKDIR

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
 # End-to-end tests in a real host: Debian trixie's MeshLab 2022.02 or forky's MeshLab 2025.07, in
 # the root filesystem of tools/host.sh, where the plugins were built with that system's compiler
 # and libraries and installed with apt from their Debian package (host.SUITE.prepare). Every

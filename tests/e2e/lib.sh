@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 # Helpers of the end-to-end tests (sourced).
 fails=0
 passes=0

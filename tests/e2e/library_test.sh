@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
 # The library as another project uses it (docs/library.md): the core alone (io, numerics, surface,
 # canonical; -DCANONFORM_PLUGINS=OFF -DCANONFORM_VIEWS=OFF -DCANONFORM_RETRIEVAL=OFF, without oneTBB)
 # configured and built from this source tree, installed with cmake --install, then the project in

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
 # End-to-end tests of the filter_canonical plugin in the real meshlabserver (MeshLab 2020.09,
 # under xvfb-run), through a private prefix made by tools/install.sh --prefix (the documented
 # install without root). Each shipped script is run; the saved quality values and layers are
@@ -28,6 +29,7 @@ mls() {  # meshlabserver with a virtual X server; output in $log
 mls cf.log -i fig.ply -o ml_cf.ply -m vq vc -s "$scripts/conformal_factor.mlx"
 check "Conformal factor: meshlabserver succeeds" test $? -eq 0
 check "Conformal factor: plugin loaded and logged" grep -q "Conformal factor of 'fig.ply'" cf.log
+check "Conformal factor: the log names the version ($("$cf" --version))" grep -q "$("$cf" --version): Conformal factor" cf.log
 "$cf" conformal fig.ply ref_cf.ply
 "$plycheck" ml_cf.ply ref_cf.ply > cf.json
 check "Conformal factor: saved quality equals the tool's (float precision)" \
@@ -176,13 +178,19 @@ check "repair = true: succeeds and logs what it removed" \
 "$plycheck" ml_repaired_form.ply ref_repaired.ply > repair.json
 check "repair = true: the document's mesh is repaired and the form equals the tool's --repair (float precision)" \
   json repair.json "j['same_vertex_count'] and j['aligned_rms'] < 1e-3"
-# MeshLab 2020.09's own OFF loader on an out-of-range face index (the README's bad-input section) --
+# MeshLab 2020.09's own OFF loader on an out-of-range face index (docs/bad-input.md) --
 { echo OFF; echo "12 12 0"; for k in 0 1 2 3 4 5 6 7 8 9 10 11; do echo "$k $((k * k % 7)) $((k % 4))"; done
   echo "3 0 100000000 10"; for k in 1 2 3 4 5 6 7 8 9 10 11; do echo "3 $k $(((k + 1) % 12)) $(((k + 2) % 12))"; done; } > index.off
 mls index.log -i index.off -o bad_index.ply
 rc=$?
-check "MeshLab 2020.09's OFF loader crashes on face index 100000000 before any filter (exit $rc, as the README says)" \
+check "MeshLab 2020.09's OFF loader crashes on face index 100000000 before any filter (exit $rc, as docs/bad-input.md says)" \
   bash -c "[ $rc -eq 139 ] || grep -q 'Segmentation fault' index.log"
 "$cf" conformal index.off bad_index.ply > index_cf.log 2>&1
 check "the canonform tool names the line instead" grep -q "face index 100000000 on line 15 is out of range" index_cf.log
+"$cf" check index.off --repair index_fixed.ply > index_check.log 2>&1
+check "canonform check names it with MeshLab's crash, and --repair writes a copy without that face" \
+  bash -c "grep -q 'dropped 1 faces' index_check.log && '$cf' check index.off | grep -q 'MeshLab crashes on this file'"
+mls index_fixed.log -i index_fixed.ply -o ml_index_fixed.ply
+rc=$?
+check "meshlabserver opens the repaired copy (exit $rc)" bash -c "[ $rc -eq 0 ] && [ -s ml_index_fixed.ply ] && grep -q '11 fn' index_fixed.log"
 finish

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
 # The same results from every build of the plugins on the same mesh (the figure of 'canonform
 # generate --vertices 2500 --pose 4', coordinates in float):
 #   pymeshlab2022, pymeshlab2025   double: the pymeshlab harness (tests/pymeshlab_harness.cpp)

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
 # End-to-end test of a sharded retrieval run through the CLI: `canonform stage` one stage and one
 # shard at a time gives the bytes of `canonform retrieve`; `canonform status` tells what is done;
 # a deleted shard output is redone, and only it.

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
 # End-to-end test of `canonform slurm` on a one-node Slurm cluster of this machine
 # (tools/slurm_cluster.sh): a sharded run through the scheduler gives the bytes of the local
 # `canonform retrieve`; a shard's job killed mid-way (scancel) and the run submitted again: only

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // A program of another project: reads a mesh, computes a canonical form by any method of the
 // registry with optional KEY=VALUE parameters, writes it (as `canonform canonical` does).
 //   consumer IN OUT METHOD [KEY=VALUE...]

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // libFuzzer target of mesh validation, repair and the canonical-form methods on tiny meshes.
 //
 // The bytes edit a small closed mesh (an icosahedron, 12 vertices, or its subdivision, 42): byte

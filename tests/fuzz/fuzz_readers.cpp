@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // libFuzzer target of one reader of the project's files (chosen at compile time by
 // CANONFORM_FUZZ_READER): the bytes are a file of that kind. A reader may refuse them - with an
 // InputError, which names the cause - and must do nothing else: no crash, no sanitizer report, no
@@ -18,6 +19,7 @@
 #include "canonform/views/codebook.h"
 #include "canonform/views/descriptor_file.h"
 
+#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
@@ -35,17 +37,39 @@ void require(bool ok, const char* what) {
     }
 }
 
+/// Equal values, NaN equal to NaN.
+[[maybe_unused]] bool same(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
+    if (a.rows() != b.rows() || a.cols() != b.cols()) return false;
+    for (Eigen::Index k = 0; k < a.size(); ++k)
+        if (!(a.data()[k] == b.data()[k] || (std::isnan(a.data()[k]) && std::isnan(b.data()[k])))) return false;
+    return true;
+}
+
 [[maybe_unused]] void check_mesh(const io::MeshFile& f) {
     const Mesh& m = f.mesh;
     require(m.V.cols() == 3 && (m.F.rows() == 0 || m.F.cols() == 3), "shapes");
     for (Eigen::Index k = 0; k < m.F.size(); ++k)
         require(m.F.data()[k] >= 0 && m.F.data()[k] < m.V.rows(), "a face index out of range was accepted");
     require(f.quality.size() == 0 || f.quality.size() == m.V.rows(), "quality size");
-    // What a command does next with a mesh it read: (repair and) validate.
+    // What is accepted is written back and read again unchanged (PLY binary, OFF and OBJ text keep
+    // doubles exactly; STL stores floats, so it is not in the loop; OBJ cannot hold no vertices).
+    for (const io::MeshFormat out : {io::MeshFormat::Ply, io::MeshFormat::Off, io::MeshFormat::Obj}) {
+        if (out == io::MeshFormat::Obj && m.V.rows() == 0) continue;
+        const bool q = out == io::MeshFormat::Ply && f.quality.size() > 0;
+        const io::MeshFile back =
+            io::parse_mesh(io::format_mesh(out, m.V, m.F, q ? f.quality : Eigen::VectorXd()), out, "round trip");
+        require(same(back.mesh.V, m.V) && back.mesh.F == m.F, "a written mesh reads back differently");
+        require(!q || same(back.quality, f.quality), "written quality reads back differently");
+    }
+    // What a command does next with a mesh it read: (repair and) validate; `canonform check` lists
+    // every problem instead (it must agree with validate_mesh about whether there is one).
+    bool valid = true;
     try {
         validate_mesh(m.V, m.F);
     } catch (const InputError&) {
+        valid = false;
     }
+    require(mesh_problems(m.V, m.F).empty() == valid, "mesh_problems() and validate_mesh() disagree");
     try {
         const MeshRepair r = repair_mesh(m.V, m.F);
         for (Eigen::Index k = 0; k < r.mesh.F.size(); ++k)
@@ -63,10 +87,23 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const std::string bytes(reinterpret_cast<const char*>(data), size);
     try {
 #define READER(x) (std::strcmp(CANONFORM_FUZZ_READER, x) == 0)
-        if (READER("mesh_off")) check_mesh(io::parse_mesh(bytes, io::MeshFormat::Off, "fuzz.off"));
-        if (READER("mesh_ply")) check_mesh(io::parse_mesh(bytes, io::MeshFormat::Ply, "fuzz.ply"));
-        if (READER("mesh_obj")) check_mesh(io::parse_mesh(bytes, io::MeshFormat::Obj, "fuzz.obj"));
-        if (READER("mesh_stl")) check_mesh(io::parse_mesh(bytes, io::MeshFormat::Stl, "fuzz.stl"));
+        // Each mesh reader twice: strict, and dropping faces with indices out of range (`check --repair`).
+        const auto mesh = [&](io::MeshFormat format, const char* name) {
+            for (const bool drop : {false, true}) {
+                io::ReadOptions o;
+                o.drop_bad_faces = drop;
+                try {
+                    const io::MeshFile f = io::parse_mesh(bytes, format, name, o);
+                    require(drop || f.dropped_faces == 0, "a strict read dropped faces");
+                    check_mesh(f);
+                } catch (const InputError&) {
+                }
+            }
+        };
+        if (READER("mesh_off")) mesh(io::MeshFormat::Off, "fuzz.off");
+        if (READER("mesh_ply")) mesh(io::MeshFormat::Ply, "fuzz.ply");
+        if (READER("mesh_obj")) mesh(io::MeshFormat::Obj, "fuzz.obj");
+        if (READER("mesh_stl")) mesh(io::MeshFormat::Stl, "fuzz.stl");
         if (READER("descriptor")) {
             const views::ModelDescriptor d = views::parse_descriptor(bytes, "fuzz: ");
             require(static_cast<int>(d.keypoints_per_view.size()) == d.views, "descriptor views");

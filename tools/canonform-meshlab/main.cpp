@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // canonform-meshlab: applies a MeshLab filter to a mesh file, headless, with the installed
 // MeshLab's own library (MeshLab 2022.02 and later have no meshlabserver).
 //

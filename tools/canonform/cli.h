@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // canonform tool: what every command shares - the command table's entry type, usage errors,
 // progress on the terminal, JSON output and input checks.
 //
@@ -29,6 +30,11 @@ struct UsageError : std::runtime_error {
     using std::runtime_error::runtime_error;
 };
 
+/// Ends a command with this exit status after it has said why itself (e.g. `check` finding problems).
+struct ExitStatus {
+    int code;
+};
+
 /// A progress line on stderr while stderr is a terminal ("[stage] 42%  12 s left"); empty otherwise.
 ProgressFn terminal_progress(bool quiet, const std::string& label = "");
 
@@ -49,7 +55,7 @@ Mesh read_input_mesh(const std::string& path, bool repair, bool quiet, bool vali
 /// read_input_mesh() for the commands that work on one large mesh (conformal, features, canonical),
 /// which first makes freed memory stay with the process for reuse instead of going back to the
 /// system (glibc's malloc returns large blocks with munmap, and they are faulted in again at their
-/// next use; the figures are in README, "Canonical form at scale"). The peak stays the peak of the
+/// next use; the figures are in docs/benchmarks.md, "Canonical form at scale"). The peak stays the peak of the
 /// live data.
 Mesh read_large_mesh(const std::string& path, bool repair, bool quiet);
 
@@ -137,14 +143,9 @@ retrieval::ExperimentOptions finish_experiment_options(const ExperimentArgs& arg
 using AddCommand = void(CLI::App& app);
 
 // The commands, in mesh_commands.cpp, views_commands.cpp and retrieval_commands.cpp.
-AddCommand add_conformal, add_features, add_canonical, add_simplify, add_generate, add_picture,  // one mesh
+AddCommand add_check, add_conformal, add_features, add_canonical, add_simplify, add_generate, add_picture,  // one mesh
     add_views, add_codebook, add_descriptor, add_distance,                                          // views
     add_retrieve, add_evaluate, add_grid,                                                            // retrieval
     add_stage, add_status, add_slurm, add_index, add_query;                                                     // sharded_commands.cpp
-
-/// `canonform --list-parameters [--json]` (parameters_listing.cpp): every parameter definition as
-/// the registry's methods, the filters of both plugins and the tool's commands (`app`) use them -
-/// the input of the documentation pages (docs/extending.md).
-void print_parameter_listing(CLI::App& app, bool json);
 
 }  // namespace canonform::cli

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // canonform tool: `canonform grid` - original meshes beside their canonical forms, as the paper's
 // Figs. 8 (one model per class, a row per method) and 9 (one class in several poses).
 #pragma once

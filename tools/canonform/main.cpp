@@ -1,10 +1,14 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // canonform: the command-line tool on the same library as the MeshLab plugins, for batch work.
 //
 //   canonform COMMAND [ARGS] [OPTIONS]      canonform COMMAND --help: every option and default
+//   canonform --version                     the version (CMakeLists.txt's project())
 //
 // Meshes in: OFF, PLY, OBJ or STL; meshes out: binary PLY, written atomically. Exit status: 0 ok,
 // 1 bad input or failure (a message on stderr names the problem), 2 usage error.
 #include "cli.h"
+
+#include "canonform/common/version.h"
 
 #include <cstring>
 #include <iostream>
@@ -21,7 +25,7 @@ struct Command {
 
 /// Every command, in the order of `canonform --help`. A new command: one line here.
 const Command kCommands[] = {
-    {"conformal", add_conformal},   {"features", add_features}, {"canonical", add_canonical},
+    {"check", add_check},           {"conformal", add_conformal},   {"features", add_features}, {"canonical", add_canonical},
     {"simplify", add_simplify},     {"views", add_views},       {"codebook", add_codebook},
     {"descriptor", add_descriptor}, {"distance", add_distance}, {"retrieve", add_retrieve},
     {"evaluate", add_evaluate},     {"grid", add_grid},         {"generate", add_generate},
@@ -42,20 +46,10 @@ int main(int argc, char** argv) {
                  "and view-based shape retrieval.\nMeshes: OFF, PLY, OBJ or STL in; binary PLY out. "
                  "`canonform COMMAND --help` lists a command's options and defaults.",
                  "canonform"};
+    app.set_version_flag("--version", std::string("canonform ") + canonform::version());
     app.option_defaults()->always_capture_default();
+    app.require_subcommand(1);
     for (const Command& c : kCommands) c.add(app);
-    // `canonform --list-parameters [--json]`: every parameter definition, for the docs.
-    bool list_parameters = false, list_json = false;
-    app.add_flag("--list-parameters", list_parameters,
-                 "list every method's, filter's and command's parameters (with --json: as JSON, for the docs)");
-    app.add_flag("--json", list_json, "with --list-parameters: print JSON");
-    app.require_subcommand(0, 1);
-    app.callback([&] {
-        if (list_parameters)
-            print_parameter_listing(app, list_json);
-        else if (app.get_subcommands().empty())
-            throw CLI::RequiredError("A subcommand");
-    });
     const char* command = argc > 1 ? argv[1] : "";
     if (argc > 1 && argv[1][0] != '-' && !known(argv[1])) {
         std::cerr << "canonform: unknown command '" << argv[1] << "'\n" << app.help();
@@ -66,10 +60,14 @@ int main(int argc, char** argv) {
         return 0;
     } catch (const CLI::CallForHelp& e) {
         return app.exit(e);
+    } catch (const CLI::CallForVersion& e) {
+        return app.exit(e);
     } catch (const CLI::ParseError& e) {
         std::cerr << "canonform" << (*command ? std::string(" ") + command : "") << ": " << e.what()
                   << "\n(`canonform" << (*command ? std::string(" ") + command : "") << " --help` lists the options)\n";
         return 2;
+    } catch (const ExitStatus& e) {
+        return e.code;
     } catch (const UsageError& e) {
         std::cerr << "canonform " << command << ": " << e.what() << "\n";
         return 2;

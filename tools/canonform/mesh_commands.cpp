@@ -1,5 +1,6 @@
-// canonform tool: the commands on one mesh - conformal, features, canonical, simplify, generate,
-// picture.
+// SPDX-License-Identifier: GPL-3.0-or-later
+// canonform tool: the commands on one mesh - check, conformal, features, canonical, simplify,
+// generate, picture.
 #include "cli.h"
 #include "picture.h"
 
@@ -9,6 +10,8 @@
 #include "canonform/procedural/procedural_meshes.h"
 #include "canonform/surface/conformal_factor.h"
 #include "canonform/surface/feature_points.h"
+#include "canonform/surface/mesh_repair.h"
+#include "canonform/surface/mesh_topology.h"
 #include "canonform/surface/simplify.h"
 
 #include <iostream>
@@ -291,6 +294,115 @@ void add_picture(CLI::App& app) {
                                  ": a canonical form keeps the vertices of its mesh");
         }
         write_picture(a->out, in, a->size);
+    });
+}
+
+void add_check(CLI::App& app) {
+    struct Args {
+        std::string in, repair_out;
+        bool json = false;
+    };
+    auto a = std::make_shared<Args>();
+    auto* c = app.add_subcommand(
+        "check", "read and validate a mesh file with the tool's own readers, naming every problem (also those "
+                 "MeshLab's importers crash or abort on); with --repair OUT, write a repaired copy MeshLab can open. "
+                 "Exit status 0: no problem; 1: problems (or an unreadable file)");
+    c->add_option("MESH", a->in, "the mesh file (OFF, PLY, OBJ or STL)")->required();
+    c->add_option("--repair", a->repair_out,
+                  "OUT: drop faces that name vertices the file does not have, then merge duplicate vertices, remove "
+                  "zero-area and duplicate faces, keep the largest connected piece, drop unreferenced vertices "
+                  "(the --repair of the other commands), and write the result to OUT")
+        ->check(mesh_output());
+    c->add_flag("--json", a->json, "print the findings as JSON on stdout");
+    c->callback([a] {
+        nlohmann::ordered_json j = {{"file", a->in}};
+        std::vector<std::string> problems, notes;
+        auto say = [&](const std::string& line) {
+            if (!a->json) std::cout << line << "\n";
+        };
+        // The file itself: our readers refuse what would crash or exhaust MeshLab's importers.
+        io::ReadOptions ro;
+        ro.drop_bad_faces = true;  // to name them all and to repair; still a problem below
+        io::MeshFile file;
+        try {
+            file = io::read_mesh_file(a->in, ro);
+        } catch (const InputError& e) {
+            const std::string what = e.what();
+            problems.push_back(what);
+            if (what.find("header lies") != std::string::npos || what.find("more than this program handles") != std::string::npos)
+                notes.push_back("MeshLab's PLY and OFF importers allocate what a header claims before reading any data: "
+                                "MeshLab aborts (out of memory) on such a file before any filter runs");
+            j["readable"] = false;
+            j["problems"] = problems;
+            j["notes"] = notes;
+            if (a->json) {
+                print_json(j);
+            } else {
+                say(a->in + ": unreadable");
+                for (const auto& p : problems) say("  problem: " + p);
+                for (const auto& n : notes) say("  note: " + n);
+                say("  not repairable here: the file's structure itself is broken (truncated or corrupt?)");
+            }
+            throw ExitStatus{1};
+        }
+        const Mesh& m = file.mesh;
+        j["readable"] = true;
+        j["vertices"] = m.V.rows();
+        j["faces"] = m.F.rows();
+        if (file.dropped_faces > 0) {
+            problems.push_back(std::to_string(file.dropped_faces) +
+                               (file.dropped_faces == 1 ? " face names a vertex" : " faces name vertices") +
+                               " the file does not have (first: " + file.first_dropped + ")");
+            notes.push_back("MeshLab's OFF importer uses such an index as a pointer: MeshLab crashes on this file "
+                            "before any filter runs; `canonform check FILE --repair OUT` drops those faces");
+        }
+        MeshReport report;
+        for (const MeshProblem& p : mesh_problems(m.V, m.F, {}, &report)) problems.push_back(p.message);
+        // What --repair would change (merges and removals the filters' own 'Repair' also make).
+        const MeshRepair fix = m.F.rows() > 0 ? repair_mesh(m.V, m.F) : MeshRepair{};
+        if (fix.changed()) notes.push_back("--repair would " + fix.summary());
+        if (report.boundary_edges > 0)
+            notes.push_back("open surface: " + std::to_string(report.boundary_edges) + " boundary edges (allowed)");
+        j["edges"] = report.edges;
+        j["components"] = report.components;
+        j["boundary_edges"] = report.boundary_edges;
+        j["problems"] = problems;
+        j["notes"] = notes;
+
+        if (!a->repair_out.empty()) {
+            const Mesh& r = fix.changed() ? fix.mesh : m;
+            const std::vector<MeshProblem> left = mesh_problems(r.V, r.F);
+            io::write_mesh(a->repair_out, r.V, r.F);
+            nlohmann::ordered_json rj = {{"output", a->repair_out}, {"vertices", r.V.rows()}, {"faces", r.F.rows()},
+                                         {"dropped_faces", file.dropped_faces}, {"summary", fix.summary()}};
+            std::vector<std::string> left_messages;
+            for (const MeshProblem& p : left) left_messages.push_back(p.message);
+            rj["problems_left"] = left_messages;
+            j["repair"] = rj;
+            if (!a->json) {
+                say(a->in + " -> " + a->repair_out + ": " +
+                    (file.dropped_faces > 0 ? "dropped " + std::to_string(file.dropped_faces) + " faces with indices out of range; "
+                                            : std::string()) +
+                    fix.summary());
+                for (const auto& p : left_messages) say("  still a problem (not repairable without inventing geometry): " + p);
+            }
+            if (a->json) print_json(j);
+            if (!left.empty()) throw ExitStatus{1};
+            return;
+        }
+        if (a->json) {
+            print_json(j);
+        } else {
+            say(a->in + ": " + std::to_string(m.V.rows()) + " vertices, " + std::to_string(m.F.rows()) + " faces, " +
+                std::to_string(report.components) + " connected piece" + (report.components == 1 ? "" : "s"));
+            for (const auto& p : problems) say("  problem: " + p);
+            for (const auto& n : notes) say("  note: " + n);
+            say(problems.empty() ? "  ok: the filters and the tool accept this mesh"
+                                 : "  the filters and the tool refuse this mesh (" + std::to_string(problems.size()) +
+                                       " problem" + (problems.size() == 1 ? "" : "s") + ")" +
+                                       (fix.changed() || file.dropped_faces > 0 ? "; `canonform check " + a->in + " --repair OUT.ply` writes a repaired copy" : ""));
+        }
+        if (!problems.empty()) throw ExitStatus{1};
     });
 }
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // canonform tool: the side-by-side picture of a mesh, its feature points and its canonical form.
 #pragma once
 

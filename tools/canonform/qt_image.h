@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // canonform tool: what the picture-writing commands (picture, grid, views) share on the Qt side.
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // canonform tool: a small headless software rasteriser for pictures of meshes.
 //
 // Orthographic projection, z-buffer, two-sided Lambert shading of flat triangles with per-vertex

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // canonform tool: the retrieval commands - retrieve, evaluate, grid.
 #include "cli.h"
 #include "grid.h"

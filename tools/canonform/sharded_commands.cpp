@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // canonform tool: a retrieval run beyond one machine - stage (one stage, one shard) and status.
 #include "cli.h"
 
@@ -367,6 +368,9 @@ void add_query(CLI::App& app) {
         }
         const retrieval::CollectionIndex x = retrieval::CollectionIndex::load(a->run + "/" + folder + "/index.cfci");
         const MethodSpec spec = parse_method_spec(x.method());
+        if (a->top > x.size())  // said, not silent: fewer answers than asked for
+            std::cerr << "canonform query: --top " << a->top << " is more than the " << x.size()
+                      << " models of the index: all " << x.size() << " are listed\n";
         nlohmann::ordered_json all = nlohmann::ordered_json::array();
         for (const std::string& path : a->meshes) {
             const auto t0 = std::chrono::steady_clock::now();

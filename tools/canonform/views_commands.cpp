@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // canonform tool: the view-descriptor commands - views, codebook, descriptor, distance.
 #include "cli.h"
 #include "qt_image.h"

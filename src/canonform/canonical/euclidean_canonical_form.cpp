@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include "canonform/canonical/euclidean_canonical_form.h"
 
 #include "canonform/surface/conformal_factor.h"

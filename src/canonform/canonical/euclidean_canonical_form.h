@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // canonform: the Euclidean-distance-based canonical form of a triangle mesh.
 //
 // Reference: Pickup, Sun, Rosin, Martin, "Euclidean-distance-based canonical forms for non-rigid

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // canonform: the geodesic canonical form of Elad and Kimmel, the baseline of Pickup et al.
 //
 // References: A. Elad and R. Kimmel, "On bending invariant signatures for surfaces", IEEE TPAMI

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include "canonform/canonical/method_registry.h"
 
 #include "canonform/canonical/euclidean_canonical_form.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // canonform: the canonical-form methods by name - the one list the tool, `retrieve`, the benchmarks
 // and the MeshLab filters read.
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // canonform: error types shared by the core.
 //
 // InputError     - the input mesh cannot be processed (names the problem: no faces, NaN, ...).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // canonform: the one parallel loop of the library, on oneTBB (or std::thread without it).
 //
 // Every parallel loop (fast marching from all sources, MDS blocks, k-means assignment, the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // canonform: the one definition of every parameter a user sets, and its binding to an options
 // struct.
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // canonform: the project's comma-separated files - labels, collections, matrices as text.
 //
 // Plain CSV without quoting (the files the project reads and writes have none): cells are split

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // canonform: distance-matrix files, as the Princeton Shape Benchmark's tools read them.
 //
 // Binary: N x N float32, row-major, native (little-endian) byte order, no header: the file size

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // canonform: files and folders - whole-file reads, atomic writes, folders - on std::filesystem.
 //
 // Every output of the project is written atomically: to a temporary file in the same folder,

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include "canonform/io/mesh_io.h"
 
 #include "canonform/common/errors.h"
@@ -130,25 +131,80 @@ bool parse_integer(std::string_view t, long long* v) {
     return r.ec == std::errc() && r.ptr == t.data() + t.size();
 }
 
-/// A face index as read, checked against the vertex count before any use.
-int checked_index(const std::string& name, long long index, long long vertices, const std::string& where) {
-    if (index < 0 || index >= vertices)
-        fail(name, "face index " + std::to_string(index) + " " + where + " is out of range: the file has " +
-                       std::to_string(vertices) + " vertices (indices 0 to " + std::to_string(vertices - 1) + ")");
-    return static_cast<int>(index);
+/// The faces of a file as read: every vertex index is checked against the vertex count before any
+/// use. An index out of range is an error naming it, or, with ReadOptions::drop_bad_faces, drops
+/// its face (counted; the first one's message kept).
+class FaceList {
+public:
+    FaceList(const std::string& name, const ReadOptions& options) : name_(name), drop_(options.drop_bad_faces) {}
+
+    /// Starts a polygon.
+    void start() {
+        poly_.clear();
+        given_ = 0;
+        bad_ = false;
+    }
+    /// A vertex index of the polygon (0-based), in [0, vertices) or refused with `why` (dropped with it).
+    void index(long long zero_based, long long vertices, const std::string& why) {
+        ++given_;
+        if (zero_based < 0 || zero_based >= vertices) {
+            if (!drop_) fail(name_, why);
+            if (!bad_ && first_dropped_.empty()) first_dropped_ = why;
+            bad_ = true;
+            return;
+        }
+        poly_.push_back(static_cast<int>(zero_based));
+    }
+    /// Vertex indices given so far (a dropped index counts).
+    std::size_t size() const { return given_; }
+    /// Ends the polygon: its fan triangulation is kept, unless it had an index out of range.
+    void finish() {
+        if (bad_) {
+            ++dropped_;
+            return;
+        }
+        for (std::size_t k = 1; k + 1 < poly_.size(); ++k) F_.insert(F_.end(), {poly_[0], poly_[k], poly_[k + 1]});
+    }
+    void reserve(std::size_t n) { F_.reserve(n); }
+
+    /// The mesh of the vertices `v` (x y z per vertex), these faces and per-vertex `quality`.
+    MeshFile assemble(std::vector<double>& v, std::vector<double>* quality = nullptr) {
+        MeshFile r;
+        const auto nv = static_cast<Eigen::Index>(v.size() / 3), nf = static_cast<Eigen::Index>(F_.size() / 3);
+        r.mesh.V = Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>>(v.data(), nv, 3);
+        r.mesh.F = Eigen::Map<Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor>>(F_.data(), nf, 3);
+        if (quality && !quality->empty()) r.quality = Eigen::Map<Eigen::VectorXd>(quality->data(), nv);
+        r.dropped_faces = dropped_;
+        r.first_dropped = first_dropped_;
+        return r;
+    }
+
+private:
+    const std::string& name_;
+    bool drop_;
+    std::vector<int> F_, poly_;
+    std::size_t given_ = 0;
+    bool bad_ = false;
+    long long dropped_ = 0;
+    std::string first_dropped_;
+};
+
+/// The message for an index out of range of OFF and PLY (0-based indices).
+std::string out_of_range(long long index, long long vertices, const std::string& where) {
+    return "face index " + std::to_string(index) + " " + where + " is out of range: the file has " +
+           std::to_string(vertices) + " vertices (indices 0 to " + std::to_string(vertices - 1) + ")";
 }
 
-/// Appends the fan triangulation of a polygon.
+/// Appends the fan triangulation of a polygon (no index checks: the polygon's are made here).
 void add_polygon(std::vector<int>& F, const std::vector<int>& poly) {
     for (std::size_t k = 1; k + 1 < poly.size(); ++k) F.insert(F.end(), {poly[0], poly[k], poly[k + 1]});
 }
 
-MeshFile assemble(std::vector<double>& v, std::vector<int>& f, std::vector<double>* quality = nullptr) {
+MeshFile assemble(std::vector<double>& v, std::vector<int>& f) {
     MeshFile r;
     const auto nv = static_cast<Eigen::Index>(v.size() / 3), nf = static_cast<Eigen::Index>(f.size() / 3);
     r.mesh.V = Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>>(v.data(), nv, 3);
     r.mesh.F = Eigen::Map<Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor>>(f.data(), nf, 3);
-    if (quality && !quality->empty()) r.quality = Eigen::Map<Eigen::VectorXd>(quality->data(), nv);
     return r;
 }
 
@@ -166,7 +222,7 @@ bool content_line(Lines& lines, std::string_view* line) {
     return false;
 }
 
-MeshFile parse_off(const std::string& bytes, const std::string& name) {
+MeshFile parse_off(const std::string& bytes, const std::string& name, const ReadOptions& options) {
     Lines lines(bytes);
     std::string_view line, token;
     if (!content_line(lines, &line)) fail(name, "no OFF header (only blank lines or comments)");
@@ -213,7 +269,7 @@ MeshFile parse_off(const std::string& bytes, const std::string& name) {
                 fail(name, "bad vertex on line " + std::to_string(lines.number()) + ": " + quoted(line));
         V.insert(V.end(), {x[0], x[1], x[2]});
     }
-    std::vector<int> F, poly;
+    FaceList F(name, options);
     F.reserve(3 * static_cast<std::size_t>(nf));
     for (long long k = 0; k < nf; ++k) {
         if (!content_line(lines, &line))
@@ -224,28 +280,28 @@ MeshFile parse_off(const std::string& bytes, const std::string& name) {
         long long n = 0;
         if (!t.next(&token) || !parse_integer(token, &n)) fail(name, "bad face " + where + ": " + quoted(line));
         if (n < 3) fail(name, "a face of " + std::to_string(n) + " vertices " + where + " (at least 3)");
-        poly.clear();
+        F.start();
         for (long long c = 0; c < n; ++c) {
             long long index = 0;
             if (!t.next(&token))
                 fail(name, "the face " + where + " lists fewer than its " + std::to_string(n) + " vertex indices");
             if (!parse_integer(token, &index))
                 fail(name, "bad face index " + quoted(token) + " " + where + " (a whole number is needed)");
-            poly.push_back(checked_index(name, index, nv, where));
+            F.index(index, nv, out_of_range(index, nv, where));
         }
-        add_polygon(F, poly);
+        F.finish();
     }
-    return assemble(V, F);
+    return F.assemble(V);
 }
 
 // --- OBJ ---------------------------------------------------------------------------------------------
 
 /// Wavefront OBJ: 'v x y z' and 'f a b c ...' lines (a, b, c as i, i/t, i//n or i/t/n, 1-based or
 /// negative = relative to the last vertex), polygons fan-triangulated; everything else ignored.
-MeshFile parse_obj(const std::string& bytes, const std::string& name) {
+MeshFile parse_obj(const std::string& bytes, const std::string& name, const ReadOptions& options) {
     Lines lines(bytes);
     std::vector<double> V;
-    std::vector<int> F, poly;
+    FaceList F(name, options);
     std::string_view line, token;
     Tokens t(line);
     while (next_statement(lines, &line, &t, &token)) {
@@ -256,28 +312,26 @@ MeshFile parse_obj(const std::string& bytes, const std::string& name) {
                 if (!t.next(&token) || !parse_double(token, &c)) fail(name, "bad vertex " + where + ": " + quoted(line));
             V.insert(V.end(), {x[0], x[1], x[2]});
         } else if (token == "f") {
-            poly.clear();
+            F.start();
             const auto nv = static_cast<long long>(V.size() / 3);
             while (t.next(&token)) {
                 long long index = 0;
                 if (!parse_integer(token.substr(0, token.find('/')), &index))
                     fail(name, "bad face index " + quoted(token) + " " + where);
                 if (index == 0) fail(name, "face index 0 " + where + ": OBJ indices start at 1");
-                const long long zero_based = index < 0 ? nv + index : index - 1;
-                if (zero_based < 0 || zero_based >= nv)
-                    fail(name, "face index " + std::to_string(index) + " " + where + " is out of range: " +
-                                   std::to_string(nv) + " vertices are defined before it");
-                poly.push_back(static_cast<int>(zero_based));
+                F.index(index < 0 ? nv + index : index - 1, nv,
+                        "face index " + std::to_string(index) + " " + where + " is out of range: " + std::to_string(nv) +
+                            " vertices are defined before it");
             }
-            if (poly.size() < 3)
-                fail(name, "a face of " + std::to_string(poly.size()) + " vertices " + where + " (at least 3)");
-            add_polygon(F, poly);
+            if (F.size() < 3)
+                fail(name, "a face of " + std::to_string(F.size()) + " vertices " + where + " (at least 3)");
+            F.finish();
         }
         if (V.size() / 3 > static_cast<std::size_t>(std::numeric_limits<int>::max()))
             fail(name, "more vertices than this program handles");
     }
     if (V.empty()) fail(name, "no vertices ('v' lines): is it an OBJ file?");
-    return assemble(V, F);
+    return F.assemble(V);
 }
 
 // --- PLY ---------------------------------------------------------------------------------------------
@@ -399,7 +453,7 @@ private:
     Tokens tokens_;
 };
 
-MeshFile parse_ply(const std::string& bytes, const std::string& name) {
+MeshFile parse_ply(const std::string& bytes, const std::string& name, const ReadOptions& options) {
     Lines lines(bytes);
     std::string_view line, token;
     if (!lines.next(&line) || line != "ply") {
@@ -495,7 +549,7 @@ MeshFile parse_ply(const std::string& bytes, const std::string& name) {
     const auto nv = static_cast<long long>(vertex->count);
 
     std::vector<double> V, Q;
-    std::vector<int> F, poly;
+    FaceList F(name, options);
     V.reserve(3 * vertex->count);
     if (pq >= 0) Q.reserve(vertex->count);
     PlyData data(bytes, header_end, format, name);
@@ -522,20 +576,20 @@ MeshFile parse_ply(const std::string& bytes, const std::string& name) {
                 const bool indices = is_face && static_cast<int>(p) == pf;
                 if (indices && n < 3)
                     fail(name, "face " + std::to_string(k) + " has " + std::to_string(n) + " vertices (at least 3)");
-                if (indices) poly.clear();
+                if (indices) F.start();
                 for (long long c = 0; c < n; ++c) {
                     const double v = data.value(prop.type, what.c_str());
                     if (!indices) continue;
                     if (v != std::floor(v) || !(std::abs(v) < 9e18))
                         fail(name, "face " + std::to_string(k) + " has a vertex index that is not a whole number");
-                    poly.push_back(checked_index(name, static_cast<long long>(v), nv, "in face " + std::to_string(k)));
+                    F.index(static_cast<long long>(v), nv, out_of_range(static_cast<long long>(v), nv, "in face " + std::to_string(k)));
                 }
-                if (indices) add_polygon(F, poly);
+                if (indices) F.finish();
             }
             if (is_vertex) V.insert(V.end(), {x[0], x[1], x[2]});
         }
     }
-    return assemble(V, F, pq >= 0 ? &Q : nullptr);
+    return F.assemble(V, pq >= 0 ? &Q : nullptr);
 }
 
 // --- STL ---------------------------------------------------------------------------------------------
@@ -712,20 +766,20 @@ MeshFormat output_mesh_format(const std::string& path) {
     return f;
 }
 
-MeshFile parse_mesh(const std::string& bytes, MeshFormat format, const std::string& name) {
+MeshFile parse_mesh(const std::string& bytes, MeshFormat format, const std::string& name, const ReadOptions& options) {
     if (bytes.empty()) fail(name, "the file is empty");
     switch (format) {
-    case MeshFormat::Off: return parse_off(bytes, name);
-    case MeshFormat::Ply: return parse_ply(bytes, name);
-    case MeshFormat::Obj: return parse_obj(bytes, name);
-    case MeshFormat::Stl: return parse_stl(bytes, name);
+    case MeshFormat::Off: return parse_off(bytes, name, options);
+    case MeshFormat::Ply: return parse_ply(bytes, name, options);
+    case MeshFormat::Obj: return parse_obj(bytes, name, options);
+    case MeshFormat::Stl: return parse_stl(bytes, name);  // no indices in STL
     }
     fail(name, "unknown format");
 }
 
-MeshFile read_mesh_file(const std::string& path) {
+MeshFile read_mesh_file(const std::string& path, const ReadOptions& options) {
     const std::string bytes = read_file(path);
-    return parse_mesh(bytes, input_mesh_format(path), path);
+    return parse_mesh(bytes, input_mesh_format(path), path, options);
 }
 
 Mesh read_mesh(const std::string& path) { return read_mesh_file(path).mesh; }

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // canonform: reading and writing mesh files - OFF, PLY (ASCII and binary), OBJ and STL (ASCII and
 // binary) in and out, by file extension.
 //
@@ -43,20 +44,31 @@ MeshFormat output_mesh_format(const std::string& path);
 /// A mesh file's content: the mesh and, where the file has it (PLY "quality"), per-vertex quality.
 struct MeshFile {
     Mesh mesh;
-    Eigen::VectorXd quality;  ///< #V, or empty
+    Eigen::VectorXd quality;    ///< #V, or empty
+    long long dropped_faces = 0;  ///< faces (polygons) dropped for an index out of range (drop_bad_faces)
+    std::string first_dropped;    ///< why the first of them was dropped (the error it would have been)
+};
+
+/// How the readers treat a file.
+struct ReadOptions {
+    /// A face (polygon) that names a vertex the file does not have is dropped, counted and the
+    /// first one named in MeshFile, instead of refusing the file. For `canonform check --repair`:
+    /// MeshLab's own OFF importer crashes on such a file. Every other problem is still an error.
+    bool drop_bad_faces = false;
 };
 
 /// Parses the bytes of a mesh file of format `format`; `name` (the file's path) starts every
 /// message. Throws InputError naming the cause (see above). STL's per-face vertices are merged
 /// where their coordinates are equal; polygons are fan-triangulated.
-MeshFile parse_mesh(const std::string& bytes, MeshFormat format, const std::string& name);
+MeshFile parse_mesh(const std::string& bytes, MeshFormat format, const std::string& name,
+                    const ReadOptions& options = {});
 
 /// Reads OFF, PLY, OBJ or STL (by extension). InputError naming the file and the cause (missing,
 /// a folder, empty, unsupported format, or anything parse_mesh() refuses).
 Mesh read_mesh(const std::string& path);
 
 /// The mesh and the per-vertex quality of a mesh file (empty quality if the file has none).
-MeshFile read_mesh_file(const std::string& path);
+MeshFile read_mesh_file(const std::string& path, const ReadOptions& options = {});
 
 /// Reads the per-vertex quality of a mesh file (empty if it has none).
 Eigen::VectorXd read_ply_quality(const std::string& path);

@@ -1,4 +1,7 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include "canonform/meshlab/filter_table.h"
+
+#include "canonform/common/version.h"
 
 #include <cctype>
 #include <cstdio>
@@ -39,6 +42,10 @@ std::string prose(const char* text) {
         out += *c;
     }
     return out;
+}
+
+std::string log_header(const FilterSpec& spec) {
+    return std::string("canonform ") + version() + ": " + spec.name;
 }
 
 const FilterSpec& filter_spec(const std::vector<FilterSpec>& table, int id) {

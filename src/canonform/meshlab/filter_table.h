@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // canonform: the types of a plugin's filter table, shared by both plugins and every MeshLab API
 // adapter.
 //
@@ -108,6 +109,10 @@ const FilterSpec& filter_named(const std::vector<FilterSpec>& table, const std::
 /// A filter description written as a paragraph in the table's source (a raw string over several
 /// lines): every run of white space, line breaks and indentation included, becomes one space.
 std::string prose(const char* text);
+
+/// The first log line of every application of `spec`: "canonform VERSION: NAME", so that a
+/// MeshLab log or a bug report names the plugin's version.
+std::string log_header(const FilterSpec& spec);
 
 /// A MeshLab filter script (.mlx) applying `spec` with every parameter at its default.
 std::string default_script(const FilterSpec& spec);

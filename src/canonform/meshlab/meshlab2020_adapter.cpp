@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include "canonform/meshlab/meshlab2020_adapter.h"
 
 #include "canonform/meshlab/meshlab_adapter_common.h"
@@ -33,6 +34,7 @@ bool TableFilterPlugin2020::applyFilter(QAction* a, MeshDocument& md, const Rich
     canonform::plugin::ActionContext ctx;
     ctx.log = [this](const std::string& line) { Log("%s", line.c_str()); };
     ctx.progress = canonform::plugin::progress_to(cb);
+    Log("%s", canonform::plugin::log_header(s).c_str());
     try {
         apply_(s.id, md, values, ctx);
         return true;

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // canonform: the adapter from a filter table (filter_table.h) to MeshLab 2020.09's plugin API
 // (MeshFilterInterface). Each plugin is a subclass that names its table and its apply function
 // and adds Qt's plugin metadata; everything else - names, classes, requirements, parameters,

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include "canonform/meshlab/meshlab2022_adapter.h"
 
 #include "canonform/meshlab/meshlab_adapter_common.h"
@@ -62,6 +63,7 @@ std::map<std::string, QVariant> TableFilterPlugin2022::applyFilter(const QAction
     canonform::plugin::ActionContext ctx;
     ctx.log = [this](const std::string& line) { log(line); };
     ctx.progress = canonform::plugin::progress_to(cb);
+    log(canonform::plugin::log_header(s));
     try {
         return canonform::plugin::to_qvariant_map(apply_(s.id, md, values, ctx));
     } catch (const std::exception& e) {

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // canonform: the adapter from a filter table (filter_table.h) to the FilterPlugin API (IID
 // "vcg.meshlab.FilterPlugin/1.0") of MeshLab 2022.02 and 2025.07 and of pymeshlab 2022.2.x and
 // 2025.7.x; it compiles unchanged against both releases' headers (2025.07 split and renamed some

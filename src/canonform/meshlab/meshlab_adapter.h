@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // canonform: the table-driven adapter of the MeshLab API being built, as TableFilterPlugin, and
 // CANONFORM_PLUGIN_INTERFACES, the Qt plugin metadata and interface a plugin class of that API
 // declares (after Q_OBJECT). The plugin classes (filter_canonical.h, filter_viewdescriptor.h) are

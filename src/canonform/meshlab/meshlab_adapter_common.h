@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // canonform: what the adapters of MeshLab 2020.09's and of the FilterPlugin API (2022.02, 2025.07)
 // share, written once over the parts of MeshLab's API that did not change between the releases (the
 // plugin's typeList/actionList, MeshModel's data masks, RichParameterList's getters and parameter

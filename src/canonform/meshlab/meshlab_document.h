@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // canonform: MeshLab's document types (MeshDocument, MeshModel, CMeshO) for the API being built.
 // The actions (filter_actions.cpp, view_actions.cpp) are one source for both APIs; only the
 // header differs: 2020.09 has common/meshmodel.h, 2022.02 common/ml_document/. Scalars follow

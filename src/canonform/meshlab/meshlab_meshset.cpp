@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include "canonform/meshlab/meshlab_meshset.h"
 
 #include <common/globals.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // canonform: conversion between a vcglib triangle mesh and the core's Eigen matrices.
 //
 // Templated on the vcg mesh type so that the MeshLab plugins (CMeshO, float) and the canonform

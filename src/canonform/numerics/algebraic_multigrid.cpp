@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include "canonform/numerics/algebraic_multigrid.h"
 
 #include "canonform/common/errors.h"
@@ -275,12 +276,15 @@ bool use_multigrid(LinearSolver s, long long unknowns, long long threshold) {
 
 AmgPreconditioner::AmgPreconditioner(const Eigen::SparseMatrix<double>& A0, const AmgOptions& options) {
     if (A0.rows() != A0.cols() || A0.rows() < 1) throw InputError("AMG: the matrix must be square and non-empty");
-    sweeps_ = std::max(1, options.smoothing_sweeps);
+    if (options.smoothing_sweeps < 1 || options.max_levels < 1)
+        throw InputError("AMG: smoothing_sweeps and max_levels must be at least 1 (given " +
+                         std::to_string(options.smoothing_sweeps) + " and " + std::to_string(options.max_levels) + ")");
+    sweeps_ = options.smoothing_sweeps;
     RowSparse A = A0;
     A.makeCompressed();
     // Eigen 3.4's sparse matrices have no move operations (std::move copies them): the levels are
     // built in place (no reallocation of levels_) and matrices handed over with swap().
-    levels_.reserve(static_cast<size_t>(std::max(1, options.max_levels)));
+    levels_.reserve(static_cast<size_t>(options.max_levels));
     while (true) {
         levels_.emplace_back();
         Level& L = levels_.back();

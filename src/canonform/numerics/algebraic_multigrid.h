@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // canonform: smoothed-aggregation algebraic multigrid (AMG) as a preconditioner for conjugate
 // gradients, for the large sparse symmetric positive definite systems of the core (SMACOF's V).
 //
@@ -10,8 +11,8 @@
 //
 // Why: the paper (Section 5) counts one SMACOF iteration as O(N). With a sparse LDL^T factor of V
 // the two triangular solves per iteration cost O(nnz(L)), which grows faster than N (fill ~N log N
-// with a fill-reducing ordering) and leaves the cache beyond a few 10k vertices (figures in the
-// README's "Speed" section and bench/). A V-cycle costs a few sweeps over A (7 entries per row) per
+// with a fill-reducing ordering) and leaves the cache beyond a few 10k vertices (measured by
+// bench/run_bench.sh; docs/benchmarks.md). A V-cycle costs a few sweeps over A (7 entries per row) per
 // level, O(N) in all, and CG with it needs a number of steps that does not grow with N.
 //
 // Conventions: A is symmetric positive definite (callers pin one vertex of a graph Laplacian).

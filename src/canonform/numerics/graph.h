@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // canonform: adjacency and connected components of an undirected graph given as an edge list.
 //
 // The graph algorithms the numerics need (SMACOF checks that its weight graph is connected) and

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // GCC 12 reports a false -Wmaybe-uninitialized inside Eigen's tridiagonalisation (Eigen/Core's
 // matrix-vector kernels) when Eigen is not a system include, as in standalone g++ -I builds.
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"

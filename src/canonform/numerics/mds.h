@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // canonform: multidimensional scaling of a full distance matrix (least squares, classical, landmark).
 //
 // Reference: Pickup et al., Pattern Recognition 2015 (the comparison against Elad-Kimmel canonical

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // canonform: best rigid (optionally similarity) alignment of two point sets in correspondence.
 //
 // Reference: W. Kabsch, "A solution for the best rotation to relate two sets of vectors", Acta

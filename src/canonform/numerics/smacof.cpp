@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include "canonform/numerics/smacof.h"
 
 #include "canonform/numerics/graph.h"
@@ -41,9 +42,9 @@ ParameterSet<SmacofOptions> smacof_parameters(const SmacofOptions& defaults) {
           &SmacofOptions::max_iterations);
     s.add(Parameter::choice("acceleration", smacof_acceleration_names())
               .label("SMACOF acceleration")
-              .help("none: plain Guttman steps; relaxed: X + 2(G(X) - X) (de Leeuw); rre / mpe: reduced-rank / "
-                    "minimal-polynomial vector extrapolation (Rosman et al. 2008); anderson: Anderson acceleration. "
-                    "A step that would raise the stress is replaced by the plain step"),
+              .help("SMACOF acceleration: none (plain Guttman steps), relaxed (X + 2(G(X) - X), de Leeuw), rre or mpe "
+                    "(reduced-rank or minimal-polynomial vector extrapolation, Rosman et al. 2008), anderson (Anderson "
+                    "acceleration); a step that would raise the stress is replaced by the plain step"),
           &SmacofOptions::acceleration);
     return s;
 }
@@ -155,6 +156,8 @@ Eigen::MatrixXd GuttmanAccelerator::propose(const Eigen::MatrixXd& X, const Eige
 SmacofSolver::SmacofSolver(int num_points, StressPairs pairs, const SmacofSolverOptions& options)
     : n_(num_points), pairs_(std::move(pairs)), options_(options) {
     if (n_ < 2) throw InputError("SMACOF needs at least two points");
+    if (options_.vcycles_per_step < 1)
+        throw InputError("SMACOF: vcycles_per_step must be at least 1 (given " + std::to_string(options_.vcycles_per_step) + ")");
     const size_t m = pairs_.size();
     Eigen::MatrixXi E(static_cast<Eigen::Index>(m), 2);
     // V of the pinned system (vertex 0's row and column dropped, indices shift by one), assembled
@@ -261,7 +264,7 @@ Eigen::MatrixXd SmacofSolver::guttman(const Eigen::MatrixXd& X, double* stress_o
     if (multigrid_) {
         // Warm start at X translated so that the pinned vertex 0 sits at the origin.
         Y.bottomRows(n_ - 1) = X.bottomRows(n_ - 1).rowwise() - X.row(0);
-        amg_.cycle(BX.bottomRows(n_ - 1), Y.bottomRows(n_ - 1), std::max(1, options_.vcycles_per_step), work.amg);
+        amg_.cycle(BX.bottomRows(n_ - 1), Y.bottomRows(n_ - 1), options_.vcycles_per_step, work.amg);
         if (!Y.allFinite()) throw NumericalError("SMACOF: the multigrid solve of V produced non-finite values");
     } else {
         Y.bottomRows(n_ - 1) = factor_.solve(BX.bottomRows(n_ - 1));

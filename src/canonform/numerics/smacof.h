@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // canonform: weighted SMACOF (stress majorisation) on a sparse set of pairs.
 //
 // Reference: Pickup et al., Pattern Recognition 2015, eqs. (1)-(6); J. de Leeuw, "Applications of
@@ -31,7 +32,7 @@
 // Stress never increases across a Guttman step (tested).
 //
 // Acceleration (SmacofAcceleration; every SMACOF run: Euclidean canonical forms and least-squares
-// MDS). The Guttman iteration converges linearly, slowly on meshes (README). Methods:
+// MDS). The Guttman iteration converges linearly, slowly on meshes (docs/benchmarks.md). Methods:
 // - none: plain Guttman steps, eq. (2).
 // - relaxed: J. de Leeuw and W. Heiser, "Convergence of correction matrix algorithms for
 //   multidimensional scaling", 1980: X + 2 (G(X) - X). The majorising quadratic tau(., X) is
@@ -39,7 +40,7 @@
 //   Departure: applied every other step, a plain step between. Alone it maps an error mode with
 //   Guttman rate lambda to rate 2 lambda - 1, which is about -1 for the fast modes: they never
 //   decay, and the stress stalled far above the plain run's (the sparse problem of
-//   tests/test_smacof.cpp; figures in README). Alternating gives lambda (2 lambda - 1), in [-1/8, 1].
+//   tests/test_smacof.cpp). Alternating gives lambda (2 lambda - 1), in [-1/8, 1].
 // - rre, mpe: G. Rosman, A. M. Bronstein, M. M. Bronstein, R. Kimmel, "Fast multidimensional
 //   scaling using vector extrapolation", 2008 (after A. Sidi's reduced-rank and minimal-polynomial
 //   extrapolation): every `acceleration_depth` + 1 plain steps x_0..x_K, x_{K+1} = G(x_K), with
@@ -91,7 +92,7 @@ struct StressPairs {
 enum class SmacofAcceleration { None, Relaxed, Rre, Mpe, Anderson };
 
 /// The default acceleration of every SMACOF run (chosen by bench/run_bench_acceleration.sh: see
-/// README, "SMACOF acceleration").
+/// docs/benchmarks.md, "SMACOF acceleration").
 constexpr SmacofAcceleration kDefaultSmacofAcceleration = SmacofAcceleration::Rre;
 /// Default depth: RRE/MPE plain steps per extrapolation minus one; Anderson memory.
 constexpr int kDefaultAccelerationDepth = 2;
@@ -265,7 +266,7 @@ private:
     void guttman_rhs(const Eigen::MatrixXd& X, Eigen::MatrixXd* BX, double* stress_of_X) const;
     /// What a Guttman step works in, kept for all steps of one solve(): no n x dim allocations
     /// per step (large ones are faulted in again every step when freed memory goes back to the
-    /// system; README, "Canonical form at scale").
+    /// system; docs/benchmarks.md, "Canonical form at scale").
     struct StepWorkspace {
         Eigen::MatrixXd BX;
         AmgPreconditioner::Workspace amg;

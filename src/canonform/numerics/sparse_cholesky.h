@@ -1,9 +1,10 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // canonform: the sparse LDL^T factorisation used by the core (factor once, solve many times).
 //
 // With CHOLMOD (SuiteSparse, Debian's libsuitesparse-dev) found at configure time, this is
 // CHOLMOD's simplicial LDL^T, whose solves treat all right-hand-side columns in one sweep over
-// the factor: faster than Eigen's SimplicialLDLT for the three coordinates of a SMACOF step (the
-// measurement is in the README's "Speed" section). Without it, Eigen's SimplicialLDLT (AMD ordering).
+// the factor: faster than Eigen's SimplicialLDLT for the three coordinates of a SMACOF step
+// (docs/benchmarks.md, "Figures behind design choices"). Without it, Eigen's SimplicialLDLT (AMD ordering).
 // Both report failure through ok(); the caller turns that into a NumericalError.
 //
 // A factorisation can start from a given fill-reducing ordering, e.g. ordering() of an earlier

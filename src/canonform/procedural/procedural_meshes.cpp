@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // canonform: procedural test meshes. See procedural_meshes.h.
 #include "canonform/procedural/procedural_meshes.h"
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // canonform: procedural test meshes (Eigen and the standard library only).
 //
 // - make_icosphere: icosahedron, each subdivision splits every triangle in four at the edge

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // canonform: an indexed collection - the bag-of-features histograms of a retrieval run packed for
 // queries: the K nearest models of a query model by exact clock matching over the 66 views.
 //

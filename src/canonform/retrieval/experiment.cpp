@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include "canonform/retrieval/experiment.h"
 
 #include "canonform/common/parallel.h"
@@ -197,7 +198,12 @@ MeshFeatures Experiment::mesh_features(const MethodSpec& method, std::size_t k) 
             if (fix.changed()) r.note += (r.note.empty() ? "" : "; ") + fix.summary();
             m = fix.mesh;
         }
-        if (o.simplify > 0 && m.V.rows() > o.simplify) m = simplify_mesh(m, o.simplify);
+        if (o.simplify > 0 && m.V.rows() > o.simplify) {
+            m = simplify_mesh(m, o.simplify);
+        } else if (o.simplify > 0) {  // said, not silent: the mesh is already at most that size
+            r.note += (r.note.empty() ? "" : "; ") + std::string("not simplified: ") + std::to_string(m.V.rows()) +
+                      " vertices, at most the --simplify " + std::to_string(o.simplify);
+        }
         if (o.noise > 0) add_noise(m, o.noise, o.seed ^ model.hash);
         MethodContext context;
         context.threads = 1;  // the meshes run in parallel

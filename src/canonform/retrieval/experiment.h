@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // canonform: a retrieval experiment over a labelled collection - the pipeline of the paper's
 // Section 6 (Tables 2-5, Figs. 10-11), as `canonform retrieve`, the benchmarks and the filters
 // run it.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // canonform: late fusion of retrieval distance matrices (a "fused" method of `canonform retrieve`).
 //
 // Reference: none in Pickup et al. 2015; standard score-level fusion: E. A. Fox and J. A. Shaw,
@@ -16,14 +17,14 @@
 // models) weighs as its weight says for every query, and the symmetrisation lets the two queries
 // of a pair vote (a pair near in i's ranking but not in j's moves down). On one member the rule
 // is a re-ranking of that member (its z-normalised, symmetrised matrix), which is itself better
-// than the raw matrix on the collections measured (README, "Fused methods").
+// than the raw matrix on the collections measured (docs/results.md, "Fused methods").
 // Rule `fused-median:` (FusionRule::GlobalMedian, the previous rule): D = sum_k w_k D_k / median_k,
 // with median_k the median of D_k's off-diagonal entries (1 instead of a median of 0).
 // Default weights (none given): a member `none` (the original meshes) weighs kFusedNoneWeight
 // (kFusedMedianNoneWeight for `fused-median:`) and the other members share the rest equally;
 // without a `none` member all weigh 1 / members. Given weights are used as written (not
 // normalised: the ranking does not depend on a common factor). The rule and the default weight
-// were chosen by a sweep on TOSCA, the procedural collection and FAUST (README, "Fused methods";
+// were chosen by a sweep on TOSCA, the procedural collection and FAUST (docs/design.md, "Retrieval defaults";
 // tools/fused_sweep.py).
 #pragma once
 
@@ -36,7 +37,7 @@
 
 namespace canonform::retrieval {
 
-/// Default weight of a `none` member under the default rule (README, "Fused methods": the sweep).
+/// Default weight of a `none` member under the default rule (docs/design.md, "Retrieval defaults").
 inline constexpr double kFusedNoneWeight = 0.1;
 /// Default weight of a `none` member under `fused-median:` (the previous default).
 inline constexpr double kFusedMedianNoneWeight = 0.2;

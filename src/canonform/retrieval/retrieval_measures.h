@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // canonform: shape-retrieval measures of a distance matrix, as the Princeton Shape Benchmark's
 // psbTable computes them (the measures of Pickup et al. 2015, Tables 2-5 and Figs. 10, 11, 13).
 //

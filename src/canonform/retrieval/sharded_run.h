@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // canonform: a retrieval run (experiment.h) split into stages that run apart - on several
 // machines sharing the run folder, e.g. as the job arrays of a Slurm cluster (`canonform slurm`).
 //

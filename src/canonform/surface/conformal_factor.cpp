@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include "canonform/surface/conformal_factor.h"
 
 #include "canonform/surface/cotan_laplacian.h"
@@ -16,7 +17,7 @@ Eigen::MatrixXd normalize_scale(const Eigen::MatrixXd& V, Eigen::RowVector3d* ce
     const Eigen::RowVector3d c = V.colwise().mean();
     Eigen::MatrixXd X = V.rowwise() - c;
     // Largest radius without over- or underflow for 1e200 or 1e-200: the rows scaled by the
-    // largest |coordinate| first (one division per entry; stableNorm() per row cost 15x more).
+    // largest |coordinate| first (one division per entry; stableNorm() per row costs far more).
     const double m = X.cwiseAbs().maxCoeff();
     const double r = m > 0 ? m * std::sqrt((X / m).rowwise().squaredNorm().maxCoeff()) : m;
     if (!(r > 0)) throw InputError("all vertices of the mesh coincide");

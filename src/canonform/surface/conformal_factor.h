@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // canonform: the discrete conformal factor of a triangle mesh.
 //
 // Reference: Pickup, Sun, Rosin, Martin, "Euclidean-distance-based canonical forms for non-rigid
@@ -18,7 +19,7 @@
 // vertex 0, solve the reduced system, then shift phi to area-weighted mean zero. The solve is a
 // sparse Cholesky factorisation (sparse_cholesky.h) below kMultigridFrom vertices and
 // AMG-preconditioned CG (algebraic_multigrid.h, relative residual 1e-10) from there, where the
-// factorisation's superlinear cost dominates (README, "Speed"). The mesh is
+// factorisation's superlinear cost dominates (docs/benchmarks.md). The mesh is
 // first scaled so that the largest vertex distance to the centroid is 1, as in the paper (phi
 // itself is scale invariant). The solver status and the relative residual are checked
 // (NumericalError otherwise).

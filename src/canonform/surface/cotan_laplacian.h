@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // canonform: the cotangent Laplacian of a triangle mesh.
 //
 // Reference: U. Pinkall and K. Polthier, "Computing discrete minimal surfaces and their

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include "canonform/surface/feature_points.h"
 
 #include "canonform/common/errors.h"
@@ -83,7 +84,10 @@ FeaturePoints feature_points(const VertexAdjacency& adj, const Eigen::VectorXd& 
     const int n = adj.num_vertices();
     if (phi.size() != n) throw InputError("feature points: one conformal factor per vertex is needed");
     if (!phi.allFinite()) throw NumericalError("feature points: the conformal factor has non-finite values");
-    const int target = options.count < 0 ? sqrt_count(n) : std::min(options.count, n);
+    if (options.count > n)
+        throw InputError("feature points: " + std::to_string(options.count) + " asked for, but the mesh has only " +
+                         std::to_string(n) + " vertices");
+    const int target = options.count < 0 ? sqrt_count(n) : options.count;
 
     FeaturePoints fp;
     std::vector<int> maxima = local_maxima(adj, phi, options.ring);

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // canonform: feature points from the conformal factor.
 //
 // Reference: Pickup et al., Pattern Recognition 2015, Section 4: "we sample the sqrt(N) vertices
@@ -37,7 +38,7 @@ struct FeaturePointOptions {
     int ring = 2;                     ///< k of the k-ring neighbourhood (the paper: 2; 1 and 3 also studied)
     FeatureFill fill = FeatureFill::None;
     std::uint64_t seed = 0;           ///< seed of the random fill
-    int count = -1;                   ///< target count; -1 means ceil(sqrt(#V))
+    int count = -1;                   ///< target count; -1 means ceil(sqrt(#V)); more than #V is refused
 };
 
 /// The parameters of FeaturePointOptions a user sets - ring, fill, seed - with their defaults from

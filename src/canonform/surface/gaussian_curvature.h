@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // canonform: discrete Gaussian curvature by angle deficit.
 //
 // Reference: Pickup et al., Pattern Recognition 2015, eq. (8) (after Ben-Chen and Gotsman,

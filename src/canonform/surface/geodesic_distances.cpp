@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // canonform: fast marching geodesic distances (Kimmel and Sethian 1998); see geodesic_distances.h.
 #include "canonform/surface/geodesic_distances.h"
 

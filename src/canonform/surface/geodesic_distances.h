@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // canonform: geodesic distances on a triangle mesh by fast marching.
 //
 // Reference: R. Kimmel and J. A. Sethian, "Computing geodesic paths on manifolds", Proc. Natl.
@@ -34,7 +35,7 @@
 // - All-pairs distances are symmetrised: D_ij = (d(i,j) + d(j,i)) / 2. Fast marching is not
 //   exactly symmetric (first-order error, O(h)); MDS needs a symmetric matrix.
 // Accuracy against analytic distances on spheres, discs and obtuse lattices, with and without the
-// unfolding, is checked by tests/test_geodesic_distances.cpp (figures in the README).
+// unfolding, is checked by tests/test_geodesic_distances.cpp (figures: docs/design.md).
 // Vertices not connected to the source (other components, unreferenced vertices) get +infinity.
 #pragma once
 

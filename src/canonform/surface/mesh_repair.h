@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // canonform: an explicit, logged repair of the defects real collections have, for meshes that
 // validate_mesh() refuses (the default everywhere stays strict: repair runs only when asked for,
 // `--repair` in the tool and `retrieve`, the filters' "Repair" parameter).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include "canonform/surface/mesh_topology.h"
 
 #include "canonform/common/errors.h"
@@ -6,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <numeric>
 #include <sstream>
 #include <utility>
@@ -97,67 +99,95 @@ std::vector<bool> boundary_vertices(int n, const Eigen::MatrixXi& F) {
     return boundary_of_keys(sorted_edge_keys(F, n), n);
 }
 
-MeshReport validate_mesh(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
-                         const ValidationOptions& options) {
+namespace {
+
+/// The checks of validate_mesh() in order. Each problem goes to `found`, which throws for
+/// validate_mesh() (so it stops at the first) and collects for mesh_problems(). A check runs only
+/// when the ones it relies on passed: nothing reads outside V, and no geometry is judged on
+/// non-finite coordinates.
+MeshReport run_checks(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const ValidationOptions& options,
+                      const std::function<void(const char* kind, const std::string& message)>& found) {
     MeshReport r;
     r.vertices = static_cast<int>(V.rows());
     r.faces = static_cast<int>(F.rows());
-    std::ostringstream msg;
-    if (V.rows() == 0) throw InputError("the mesh is empty: it has no vertices");
-    if (V.cols() != 3 || (F.rows() > 0 && F.cols() != 3))
-        throw InputError("the mesh must have 3D vertices and triangular faces");
-    if (F.rows() == 0) {
-        msg << "the mesh has " << V.rows()
-            << " vertices and no faces (a point cloud): a triangle mesh is needed";
-        throw InputError(msg.str());
+    auto problem = [&](const char* kind, const std::ostringstream& msg) { found(kind, msg.str()); };
+    if (V.rows() == 0) {
+        found("empty", "the mesh is empty: it has no vertices");
+        return r;
     }
+    if (V.cols() != 3 || (F.rows() > 0 && F.cols() != 3)) {
+        found("shape", "the mesh must have 3D vertices and triangular faces");
+        return r;
+    }
+    if (F.rows() == 0) {
+        std::ostringstream msg;
+        msg << "the mesh has " << V.rows() << " vertices and no faces (a point cloud): a triangle mesh is needed";
+        problem("point_cloud", msg);
+        return r;
+    }
+    Eigen::Index non_finite = 0, first_non_finite = -1;
     for (Eigen::Index v = 0; v < V.rows(); ++v) {
         if (!V.row(v).allFinite()) {
-            Eigen::Index bad = 0;
-            for (Eigen::Index u = 0; u < V.rows(); ++u) bad += V.row(u).allFinite() ? 0 : 1;
-            msg << "the mesh has " << bad << " vertices with NaN or infinite coordinates (first: vertex "
-                << v << ")";
-            throw InputError(msg.str());
+            if (first_non_finite < 0) first_non_finite = v;
+            ++non_finite;
         }
     }
+    if (non_finite > 0) {
+        std::ostringstream msg;
+        msg << "the mesh has " << non_finite << " vertices with NaN or infinite coordinates (first: vertex "
+            << first_non_finite << ")";
+        problem("non_finite", msg);
+    }
     // Indices before anything uses F: a negative one or one >= #V would read outside V.
-    const Eigen::Index first_bad = [&] {
-        for (Eigen::Index f = 0; f < F.rows(); ++f)
-            for (int c = 0; c < 3; ++c)
-                if (F(f, c) < 0 || F(f, c) >= V.rows()) return f;
-        return Eigen::Index(-1);
-    }();
+    Eigen::Index out_of_range = 0, first_bad = -1;
+    for (Eigen::Index f = 0; f < F.rows(); ++f) {
+        bool bad = false;
+        for (int c = 0; c < 3; ++c) bad = bad || F(f, c) < 0 || F(f, c) >= V.rows();
+        if (bad) {
+            if (first_bad < 0) first_bad = f;
+            ++out_of_range;
+        }
+    }
     if (first_bad >= 0) {
+        std::ostringstream msg;
         msg << "face indices out of range: face " << first_bad << " is (" << F(first_bad, 0) << ", "
             << F(first_bad, 1) << ", " << F(first_bad, 2) << "), but they must lie in [0, " << V.rows() - 1 << "]";
-        throw InputError(msg.str());
+        if (out_of_range > 1) msg << " (" << out_of_range << " faces in all)";
+        problem("index_out_of_range", msg);
+        return r;  // nothing below may read F
     }
     if (V.rows() < options.min_vertices) {
-        msg << "the mesh has only " << V.rows() << " vertices; at least " << options.min_vertices
-            << " are needed";
-        throw InputError(msg.str());
+        std::ostringstream msg;
+        msg << "the mesh has only " << V.rows() << " vertices; at least " << options.min_vertices << " are needed";
+        problem("too_few_vertices", msg);
     }
-    // Size: the computations square and sum coordinates in double precision.
-    const double largest = V.cwiseAbs().maxCoeff();
-    if (largest > options.max_coordinate) {
-        msg << "the mesh's coordinates reach " << largest << ", beyond the " << options.max_coordinate
-            << " that the computation handles in double precision: rescale the mesh (e.g. MeshLab's "
-               "'Transform: Scale, Normalize')";
-        throw InputError(msg.str());
-    }
-    // Degenerate faces: a repeated vertex, or an area that is zero at the scale of the mesh
-    // (measured in units of the bounding-box diagonal, so that neither tiny nor huge coordinates
-    // over- or underflow).
-    const double diag = (V.colwise().maxCoeff() - V.colwise().minCoeff()).stableNorm();
-    if (!(diag > 0)) {
-        msg << "all " << V.rows() << " vertices of the mesh are at one point";
-        throw InputError(msg.str());
+    // Geometry, on finite coordinates only.
+    double diag = 0;
+    if (non_finite == 0) {
+        // Size: the computations square and sum coordinates in double precision.
+        const double largest = V.cwiseAbs().maxCoeff();
+        if (largest > options.max_coordinate) {
+            std::ostringstream msg;
+            msg << "the mesh's coordinates reach " << largest << ", beyond the " << options.max_coordinate
+                << " that the computation handles in double precision: rescale the mesh (e.g. MeshLab's "
+                   "'Transform: Scale, Normalize')";
+            problem("too_large", msg);
+        }
+        // Degenerate faces: a repeated vertex, or an area that is zero at the scale of the mesh
+        // (measured in units of the bounding-box diagonal, so that neither tiny nor huge coordinates
+        // over- or underflow).
+        diag = (V.colwise().maxCoeff() - V.colwise().minCoeff()).stableNorm();
+        if (!(diag > 0)) {
+            std::ostringstream msg;
+            msg << "all " << V.rows() << " vertices of the mesh are at one point";
+            problem("one_point", msg);
+        }
     }
     int degenerate = 0, first_degenerate = -1;
     for (int f = 0; f < F.rows(); ++f) {
         const int a = F(f, 0), b = F(f, 1), c = F(f, 2);
         bool bad = (a == b || b == c || a == c);
-        if (!bad) {
+        if (!bad && diag > 0 && std::isfinite(diag)) {
             const Eigen::Vector3d e1 = (V.row(b) - V.row(a)) / diag, e2 = (V.row(c) - V.row(a)) / diag;
             bad = !(0.5 * e1.cross(e2).norm() > options.degenerate_area);
         }
@@ -167,11 +197,12 @@ MeshReport validate_mesh(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
         }
     }
     if (degenerate > 0) {
+        std::ostringstream msg;
         msg << "the mesh has " << degenerate
             << " degenerate faces (zero area or a repeated vertex; first: face " << first_degenerate
             << "); remove them first, e.g. with --repair (the tool, retrieve) or the filters' 'Repair' "
                "parameter, or MeshLab's 'Remove Zero Area Faces' and 'Remove Duplicate Vertices'";
-        throw InputError(msg.str());
+        problem("degenerate_faces", msg);
     }
     // Edges: count incident faces per undirected edge.
     const long long n = V.rows();
@@ -190,33 +221,52 @@ MeshReport validate_mesh(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
         k = m;
     }
     if (nonmanifold > 0) {
+        std::ostringstream msg;
         msg << "the mesh has " << nonmanifold << " non-manifold edges (shared by more than two faces; "
             << "first: vertices " << first_nm / n << "-" << first_nm % n
             << "); repair it, e.g. with MeshLab's 'Repair non Manifold Edges'";
-        throw InputError(msg.str());
+        problem("non_manifold_edges", msg);
     }
     std::vector<bool> referenced(static_cast<size_t>(n), false);
     for (int f = 0; f < F.rows(); ++f)
         for (int c = 0; c < 3; ++c) referenced[static_cast<size_t>(F(f, c))] = true;
     const auto unref = std::count(referenced.begin(), referenced.end(), false);
     if (unref > 0) {
+        std::ostringstream msg;
         msg << "the mesh has " << unref
             << " vertices that belong to no face; remove them first, e.g. with MeshLab's 'Remove "
                "Unreferenced Vertices'";
-        throw InputError(msg.str());
+        problem("unreferenced_vertices", msg);
     }
     r.edge_list = edges_of_keys(keys, n);  // = unique_edges(F): the same sorted keys
     connected_components(static_cast<int>(n), r.edge_list, &r.components);
     if (options.require_single_component && r.components > 1) {
+        std::ostringstream msg;
         msg << "the mesh has " << r.components
             << " connected components; the method needs one. Keep the largest, e.g. with "
                "MeshLab's 'Remove Isolated pieces (wrt Diameter)'";
-        throw InputError(msg.str());
+        problem("components", msg);
     }
     r.boundary = boundary_of_keys(keys, static_cast<int>(n));  // = boundary_vertices(n, F)
     r.boundary_loops_vertices = static_cast<int>(std::count(r.boundary.begin(), r.boundary.end(), true));
     r.euler_characteristic = r.vertices - r.edges + r.faces;
     return r;
+}
+
+}  // namespace
+
+MeshReport validate_mesh(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const ValidationOptions& options) {
+    return run_checks(V, F, options, [](const char*, const std::string& message) { throw InputError(message); });
+}
+
+std::vector<MeshProblem> mesh_problems(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
+                                       const ValidationOptions& options, MeshReport* report) {
+    std::vector<MeshProblem> found;
+    MeshReport r = run_checks(V, F, options, [&](const char* kind, const std::string& message) {
+        found.push_back({kind, message});
+    });
+    if (report) *report = std::move(r);
+    return found;
 }
 
 double mean_relative_edge_change(const Eigen::MatrixXd& V0, const Eigen::MatrixXd& V1, const Eigen::MatrixXi& E) {

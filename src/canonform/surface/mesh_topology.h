@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // canonform: combinatorial helpers on an indexed triangle mesh (V #V x 3, F #F x 3).
 //
 // Undirected edge list, boundary vertices (adjacency and components of the edge graph are in
@@ -50,6 +51,20 @@ struct ValidationOptions {
 /// Boundaries are allowed (the methods handle them) and reported.
 MeshReport validate_mesh(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
                          const ValidationOptions& options = {});
+
+/// One problem validate_mesh() would refuse a mesh for.
+struct MeshProblem {
+    std::string kind;     ///< "non_finite", "index_out_of_range", "degenerate_faces", "non_manifold_edges", ...
+    std::string message;  ///< validate_mesh()'s message for it
+};
+
+/// Every problem validate_mesh() checks for, not just the first (in the same order, with the same
+/// messages): an empty list means validate_mesh() accepts the mesh. A check that relies on an
+/// earlier one is skipped when that one failed (with face indices out of range nothing that
+/// reads F runs; with non-finite coordinates no geometric test). `report`, if given, gets what
+/// could be measured. For `canonform check`.
+std::vector<MeshProblem> mesh_problems(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
+                                       const ValidationOptions& options = {}, MeshReport* report = nullptr);
 
 /// Mean over the edges E (#E x 2) of |d1 - d0| / d0, the relative change of each edge's length
 /// from the embedding V0 to V1 (both #V x 3; 0 without edges).

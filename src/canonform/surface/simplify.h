@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // canonform: quadric edge-collapse simplification (vcglib's TriEdgeCollapseQuadric, the
 // algorithm of MeshLab's "Simplification: Quadric Edge Collapse Decimation" filter, with its
 // default parameters), for the paper's "simplified to about 2000 vertices" runs.

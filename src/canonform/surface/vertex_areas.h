@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // canonform: barycentric vertex areas.
 //
 // Reference: Pickup et al., Pattern Recognition 2015, eq. (9): the area attached to a vertex is

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include "canonform/views/bag_of_features.h"
 
 #include "canonform/common/parallel.h"

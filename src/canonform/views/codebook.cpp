@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include "canonform/views/codebook.h"
 
 #include "canonform/common/parallel.h"
@@ -213,6 +214,11 @@ void check_options(const CodebookOptions& options, std::int64_t total) {
     if (options.sample < 0) throw InputError("Codebook: the training sample must be >= 0 (0 = every descriptor).");
     if (total == 0) throw InputError("Codebook: no training descriptors (every view was blank?).");
     if (total > std::numeric_limits<int>::max()) throw InputError("Codebook: too many training descriptors.");
+    // Never fewer words than asked for, silently: a codebook of every descriptor is not what was asked.
+    if (total < options.words)
+        throw InputError("Codebook: " + std::to_string(options.words) + " words asked for, but there are only " +
+                         std::to_string(total) + " training descriptors: ask for at most " + std::to_string(total) +
+                         " words (--words in the canonform tool), or train on more meshes.");
 }
 
 bool draws_sample(const CodebookOptions& options, std::int64_t total) {
@@ -260,7 +266,7 @@ Codebook Codebook::train_on_rows(const DescriptorMatrix& S, std::int64_t total, 
     if (static_cast<std::int64_t>(S.rows()) != expected)
         throw InputError("Codebook: " + std::to_string(S.rows()) + " training rows given, training_rows() names " +
                          std::to_string(expected) + ".");
-    if (n <= k) return from_words(S);  // documented: every descriptor becomes a word
+    if (n == k) return from_words(S);  // exactly as many descriptors as words: each is a word
     const int m = static_cast<int>(S.rows());
 
     switch (options.method) {

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // canonform: visual-word codebook (vector quantisation of SIFT descriptors) for bag-of-features.
 //
 // Reference: Z. Lian, A. Godil, X. Sun, J. Xiao, "CM-BOF: visual similarity-based 3D shape retrieval
@@ -8,7 +9,7 @@
 //
 // Training (every method draws from its own std::mt19937_64 stream seeded by `seed`; no global RNG):
 // - The training set is a seeded random sample of `sample` distinct descriptors (all of them if
-//   there are fewer, or if sample == 0). Measured (README, "Codebook"): on TOSCA, k-means on a
+//   there are fewer, or if sample == 0). Chosen by measurement (docs/design.md, "Retrieval defaults"): on TOSCA, k-means on a
 //   100k sample scores within noise of the previous codebook (Lloyd on every descriptor); on the
 //   600 x 10k plan's 1.2 M descriptors it costs a twelfth.
 // - Method::KMeans (default): FAISS's k-means (faiss::Clustering with an exact L2 index; Debian's
@@ -16,16 +17,18 @@
 //   not k-means++), kmeans_iterations Lloyd iterations whose nearest-word search is a BLAS sgemm,
 //   an empty cluster re-seeded by splitting a large one. Deterministic for a seed and a thread
 //   count. The BLAS it uses is whatever libblas.so.3 resolves to: with Debian's reference BLAS it
-//   is about 7x slower than with OpenBLAS (libopenblas0-pthread, installed by tools/setup.sh).
+//   is several times slower than with OpenBLAS (libopenblas0-pthread, installed by tools/setup.sh;
+//   docs/benchmarks.md).
 // - Method::Lloyd: our own Lloyd's k-means, seeded by k-means++ (on a seeded subset of at most
 //   20 * words sample descriptors: k-means++ is sequential, one pass per word); results do not
 //   depend on the thread count. An empty cluster is re-seeded with the descriptor farthest from
 //   its current word. Stops after kmeans_iterations or when no assignment changes. Kept as the
-//   reference FAISS was measured against (same measures, slower: README).
+//   reference FAISS was measured against (same measures, slower: docs/design.md).
 // - Method::Random: `words` distinct descriptors drawn uniformly (the public re-implementation
 //   that Pickup et al. used picks random training descriptors).
-// - If there are no more descriptors than words, every descriptor becomes a word (in input order)
-//   and size() is the number of descriptors, possibly < options.words.
+// - Fewer training descriptors than words is refused (InputError with both numbers): the codebook
+//   never has fewer words than asked for. With exactly as many, every descriptor becomes a word
+//   (in input order).
 //
 // Assignment: nearest word in squared Euclidean distance, ties to the lower word index; computed
 // as |c|^2 - 2 x.c in blocks with Eigen's matrix product (float), so two words whose distances
@@ -52,7 +55,7 @@ namespace canonform::views {
 /// n x 128 descriptors, one per row.
 using DescriptorMatrix = Eigen::Matrix<float, Eigen::Dynamic, 128, Eigen::RowMajor>;
 
-/// Default training sample (descriptors); chosen by measurement (README, "Codebook").
+/// Default training sample (descriptors); chosen by measurement (docs/design.md, "Retrieval defaults").
 inline constexpr std::int64_t kDefaultCodebookSample = 100000;
 
 /// Options of Codebook::train().

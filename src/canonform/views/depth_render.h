@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // canonform: orthographic depth images of a triangle mesh, as captured by the view-based
 // descriptor of Lian et al. (CM-BOF): 66 cameras on the unit sphere looking at the origin, one
 // 256 x 256 depth image each, background = far.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // canonform: pose normalisation for the view-based descriptor of Lian et al. (CM-BOF): PCA and
 // rectilinearity, keeping the better of the two.
 //
@@ -53,7 +54,7 @@ struct PoseOptions {
     std::uint64_t seed = 0;   ///< seed of the random starts
     /// The coarse search of every start runs on the area vectors summed per direction bin (a cube
     /// map of 6 x bins x bins cells, in the PCA frame); the winner is then refined on every face.
-    /// 0 = every face throughout (slower; README, "SIFT backends" has both timings).
+    /// 0 = every face throughout (slower; docs/benchmarks.md, "View descriptor", has both timings).
     int direction_bins = 16;
 };
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // canonform: SIFT descriptors (difference-of-Gaussian keypoints) of one 8-bit depth view.
 //
 // Reference: D. G. Lowe, "Distinctive image features from scale-invariant keypoints", IJCV 60(2),
@@ -16,7 +17,7 @@
 //   and OpenCV's descriptors computed there (cv::SIFT::compute on provided keypoints: OpenCV 4.6
 //   starts its pyramid at the smallest provided octave, here 0, so it does not double the view).
 //   The descriptors see the view's full resolution, the detector costs what opencv-half's does
-//   (measured: retrieval like opencv-half's, not opencv's - README, "SIFT backends").
+//   (measured: retrieval like opencv-half's, not opencv's - docs/sift.md).
 //   Our departure from Lowe's single-pyramid pipeline: detection and description use two pyramids
 //   (the half view's doubled image and the view itself) of the same scale.
 // - opencv-octave0: opencv's own keypoints of octaves >= 0 without its doubled image. OpenCV 4.6's
@@ -30,14 +31,14 @@
 //   would build a second pyramid, and takes 8-bit images only). Departure from opencv: no octave
 //   -1 keypoints. Measured: 94% of opencv's octave-0 keypoints and all of octaves >= 1 found
 //   (position within half a pixel of the octave, size 10%, angle 5 degrees), 7% more at octave 0,
-//   descriptors of the matched keypoints opencv's (mean cosine 1.000) (README).
+//   descriptors of the matched keypoints opencv's (mean cosine 1.000) (docs/sift.md).
 // - opencv-octave0-fine: opencv-octave0 plus an approximate octave -1: one more octave, on the view
 //   itself (not resampled, not doubled), from sigma / 2 (the scale of OpenCV's doubled octave),
 //   with 2 DoG layers, the same detector and descriptor; its keypoints are reported at octave -1.
 //   Departure from opencv: OpenCV finds its octave -1 keypoints on the doubled view, which costs
 //   four times the pixels; on the view itself 2 layers find about as many (3 layers find ten
 //   times as many: the 8-bit steps). Measured: retrieval like opencv's, which opencv-octave0's
-//   lacks (README, "A cheaper default?").
+//   lacks (docs/sift.md).
 // - vlfeat: VLFeat's vl_sift (Debian's libvlfeat-dev, 0.9.21) on the float depth image scaled to
 //   [0, 255] (no 8-bit rounding) with VLFeat's defaults, as CM-BOF's public code calls it: first
 //   octave 0, 3 levels per octave, peak threshold 0, edge threshold 10; one descriptor per
@@ -45,7 +46,7 @@
 //   vector, saturated to 255), so the values have OpenCV's scale. VLFeat's bin order differs from
 //   OpenCV's, so the descriptors of two backends must not share a codebook (the retrieval cache
 //   keys include the backend).
-// Keypoints per view, CPU seconds and retrieval measures of the three: README, "SIFT backends".
+// Keypoints per view, CPU seconds and retrieval measures of the three: docs/sift.md and docs/benchmarks.md.
 //
 // The opencv extractor is OpenCV's cv::SIFT (features2d, OpenCV >= 4.4). CM-BOF was published with
 // VLFeat's SIFT at its defaults: peak threshold 0 and edge threshold 10. OpenCV's default
@@ -131,7 +132,7 @@ struct SiftFeatures {
 /// Options of sift_descriptors(); the names follow cv::SIFT::create. The thresholds apply to the
 /// OpenCV backends; vlfeat uses VLFeat's defaults (peak 0, edge 10, first octave 0).
 struct SiftOptions {
-    SiftBackend backend = SiftBackend::OpenCVOctave0Fine;  ///< the extractor (default since issue 13: README, "A cheaper default?")
+    SiftBackend backend = SiftBackend::OpenCVOctave0Fine;  ///< the extractor (default since issue 13: docs/sift.md)
     double contrast_threshold = kDefaultContrastThreshold;  ///< OpenCV contrastThreshold (>= 0)
     double edge_threshold = 10;   ///< principal-curvature ratio limit (VLFeat and OpenCV default 10)
     int max_features = 0;         ///< keep the strongest n keypoints; 0 = all

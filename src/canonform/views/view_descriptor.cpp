@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include "canonform/views/view_descriptor.h"
 
 #include "canonform/surface/mesh_topology.h"

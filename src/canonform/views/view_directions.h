@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // canonform: the 66 view directions of Lian et al.'s view-based descriptor (CM-BOF) and the 24
 // rotations of the cube used by its clock matching.
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // canonform: the parameters of the view descriptor a user sets (common/parameters.h), defined
 // once for the view filter (image_size, seed, sift), the tool's view commands (--image-size or
 // --size, --seed, --sift) and `retrieve --sift`.
