@@ -35,6 +35,7 @@
 #include <vector>
 
 using namespace canonform;
+using namespace canonform::numerics;
 
 namespace {
 

@@ -90,7 +90,7 @@ int main(int argc, char** argv) {
             t.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
         }
         const std::string used = summary_text(r, "solver");
-        const std::string solver = used == "multigrid" ? "AMG V-cycle" : canonform::SparseCholesky::backend();
+        const std::string solver = used == "multigrid" ? "AMG V-cycle" : canonform::numerics::SparseCholesky::backend();
         std::sort(t.begin(), t.end());
         std::printf("{\"vertices\": %ld, \"method\": \"%s\", \"variant\": \"%c\", \"repeats\": %d, "
                     "\"median_s\": %.6f, \"min_s\": %.6f, \"max_s\": %.6f, \"iterations\": %d, "

@@ -12,6 +12,7 @@
 #include <random>
 
 using namespace canonform;
+using namespace canonform::numerics;
 
 namespace {
 

@@ -11,6 +11,7 @@
 #include <numeric>
 
 using namespace canonform;
+using namespace canonform::numerics;
 
 TEST(ConformalFactor, SolvesEquationSevenWithTheDocumentedSign) {
     const Figure f = make_figure(2000, figure_pose(0));

@@ -11,6 +11,7 @@
 #include <cstdio>
 
 using namespace canonform;
+using namespace canonform::numerics;
 
 namespace {
 

@@ -9,6 +9,7 @@
 #include <set>
 
 using namespace canonform;
+using namespace canonform::numerics;
 
 namespace {
 

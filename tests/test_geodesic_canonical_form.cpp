@@ -8,6 +8,7 @@
 #include <cstdio>
 
 using namespace canonform;
+using namespace canonform::numerics;
 
 namespace {
 

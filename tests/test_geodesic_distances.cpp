@@ -15,6 +15,7 @@
 #include <vector>
 
 using namespace canonform;
+using namespace canonform::numerics;
 
 namespace {
 

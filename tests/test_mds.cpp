@@ -16,6 +16,7 @@
 #include <random>
 
 using namespace canonform;
+using namespace canonform::numerics;
 using Eigen::MatrixXd;
 
 namespace {

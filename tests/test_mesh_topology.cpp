@@ -11,6 +11,7 @@
 #include <vector>
 
 using namespace canonform;
+using namespace canonform::numerics;
 
 namespace {
 

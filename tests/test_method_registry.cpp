@@ -15,6 +15,7 @@
 #include <thread>
 
 using namespace canonform;
+using namespace canonform::numerics;
 
 namespace {
 

@@ -11,6 +11,7 @@
 #include <random>
 
 using namespace canonform;
+using namespace canonform::numerics;
 
 namespace {
 

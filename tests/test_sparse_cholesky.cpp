@@ -14,6 +14,7 @@
 #include <vector>
 
 using namespace canonform;
+using namespace canonform::numerics;
 
 namespace {
 

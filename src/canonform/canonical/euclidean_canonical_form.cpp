@@ -10,13 +10,13 @@
 
 namespace canonform {
 
-StressPairs canonical_form_pairs(const Eigen::MatrixXd& V, const Eigen::MatrixXi& E,
+numerics::StressPairs canonical_form_pairs(const Eigen::MatrixXd& V, const Eigen::MatrixXi& E,
                                  const Eigen::VectorXd& phi, const std::vector<int>& features,
                                  const EuclideanCanonicalFormOptions& options) {
     const bool normalised = options.variant == CanonicalVariant::N;
     const double beta = options.effective_beta();
     const double edge_scale = normalised ? beta / static_cast<double>(E.rows()) : beta;
-    StressPairs pairs;
+    numerics::StressPairs pairs;
     const size_t nf = features.size();
     const size_t capacity = static_cast<size_t>(E.rows()) + nf * nf / 2;
     pairs.i.reserve(capacity);  // all four: no doubling of a 1M-vertex mesh's 3M pairs
@@ -87,30 +87,30 @@ EuclideanCanonicalFormResult euclidean_canonical_form(const Eigen::MatrixXd& V0,
     const auto t1 = std::chrono::steady_clock::now();
 
     const Eigen::MatrixXi E = report.edge_list.rows() ? report.edge_list : unique_edges(F);
-    const VertexAdjacency adj = vertex_adjacency(static_cast<int>(V.rows()), E);
+    const numerics::VertexAdjacency adj = numerics::vertex_adjacency(static_cast<int>(V.rows()), E);
     FeaturePointOptions fp_opt = options.features;
     fp_opt.fill = options.variant == CanonicalVariant::A ? FeatureFill::Random : FeatureFill::None;
     const FeaturePoints fp = feature_points(adj, cf.normalized, fp_opt);
     report_progress(options.progress, 0.09, "feature points");
 
-    SmacofSolverOptions solver_opt;
+    numerics::SmacofSolverOptions solver_opt;
     solver_opt.linear_solver = options.linear_solver;
     solver_opt.ordering = smacof_ordering(cf.ordering, fp.indices);
-    const SmacofSolver solver(static_cast<int>(V.rows()),
+    const numerics::SmacofSolver solver(static_cast<int>(V.rows()),
                               canonical_form_pairs(V, E, cf.normalized, fp.indices, options), solver_opt);
     report_progress(options.progress, 0.1, "SMACOF: V factorised");
 
-    SmacofOptions sm_opt = options.smacof;
+    numerics::SmacofOptions sm_opt = options.smacof;
     const auto t2 = std::chrono::steady_clock::now();
     if (options.progress)
         sm_opt.progress = [&](double f, const char* s) { return options.progress(0.1 + 0.9 * f, s); };
     else
         sm_opt.progress = nullptr;
-    SmacofResult sm = solver.solve(V, sm_opt);
+    numerics::SmacofResult sm = solver.solve(V, sm_opt);
     const auto t3 = std::chrono::steady_clock::now();
 
     EuclideanCanonicalFormResult r;
-    static_cast<SmacofStatistics&>(r) = std::move(sm);
+    static_cast<numerics::SmacofStatistics&>(r) = std::move(sm);
     r.mean_relative_edge_change = mean_relative_edge_change(V, sm.X, E);
     r.V = options.restore_scale ? Eigen::MatrixXd((sm.X * scale).rowwise() + centroid) : sm.X;
     r.phi = cf.normalized;
@@ -141,11 +141,11 @@ ParameterSet<EuclideanCanonicalFormOptions> euclidean_canonical_form_parameters(
               .help("edge-length preservation weight; 0: the variant's default, 10 for A and 130 for N"),
           &O::beta);
     s.include(feature_point_parameters(), &O::features, {"ring", "seed"});
-    s.include(smacof_parameters(), &O::smacof);
-    s.add(Parameter::choice("solver", linear_solver_names())
+    s.include(numerics::smacof_parameters(), &O::smacof);
+    s.add(Parameter::choice("solver", numerics::linear_solver_names())
               .label("Linear solver")
               .help("linear solver of SMACOF and the conformal factor: auto (direct below " +
-                    std::to_string(kMultigridFrom) + " vertices, multigrid from there), direct or multigrid")
+                    std::to_string(numerics::kMultigridFrom) + " vertices, multigrid from there), direct or multigrid")
               .affects_result(false),
           &O::linear_solver);
     return s;

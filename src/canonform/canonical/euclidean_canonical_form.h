@@ -60,8 +60,8 @@ struct EuclideanCanonicalFormOptions {
     /// Step 3: the k-ring, the seed and the count of the feature points (feature_points.h); their
     /// fill is the variant's (A: random, N: none), whatever `features.fill` says.
     FeaturePointOptions features;
-    SmacofOptions smacof;         ///< step 4: tolerance, iteration cap, acceleration, history (smacof.h)
-    LinearSolver linear_solver = LinearSolver::Auto;  ///< conformal factor's and SMACOF's solver
+    numerics::SmacofOptions smacof;         ///< step 4: tolerance, iteration cap, acceleration, history (smacof.h)
+    numerics::LinearSolver linear_solver = numerics::LinearSolver::Auto;  ///< conformal factor's and SMACOF's solver
     bool restore_scale = true;    ///< return the result in the input's units and position
     bool validate = true;         ///< run validate_mesh() first (off only if the caller just did)
     ProgressFn progress;          ///< optional progress callback (smacof.progress is not called)
@@ -85,7 +85,7 @@ ParameterSet<EuclideanCanonicalFormOptions> euclidean_canonical_form_parameters(
 
 /// Result of euclidean_canonical_form(): the form, its feature points, the SMACOF run's statistics
 /// (SmacofStatistics, in the unit-radius frame) and the timings.
-struct EuclideanCanonicalFormResult : SmacofStatistics {
+struct EuclideanCanonicalFormResult : numerics::SmacofStatistics {
     Eigen::MatrixXd V;                   ///< canonical form, #V x 3 (same vertex order and faces)
     Eigen::VectorXd phi;                 ///< normalised conformal factor, #V
     std::vector<int> features;           ///< feature points (maxima first, then random fill)
@@ -93,7 +93,7 @@ struct EuclideanCanonicalFormResult : SmacofStatistics {
     int num_random = 0;                  ///< random fill among `features`
     double mean_relative_edge_change = 0;///< mean over edges of |d_ij - delta_ij| / delta_ij
     double beta = 0;                     ///< beta used
-    LinearSolver linear_solver = LinearSolver::Direct;  ///< solver used (Direct or Multigrid)
+    numerics::LinearSolver linear_solver = numerics::LinearSolver::Direct;  ///< solver used (Direct or Multigrid)
     double seconds = 0;                  ///< wall time of the whole computation
     double conformal_factor_seconds = 0; ///< of which: the conformal factor
     double setup_seconds = 0;            ///< of which: feature points, pairs, factor / multigrid of V
@@ -111,7 +111,7 @@ CanonicalMethod euclidean_method(CanonicalVariant variant);
 
 /// The SMACOF pairs of step 4 for a scaled mesh V, its edges E (#E x 2), normalised phi and
 /// feature points; exposed for tests and for callers that want to run SMACOF themselves.
-StressPairs canonical_form_pairs(const Eigen::MatrixXd& V, const Eigen::MatrixXi& E,
+numerics::StressPairs canonical_form_pairs(const Eigen::MatrixXd& V, const Eigen::MatrixXi& E,
                                  const Eigen::VectorXd& phi, const std::vector<int>& features,
                                  const EuclideanCanonicalFormOptions& options);
 

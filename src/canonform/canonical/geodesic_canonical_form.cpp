@@ -29,7 +29,7 @@ std::string GeodesicCost::describe() const {
     return buf;
 }
 
-GeodesicCost estimate_geodesic_canonical_form(long n, MdsMethod method, int threads) {
+GeodesicCost estimate_geodesic_canonical_form(long n, numerics::MdsMethod method, int threads) {
     // Memory: the n x n distance matrix and the solver's own n x n work matrix (SMACOF and
     // classical MDS square or copy it), plus the fast-marching buffers.
     // Time: fast marching 2.0e-8 n^2 log2(n) s on one core (geodesic_distances.cpp), divided by
@@ -41,10 +41,10 @@ GeodesicCost estimate_geodesic_canonical_form(long n, MdsMethod method, int thre
     const double speedup = 1.0 + 0.8 * (t - 1);
     GeodesicCost c;
     c.bytes = static_cast<double>(all_pairs_geodesic_bytes(n)) +
-              (method == MdsMethod::Landmark ? 0.0 : 8.0 * nn) + 64.0 * static_cast<double>(n);
+              (method == numerics::MdsMethod::Landmark ? 0.0 : 8.0 * nn) + 64.0 * static_cast<double>(n);
     double mds = 0;
-    if (method == MdsMethod::LeastSquares) mds = 100 * 6e-9 * nn;
-    if (method == MdsMethod::Classical) mds = 40 * 2e-9 * nn;
+    if (method == numerics::MdsMethod::LeastSquares) mds = 100 * 6e-9 * nn;
+    if (method == numerics::MdsMethod::Classical) mds = 40 * 2e-9 * nn;
     c.seconds = (all_pairs_geodesic_seconds_estimate(n) + mds) / speedup;
     return c;
 }
@@ -79,18 +79,18 @@ GeodesicCanonicalFormResult geodesic_canonical_form(const Eigen::MatrixXd& V0, c
     if (!D.allFinite()) throw NumericalError("geodesic distances: some vertices were not reached");
 
     // Step 3: MDS in [0.7, 1]. Least squares starts from classical MDS (see the header).
-    MdsOptions mo = options.mds;
+    numerics::MdsOptions mo = options.mds;
     mo.dim = 3;
     mo.threads = options.threads;
     mo.check_input = false;  // symmetric with zero diagonal by construction
     mo.progress = nullptr;
     if (options.progress) mo.progress = [&](double f, const char* s) { return options.progress(0.7 + 0.3 * f, s); };
     const auto tm = std::chrono::steady_clock::now();
-    MdsResult m = mds(D, options.method, mo);
+    numerics::MdsResult m = numerics::mds(D, options.method, mo);
     r.mds_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - tm).count();
     if (m.X.cols() != 3 || !m.X.allFinite()) throw NumericalError("MDS returned a non-finite configuration");
 
-    static_cast<SmacofStatistics&>(r) = std::move(m);  // X stays in m
+    static_cast<numerics::SmacofStatistics&>(r) = std::move(m);  // X stays in m
     r.mean_relative_edge_change = mean_relative_edge_change(V, m.X, report.edge_list);
     r.V = options.restore_scale ? Eigen::MatrixXd((m.X * scale).rowwise() + centroid) : m.X;
     report_progress(options.progress, 1.0, "done");
@@ -102,7 +102,7 @@ ParameterSet<GeodesicCanonicalFormOptions> geodesic_canonical_form_parameters(
     const GeodesicCanonicalFormOptions& defaults) {
     using O = GeodesicCanonicalFormOptions;
     ParameterSet<O> s(defaults);
-    s.include(mds_parameters(), &O::mds);
+    s.include(numerics::mds_parameters(), &O::mds);
     s.add(Parameter::number("max_memory_gib", 0, 1e6)
               .label("Memory limit (GiB)")
               .help("refuse meshes whose estimated memory (an N x N distance matrix) exceeds this (GiB)")
@@ -116,7 +116,7 @@ ParameterSet<GeodesicCanonicalFormOptions> geodesic_canonical_form_parameters(
     return s;
 }
 
-CanonicalMethod geodesic_method(MdsMethod mds) {
+CanonicalMethod geodesic_method(numerics::MdsMethod mds) {
     GeodesicCanonicalFormOptions defaults;
     defaults.method = mds;
     const ParameterSet<GeodesicCanonicalFormOptions> parameters = geodesic_canonical_form_parameters(defaults);
@@ -124,17 +124,17 @@ CanonicalMethod geodesic_method(MdsMethod mds) {
     m.family = MethodFamily::Geodesic;
     m.family_default = mds == GeodesicCanonicalFormOptions().method;
     switch (mds) {
-    case MdsMethod::LeastSquares:
+    case numerics::MdsMethod::LeastSquares:
         m.name = "geodesic-ls";
         m.label = "least squares";
         m.help = "geodesic canonical form, least-squares MDS (SMACOF on all pairs; the paper's LS)";
         break;
-    case MdsMethod::Classical:
+    case numerics::MdsMethod::Classical:
         m.name = "geodesic-classical";
         m.label = "classical";
         m.help = "geodesic canonical form, classical MDS (the paper's C)";
         break;
-    case MdsMethod::Landmark:
+    case numerics::MdsMethod::Landmark:
         m.name = "geodesic-fast";
         m.label = "fast";
         m.help = "geodesic canonical form, fast (landmark) MDS (the paper's F)";
@@ -142,7 +142,7 @@ CanonicalMethod geodesic_method(MdsMethod mds) {
     }
     m.parameters = parameters.parameters();
     // Only least squares runs SMACOF: the others accept its acceleration, which changes nothing.
-    if (mds != MdsMethod::LeastSquares)
+    if (mds != numerics::MdsMethod::LeastSquares)
         for (Parameter& p : m.parameters)
             if (p.name() == "acceleration") p.affects_result(false);
     const std::string name = m.name;
@@ -154,7 +154,7 @@ CanonicalMethod geodesic_method(MdsMethod mds) {
         GeodesicCanonicalFormResult g = geodesic_canonical_form(V, F, o);
         CanonicalForm r;
         r.V = std::move(g.V);
-        const std::string acceleration = mds == MdsMethod::LeastSquares ? to_string(o.mds.smacof.acceleration) : "none";
+        const std::string acceleration = mds == numerics::MdsMethod::LeastSquares ? to_string(o.mds.smacof.acceleration) : "none";
         r.summary = {{"method", name}, {"iterations", g.iterations}, {"acceleration", acceleration},
                      {"initial_stress", g.initial_stress}, {"final_stress", g.final_stress},
                      {"mean_relative_edge_change", g.mean_relative_edge_change},

@@ -32,10 +32,10 @@ namespace canonform {
 
 /// Options of geodesic_canonical_form().
 struct GeodesicCanonicalFormOptions {
-    MdsMethod method = MdsMethod::LeastSquares;  ///< step 3: the paper's LS, C and F (landmark MDS)
+    numerics::MdsMethod method = numerics::MdsMethod::LeastSquares;  ///< step 3: the paper's LS, C and F (landmark MDS)
     /// Step 3's MDS (mds.h): its SMACOF iteration (least squares only), landmarks and seed. Its
     /// dim (3), threads, input check and progress are set from here.
-    MdsOptions mds;
+    numerics::MdsOptions mds;
     int threads = 0;                 ///< threads for the geodesics and MDS; 0 = all cores
     double max_memory_gib = 4.0;     ///< refuse when the estimate exceeds this (GiB)
     double max_seconds = 600.0;      ///< refuse when the estimated time exceeds this (s)
@@ -57,11 +57,11 @@ struct GeodesicCost {
 };
 
 /// Cost estimate from the vertex count (calibrated on a 2-core 2026 x86-64 machine; see the .cpp).
-GeodesicCost estimate_geodesic_canonical_form(long n, MdsMethod method, int threads = 0);
+GeodesicCost estimate_geodesic_canonical_form(long n, numerics::MdsMethod method, int threads = 0);
 
 /// Result of geodesic_canonical_form(): the form, the MDS run's statistics (SmacofStatistics:
 /// SMACOF's for least squares, else the eigen/landmark steps; unit-radius frame) and the timings.
-struct GeodesicCanonicalFormResult : SmacofStatistics {
+struct GeodesicCanonicalFormResult : numerics::SmacofStatistics {
     Eigen::MatrixXd V;                    ///< canonical form, #V x 3 (same vertex order and faces)
     double mean_relative_edge_change = 0; ///< mean over edges of |d_ij - |e_ij|| / |e_ij|
     double geodesic_seconds = 0;          ///< wall time of step 2
@@ -71,7 +71,7 @@ struct GeodesicCanonicalFormResult : SmacofStatistics {
 };
 
 /// The registry's method geodesic-ls, geodesic-classical or geodesic-fast (method_registry.h).
-CanonicalMethod geodesic_method(MdsMethod mds);
+CanonicalMethod geodesic_method(numerics::MdsMethod mds);
 
 /// Computes the geodesic canonical form. Throws InputError on bad input or when the estimated
 /// memory or time exceeds the limits (the message names both figures and the option to raise),

@@ -38,9 +38,9 @@ std::vector<CanonicalMethod> builtin_methods() {
     return {none_method(),
             euclidean_method(CanonicalVariant::A),
             euclidean_method(CanonicalVariant::N),
-            geodesic_method(MdsMethod::LeastSquares),
-            geodesic_method(MdsMethod::Classical),
-            geodesic_method(MdsMethod::Landmark)};
+            geodesic_method(numerics::MdsMethod::LeastSquares),
+            geodesic_method(numerics::MdsMethod::Classical),
+            geodesic_method(numerics::MdsMethod::Landmark)};
 }
 
 // --- the registry ----------------------------------------------------------------------------------

@@ -11,7 +11,7 @@
 #include <stdexcept>
 #include <vector>
 
-namespace canonform {
+namespace canonform::numerics {
 namespace {
 
 using RowSparse = Eigen::SparseMatrix<double, Eigen::RowMajor>;
@@ -479,4 +479,4 @@ double AmgPreconditioner::operator_complexity() const {
     return total / static_cast<double>(levels_[0].A.nonZeros());
 }
 
-}  // namespace canonform
+}  // namespace canonform::numerics

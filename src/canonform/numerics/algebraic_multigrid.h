@@ -28,7 +28,7 @@
 #include <string>
 #include <vector>
 
-namespace canonform {
+namespace canonform::numerics {
 
 /// How a core algorithm solves its large sparse SPD systems (SMACOF's V, the conformal factor's
 /// Laplacian).
@@ -125,4 +125,4 @@ private:
     int sweeps_ = 1;
 };
 
-}  // namespace canonform
+}  // namespace canonform::numerics

@@ -21,7 +21,7 @@
 #include <string>
 #include <thread>
 
-namespace canonform {
+namespace canonform::numerics {
 
 using Eigen::Index;
 using Eigen::MatrixXd;
@@ -507,4 +507,4 @@ MdsResult mds(const MatrixXd& D, MdsMethod method, const MdsOptions& options) {
     throw InputError("mds: unknown method");
 }
 
-}  // namespace canonform
+}  // namespace canonform::numerics

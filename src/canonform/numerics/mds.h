@@ -65,7 +65,7 @@
 #include <functional>
 #include <vector>
 
-namespace canonform {
+namespace canonform::numerics {
 
 enum class MdsMethod { LeastSquares, Classical, Landmark };
 
@@ -136,4 +136,4 @@ EigenPairs top_eigenpairs(Eigen::Index n, int k,
 
 }  // namespace detail
 
-}  // namespace canonform
+}  // namespace canonform::numerics

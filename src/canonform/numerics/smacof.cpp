@@ -9,7 +9,7 @@
 #include <cmath>
 #include <sstream>
 
-namespace canonform {
+namespace canonform::numerics {
 
 const char* to_string(SmacofAcceleration a) {
     switch (a) {
@@ -282,4 +282,4 @@ SmacofResult SmacofSolver::solve(const Eigen::MatrixXd& X0, const SmacofOptions&
                        X0.rowwise() - X0.colwise().mean(), options, "SMACOF");
 }
 
-}  // namespace canonform
+}  // namespace canonform::numerics

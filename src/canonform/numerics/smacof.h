@@ -73,7 +73,7 @@
 #include <string>
 #include <vector>
 
-namespace canonform {
+namespace canonform::numerics {
 
 /// The pairs (i, j) of eq. (1) with their target distance delta and weight w (> 0).
 struct StressPairs {
@@ -281,4 +281,4 @@ private:
     AmgPreconditioner amg_;    // Multigrid: the same matrix
 };
 
-}  // namespace canonform
+}  // namespace canonform::numerics

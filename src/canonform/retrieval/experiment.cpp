@@ -516,7 +516,7 @@ double pose_consistency(const std::vector<Model>& models, const std::vector<size
                 std::sqrt((Q.rowwise() - Q.colwise().mean()).squaredNorm() / static_cast<double>(Q.rows()));
             Eigen::MatrixXd M = P;
             M.col(0) *= -1;
-            sum += std::min(align_rigid(P, Q).rms, align_rigid(M, Q).rms) / radius;
+            sum += std::min(numerics::align_rigid(P, Q).rms, numerics::align_rigid(M, Q).rms) / radius;
             ++*pairs;
         }
     }

@@ -63,17 +63,17 @@ ConformalFactorResult conformal_factor(const Eigen::MatrixXd& V0, const Eigen::M
     V.resize(0, 3);
     Eigen::VectorXd phi(n);
     phi(0) = 0;
-    if (use_multigrid(options.linear_solver, n - 1)) {
-        const AmgPreconditioner amg(Lr);
+    if (numerics::use_multigrid(options.linear_solver, n - 1)) {
+        const numerics::AmgPreconditioner amg(Lr);
         report_progress(options.progress, 0.7, "conformal factor: solving (multigrid)");
         Eigen::MatrixXd x = Eigen::MatrixXd::Zero(n - 1, 1);
-        const PcgReport rep = amg.pcg(Eigen::MatrixXd(rhs.tail(n - 1)), x, 1e-10, 500);
+        const numerics::PcgReport rep = amg.pcg(Eigen::MatrixXd(rhs.tail(n - 1)), x, 1e-10, 500);
         if (!rep.converged)
             throw NumericalError("conformal factor: the multigrid solve did not converge (is the mesh "
                                  "free of degenerate triangles?)");
         phi.tail(n - 1) = x.col(0);
     } else {
-        SparseCholesky solver;
+        numerics::SparseCholesky solver;
         if (!solver.compute(Lr))
             throw NumericalError("conformal factor: the Cholesky factorisation of the cotangent Laplacian "
                                  "failed (is the mesh connected and free of degenerate triangles?)");

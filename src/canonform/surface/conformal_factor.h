@@ -38,7 +38,7 @@ namespace canonform {
 /// Options of conformal_factor().
 struct ConformalFactorOptions {
     double residual_tolerance = 1e-6;  ///< max ||L phi - rhs||_inf / ||rhs||_inf accepted
-    LinearSolver linear_solver = LinearSolver::Auto;  ///< how eq. (7) is solved
+    numerics::LinearSolver linear_solver = numerics::LinearSolver::Auto;  ///< how eq. (7) is solved
     bool validate = true;              ///< run validate_mesh() first (InputError on bad input)
     /// Boundary vertices (#V flags, MeshReport::boundary) when the caller validated the mesh
     /// itself; empty = found from F (or taken from validate_mesh's report).

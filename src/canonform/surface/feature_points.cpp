@@ -17,7 +17,7 @@ int sqrt_count(int n) {
     return s;
 }
 
-std::vector<int> local_maxima(const VertexAdjacency& adj, const Eigen::VectorXd& phi, int ring) {
+std::vector<int> local_maxima(const numerics::VertexAdjacency& adj, const Eigen::VectorXd& phi, int ring) {
     if (ring < 1) throw InputError("the ring size of a local maximum must be at least 1");
     const int n = adj.num_vertices();
     std::vector<int> maxima;
@@ -79,7 +79,7 @@ std::uint64_t bounded(std::mt19937_64& rng, std::uint64_t bound) {
 
 }  // namespace
 
-FeaturePoints feature_points(const VertexAdjacency& adj, const Eigen::VectorXd& phi,
+FeaturePoints feature_points(const numerics::VertexAdjacency& adj, const Eigen::VectorXd& phi,
                              const FeaturePointOptions& options) {
     const int n = adj.num_vertices();
     if (phi.size() != n) throw InputError("feature points: one conformal factor per vertex is needed");
@@ -123,7 +123,7 @@ FeaturePoints feature_points(const VertexAdjacency& adj, const Eigen::VectorXd& 
 
 FeaturePoints feature_points(const Eigen::MatrixXi& F, const Eigen::VectorXd& phi,
                              const FeaturePointOptions& options) {
-    const VertexAdjacency adj = vertex_adjacency(static_cast<int>(phi.size()), unique_edges(F));
+    const numerics::VertexAdjacency adj = numerics::vertex_adjacency(static_cast<int>(phi.size()), unique_edges(F));
     return feature_points(adj, phi, options);
 }
 

@@ -54,10 +54,10 @@ struct FeaturePoints {
 };
 
 /// Vertices that are strict maxima of `phi` (#V) over their k-ring in the graph `adjacency`.
-std::vector<int> local_maxima(const VertexAdjacency& adjacency, const Eigen::VectorXd& phi, int ring);
+std::vector<int> local_maxima(const numerics::VertexAdjacency& adjacency, const Eigen::VectorXd& phi, int ring);
 
 /// Feature points of a mesh with vertex adjacency `adjacency` and conformal factor `phi` (#V).
-FeaturePoints feature_points(const VertexAdjacency& adjacency, const Eigen::VectorXd& phi,
+FeaturePoints feature_points(const numerics::VertexAdjacency& adjacency, const Eigen::VectorXd& phi,
                              const FeaturePointOptions& options = {});
 
 /// Convenience overload building the adjacency from the faces F (#F x 3).
