@@ -36,6 +36,7 @@
 
 using namespace canonform;
 using namespace canonform::numerics;
+using namespace canonform::surface;
 
 namespace {
 

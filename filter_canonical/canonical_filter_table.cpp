@@ -76,7 +76,7 @@ std::vector<FilterSpec> make_filter_table() {
                  Laplacian, the angle-deficit curvature K^0 and the area-proportional target curvature K^T. It
                  is pose invariant and largest at the extremities of the shape. Stored in the vertex
                  quality.)"))
-                    .with_params({normalize_parameter(), colorize_parameter(), repair_parameter()})
+                    .with_params({surface::normalize_parameter(), colorize_parameter(), surface::repair_parameter()})
                     .with_needs(kVertexQuality | kVertexColor)
                     .with_changes(kVertexQuality | kVertexColor | kTopology | kNormals));
     t.push_back(FilterSpec("Feature points", "compute_feature_points", FilterKind::Selection)
@@ -84,7 +84,7 @@ std::vector<FilterSpec> make_filter_table() {
                  the largest conformal factor among those that are local maxima over their k-ring. Optionally
                  tops the set up to ceil(sqrt(N)) with seeded random vertices (the paper's variant A) and adds
                  a point-cloud layer of the points with the conformal factor as quality.)"))
-                    .with_params(concat(feature_point_parameters().parameters(), {add_layer_parameter(), repair_parameter()}))
+                    .with_params(concat(surface::feature_point_parameters().parameters(), {add_layer_parameter(), surface::repair_parameter()}))
                     .with_needs(kVertexQuality)
                     .with_changes(kVertexQuality | kVertexSelection | kTopology | kNormals));
     t.push_back(FilterSpec("Euclidean canonical form", "generate_euclidean_canonical_form", FilterKind::Smoothing)
@@ -96,7 +96,7 @@ std::vector<FilterSpec> make_filter_table() {
                  input's faces, vertex order and units; feature points are selected and the conformal factor
                  is stored in the vertex quality.)"))
                     .with_params(method_filter_parameters(MethodFamily::Euclidean, "variant", "Variant",
-                                                          {new_layer_parameter(), repair_parameter()}))
+                                                          {new_layer_parameter(), surface::repair_parameter()}))
                     .with_needs(kVertexQuality)
                     .with_changes(kVertexQuality | kVertexSelection | kVertexCoordinates | kNormals | kTopology));
     t.push_back(FilterSpec("Geodesic canonical form", "generate_geodesic_canonical_form", FilterKind::Smoothing)
@@ -106,7 +106,7 @@ std::vector<FilterSpec> make_filter_table() {
                  N^2 and its time like N^2 log N: the filter estimates both first and refuses, naming them,
                  above the limits below. Same output conventions as 'Euclidean canonical form'.)"))
                     .with_params(method_filter_parameters(MethodFamily::Geodesic, "method", "MDS method",
-                                                          {new_layer_parameter(), repair_parameter()}))
+                                                          {new_layer_parameter(), surface::repair_parameter()}))
                     .with_needs(kNothing)
                     .with_changes(kVertexCoordinates | kNormals | kTopology));
     for (auto& f : t) f.info += kCitation;

@@ -38,13 +38,13 @@ MeshModel& current_mesh(MeshDocument& md) {
 /// by commit_repair() only once the computation has succeeded, so a failure leaves it unchanged.
 struct FilterInput {
     BridgedMesh<CMeshO> b;              ///< what to compute on (repaired if asked)
-    std::optional<MeshRepair> repair;   ///< the repair, if it changed something
+    std::optional<surface::MeshRepair> repair;   ///< the repair, if it changed something
 };
 
 FilterInput filter_input(MeshModel& mm, const ParamValues& p, const ActionContext& ctx) {
     FilterInput in{to_eigen(mm.cm), {}};
     if (p.values.count("repair") && p.get_bool("repair")) {  // scripts written before it have no "repair": off
-        MeshRepair r = repair_mesh(in.b.V, in.b.F);
+        surface::MeshRepair r = surface::repair_mesh(in.b.V, in.b.F);
         ctx.log("'" + mm.label().toStdString() + "': " + r.summary());
         if (r.changed()) in.repair = std::move(r);
     }
@@ -60,7 +60,7 @@ FilterInput filter_input(MeshModel& mm, const ParamValues& p, const ActionContex
 /// updated - and returns the current mesh bridged again: its rows are those of in.b.
 BridgedMesh<CMeshO> commit_repair(MeshModel& mm, FilterInput& in) {
     if (!in.repair) return std::move(in.b);
-    const MeshRepair& r = *in.repair;
+    const surface::MeshRepair& r = *in.repair;
     CMeshO& m = mm.cm;
     std::vector<CMeshO::FacePointer> faces;
     for (auto& f : m.face)
@@ -92,7 +92,7 @@ BridgedMesh<CMeshO> commit_repair(MeshModel& mm, FilterInput& in) {
 /// an acceptable one: boundaries are allowed (eq. 8 treats their vertices) but change the result.
 template <class Bridged>
 void validate_and_note(const Bridged& b, const ActionContext& ctx) {
-    const MeshReport r = validate_mesh(b.V, b.F);
+    const surface::MeshReport r = surface::validate_mesh(b.V, b.F);
     if (r.boundary_edges > 0) {
         std::ostringstream m;
         m << "note: the mesh is open (" << r.boundary_edges << " boundary edges, " << r.boundary_loops_vertices
@@ -109,12 +109,12 @@ QString layer_name(const MeshModel& mm, const char* suffix) {
 
 /// The conformal factor of a bridged mesh, after validate_and_note().
 template <class Bridged>
-ConformalFactorResult validated_conformal_factor(const Bridged& b, const ActionContext& ctx) {
+surface::ConformalFactorResult validated_conformal_factor(const Bridged& b, const ActionContext& ctx) {
     validate_and_note(b, ctx);
-    ConformalFactorOptions opt;
+    surface::ConformalFactorOptions opt;
     opt.progress = ctx.progress;
     opt.validate = false;
-    return conformal_factor(b.V, b.F, opt);
+    return surface::conformal_factor(b.V, b.F, opt);
 }
 
 /// The options of a parameter set from the filter's values of its parameters (checked: InputError
@@ -128,7 +128,7 @@ ActionOutputs conformal_factor_action(const FilterSpec&, MeshDocument& md, const
                                       const ActionContext& ctx) {
     MeshModel& mm = current_mesh(md);
     FilterInput in = filter_input(mm, p, ctx);
-    const ConformalFactorResult cf = validated_conformal_factor(in.b, ctx);
+    const surface::ConformalFactorResult cf = validated_conformal_factor(in.b, ctx);
     const bool normalized = p.get_bool("normalize");
     const auto b = commit_repair(mm, in);  // everything computed: now change the document
     mm.updateDataMask(MeshModel::MM_VERTQUALITY);
@@ -149,11 +149,11 @@ ActionOutputs conformal_factor_action(const FilterSpec&, MeshDocument& md, const
 ActionOutputs feature_points_action(const FilterSpec&, MeshDocument& md, const ParamValues& p,
                                     const ActionContext& ctx) {
     MeshModel& mm = current_mesh(md);
-    const FeaturePointOptions opt = options_from(feature_point_parameters(), p);
+    const surface::FeaturePointOptions opt = options_from(surface::feature_point_parameters(), p);
     const int ring = opt.ring;
     FilterInput in = filter_input(mm, p, ctx);
-    const ConformalFactorResult cf = validated_conformal_factor(in.b, ctx);
-    const FeaturePoints fp = feature_points(in.b.F, cf.normalized, opt);
+    const surface::ConformalFactorResult cf = validated_conformal_factor(in.b, ctx);
+    const surface::FeaturePoints fp = surface::feature_points(in.b.F, cf.normalized, opt);
 
     // Everything computed: now change the document.
     const auto b = commit_repair(mm, in);
@@ -175,11 +175,11 @@ ActionOutputs feature_points_action(const FilterSpec&, MeshDocument& md, const P
     std::ostringstream log;
     log << "Feature points of '" << mm.label().toStdString() << "': " << fp.indices.size() << " selected ("
         << fp.num_maxima << " local maxima over the " << ring << "-ring of " << fp.total_maxima << " found, "
-        << fp.num_random << " random; target ceil(sqrt(" << b.V.rows() << ")) = " << sqrt_count(int(b.V.rows()))
+        << fp.num_random << " random; target ceil(sqrt(" << b.V.rows() << ")) = " << surface::sqrt_count(int(b.V.rows()))
         << ")";
     ctx.log(log.str());
     return {{"selected", int(fp.indices.size())}, {"maxima", int(fp.num_maxima)}, {"random", int(fp.num_random)},
-            {"target", int(sqrt_count(int(b.V.rows())))}};
+            {"target", int(surface::sqrt_count(int(b.V.rows())))}};
 }
 
 /// Writes a canonical form X (#V x 3, rows as in `b`) into a new layer named after `mm` (or in

@@ -12,6 +12,7 @@
 
 using namespace canonform;
 using namespace canonform::numerics;
+using namespace canonform::surface;
 
 TEST(ConformalFactor, SolvesEquationSevenWithTheDocumentedSign) {
     const Figure f = make_figure(2000, figure_pose(0));

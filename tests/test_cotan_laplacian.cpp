@@ -10,6 +10,7 @@
 #include <vector>
 
 using namespace canonform;
+using namespace canonform::surface;
 
 namespace {
 

@@ -10,6 +10,7 @@
 
 using namespace canonform;
 using namespace canonform::numerics;
+using namespace canonform::surface;
 
 namespace {
 

@@ -21,6 +21,7 @@
 
 using namespace canonform;
 using namespace canonform::plugin;
+using namespace canonform::surface;
 
 namespace {
 

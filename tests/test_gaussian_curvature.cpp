@@ -10,6 +10,7 @@
 #include <cmath>
 
 using namespace canonform;
+using namespace canonform::surface;
 
 TEST(GaussianCurvature, GaussBonnetOnSphere) {
     const Mesh s = make_icosphere(3);

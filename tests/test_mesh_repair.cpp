@@ -12,6 +12,7 @@
 #include <gtest/gtest.h>
 
 using namespace canonform;
+using namespace canonform::surface;
 
 namespace {
 

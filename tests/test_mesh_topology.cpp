@@ -12,6 +12,7 @@
 
 using namespace canonform;
 using namespace canonform::numerics;
+using namespace canonform::surface;
 
 namespace {
 

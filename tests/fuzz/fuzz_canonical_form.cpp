@@ -28,6 +28,7 @@
 namespace {
 
 using namespace canonform;
+using namespace canonform::surface;
 
 double hostile(std::uint8_t code, double base) {
     switch (code % 12) {

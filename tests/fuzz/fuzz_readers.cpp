@@ -29,6 +29,7 @@
 namespace {
 
 using namespace canonform;
+using namespace canonform::surface;
 
 void require(bool ok, const char* what) {
     if (!ok) {

@@ -41,7 +41,7 @@ void print_json(const nlohmann::ordered_json& j) {
 }
 
 void validate_and_note(const std::string& path, const Mesh& m, bool quiet) {
-    const MeshReport r = on_input(path, [&] { return validate_mesh(m.V, m.F); });
+    const surface::MeshReport r = on_input(path, [&] { return surface::validate_mesh(m.V, m.F); });
     if (r.boundary_edges > 0 && !quiet)
         std::cerr << "canonform: note: '" << path << "' is open (" << r.boundary_edges
                   << " boundary edges); boundary curvature uses pi instead of 2 pi (eq. 8)\n";
@@ -50,7 +50,7 @@ void validate_and_note(const std::string& path, const Mesh& m, bool quiet) {
 Mesh read_input_mesh(const std::string& path, bool repair, bool quiet, bool validate) {
     Mesh m = io::read_mesh(path);
     if (repair) {
-        const MeshRepair r = on_input(path, [&] { return repair_mesh(m.V, m.F); });
+        const surface::MeshRepair r = on_input(path, [&] { return surface::repair_mesh(m.V, m.F); });
         std::cerr << "canonform: '" << path << "': " << r.summary() << "\n";
         m = r.mesh;
     }
@@ -68,7 +68,7 @@ Mesh read_large_mesh(const std::string& path, bool repair, bool quiet) {
 }
 
 void add_repair_flag(CLI::App* command, bool& repair) {
-    const Parameter p = repair_parameter();
+    const Parameter p = surface::repair_parameter();
     command->add_flag("--" + p.name(), repair, p.help() + " (one line on stderr)");
 }
 

@@ -24,11 +24,11 @@ namespace canonform::cli {
 namespace {
 
 /// The conformal factor of a mesh already validated by validate_and_note().
-ConformalFactorResult conformal_of(const std::string& path, const Mesh& m) {
+surface::ConformalFactorResult conformal_of(const std::string& path, const Mesh& m) {
     return on_input(path, [&] {
-        ConformalFactorOptions o;
+        surface::ConformalFactorOptions o;
         o.validate = false;
-        return conformal_factor(m.V, m.F, o);
+        return surface::conformal_factor(m.V, m.F, o);
     });
 }
 
@@ -43,13 +43,13 @@ void add_conformal(CLI::App& app) {
     auto a = std::make_shared<Args>();
     auto* c = app.add_subcommand("conformal", "the conformal factor (eqs. 7-9) as vertex quality of a PLY");
     add_in_out(c, a->in, a->out, "output mesh (PLY: conformal factor as vertex quality; .off/.obj/.stl: geometry only)");
-    add_parameter(c, normalize_parameter(), a->normalize);
+    add_parameter(c, surface::normalize_parameter(), a->normalize);
     c->add_flag("--json", a->json, "print a JSON summary on stdout");
     add_repair_flag(c, a->repair);
     c->callback([a] {
         const auto t0 = std::chrono::steady_clock::now();
         const Mesh m = read_large_mesh(a->in, a->repair, a->json);
-        const ConformalFactorResult cf = conformal_of(a->in, m);
+        const surface::ConformalFactorResult cf = conformal_of(a->in, m);
         io::write_mesh(a->out, m.V, m.F, a->normalize.switches.at("normalize") ? cf.normalized : cf.raw);
         if (a->json)
             print_json({{"vertices", m.V.rows()}, {"faces", m.F.rows()}, {"min", cf.raw.minCoeff()},
@@ -67,15 +67,15 @@ void add_features(CLI::App& app) {
     auto* c = app.add_subcommand("features", "the feature points (2-ring maxima of the conformal factor) as a point cloud");
     add_in_out(c, a->in, a->out, "output point cloud: the feature points (PLY quality: conformal factor; or .off, .obj)",
                true, false);
-    add_parameters(c, feature_point_parameters(), a->features);
+    add_parameters(c, surface::feature_point_parameters(), a->features);
     c->add_flag("--json", a->json, "print a JSON summary on stdout");
     add_repair_flag(c, a->repair);
     c->callback([a] {
         const auto t0 = std::chrono::steady_clock::now();
-        const FeaturePointOptions opt = read_parameters(feature_point_parameters(), a->features);
+        const surface::FeaturePointOptions opt = read_parameters(surface::feature_point_parameters(), a->features);
         const Mesh m = read_large_mesh(a->in, a->repair, a->json);
-        const ConformalFactorResult cf = conformal_of(a->in, m);
-        const FeaturePoints fp = feature_points(m.F, cf.normalized, opt);
+        const surface::ConformalFactorResult cf = conformal_of(a->in, m);
+        const surface::FeaturePoints fp = surface::feature_points(m.F, cf.normalized, opt);
         Eigen::MatrixXd P(static_cast<Eigen::Index>(fp.indices.size()), 3);
         Eigen::VectorXd q(P.rows());
         for (size_t k = 0; k < fp.indices.size(); ++k) {
@@ -185,7 +185,7 @@ void add_simplify(CLI::App& app) {
     add_repair_flag(c, a->repair);
     c->callback([a] {
         const Mesh m = read_input_mesh(a->in, a->repair, false);
-        const Mesh s = on_input(a->in, [&] { return simplify_mesh(m, a->vertices); });
+        const Mesh s = on_input(a->in, [&] { return surface::simplify_mesh(m, a->vertices); });
         io::write_mesh(a->out, s.V, s.F);
         std::cerr << "simplified " << m.V.rows() << " -> " << s.V.rows() << " vertices\n";
     });
@@ -356,10 +356,10 @@ void add_check(CLI::App& app) {
             notes.push_back("MeshLab's OFF importer uses such an index as a pointer: MeshLab crashes on this file "
                             "before any filter runs; `canonform check FILE --repair OUT` drops those faces");
         }
-        MeshReport report;
-        for (const MeshProblem& p : mesh_problems(m.V, m.F, {}, &report)) problems.push_back(p.message);
+        surface::MeshReport report;
+        for (const surface::MeshProblem& p : surface::mesh_problems(m.V, m.F, {}, &report)) problems.push_back(p.message);
         // What --repair would change (merges and removals the filters' own 'Repair' also make).
-        const MeshRepair fix = m.F.rows() > 0 ? repair_mesh(m.V, m.F) : MeshRepair{};
+        const surface::MeshRepair fix = m.F.rows() > 0 ? surface::repair_mesh(m.V, m.F) : surface::MeshRepair{};
         if (fix.changed()) notes.push_back("--repair would " + fix.summary());
         if (report.boundary_edges > 0)
             notes.push_back("open surface: " + std::to_string(report.boundary_edges) + " boundary edges (allowed)");
@@ -371,12 +371,12 @@ void add_check(CLI::App& app) {
 
         if (!a->repair_out.empty()) {
             const Mesh& r = fix.changed() ? fix.mesh : m;
-            const std::vector<MeshProblem> left = mesh_problems(r.V, r.F);
+            const std::vector<surface::MeshProblem> left = surface::mesh_problems(r.V, r.F);
             io::write_mesh(a->repair_out, r.V, r.F);
             nlohmann::ordered_json rj = {{"output", a->repair_out}, {"vertices", r.V.rows()}, {"faces", r.F.rows()},
                                          {"dropped_faces", file.dropped_faces}, {"summary", fix.summary()}};
             std::vector<std::string> left_messages;
-            for (const MeshProblem& p : left) left_messages.push_back(p.message);
+            for (const surface::MeshProblem& p : left) left_messages.push_back(p.message);
             rj["problems_left"] = left_messages;
             j["repair"] = rj;
             if (!a->json) {

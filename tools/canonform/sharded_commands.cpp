@@ -375,7 +375,7 @@ void add_query(CLI::App& app) {
         for (const std::string& path : a->meshes) {
             const auto t0 = std::chrono::steady_clock::now();
             Mesh m = read_input_mesh(path, a->repair, true, false);
-            if (x.simplify() > 0 && m.V.rows() > x.simplify()) m = simplify_mesh(m, x.simplify());
+            if (x.simplify() > 0 && m.V.rows() > x.simplify()) m = surface::simplify_mesh(m, x.simplify());
             MethodContext context;
             context.threads = a->threads;
             const Eigen::MatrixXd X = on_input(path, [&] { return spec.method().run(m.V, m.F, spec.settings(), context).V; });

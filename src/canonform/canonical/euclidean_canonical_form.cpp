@@ -69,28 +69,28 @@ EuclideanCanonicalFormResult euclidean_canonical_form(const Eigen::MatrixXd& V0,
     if (!(options.alpha > 0)) throw InputError("alpha must be positive");
     if (options.smacof.max_iterations < 1) throw InputError("the iteration cap must be at least 1");
     if (!(options.smacof.tolerance >= 0)) throw InputError("the tolerance must be non-negative");
-    const MeshReport report = options.validate ? validate_mesh(V0, F) : MeshReport{};
+    const surface::MeshReport report = options.validate ? surface::validate_mesh(V0, F) : surface::MeshReport{};
     report_progress(options.progress, 0.0, "scaling");
 
     Eigen::RowVector3d centroid;
     double scale = 1;
-    const Eigen::MatrixXd V = normalize_scale(V0, &centroid, &scale);
+    const Eigen::MatrixXd V = surface::normalize_scale(V0, &centroid, &scale);
 
     // Sub-steps report into [0, 0.1] (conformal factor) and [0.1, 1] (SMACOF).
-    ConformalFactorOptions cf_opt;
+    surface::ConformalFactorOptions cf_opt;
     cf_opt.validate = false;
     cf_opt.boundary = report.boundary;
     cf_opt.linear_solver = options.linear_solver;
     if (options.progress)
         cf_opt.progress = [&](double f, const char* s) { return options.progress(0.08 * f, s); };
-    const ConformalFactorResult cf = conformal_factor(V, F, cf_opt);
+    const surface::ConformalFactorResult cf = surface::conformal_factor(V, F, cf_opt);
     const auto t1 = std::chrono::steady_clock::now();
 
-    const Eigen::MatrixXi E = report.edge_list.rows() ? report.edge_list : unique_edges(F);
+    const Eigen::MatrixXi E = report.edge_list.rows() ? report.edge_list : surface::unique_edges(F);
     const numerics::VertexAdjacency adj = numerics::vertex_adjacency(static_cast<int>(V.rows()), E);
-    FeaturePointOptions fp_opt = options.features;
-    fp_opt.fill = options.variant == CanonicalVariant::A ? FeatureFill::Random : FeatureFill::None;
-    const FeaturePoints fp = feature_points(adj, cf.normalized, fp_opt);
+    surface::FeaturePointOptions fp_opt = options.features;
+    fp_opt.fill = options.variant == CanonicalVariant::A ? surface::FeatureFill::Random : surface::FeatureFill::None;
+    const surface::FeaturePoints fp = surface::feature_points(adj, cf.normalized, fp_opt);
     report_progress(options.progress, 0.09, "feature points");
 
     numerics::SmacofSolverOptions solver_opt;
@@ -111,7 +111,7 @@ EuclideanCanonicalFormResult euclidean_canonical_form(const Eigen::MatrixXd& V0,
 
     EuclideanCanonicalFormResult r;
     static_cast<numerics::SmacofStatistics&>(r) = std::move(sm);
-    r.mean_relative_edge_change = mean_relative_edge_change(V, sm.X, E);
+    r.mean_relative_edge_change = surface::mean_relative_edge_change(V, sm.X, E);
     r.V = options.restore_scale ? Eigen::MatrixXd((sm.X * scale).rowwise() + centroid) : sm.X;
     r.phi = cf.normalized;
     r.features = fp.indices;
@@ -140,7 +140,7 @@ ParameterSet<EuclideanCanonicalFormOptions> euclidean_canonical_form_parameters(
               .label("Beta (0 = variant default)")
               .help("edge-length preservation weight; 0: the variant's default, 10 for A and 130 for N"),
           &O::beta);
-    s.include(feature_point_parameters(), &O::features, {"ring", "seed"});
+    s.include(surface::feature_point_parameters(), &O::features, {"ring", "seed"});
     s.include(numerics::smacof_parameters(), &O::smacof);
     s.add(Parameter::choice("solver", numerics::linear_solver_names())
               .label("Linear solver")

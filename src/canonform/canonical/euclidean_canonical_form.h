@@ -59,7 +59,7 @@ struct EuclideanCanonicalFormOptions {
     double beta = 0.0;            ///< edge-preservation weight; <= 0 means the variant's default
     /// Step 3: the k-ring, the seed and the count of the feature points (feature_points.h); their
     /// fill is the variant's (A: random, N: none), whatever `features.fill` says.
-    FeaturePointOptions features;
+    surface::FeaturePointOptions features;
     numerics::SmacofOptions smacof;         ///< step 4: tolerance, iteration cap, acceleration, history (smacof.h)
     numerics::LinearSolver linear_solver = numerics::LinearSolver::Auto;  ///< conformal factor's and SMACOF's solver
     bool restore_scale = true;    ///< return the result in the input's units and position

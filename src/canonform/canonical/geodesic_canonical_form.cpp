@@ -40,19 +40,19 @@ GeodesicCost estimate_geodesic_canonical_form(long n, numerics::MdsMethod method
     const int t = effective_threads(threads);
     const double speedup = 1.0 + 0.8 * (t - 1);
     GeodesicCost c;
-    c.bytes = static_cast<double>(all_pairs_geodesic_bytes(n)) +
+    c.bytes = static_cast<double>(surface::all_pairs_geodesic_bytes(n)) +
               (method == numerics::MdsMethod::Landmark ? 0.0 : 8.0 * nn) + 64.0 * static_cast<double>(n);
     double mds = 0;
     if (method == numerics::MdsMethod::LeastSquares) mds = 100 * 6e-9 * nn;
     if (method == numerics::MdsMethod::Classical) mds = 40 * 2e-9 * nn;
-    c.seconds = (all_pairs_geodesic_seconds_estimate(n) + mds) / speedup;
+    c.seconds = (surface::all_pairs_geodesic_seconds_estimate(n) + mds) / speedup;
     return c;
 }
 
 GeodesicCanonicalFormResult geodesic_canonical_form(const Eigen::MatrixXd& V0, const Eigen::MatrixXi& F,
                                                     const GeodesicCanonicalFormOptions& options) {
     const auto t0 = std::chrono::steady_clock::now();
-    const MeshReport report = validate_mesh(V0, F);
+    const surface::MeshReport report = surface::validate_mesh(V0, F);
     GeodesicCanonicalFormResult r;
     r.estimate = estimate_geodesic_canonical_form(V0.rows(), options.method, options.threads);
     const double gib = r.estimate.bytes / (1024.0 * 1024.0 * 1024.0);
@@ -67,14 +67,14 @@ GeodesicCanonicalFormResult geodesic_canonical_form(const Eigen::MatrixXd& V0, c
     }
     Eigen::RowVector3d centroid;
     double scale = 1;
-    const Eigen::MatrixXd V = normalize_scale(V0, &centroid, &scale);
+    const Eigen::MatrixXd V = surface::normalize_scale(V0, &centroid, &scale);
 
     // Step 2: geodesics, reported in [0, 0.7] of the progress.
-    GeodesicOptions g;
+    surface::GeodesicOptions g;
     g.threads = options.threads;
     if (options.progress) g.progress = [&](double f, const char* s) { return options.progress(0.7 * f, s); };
     const auto tg = std::chrono::steady_clock::now();
-    const Eigen::MatrixXd D = all_pairs_geodesic_distances(V, F, g);
+    const Eigen::MatrixXd D = surface::all_pairs_geodesic_distances(V, F, g);
     r.geodesic_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - tg).count();
     if (!D.allFinite()) throw NumericalError("geodesic distances: some vertices were not reached");
 
@@ -91,7 +91,7 @@ GeodesicCanonicalFormResult geodesic_canonical_form(const Eigen::MatrixXd& V0, c
     if (m.X.cols() != 3 || !m.X.allFinite()) throw NumericalError("MDS returned a non-finite configuration");
 
     static_cast<numerics::SmacofStatistics&>(r) = std::move(m);  // X stays in m
-    r.mean_relative_edge_change = mean_relative_edge_change(V, m.X, report.edge_list);
+    r.mean_relative_edge_change = surface::mean_relative_edge_change(V, m.X, report.edge_list);
     r.V = options.restore_scale ? Eigen::MatrixXd((m.X * scale).rowwise() + centroid) : m.X;
     report_progress(options.progress, 1.0, "done");
     r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

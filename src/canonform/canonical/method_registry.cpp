@@ -23,7 +23,7 @@ CanonicalMethod none_method() {
     m.label = "none";
     m.help = "the mesh itself (retrieval on the original meshes)";
     m.run = [](const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const MethodSettings&, const MethodContext& c) {
-        if (c.validate) validate_mesh(V, F);  // the same meshes as every other method, NaN never passed on
+        if (c.validate) surface::validate_mesh(V, F);  // the same meshes as every other method, NaN never passed on
         CanonicalForm r;
         r.V = V;
         r.summary = {{"method", std::string("none")}};

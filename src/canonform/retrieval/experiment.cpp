@@ -33,7 +33,7 @@ double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock:
 
 /// Seeded vertex noise: every coordinate moves by N(0, (sigma * mean edge length)^2).
 void add_noise(Mesh& m, double sigma, std::uint64_t seed) {
-    const Eigen::MatrixXi E = unique_edges(m.F);
+    const Eigen::MatrixXi E = surface::unique_edges(m.F);
     double mean = 0;
     for (Eigen::Index e = 0; e < E.rows(); ++e) mean += (m.V.row(E(e, 0)) - m.V.row(E(e, 1))).norm();
     mean /= static_cast<double>(std::max<Eigen::Index>(1, E.rows()));
@@ -194,12 +194,12 @@ MeshFeatures Experiment::mesh_features(const MethodSpec& method, std::size_t k) 
     try {
         Mesh m = io::read_mesh(model.path);
         if (o.repair) {
-            const MeshRepair fix = repair_mesh(m.V, m.F);
+            const surface::MeshRepair fix = surface::repair_mesh(m.V, m.F);
             if (fix.changed()) r.note += (r.note.empty() ? "" : "; ") + fix.summary();
             m = fix.mesh;
         }
         if (o.simplify > 0 && m.V.rows() > o.simplify) {
-            m = simplify_mesh(m, o.simplify);
+            m = surface::simplify_mesh(m, o.simplify);
         } else if (o.simplify > 0) {  // said, not silent: the mesh is already at most that size
             r.note += (r.note.empty() ? "" : "; ") + std::string("not simplified: ") + std::to_string(m.V.rows()) +
                       " vertices, at most the --simplify " + std::to_string(o.simplify);

@@ -11,7 +11,7 @@
 #include <cmath>
 #include <sstream>
 
-namespace canonform {
+namespace canonform::surface {
 
 Eigen::MatrixXd normalize_scale(const Eigen::MatrixXd& V, Eigen::RowVector3d* centroid, double* scale) {
     const Eigen::RowVector3d c = V.colwise().mean();
@@ -107,4 +107,4 @@ ConformalFactorResult conformal_factor(const Eigen::MatrixXd& V0, const Eigen::M
     return r;
 }
 
-}  // namespace canonform
+}  // namespace canonform::surface

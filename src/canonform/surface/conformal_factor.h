@@ -33,7 +33,7 @@
 
 #include <vector>
 
-namespace canonform {
+namespace canonform::surface {
 
 /// Options of conformal_factor().
 struct ConformalFactorOptions {
@@ -75,4 +75,4 @@ ConformalFactorResult conformal_factor(const Eigen::MatrixXd& V, const Eigen::Ma
 Eigen::MatrixXd normalize_scale(const Eigen::MatrixXd& V, Eigen::RowVector3d* centroid = nullptr,
                                 double* scale = nullptr);
 
-}  // namespace canonform
+}  // namespace canonform::surface

@@ -8,7 +8,7 @@
 #include <numeric>
 #include <random>
 
-namespace canonform {
+namespace canonform::surface {
 
 int sqrt_count(int n) {
     int s = static_cast<int>(std::sqrt(static_cast<double>(n)));
@@ -127,4 +127,4 @@ FeaturePoints feature_points(const Eigen::MatrixXi& F, const Eigen::VectorXd& ph
     return feature_points(adj, phi, options);
 }
 
-}  // namespace canonform
+}  // namespace canonform::surface

@@ -25,7 +25,7 @@
 #include <cstdint>
 #include <vector>
 
-namespace canonform {
+namespace canonform::surface {
 
 /// How to reach the target count when there are fewer local maxima than sqrt(N).
 enum class FeatureFill {
@@ -67,4 +67,4 @@ FeaturePoints feature_points(const Eigen::MatrixXi& F, const Eigen::VectorXd& ph
 /// ceil(sqrt(n)), computed exactly in integers.
 int sqrt_count(int n);
 
-}  // namespace canonform
+}  // namespace canonform::surface

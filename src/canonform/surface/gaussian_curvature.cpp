@@ -8,7 +8,7 @@
 
 #include <cmath>
 
-namespace canonform {
+namespace canonform::surface {
 
 Eigen::VectorXd gaussian_curvature(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
                                    const std::vector<bool>& known_boundary) {
@@ -27,4 +27,4 @@ Eigen::VectorXd gaussian_curvature(const Eigen::MatrixXd& V, const Eigen::Matrix
     return K;
 }
 
-}  // namespace canonform
+}  // namespace canonform::surface

@@ -10,7 +10,7 @@
 #include <limits>
 #include <string>
 
-namespace canonform {
+namespace canonform::surface {
 
 namespace {
 
@@ -272,4 +272,4 @@ double all_pairs_geodesic_seconds_estimate(long n, const Eigen::MatrixXd* V) {
     return c * dn * dn * std::log2(dn);
 }
 
-}  // namespace canonform
+}  // namespace canonform::surface

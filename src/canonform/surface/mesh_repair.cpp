@@ -14,7 +14,7 @@
 #include <sstream>
 #include <unordered_map>
 
-namespace canonform {
+namespace canonform::surface {
 
 namespace {
 
@@ -208,4 +208,4 @@ MeshRepair repair_mesh(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const
     return r;
 }
 
-}  // namespace canonform
+}  // namespace canonform::surface

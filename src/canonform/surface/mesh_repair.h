@@ -27,7 +27,7 @@
 #include <string>
 #include <vector>
 
-namespace canonform {
+namespace canonform::surface {
 
 /// Options of repair_mesh().
 struct MeshRepairOptions {
@@ -59,4 +59,4 @@ Parameter repair_parameter();
 /// Repairs V (#V x 3) and F (#F x 3, indices in [0, #V): InputError otherwise) by the steps above.
 MeshRepair repair_mesh(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const MeshRepairOptions& options = {});
 
-}  // namespace canonform
+}  // namespace canonform::surface

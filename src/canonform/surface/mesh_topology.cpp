@@ -12,7 +12,7 @@
 #include <sstream>
 #include <utility>
 
-namespace canonform {
+namespace canonform::surface {
 
 namespace {
 
@@ -279,4 +279,4 @@ double mean_relative_edge_change(const Eigen::MatrixXd& V0, const Eigen::MatrixX
     return E.rows() ? change / static_cast<double>(E.rows()) : 0.0;
 }
 
-}  // namespace canonform
+}  // namespace canonform::surface
