@@ -37,6 +37,7 @@
 using namespace canonform;
 using namespace canonform::numerics;
 using namespace canonform::surface;
+using namespace canonform::canonical;
 
 namespace {
 

@@ -39,20 +39,20 @@ Parameter new_layer_parameter() {
 /// The parameters of the filter of a method family: `selector`, the enum of the family's methods
 /// (their labels; default: the family's default method), then every parameter of those methods
 /// (method_registry.h; one a method ignores is noted in its help), then `extra`.
-std::vector<Parameter> method_filter_parameters(MethodFamily family, const std::string& selector,
+std::vector<Parameter> method_filter_parameters(canonical::MethodFamily family, const std::string& selector,
                                                 const std::string& label, const std::vector<Parameter>& extra) {
-    const std::vector<const CanonicalMethod*> methods = canonical_methods_of(family);
+    const std::vector<const canonical::CanonicalMethod*> methods = canonical::canonical_methods_of(family);
     std::vector<std::string> labels;
     std::string help;
-    for (const CanonicalMethod* m : methods) {
+    for (const canonical::CanonicalMethod* m : methods) {
         labels.push_back(m->label);
         help += (help.empty() ? "" : "; ") + m->label + ": " + m->help;
     }
     std::vector<Parameter> out = {
-        Parameter::choice(selector, labels).label(label).help(help).default_value(default_method_of(family).label)};
-    for (Parameter p : family_parameters(family)) {
+        Parameter::choice(selector, labels).label(label).help(help).default_value(canonical::default_method_of(family).label)};
+    for (Parameter p : canonical::family_parameters(family)) {
         std::vector<std::string> users;
-        for (const CanonicalMethod* m : methods) {
+        for (const canonical::CanonicalMethod* m : methods) {
             const Parameter* q = m->parameter(p.name());
             if (q && q->affects_result()) users.push_back(m->label);
         }
@@ -95,7 +95,7 @@ std::vector<FilterSpec> make_filter_table() {
                  10); variant N normalises both weight groups (eq. 10, beta = 130). The result keeps the
                  input's faces, vertex order and units; feature points are selected and the conformal factor
                  is stored in the vertex quality.)"))
-                    .with_params(method_filter_parameters(MethodFamily::Euclidean, "variant", "Variant",
+                    .with_params(method_filter_parameters(canonical::MethodFamily::Euclidean, "variant", "Variant",
                                                           {new_layer_parameter(), surface::repair_parameter()}))
                     .with_needs(kVertexQuality)
                     .with_changes(kVertexQuality | kVertexSelection | kVertexCoordinates | kNormals | kTopology));
@@ -105,7 +105,7 @@ std::vector<FilterSpec> make_filter_table() {
                  least squares (SMACOF, all pairs), classical, or fast (landmark) MDS. Its memory grows like
                  N^2 and its time like N^2 log N: the filter estimates both first and refuses, naming them,
                  above the limits below. Same output conventions as 'Euclidean canonical form'.)"))
-                    .with_params(method_filter_parameters(MethodFamily::Geodesic, "method", "MDS method",
+                    .with_params(method_filter_parameters(canonical::MethodFamily::Geodesic, "method", "MDS method",
                                                           {new_layer_parameter(), surface::repair_parameter()}))
                     .with_needs(kNothing)
                     .with_changes(kVertexCoordinates | kNormals | kTopology));

@@ -211,32 +211,32 @@ void write_canonical_form(MeshDocument& md, MeshModel& mm, const Bridged& b, con
 
 /// The settings of `method` from the filter's parameters of the same names (every parameter of
 /// the method is one of its filter's: canonical_filter_table.cpp).
-MethodSettings method_settings(const CanonicalMethod& method, const ParamValues& p) {
+canonical::MethodSettings method_settings(const canonical::CanonicalMethod& method, const ParamValues& p) {
     return method.settings(p.texts(method.parameters));
 }
 
 /// A filter of a method family ("Euclidean canonical form": `variant`, "Geodesic canonical form":
 /// `method`): the method of the registry its enum (its first parameter) names, with the filter's
 /// values of the method's parameters; its result in a new layer or in place.
-template <MethodFamily family>
+template <canonical::MethodFamily family>
 ActionOutputs canonical_form_action(const FilterSpec& spec, MeshDocument& md, const ParamValues& p,
                                     const ActionContext& ctx) {
     MeshModel& mm = current_mesh(md);
-    const auto methods = canonical_methods_of(family);
+    const auto methods = canonical::canonical_methods_of(family);
     const Parameter& selector = spec.params.front();
     const int choice = p.get_int(selector.name());
     if (choice < 0 || choice >= static_cast<int>(methods.size()))
         throw InputError(selector.name() + " must be " + selector.requirement() + ", got the index " +
                          std::to_string(choice));
-    const CanonicalMethod& method = *methods[static_cast<size_t>(choice)];
-    const MethodSettings settings = method_settings(method, p);
+    const canonical::CanonicalMethod& method = *methods[static_cast<size_t>(choice)];
+    const canonical::MethodSettings settings = method_settings(method, p);
 
     FilterInput in = filter_input(mm, p, ctx);
     validate_and_note(in.b, ctx);
-    MethodContext context;
+    canonical::MethodContext context;
     context.progress = ctx.progress;
     context.validate = false;  // validate_and_note() above
-    const CanonicalForm r = method.run(in.b.V, in.b.F, settings, context);
+    const canonical::CanonicalForm r = method.run(in.b.V, in.b.F, settings, context);
     if (!r.V.allFinite()) throw NumericalError(method.name + " gave a form with NaN or infinite coordinates");
     const auto b = commit_repair(mm, in);  // everything computed: now change the document
     write_canonical_form(md, mm, b, r.V, r.quality.size() ? &r.quality : nullptr,
@@ -259,8 +259,8 @@ const std::map<std::string, Action>& actions() {
     static const std::map<std::string, Action> a = {
         {"compute_conformal_factor", conformal_factor_action},
         {"compute_feature_points", feature_points_action},
-        {"generate_euclidean_canonical_form", canonical_form_action<MethodFamily::Euclidean>},
-        {"generate_geodesic_canonical_form", canonical_form_action<MethodFamily::Geodesic>},
+        {"generate_euclidean_canonical_form", canonical_form_action<canonical::MethodFamily::Euclidean>},
+        {"generate_geodesic_canonical_form", canonical_form_action<canonical::MethodFamily::Geodesic>},
     };
     return a;
 }

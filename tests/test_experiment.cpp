@@ -21,6 +21,7 @@
 #include <unistd.h>
 
 using namespace canonform;
+using namespace canonform::canonical;
 namespace fs = std::filesystem;
 
 namespace {

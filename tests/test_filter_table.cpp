@@ -22,6 +22,7 @@
 using namespace canonform;
 using namespace canonform::plugin;
 using namespace canonform::surface;
+using namespace canonform::canonical;
 
 namespace {
 

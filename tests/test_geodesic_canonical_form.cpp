@@ -9,6 +9,7 @@
 
 using namespace canonform;
 using namespace canonform::numerics;
+using namespace canonform::canonical;
 
 namespace {
 

@@ -17,6 +17,7 @@
 
 using namespace canonform;
 using namespace canonform::retrieval;
+using namespace canonform::canonical;
 namespace fs = std::filesystem;
 
 namespace {

@@ -27,7 +27,7 @@ int main() {
     std::vector<views::ViewSet> sets;
     std::vector<const std::vector<views::SiftDescriptors>*> all;
     for (const auto& m : meshes) {
-        const auto form = canonform::euclidean_canonical_form(m.V, m.F);
+        const auto form = canonform::canonical::euclidean_canonical_form(m.V, m.F);
         sets.push_back(views::compute_views(form.V, m.F));
     }
     for (const auto& s : sets) all.push_back(&s.features);

@@ -16,16 +16,16 @@ int main(int argc, char** argv) {
     try {
         std::string spec_text = argv[3];
         for (int k = 4; k < argc; ++k) spec_text += std::string(":") + argv[k];
-        const canonform::MethodSpec spec = canonform::parse_method_spec(spec_text);
+        const canonform::canonical::MethodSpec spec = canonform::canonical::parse_method_spec(spec_text);
         const canonform::Mesh m = canonform::io::read_mesh(argv[1]);
-        const canonform::CanonicalForm form = spec.method().run(m.V, m.F, spec.settings(), {});
+        const canonform::canonical::CanonicalForm form = spec.method().run(m.V, m.F, spec.settings(), {});
         canonform::io::write_mesh(argv[2], form.V, m.F, form.quality);
         std::cout << spec.name << ": " << form.description << "\n";
         // The direct call of the library, for a user who wants one algorithm and its options.
         if (spec.name == "euclidean-N") {
-            canonform::EuclideanCanonicalFormOptions o;
+            canonform::canonical::EuclideanCanonicalFormOptions o;
             o.smacof.max_iterations = 5;
-            const auto r = canonform::euclidean_canonical_form(m.V, m.F, o);
+            const auto r = canonform::canonical::euclidean_canonical_form(m.V, m.F, o);
             std::cout << "direct call: " << r.iterations << " iterations\n";
         }
         return 0;

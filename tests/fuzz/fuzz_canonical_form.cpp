@@ -29,6 +29,7 @@ namespace {
 
 using namespace canonform;
 using namespace canonform::surface;
+using namespace canonform::canonical;
 
 double hostile(std::uint8_t code, double base) {
     switch (code % 12) {

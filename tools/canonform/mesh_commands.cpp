@@ -100,10 +100,10 @@ void add_canonical(CLI::App& app) {
     };
     auto a = std::make_shared<Args>();
     std::vector<std::string> variants;
-    for (const CanonicalMethod* m : canonical_methods_of(MethodFamily::Euclidean)) variants.push_back(m->label);
-    a->variant = default_method_of(MethodFamily::Euclidean).label;
+    for (const canonical::CanonicalMethod* m : canonical::canonical_methods_of(canonical::MethodFamily::Euclidean)) variants.push_back(m->label);
+    a->variant = canonical::default_method_of(canonical::MethodFamily::Euclidean).label;
     std::string names = "euclidean (with --variant)";
-    for (const CanonicalMethod* m : canonical_methods()) names += ", " + m->name;
+    for (const canonical::CanonicalMethod* m : canonical::canonical_methods()) names += ", " + m->name;
     auto* c = app.add_subcommand("canonical", "the canonical form of a mesh, by any method of the registry");
     add_in_out(c, a->in, a->out, "output mesh (the form; PLY quality: the conformal factor where the method has one)");
     c->add_option("--method", a->method, "the method: " + names);
@@ -111,7 +111,7 @@ void add_canonical(CLI::App& app) {
     // One option per parameter name; its help says which methods take it and their defaults.
     std::map<std::string, std::pair<const Parameter*, std::vector<std::string>>> params;
     std::vector<std::string> order;
-    for (const CanonicalMethod* m : canonical_methods())
+    for (const canonical::CanonicalMethod* m : canonical::canonical_methods())
         for (const Parameter& p : m->parameters) {
             auto& entry = params[p.name()];
             if (!entry.first) {
@@ -134,26 +134,26 @@ void add_canonical(CLI::App& app) {
     add_repair_flag(c, a->repair);
     c->callback([a] {
         const auto t0 = std::chrono::steady_clock::now();
-        MethodSpec spec;
+        canonical::MethodSpec spec;
         spec.name = a->method == "euclidean" ? "euclidean-" + a->variant : a->method;
-        const CanonicalMethod& method = canonical_method(spec.name);
+        const canonical::CanonicalMethod& method = canonical::canonical_method(spec.name);
         for (const auto& [name, value] : a->parameters.given()) {
             if (!method.parameter(name)) throw UsageError("--" + name + " is not an option of method " + method.name);
             spec.given.emplace_back(name, value);
         }
-        MethodSettings settings;
+        canonical::MethodSettings settings;
         try {
             settings = spec.settings();  // checks every value
         } catch (const InputError& e) {
             throw UsageError(e.what());
         }
-        MethodContext context;
+        canonical::MethodContext context;
         context.threads = a->threads;
         context.progress = terminal_progress(a->quiet || a->json);
         const Mesh m = read_large_mesh(a->in, a->repair, a->json || a->quiet);
         const double read_seconds = seconds_since(t0);
         context.validate = false;
-        const CanonicalForm r = on_input(a->in, [&] { return method.run(m.V, m.F, settings, context); });
+        const canonical::CanonicalForm r = on_input(a->in, [&] { return method.run(m.V, m.F, settings, context); });
         if (!r.V.allFinite())
             throw NumericalError("'" + a->in + "': method " + method.name + " gave a form with NaN or infinite coordinates");
         const auto t_write = std::chrono::steady_clock::now();

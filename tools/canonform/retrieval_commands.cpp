@@ -31,10 +31,10 @@ std::string pr_plot(const std::string& run) {
 
 /// RUN/grid.png: originals beside their canonical forms, one model per class (the paper's
 /// Fig. 8). Returns the report's line about it ("" if the run has only `none`).
-std::string grid_picture(const std::string& run, const std::vector<MethodSpec>& methods) {
+std::string grid_picture(const std::string& run, const std::vector<canonical::MethodSpec>& methods) {
     GridOptions g;
     g.run = run;
-    for (const MethodSpec& m : methods)
+    for (const canonical::MethodSpec& m : methods)
         if (m.name != "none") g.methods.push_back(m.folder());
     if (g.methods.empty()) return "";
     g.panel = g.methods.size() > 4 ? 110 : 150;
@@ -59,7 +59,7 @@ void print_row(std::ostream& o, const std::string& name, const retrieval::Measur
 
 void add_experiment_options(CLI::App* c, ExperimentArgs& a) {
     std::string names;
-    for (const CanonicalMethod* m : canonical_methods()) names += (names.empty() ? "" : ", ") + m->name;
+    for (const canonical::CanonicalMethod* m : canonical::canonical_methods()) names += (names.empty() ? "" : ", ") + m->name;
     c->add_option("--dataset", a.o.dataset, "collection folder (label paths are relative to it)")->required();
     c->add_option("--labels", a.o.labels, "labels file, rows path,class (default: DATASET/labels.csv)");
     c->add_option("--out", a.o.out, "run folder (for a sharded run on a filesystem every machine shares)")->required();
@@ -94,7 +94,7 @@ retrieval::ExperimentOptions finish_experiment_options(const ExperimentArgs& a, 
     }
     for (const std::string& m : split_list(a.methods)) {
         if (!retrieval::is_fused_spec(m))
-            o.methods.push_back(parse_method_spec(m));
+            o.methods.push_back(canonical::parse_method_spec(m));
         else if (fused)
             o.fused.push_back(retrieval::parse_fused_spec(m));
         else

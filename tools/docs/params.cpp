@@ -84,18 +84,18 @@ ordered_json filters(const std::vector<FilterSpec>& table) {
     return out;
 }
 
-const char* family_name(canonform::MethodFamily f) {
+const char* family_name(canonform::canonical::MethodFamily f) {
     switch (f) {
-    case canonform::MethodFamily::None: return "";
-    case canonform::MethodFamily::Euclidean: return "Euclidean canonical form";
-    case canonform::MethodFamily::Geodesic: return "Geodesic canonical form";
+    case canonform::canonical::MethodFamily::None: return "";
+    case canonform::canonical::MethodFamily::Euclidean: return "Euclidean canonical form";
+    case canonform::canonical::MethodFamily::Geodesic: return "Geodesic canonical form";
     }
     return "";
 }
 
 ordered_json methods() {
     ordered_json out = ordered_json::array();
-    for (const canonform::CanonicalMethod* m : canonform::canonical_methods()) {
+    for (const canonform::canonical::CanonicalMethod* m : canonform::canonical::canonical_methods()) {
         ordered_json params = ordered_json::array();
         for (const Parameter& p : m->parameters) {
             ordered_json j;

@@ -8,7 +8,7 @@
 #include <chrono>
 #include <sstream>
 
-namespace canonform {
+namespace canonform::canonical {
 
 numerics::StressPairs canonical_form_pairs(const Eigen::MatrixXd& V, const Eigen::MatrixXi& E,
                                  const Eigen::VectorXd& phi, const std::vector<int>& features,
@@ -200,4 +200,4 @@ CanonicalMethod euclidean_method(CanonicalVariant variant) {
     return m;
 }
 
-}  // namespace canonform
+}  // namespace canonform::canonical

@@ -44,7 +44,7 @@
 #include <cstdint>
 #include <vector>
 
-namespace canonform {
+namespace canonform::canonical {
 
 /// The two variants of the paper (Section 4, Tables 2-5).
 enum class CanonicalVariant {
@@ -115,4 +115,4 @@ numerics::StressPairs canonical_form_pairs(const Eigen::MatrixXd& V, const Eigen
                                  const Eigen::VectorXd& phi, const std::vector<int>& features,
                                  const EuclideanCanonicalFormOptions& options);
 
-}  // namespace canonform
+}  // namespace canonform::canonical

@@ -14,7 +14,7 @@
 #include <cstdio>
 #include <sstream>
 
-namespace canonform {
+namespace canonform::canonical {
 
 namespace {
 
@@ -171,4 +171,4 @@ CanonicalMethod geodesic_method(numerics::MdsMethod mds) {
     return m;
 }
 
-}  // namespace canonform
+}  // namespace canonform::canonical

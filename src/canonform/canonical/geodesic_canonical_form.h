@@ -28,7 +28,7 @@
 #include <cstddef>
 #include <string>
 
-namespace canonform {
+namespace canonform::canonical {
 
 /// Options of geodesic_canonical_form().
 struct GeodesicCanonicalFormOptions {
@@ -79,4 +79,4 @@ CanonicalMethod geodesic_method(numerics::MdsMethod mds);
 GeodesicCanonicalFormResult geodesic_canonical_form(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
                                                     const GeodesicCanonicalFormOptions& options = {});
 
-}  // namespace canonform
+}  // namespace canonform::canonical

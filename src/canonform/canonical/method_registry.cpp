@@ -11,7 +11,7 @@
 #include <mutex>
 #include <sstream>
 
-namespace canonform {
+namespace canonform::canonical {
 
 namespace {
 
@@ -214,4 +214,4 @@ MethodSpec parse_method_spec(const std::string& text) {
     return spec;
 }
 
-}  // namespace canonform
+}  // namespace canonform::canonical

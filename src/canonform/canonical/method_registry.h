@@ -37,7 +37,7 @@
 #include <variant>
 #include <vector>
 
-namespace canonform {
+namespace canonform::canonical {
 
 /// The MeshLab filter whose method enum lists a method ("Euclidean canonical form": variant,
 /// "Geodesic canonical form": method); None for methods no filter offers.
@@ -122,4 +122,4 @@ struct MethodSpec {
 /// Parses "NAME[:KEY=VALUE...]" (InputError naming the unknown method or parameter, or the bad value).
 MethodSpec parse_method_spec(const std::string& text);
 
-}  // namespace canonform
+}  // namespace canonform::canonical
