@@ -266,7 +266,7 @@ int main(int argc, char** argv) {
 
         // 3. Every filter by its Python name on a generated figure ------------------------------
         // The figure of 'canonform generate OUT --vertices N --pose K': coordinates rounded to float.
-        const canonform::Figure fig = canonform::make_figure(vertices, canonform::figure_pose(pose));
+        const canonform::procedural::Figure fig = canonform::procedural::make_figure(vertices, canonform::procedural::figure_pose(pose));
         const Eigen::MatrixXd V = fig.mesh.V.cast<float>().cast<double>();
         const long n = V.rows();
         const int sqrt_n = static_cast<int>(std::ceil(std::sqrt(static_cast<double>(n))));

@@ -15,6 +15,7 @@ using namespace canonform;
 using namespace canonform::numerics;
 using namespace canonform::surface;
 using namespace canonform::canonical;
+using namespace canonform::procedural;
 
 namespace {
 

@@ -11,6 +11,7 @@
 
 using namespace canonform;
 using namespace canonform::surface;
+using namespace canonform::procedural;
 
 namespace {
 

@@ -22,6 +22,7 @@
 
 using namespace canonform;
 using namespace canonform::canonical;
+using namespace canonform::procedural;
 namespace fs = std::filesystem;
 
 namespace {

@@ -11,6 +11,7 @@
 
 using namespace canonform;
 using namespace canonform::surface;
+using namespace canonform::procedural;
 
 TEST(GaussianCurvature, GaussBonnetOnSphere) {
     const Mesh s = make_icosphere(3);

@@ -10,6 +10,7 @@
 using namespace canonform;
 using namespace canonform::numerics;
 using namespace canonform::canonical;
+using namespace canonform::procedural;
 
 namespace {
 

@@ -14,6 +14,7 @@
 using namespace canonform;
 using namespace canonform::surface;
 using namespace canonform::canonical;
+using namespace canonform::procedural;
 
 namespace {
 

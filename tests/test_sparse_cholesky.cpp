@@ -16,6 +16,7 @@
 using namespace canonform;
 using namespace canonform::numerics;
 using namespace canonform::surface;
+using namespace canonform::procedural;
 
 namespace {
 

@@ -19,7 +19,7 @@ int main() {
     std::vector<std::string> labels;
     for (const std::string& cls : {std::string("standard"), std::string("long-arms")})
         for (int pose = 0; pose < 3; ++pose) {
-            meshes.push_back(canonform::make_figure(2000, canonform::figure_pose(pose), canonform::figure_class(cls)).mesh);
+            meshes.push_back(canonform::procedural::make_figure(2000, canonform::procedural::figure_pose(pose), canonform::procedural::figure_class(cls)).mesh);
             labels.push_back(cls);
         }
 

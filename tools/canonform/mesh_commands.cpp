@@ -193,9 +193,9 @@ void add_simplify(CLI::App& app) {
 
 namespace {
 
-FigureProportions class_proportions(const std::string& name) {
+procedural::FigureProportions class_proportions(const std::string& name) {
     try {
-        return figure_class(name);
+        return procedural::figure_class(name);
     } catch (const std::invalid_argument& e) {
         throw UsageError(e.what());
     }
@@ -206,7 +206,7 @@ FigureProportions class_proportions(const std::string& name) {
 /// and differ between classes. DIR/meshes/CLASS_K.ply, DIR/labels.csv, DIR/corres/CLASS_K.vts
 /// (identity: every figure has the same vertex order, so these are exact correspondences).
 void generate_collection(const std::string& dir, int n, int poses, int seed, std::vector<std::string> classes) {
-    if (classes.empty()) classes = figure_class_names();
+    if (classes.empty()) classes = procedural::figure_class_names();
     if (classes.size() < 2) throw UsageError("--classes needs at least two classes");
     for (const auto& c : classes) class_proportions(c);
     io::make_directories(dir + "/meshes");
@@ -215,10 +215,10 @@ void generate_collection(const std::string& dir, int n, int poses, int seed, std
     labels << "path,class\n";
     for (int v = 1; v <= n; ++v) ident << v << "\n";
     for (size_t c = 0; c < classes.size(); ++c) {
-        const FigureProportions prop = class_proportions(classes[c]);
+        const procedural::FigureProportions prop = class_proportions(classes[c]);
         for (int k = 0; k < poses; ++k) {
-            const int pose_id = k < kFigureNamedPoses ? k : 1000 * (seed + 1) + 37 * static_cast<int>(c) + k;
-            const Figure fig = make_figure(n, figure_pose(pose_id), prop);
+            const int pose_id = k < procedural::kFigureNamedPoses ? k : 1000 * (seed + 1) + 37 * static_cast<int>(c) + k;
+            const procedural::Figure fig = procedural::make_figure(n, procedural::figure_pose(pose_id), prop);
             const std::string name = classes[c] + "_" + std::to_string(k);
             io::write_ply(dir + "/meshes/" + name + ".ply", fig.mesh.V.cast<float>().cast<double>(), fig.mesh.F);
             io::write_file_atomic(dir + "/corres/" + name + ".vts", ident.str());
@@ -254,7 +254,7 @@ void add_generate(CLI::App& app) {
             return generate_collection(a->collection, a->vertices, a->poses, a->seed, split_list(a->classes));
         }
         if (a->out.empty()) throw UsageError("generate needs OUT (or --collection DIR)");
-        const Figure fig = make_figure(a->vertices, figure_pose(a->pose), class_proportions(a->cls));
+        const procedural::Figure fig = procedural::make_figure(a->vertices, procedural::figure_pose(a->pose), class_proportions(a->cls));
         // Rounded to float, the precision MeshLab 2020.09 works in, so that the tool and MeshLab
         // compute on exactly the same coordinates.
         io::write_mesh(a->out, fig.mesh.V.cast<float>().cast<double>(), fig.mesh.F);

@@ -27,7 +27,7 @@
 #include <utility>
 #include <vector>
 
-namespace canonform {
+namespace canonform::procedural {
 namespace {
 
 using Eigen::Matrix3d;
@@ -1694,4 +1694,4 @@ Figure make_figure(int target_vertices, const FigurePose& pose, const FigureProp
     return fig;
 }
 
-}  // namespace canonform
+}  // namespace canonform::procedural
