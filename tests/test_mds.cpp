@@ -305,7 +305,7 @@ TEST(Mds, EigensolverFindsPositiveEigenvaluesBehindLargeNegativeOnes) {
         for (int j = 0; j < n; ++j) R(i, j) = g(rng);
     const MatrixXd Qr = Eigen::HouseholderQR<MatrixXd>(R).householderQ();
     const MatrixXd B = Qr * spectrum.asDiagonal() * Qr.transpose();
-    const detail::EigenPairs e = detail::top_eigenpairs(
+    const numerics::detail::EigenPairs e = numerics::detail::top_eigenpairs(
         n, 3, [&B](const MatrixXd& Q) { return MatrixXd(B * Q); }, 1e-10, 5000, 1);
     EXPECT_TRUE(e.shifted);
     EXPECT_NEAR(e.values(0), 10, 1e-8);
@@ -313,7 +313,7 @@ TEST(Mds, EigensolverFindsPositiveEigenvaluesBehindLargeNegativeOnes) {
     EXPECT_NEAR(e.values(2), 2, 1e-8);
     EXPECT_LT((B * e.vectors - e.vectors * e.values.asDiagonal()).norm(), 1e-7);
     // Too few iterations: NumericalError.
-    EXPECT_THROW(detail::top_eigenpairs(n, 3, [&B](const MatrixXd& Q) { return MatrixXd(B * Q); }, 1e-10, 5, 1),
+    EXPECT_THROW(numerics::detail::top_eigenpairs(n, 3, [&B](const MatrixXd& Q) { return MatrixXd(B * Q); }, 1e-10, 5, 1),
                  NumericalError);
 }
 
