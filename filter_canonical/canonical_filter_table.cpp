@@ -6,7 +6,7 @@
 #include "canonform/surface/feature_points.h"
 #include "canonform/surface/mesh_repair.h"
 
-namespace canonform::plugin {
+namespace canonform::meshlab {
 
 namespace {
 
@@ -119,4 +119,4 @@ const std::vector<FilterSpec>& filter_table() {
     return table;
 }
 
-}  // namespace canonform::plugin
+}  // namespace canonform::meshlab

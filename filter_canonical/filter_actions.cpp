@@ -24,7 +24,7 @@
 #include <type_traits>
 #include <variant>
 
-namespace canonform::plugin {
+namespace canonform::meshlab {
 
 namespace {
 
@@ -275,4 +275,4 @@ ActionOutputs apply_filter_action(int id, MeshDocument& md, const ParamValues& p
     return it->second(spec, md, params, context);
 }
 
-}  // namespace canonform::plugin
+}  // namespace canonform::meshlab

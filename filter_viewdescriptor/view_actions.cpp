@@ -16,7 +16,7 @@
 #include <numeric>
 #include <sstream>
 
-namespace canonform::plugin {
+namespace canonform::meshlab {
 
 namespace {
 
@@ -109,4 +109,4 @@ ActionOutputs apply_view_action(int id, MeshDocument& md, const ParamValues& par
     return it->second(spec, md, params, context);
 }
 
-}  // namespace canonform::plugin
+}  // namespace canonform::meshlab

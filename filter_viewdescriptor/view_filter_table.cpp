@@ -3,7 +3,7 @@
 
 #include "canonform/views/view_parameters.h"
 
-namespace canonform::plugin {
+namespace canonform::meshlab {
 
 namespace {
 
@@ -53,4 +53,4 @@ const std::vector<FilterSpec>& view_filter_table() {
     return table;
 }
 
-}  // namespace canonform::plugin
+}  // namespace canonform::meshlab

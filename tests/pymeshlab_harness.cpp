@@ -234,10 +234,10 @@ int main(int argc, char** argv) {
         // Every filter of both tables by its Python name, with the table's keywords and MeshLab
         // types in the table's order (the expected lists are the tables: canonical_filter_table.cpp,
         // view_filter_table.cpp; what the names must never lose is tests/test_filter_table.cpp's).
-        std::vector<const canonform::plugin::FilterSpec*> specs;
-        for (const auto& f : canonform::plugin::filter_table()) specs.push_back(&f);
-        for (const auto& f : canonform::plugin::view_filter_table()) specs.push_back(&f);
-        for (const canonform::plugin::FilterSpec* spec : specs) {
+        std::vector<const canonform::meshlab::FilterSpec*> specs;
+        for (const auto& f : canonform::meshlab::filter_table()) specs.push_back(&f);
+        for (const auto& f : canonform::meshlab::view_filter_table()) specs.push_back(&f);
+        for (const canonform::meshlab::FilterSpec* spec : specs) {
             const QString name = QString::fromStdString(spec->python_name);
             const bool has = fs.containsFilterFunction(name);
             std::string problems;

@@ -20,7 +20,7 @@
 #include <sstream>
 
 using namespace canonform;
-using namespace canonform::plugin;
+using namespace canonform::meshlab;
 using namespace canonform::surface;
 using namespace canonform::canonical;
 

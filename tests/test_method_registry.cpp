@@ -203,7 +203,7 @@ TEST(MethodRegistry, RunsMatchTheDirectCall) {
 }
 
 TEST(MethodRegistry, AMethodAddedAtRunTimeIsPickedUpEverywhere) {
-    const size_t geodesic_params = plugin::filter_named(plugin::make_filter_table(), "generate_geodesic_canonical_form")
+    const size_t geodesic_params = meshlab::filter_named(meshlab::make_filter_table(), "generate_geodesic_canonical_form")
                                        .params.size();
     register_canonical_method(toy_method());
     EXPECT_THROW(register_canonical_method(toy_method()), InputError);  // names are unique
@@ -216,8 +216,8 @@ TEST(MethodRegistry, AMethodAddedAtRunTimeIsPickedUpEverywhere) {
     EXPECT_NEAR((r.V.row(0) - c).norm(), 3 * (fig.mesh.V.row(0) - c).norm(), 1e-9);
     EXPECT_NE(message_of([] { parse_method_spec("toy-scaled:scale=50"); }).find("between"), std::string::npos);
     // The filter of its family lists it in its enum, and its parameter with its type and range.
-    const auto table = plugin::make_filter_table();
-    const auto& geodesic = plugin::filter_named(table, "generate_geodesic_canonical_form");
+    const auto table = meshlab::make_filter_table();
+    const auto& geodesic = meshlab::filter_named(table, "generate_geodesic_canonical_form");
     EXPECT_EQ(geodesic.params[0].choices().back(), "toy");
     EXPECT_EQ(geodesic.params[0].choices().size(), canonical_methods_of(MethodFamily::Geodesic).size());
     const Parameter* scale = find_parameter(geodesic.params, "scale");
@@ -225,11 +225,11 @@ TEST(MethodRegistry, AMethodAddedAtRunTimeIsPickedUpEverywhere) {
     EXPECT_EQ(scale->type(), ParameterType::Float);
     EXPECT_EQ(scale->max(), 10);
     EXPECT_EQ(geodesic.params.size(), geodesic_params + 1);
-    EXPECT_NE(plugin::default_script(geodesic).find("<Param name=\"scale\" type=\"RichFloat\" value=\"2\""),
+    EXPECT_NE(meshlab::default_script(geodesic).find("<Param name=\"scale\" type=\"RichFloat\" value=\"2\""),
               std::string::npos);
     unregister_canonical_method("toy-scaled");
     EXPECT_THROW(parse_method_spec("toy-scaled"), InputError);
-    EXPECT_EQ(plugin::filter_named(plugin::make_filter_table(), "generate_geodesic_canonical_form").params.size(),
+    EXPECT_EQ(meshlab::filter_named(meshlab::make_filter_table(), "generate_geodesic_canonical_form").params.size(),
               geodesic_params);
 }
 

@@ -21,8 +21,8 @@ namespace {
 
 using canonform::Parameter;
 using canonform::ParameterType;
-using canonform::plugin::FilterKind;
-using canonform::plugin::FilterSpec;
+using canonform::meshlab::FilterKind;
+using canonform::meshlab::FilterSpec;
 using nlohmann::ordered_json;
 
 /// The parameter types as the generator names them.
@@ -62,14 +62,14 @@ ordered_json filters(const std::vector<FilterSpec>& table) {
             j["name"] = p.name();
             j["type"] = kind_name(p.type());
             switch (p.type()) {
-            case ParameterType::Bool: j["default"] = canonform::plugin::default_number(p) != 0; break;
-            case ParameterType::Int: j["default"] = static_cast<long long>(canonform::plugin::default_number(p)); break;
-            case ParameterType::Float: j["default"] = canonform::plugin::default_number(p); break;
+            case ParameterType::Bool: j["default"] = canonform::meshlab::default_number(p) != 0; break;
+            case ParameterType::Int: j["default"] = static_cast<long long>(canonform::meshlab::default_number(p)); break;
+            case ParameterType::Float: j["default"] = canonform::meshlab::default_number(p); break;
             case ParameterType::Choice:
             case ParameterType::Text: j["default"] = p.default_value(); break;
             }
             j["label"] = p.label();
-            j["tooltip"] = canonform::plugin::tooltip(p);
+            j["tooltip"] = canonform::meshlab::tooltip(p);
             j["choices"] = p.choices();
             j["range"] = range(p);
             params.push_back(j);
@@ -127,9 +127,9 @@ int main(int argc, char** argv) {
     }
     ordered_json j;
     j["version"] = canonform::version();
-    j["plugins"] = {{{"plugin", "filter_canonical"}, {"filters", filters(canonform::plugin::filter_table())}},
+    j["plugins"] = {{{"plugin", "filter_canonical"}, {"filters", filters(canonform::meshlab::filter_table())}},
                     {{"plugin", "filter_viewdescriptor"},
-                     {"filters", filters(canonform::plugin::view_filter_table())}}};
+                     {"filters", filters(canonform::meshlab::view_filter_table())}}};
     j["methods"] = methods();
     if (argc == 2) {
         std::ofstream out(argv[1]);

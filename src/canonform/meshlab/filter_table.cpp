@@ -8,7 +8,7 @@
 #include <sstream>
 #include <stdexcept>
 
-namespace canonform::plugin {
+namespace canonform::meshlab {
 
 namespace {
 
@@ -159,4 +159,4 @@ std::string default_script(const FilterSpec& spec) {
     return o.str();
 }
 
-}  // namespace canonform::plugin
+}  // namespace canonform::meshlab

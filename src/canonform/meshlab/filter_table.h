@@ -21,7 +21,7 @@
 #include <variant>
 #include <vector>
 
-namespace canonform::plugin {
+namespace canonform::meshlab {
 
 /// Where an action reports: a log line, and progress.
 struct ActionContext {
@@ -117,4 +117,4 @@ std::string log_header(const FilterSpec& spec);
 /// A MeshLab filter script (.mlx) applying `spec` with every parameter at its default.
 std::string default_script(const FilterSpec& spec);
 
-}  // namespace canonform::plugin
+}  // namespace canonform::meshlab

@@ -13,7 +13,7 @@
 
 #include <vector>
 
-namespace canonform::plugin {
+namespace canonform::meshlab {
 
 /// Applies filter `id` of a table to the document (throws on failure, document unchanged).
 using ApplyFn = ActionOutputs (*)(int id, MeshDocument& md, const ParamValues& params,
@@ -121,4 +121,4 @@ void add_params(const FilterSpec& spec, RichParameterListT& par) {
     }
 }
 
-}  // namespace canonform::plugin
+}  // namespace canonform::meshlab
