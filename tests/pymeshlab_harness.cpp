@@ -1,8 +1,9 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// canonform: the plugins as pymeshlab 2022.2 and 2025.7 see them, without Python.
+// canonform: the plugins as pymeshlab 2022.2, 2023.12 and 2025.7 see them, without Python.
 //
 // pymeshlab 2022.2.x is MeshLab 2022.02's meshlab-common in double precision behind pybind11,
-// pymeshlab 2025.7.x the same of MeshLab 2025.07. This program links the same library (built from
+// pymeshlab 2025.7.x the same of MeshLab 2025.07, pymeshlab 2023.12.x of MeshLab 2023.12 (here
+// MeshLab 2025.07's source as "2023.12d", cmake/MeshLabFromSource.cmake ALSO_AS). This program links the same library (built from
 // Debian's source, cmake/MeshLabFromSource.cmake; one build of this program per release) and makes
 // the calls pymeshlab's Python calls make, through canonform::meshlab::MeshSet
 // (filter_canonical/meshlab_meshset.h, which the canonform-meshlab runner shares):
@@ -13,7 +14,7 @@
 // builds (tests/e2e/same_results_test.sh).
 //
 //   canonform_pymeshlab<YYYY>_harness --plugin P.so [--plugin P2.so ...] [--wrong-precision W.so]
-//       [--wrong-version W.so] [--vertices N] [--pose K] [--codebook CB] --out DIR
+//       [--wrong-version W.so]... [--vertices N] [--pose K] [--codebook CB] --out DIR
 //   canonform_pymeshlab<YYYY>_harness --serve
 // --serve answers one JSON request per line on stdin (load_plugin, load_new_mesh, mesh_number,
 // set_current_mesh, apply_filter) with one JSON line on stdout: the back end of the stand-in
@@ -34,6 +35,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -129,8 +131,10 @@ int serve() {
         try {
             const nlohmann::json r = nlohmann::json::parse(line);
             const std::string op = r.at("op");
-            if (op == "load_plugin") {
+            if (op == "load_plugin") {  // answers the seconds it took (bench/portable_bench.sh)
+                const auto t0 = std::chrono::steady_clock::now();
                 load_plugin(r.at("path"));
+                answer["seconds"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
             } else if (op == "load_new_mesh") {  // pymeshlab reads it with its IO plugin; here our reader
                 const std::string path = r.at("path");
                 const canonform::Mesh m = canonform::io::read_mesh(path);
@@ -172,8 +176,8 @@ int usage() {
 }  // namespace
 
 int main(int argc, char** argv) {
-    std::vector<std::string> plugins;
-    std::string wrong, wrong_version, out, codebook;
+    std::vector<std::string> plugins, wrong_versions;
+    std::string wrong, out, codebook;
     int vertices = 2500, pose = 4;
     if (argc == 2 && std::string(argv[1]) == "--serve") return serve();
     for (int i = 1; i < argc; ++i) {
@@ -181,7 +185,7 @@ int main(int argc, char** argv) {
         if (i + 1 >= argc) return usage();
         if (a == "--plugin") plugins.push_back(argv[++i]);
         else if (a == "--wrong-precision") wrong = argv[++i];
-        else if (a == "--wrong-version") wrong_version = argv[++i];
+        else if (a == "--wrong-version") wrong_versions.push_back(argv[++i]);
         else if (a == "--vertices") vertices = std::atoi(argv[++i]);
         else if (a == "--pose") pose = std::atoi(argv[++i]);
         else if (a == "--codebook") codebook = argv[++i];
@@ -197,9 +201,10 @@ int main(int argc, char** argv) {
         first = false;
     };
 
+    const std::string release = meshlab::meshlabVersion().substr(0, 7);  // "2022.02", "2023.12", "2025.07"
     std::printf("MeshLab %s (built with %s precision), pymeshlab %s's plugin loading\n",
                 meshlab::meshlabVersion().c_str(), meshlab::builtWithDoublePrecision() ? "double" : "single",
-                CANONFORM_MESHLAB_API >= 2025 ? "2025.7" : "2022.2");
+                release == "2022.02" ? "2022.2" : release == "2023.12" ? "2023.12" : "2025.7");
     try {
         // 1. A plugin of the wrong precision is refused, with MeshLab's reason ---------------------
         if (!wrong.empty()) {
@@ -208,8 +213,8 @@ int main(int argc, char** argv) {
             check(contains(msg, "has different floating point precision from the running MeshLab version"),
                   "a plugin built for single precision (a float MeshLab's) is refused: 'different floating point precision'");
         }
-        // ... and one of the other pymeshlab release (same precision, other version prefix)
-        if (!wrong_version.empty()) {
+        // ... and those of the other pymeshlab releases (same precision, other version prefix)
+        for (const std::string& wrong_version : wrong_versions) {
             const std::string msg = error_of([&] { load_plugin(wrong_version); }, "load_plugin(other release's plugin)");
             std::printf("  load_plugin('%s') -> MLException: %s\n", wrong_version.c_str(), msg.c_str());
             check(contains(msg, "has different version from the running MeshLab version"),

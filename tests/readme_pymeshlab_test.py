@@ -2,10 +2,10 @@
 """Runs the pymeshlab examples of the README and the docs as written, as far as the pymeshlab harness
 can show.
 
-usage: readme_pymeshlab_test.py DOC[,DOC...] WORKDIR CANONFORM [--release 2022.2|2025.7 HARNESS PLUGIN_DIR]...
+usage: readme_pymeshlab_test.py DOC[,DOC...] WORKDIR CANONFORM [--release 2022.2|2023.12|2025.7 HARNESS PLUGIN_DIR]...
 
-Each ```python block of each DOC (README.md, docs/pymeshlab.md) whose first line is "# pymeshlab 2022.2"
-(or "# pymeshlab 2025.7") is executed by Python as written, with a stand-in for the `pymeshlab` module
+Each ```python block of each DOC (README.md, docs/pymeshlab.md, docs/install.md) whose first line is
+"# pymeshlab 2022.2" (or "# pymeshlab 2023.12", "# pymeshlab 2025.7") is executed by Python as written, with a stand-in for the `pymeshlab` module
 of that release:
 - it has exactly the module functions and MeshSet methods of that release (their names as that
   release's bindings define them, below); any other name raises AttributeError, as pymeshlab would;
@@ -19,7 +19,9 @@ Then every filter is applied once per release, and the keys of the dict it retur
 its row in the docs' table of what the filters return (docs/pymeshlab.md).
 What it cannot show: pymeshlab's own IO plugins (load_new_mesh reads the PLY with canonform's
 reader) and its Python packaging. The example's plugin folder '/path/to/canonform/build/...' is
-replaced by the build's; figure.ply and codebook.bin are generated in WORKDIR.
+replaced by the build's; figure.ply and codebook.bin are generated in WORKDIR. A PLUGIN_DIR that is a
+portable archive (canonform-plugins-*.tar.gz, tools/package.sh --portable) is extracted into
+WORKDIR, where docs/install.md's examples name its folder as a user who extracted it there would.
 """
 import contextlib
 import io
@@ -40,7 +42,8 @@ MESHSET_2022 = ["number_meshes", "number_rasters", "set_current_mesh", "current_
                 "load_filter_script", "save_filter_script", "clear_filter_script", "apply_filter_script",
                 "print_status", "filter_parameter_values", "print_filter_script", "set_verbosity",
                 "set_parameter_verbosity"]
-METHODS = {"2022.2": MESHSET_2022, "2025.7": MESHSET_2022 + ["mesh_number", "raster_number"]}
+METHODS = {"2022.2": MESHSET_2022, "2023.12": MESHSET_2022 + ["mesh_number", "raster_number"],
+           "2025.7": MESHSET_2022 + ["mesh_number", "raster_number"]}
 MODULE_FUNCTIONS = ["load_default_plugins", "print_pymeshlab_version", "filter_list", "number_plugins",
                     "print_plugin_list", "print_plugin_filter_list", "print_filter_list",
                     "print_filter_parameter_list", "search", "load_plugin"]
@@ -107,6 +110,11 @@ def main():
         releases[args[1]] = (args[2], args[3].rstrip("/") + "/")
         args = args[4:]
     os.makedirs(work, exist_ok=True)
+    for release, (harness_path, plugins) in list(releases.items()):
+        if plugins.endswith(".tar.gz/"):
+            subprocess.run(["tar", "-xzf", plugins.rstrip("/"), "-C", work], check=True)
+            releases[release] = (harness_path, os.path.join(
+                os.path.abspath(work), os.path.basename(plugins.rstrip("/"))[: -len(".tar.gz")]) + "/")
     os.chdir(work)
     subprocess.run([canonform, "generate", "figure.ply", "--vertices", "2500", "--pose", "4"], check=True,
                    stdout=subprocess.DEVNULL)
@@ -123,6 +131,10 @@ def main():
         seen.add(release)
         harness_path, plugins = releases[release]
         code = re.sub(r"'/path/to/canonform/build/pymeshlab\d+/plugins/'", repr(plugins), code)
+        if "canonform-plugins-" in code and \
+                not re.search(r"canonform-plugins-[^']*-pymeshlab" + re.escape(release) + "-linux-x86_64/", code):
+            print(f"  FAIL the {where} pymeshlab {release} example names another release's archive")
+            failures += 1
         harness = Harness(harness_path)
         sys.modules["pymeshlab"] = stand_in(release, harness)
         out = io.StringIO()

@@ -7,11 +7,32 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include <array>
 #include <functional>
 #include <random>
 #include <string>
+#include <vector>
 
 namespace canonform::test {
+
+/// The results of fn() with Eigen's matrix products blocked as on CPUs with L1 / L2 / L3 caches of
+/// 16 KiB / 256 KiB / 2 MiB, 32 KiB / 512 KiB / 8 MiB, 48 KiB / 1.25 MiB / 30 MiB and
+/// 64 KiB / 512 KiB / 16 MiB (qemu64) (Eigen reads the cache sizes from CPUID at run time and
+/// splits the inner dimension of a product into blocks sized from L1, so the rounding of a product
+/// can depend on the CPU). The cache sizes in force before are restored.
+template <typename Fn>
+auto under_l1_cache_sizes(Fn fn) -> std::vector<decltype(fn())> {
+    const std::ptrdiff_t l1 = Eigen::l1CacheSize(), l2 = Eigen::l2CacheSize(), l3 = Eigen::l3CacheSize();
+    std::vector<decltype(fn())> out;
+    const std::ptrdiff_t K = 1024;
+    for (const auto& c : {std::array<std::ptrdiff_t, 3>{16 * K, 256 * K, 2048 * K}, {32 * K, 512 * K, 8192 * K},
+                          {48 * K, 1280 * K, 30720 * K}, {64 * K, 512 * K, 16384 * K}}) {
+        Eigen::setCpuCacheSizes(c[0], c[1], c[2]);
+        out.push_back(fn());
+    }
+    Eigen::setCpuCacheSizes(l1, l2, l3);
+    return out;
+}
 
 /// A random rotation (uniform from a seeded quaternion).
 inline Eigen::Matrix3d random_rotation(unsigned seed) {

@@ -8,6 +8,7 @@
 #include "canonform/views/pose_normalization.h"
 #include "canonform/procedural/procedural_meshes.h"
 #include "canonform/views/view_directions.h"
+#include "test_util.h"
 
 #include <Eigen/Dense>
 #include <gtest/gtest.h>
@@ -445,4 +446,18 @@ TEST(PoseNormalization, ProjectedAreaRatioIsTheSumOverFaces) {
     }
     EXPECT_NEAR(vw::projected_area_ratio(fig.mesh.V, fig.mesh.F, R), projected / area, 1e-12 * projected / area);
     EXPECT_GT(projected / area, 1.0);  // |x|_1 >= |x|_2 for every face
+}
+
+TEST(PoseNormalization, SameBitsWhateverTheCpuCacheSizes) {
+    // Eigen blocks a matrix product by the L1 cache size that CPUID reports; the pose does not
+    // depend on it (the covariance is summed row by row; no libm either, see the header).
+    for (int pose_id : {4, 5}) {
+        const cf::procedural::Figure fig = cf::procedural::make_figure(2000, cf::procedural::figure_pose(pose_id));
+        const auto poses = cf::test::under_l1_cache_sizes([&] { return vw::normalize_pose(fig.mesh.V, fig.mesh.F); });
+        for (const auto& p : poses) {
+            EXPECT_EQ(p.used_rectilinearity, poses[0].used_rectilinearity);
+            EXPECT_TRUE((p.R.array() == poses[0].R.array()).all()) << "pose " << pose_id << "\n" << p.R - poses[0].R;
+            EXPECT_EQ(p.rect_projected_area, poses[0].rect_projected_area);
+        }
+    }
 }

@@ -6,10 +6,12 @@
 # tests and the benchmarks. On bookworm also, unless set to 0: CANONFORM_MESHLAB2022 and
 # CANONFORM_MESHLAB2025, both plugins for pymeshlab 2022.2 / 2025.7 (double, build/pymeshlab2022/
 # and build/pymeshlab2025/) with meshlab-common built here and the pymeshlab harness; and, as root,
-# CANONFORM_HOSTS, the tests in trixie's and forky's real MeshLab (tools/host.sh); and
-# CANONFORM_DOCS_TESTS, the documentation's tests (MkDocs site, Chromium, examples). Elsewhere these
-# are off unless set to 1. CANONFORM_PLUGINS_ONLY=1 builds only what tools/package.sh packages (the
-# plugins and canonform-meshlab). Runs tools/setup.sh first.
+# CANONFORM_HOSTS, the tests in trixie's and forky's real MeshLab (tools/host.sh), and with them the
+# portable archives' tests (tests/CMakeLists.txt: portable.*; CANONFORM_CMAKE_ARGS=-DCANONFORM_PORTABLE_TESTS=OFF
+# skips them); and CANONFORM_DOCS_TESTS, the documentation's tests (MkDocs site, Chromium, examples).
+# Elsewhere these are off unless set to 1. CANONFORM_PLUGINS_ONLY=1 builds only what tools/package.sh
+# packages (the plugins and canonform-meshlab). CANONFORM_PYTHON=0 leaves out the Python module
+# (python/). Runs tools/setup.sh first.
 set -euo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 build=${CANONFORM_BUILD_DIR:-$here/build}
@@ -22,9 +24,10 @@ if [ "$("$here/tools/setup.sh" --meshlab)" = 2020.09 ]; then def=1; else def=0; 
 if [ "$(id -u)" -eq 0 ]; then root=$def; else root=0; fi
 # CANONFORM_PLUGINS_ONLY=1: only what the Debian package holds (plugins, canonform-meshlab)
 if [ "${CANONFORM_PLUGINS_ONLY:-0}" = 1 ]; then
-  only=(-DCANONFORM_BUILD_TOOLS=OFF -DCANONFORM_BUILD_TESTS=OFF -DCANONFORM_BUILD_BENCH=OFF)
+  only=(-DCANONFORM_BUILD_TOOLS=OFF -DCANONFORM_BUILD_TESTS=OFF -DCANONFORM_BUILD_BENCH=OFF -DCANONFORM_PYTHON=OFF)
 else
-  only=(-DCANONFORM_BUILD_TOOLS=ON -DCANONFORM_BUILD_TESTS=ON -DCANONFORM_BUILD_BENCH=ON)
+  only=(-DCANONFORM_BUILD_TOOLS=ON -DCANONFORM_BUILD_TESTS=ON -DCANONFORM_BUILD_BENCH=ON
+        -DCANONFORM_PYTHON="$(onoff "${CANONFORM_PYTHON:-1}")")
 fi
 opts=("${only[@]}" -DCANONFORM_MESHLAB2022="$(onoff "${CANONFORM_MESHLAB2022:-$def}")"
       -DCANONFORM_MESHLAB2025="$(onoff "${CANONFORM_MESHLAB2025:-$def}")"

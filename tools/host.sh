@@ -1,24 +1,35 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: GPL-3.0-or-later
-# Runs a command inside a Debian root filesystem of another release, with that release's own
-# MeshLab and our plugins built and installed there as a user of that system would:
+# Runs a command inside a Debian root filesystem of another release:
 #
-#   tools/host.sh SUITE COMMAND [ARG...]     SUITE: trixie (MeshLab 2022.02) or forky (MeshLab 2025.07)
+#   tools/host.sh SUITE COMMAND [ARG...]
 #   tools/host.sh trixie canonform-meshlab in.off out.ply --filter generate_euclidean_canonical_form
 #   tools/host.sh forky meshlab --version
 #
+#   SUITE        Debian     what it is
+#   trixie       trixie     a MeshLab 2022.02 user's system, with our plugins built and installed there
+#   forky        forky      a MeshLab 2025.07 user's system, the same
+#   forky-bare   forky      a MeshLab 2025.07 user's system as apt leaves it after `apt install meshlab`:
+#                           none of the libraries our plugins link (the portable archives are tried
+#                           there: tests/e2e/portable_test.sh)
+#   bullseye     bullseye   the system the portable archives are built in (glibc 2.31, GCC 10,
+#                           Qt 5.15.2: tools/package.sh --portable); no MeshLab
+#
 # 1. The root filesystem is made once with Debian's mmdebstrap (variant apt) from the machine's own
-#    Debian mirror (derived from its apt entry): the suite's packages that tools/setup.sh installs
-#    (meshlab, compiler, Qt5, OpenCV, Xvfb, ...). It is cached outside the clone in
-#    $CANONFORM_HOST_CACHE (default /var/cache/canonform/hosts) as SUITE-KEY, KEY a hash of the
-#    suite and the package list; it is never changed after it is made.
+#    Debian mirror (derived from its apt entry): for trixie and forky the packages that
+#    tools/setup.sh installs (meshlab, compiler, Qt5, OpenCV, Xvfb, ...), for the others the lists
+#    below. It is cached outside the clone in $CANONFORM_HOST_CACHE (default
+#    /var/cache/canonform/hosts) as SUITE-KEY, KEY a hash of the suite and the package list; it is
+#    never changed after it is made.
 # 2. Each clone runs it through an overlay (its changes under build/hosts/SUITE/upper), with the
-#    project tree (at its own path) and /tmp bind-mounted, proc and dev mounted. All is unmounted
-#    when the script ends, also on failure or interruption.
-# 3. Inside, the README's commands for that system: tools/setup.sh, CANONFORM_PLUGINS_ONLY=1
-#    tools/build.sh (what the package holds; build dir build/hosts/SUITE/build), tools/package.sh,
-#    then `apt-get install ./canonform-plugins-*.deb` (only when the package changed).
-#    CANONFORM_HOST_PREPARE=0 skips this step.
+#    project tree (at its own path) and /tmp bind-mounted, proc and dev mounted; bullseye also gets
+#    a compiler cache, $CANONFORM_HOST_CACHE/ccache-bullseye, as /var/cache/ccache (CCACHE_DIR;
+#    CANONFORM_HOST_CCACHE=0: none). All is unmounted when the script ends, also on failure or
+#    interruption.
+# 3. trixie and forky only: inside, the README's commands for that system: tools/setup.sh,
+#    CANONFORM_PLUGINS_ONLY=1 tools/build.sh (what the package holds; build dir
+#    build/hosts/SUITE/build), tools/package.sh, then `apt-get install ./canonform-plugins-*.deb`
+#    (only when the package changed). CANONFORM_HOST_PREPARE=0 skips this step.
 # 4. COMMAND runs inside as root, in the current directory if it is under the project tree or
 #    /tmp (else the project root); its exit status is the script's.
 # A second run costs seconds: the root filesystem is cached, the build is up to date.
@@ -26,10 +37,15 @@
 set -euo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 
-usage() { echo "usage: $0 trixie|forky COMMAND [ARG...]" >&2; exit 2; }
+usage() { echo "usage: $0 trixie|forky|forky-bare|bullseye COMMAND [ARG...]" >&2; exit 2; }
 [ $# -ge 2 ] || usage
 suite=$1; shift
-case "$suite" in trixie|forky) ;; *) usage ;; esac
+case "$suite" in
+  trixie|forky) release=$suite; prepare=1 ;;  # our plugins built and installed inside (step 3)
+  forky-bare) release=forky; prepare=0 ;;
+  bullseye) release=bullseye; prepare=0 ;;
+  *) usage ;;
+esac
 log() { printf '[host %s] %s\n' "$suite" "$*" >&2; }
 die() { printf '[host %s] error: %s\n' "$suite" "$*" >&2; exit 1; }
 [ "$(id -u)" -eq 0 ] || die "needs root (mmdebstrap, mount, chroot)"
@@ -38,8 +54,29 @@ cache=${CANONFORM_HOST_CACHE:-/var/cache/canonform/hosts}
 state=$here/build/hosts/$suite
 
 # --- the root filesystem (made once, cached by suite and package list) -------------------------
-mapfile -t packages < <("$here/tools/setup.sh" --packages | sort -u)
-recipe="canonform host rootfs v2: mmdebstrap --variant=apt $suite main; meshlab's Recommends; ${packages[*]}"
+# What each root filesystem holds. bullseye: the compiler and the -dev packages of the libraries the
+# plugins link, at bullseye's versions (their symbol versions are what the archives may need), and
+# from bookworm only header-only packages that bullseye lacks or has too old (Eigen 3.4, the one the
+# bookworm build uses; nlohmann-json; CLI11): headers carry no symbol version; and VLFeat, whose
+# bullseye package has no SIFT (removed while it was patented): bookworm's libvlfeat1 needs glibc
+# 2.29 and libgomp1 4.9, both in bullseye. Bullseye has no FAISS (the plugins never train a
+# codebook: the portable build leaves k-means out).
+extra_sources=()
+case "$suite" in
+  trixie|forky) mapfile -t packages < <("$here/tools/setup.sh" --packages | sort -u) ;;
+  forky-bare) packages=(meshlab xvfb xauth) ;;
+  bullseye)
+    packages=(g++ make cmake pkg-config ccache patchelf python3 binutils file xz-utils
+              qtbase5-dev libqt5opengl5-dev libglew-dev libtbb-dev libsuitesparse-dev libopencv-dev
+              libeigen3-dev/bookworm nlohmann-json3-dev/bookworm libcli11-dev/bookworm
+              libvlfeat-dev/bookworm libvlfeat1/bookworm)
+    extra_sources=(bookworm) ;;
+esac
+if [ "$prepare" = 1 ]; then  # (the recipe of the first version of this script: the same cache key)
+  recipe="canonform host rootfs v2: mmdebstrap --variant=apt $suite main; meshlab's Recommends; ${packages[*]}"
+else
+  recipe="canonform host rootfs v3 $suite: mmdebstrap --variant=apt $release main${extra_sources[*]:+ + ${extra_sources[*]}}; meshlab's Recommends; ${packages[*]}"
+fi
 key=$(printf '%s\n' "$recipe" | sha256sum | cut -c1-16)
 lower=$cache/$suite-$key
 
@@ -65,7 +102,11 @@ make_rootfs() {
   local uri opts=() t0=$SECONDS
   uri=$(mirror_uri)
   # testing/unstable: the mirror's Release files may be past their Valid-Until date
-  case "$suite" in forky) opts+=(--aptopt='Acquire::Check-Valid-Until "false"') ;; esac
+  case "$release" in forky) opts+=(--aptopt='Acquire::Check-Valid-Until "false"') ;; esac
+  local sources=("deb $uri $release main") s
+  for s in "${extra_sources[@]}"; do sources+=("deb $uri $s main"); done
+  # packages from the release itself unless named as pkg/suite
+  [ ${#extra_sources[@]} -eq 0 ] || opts+=(--aptopt="APT::Default-Release \"$release\"")
   log "making the $suite root filesystem in $lower (mmdebstrap, mirror $uri, ${#packages[@]} packages); this takes minutes"
   rm -rf "$lower.tmp"
   # mmdebstrap installs no Recommends; a user's `apt install meshlab` does, and MeshLab's GUI
@@ -75,6 +116,7 @@ make_rootfs() {
   cat > "$hook" <<'EOF'
 #!/bin/sh
 set -e
+chroot "$1" dpkg-query -W meshlab >/dev/null 2>&1 || exit 0
 recommends=$(chroot "$1" apt-cache depends meshlab | awk '/Recommends:/ { if (alt) { alt = 0; next }
     if ($1 ~ /^\|/) alt = 1; gsub(/[<>]/, "", $2); print $2 }')
 chroot "$1" env DEBIAN_FRONTEND=noninteractive apt-get install -y -q --no-install-recommends $recommends
@@ -82,7 +124,7 @@ EOF
   chmod +x "$hook"
   if ! mmdebstrap --variant=apt --quiet "${opts[@]}" --include="$(IFS=,; echo "${packages[*]}")" \
         --customize-hook="$hook" \
-        "$suite" "$lower.tmp" "deb $uri $suite main" > "$cache/$suite-$key.log" 2>&1; then
+        "$release" "$lower.tmp" "${sources[@]}" > "$cache/$suite-$key.log" 2>&1; then
     rm -f "$hook"
     tail -n 30 "$cache/$suite-$key.log" >&2
     rm -rf "$lower.tmp"
@@ -150,15 +192,24 @@ for l in "$here"/external/*; do
   mount -o remount,bind,ro "$root$t"
 done
 
+# bullseye: a compiler cache outside the clone, kept between runs (the build passes without it)
+ccache_env=()
+if [ "$suite" = bullseye ] && [ "${CANONFORM_HOST_CCACHE:-1}" != 0 ]; then
+  mkdir -p "$cache/ccache-$suite" "$root/var/cache/ccache"
+  mnt "$root/var/cache/ccache" --bind "$cache/ccache-$suite"
+  ccache_env=(CCACHE_DIR=/var/cache/ccache CCACHE_MAXSIZE=5G CCACHE_BASEDIR="$here" CCACHE_NOHASHDIR=true
+              CMAKE_CXX_COMPILER_LAUNCHER=ccache CMAKE_C_COMPILER_LAUNCHER=ccache)
+fi
+
 inside() {  # runs its arguments inside, as root, with a clean environment
   local cwd=$1; shift
-  chroot "$root" /usr/bin/env -i HOME=/root LANG=C.UTF-8 TERM="${TERM:-dumb}" CI="${CI:-}" \
+  chroot "$root" /usr/bin/env -i HOME=/root LANG=C.UTF-8 TERM="${TERM:-dumb}" CI="${CI:-}" ${ccache_env[@]+"${ccache_env[@]}"} \
     PATH=/usr/local/sbin:/usr/local/bin:/usr/sbin:/usr/bin:/sbin:/bin \
     bash -c 'cd "$1" && shift && exec "$@"' inside "$cwd" "$@"
 }
 
 # --- build and install the plugins inside, by the README's commands --------------------------
-if [ "${CANONFORM_HOST_PREPARE:-1}" != 0 ]; then
+if [ "$prepare" = 1 ] && [ "${CANONFORM_HOST_PREPARE:-1}" != 0 ]; then
   t0=$SECONDS
   if ! inside "$here" env CANONFORM_BUILD_DIR="$state/build" CANONFORM_PLUGINS_ONLY=1 bash -c '
       set -e

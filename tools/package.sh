@@ -15,20 +15,62 @@
 # the libraries the plugins link, as dpkg-shlibdeps finds them. Made with cmake --install (component
 # `plugins`) and dpkg-deb. The version is CMake's project() version (canonform --version); the
 # licence (GPL-3.0-or-later) is in /usr/share/doc/PACKAGE/copyright.
+#
+# Portable archives, for the MeshLab and pymeshlab users install from elsewhere (docs/install.md):
+#   tools/package.sh --portable HOST [--build-dir DIR]    prints the archive's path (in DIR/portable)
+#
+#   HOST            archive (canonform-plugins-VERSION-...-linux-x86_64.tar.gz)   for
+#   pymeshlab2022   ...-pymeshlab2022.2-...                                         pymeshlab 2022.2.x (double)
+#   pymeshlab2023   ...-pymeshlab2023.12-...                                        pymeshlab 2023.12.x (double)
+#   pymeshlab2025   ...-pymeshlab2025.7-...                                         pymeshlab 2025.7.x (double)
+#   meshlab2025     ...-meshlab2025.07-...                                          MeshLab 2025.07 (float: AppImage, Flathub, forky)
+#   all             the four
+#
+# Built in a Debian bullseye root filesystem (tools/host.sh bullseye: glibc 2.31, GCC 10, Qt 5.15.2)
+# by tools/portable_build.sh, one CMake build (DIR/portable/build) for the four; the plugins link the
+# double meshlab-common libraries of the bookworm build in DIR (build/pymeshlab2022/lib,
+# build/pymeshlab2025/lib: tools/build.sh) and Debian forky's float one (from tools/host.sh
+# forky-bare). Each archive carries the libraries the plugins need beyond the host's
+# (tools/portable_bundle.py). Needs root (chroot).
 set -euo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 build=${CANONFORM_BUILD_DIR:-$here/build}
 dev=0
+portable=""
 while [ $# -gt 0 ]; do
   case "$1" in
     --build-dir) build=$2; shift 2 ;;
     --dev) dev=1; shift ;;
-    *) echo "usage: $0 [--dev] [--build-dir DIR]" >&2; exit 2 ;;
+    --portable) portable=$2; shift 2 ;;
+    *) echo "usage: $0 [--build-dir DIR] [--dev | --portable pymeshlab2022|pymeshlab2023|pymeshlab2025|meshlab2025|all]" >&2; exit 2 ;;
   esac
 done
 die() { echo "$0: $*" >&2; exit 1; }
 [ -f "$build/CMakeCache.txt" ] || die "no build in $build: run tools/build.sh first"
 build=$(realpath "$build")
+
+if [ -n "$portable" ]; then
+  case "$portable" in
+    all) hosts=(pymeshlab2022 pymeshlab2023 pymeshlab2025 meshlab2025) ;;
+    pymeshlab2022|pymeshlab2023|pymeshlab2025|meshlab2025) hosts=("$portable") ;;
+    *) die "unknown portable host '$portable' (pymeshlab2022, pymeshlab2023, pymeshlab2025, meshlab2025, all)" ;;
+  esac
+  [ "$(id -u)" -eq 0 ] || die "--portable needs root (the bullseye root filesystem: tools/host.sh)"
+  # the double meshlab-common libraries of the bookworm build (2.5 CPU-minutes each when missing)
+  for y in 2022 2025; do
+    lib=$build/pymeshlab$y/lib/libmeshlab-common.so
+    [ -f "$lib" ] && continue
+    grep -q "^CANONFORM_MESHLAB$y:BOOL=ON" "$build/CMakeCache.txt" ||
+      die "no $lib: build with CANONFORM_MESHLAB$y=1 tools/build.sh (bookworm) first"
+    cmake --build "$build" -j"$(nproc)" --target "pymeshlab${y}_common" >&2
+  done
+  # MeshLab 2025.07's float libmeshlab-common.so, as Debian forky packages it
+  mkdir -p "$build/portable/forky"
+  forky_lib=$build/portable/forky/libmeshlab-common.so
+  [ -f "$forky_lib" ] || "$here/tools/host.sh" forky-bare cp /usr/lib/x86_64-linux-gnu/meshlab/libmeshlab-common.so "$forky_lib" >&2
+  exec "$here/tools/host.sh" bullseye "$here/tools/portable_build.sh" "$build/portable/build" "$build/portable" \
+    "$build/pymeshlab2022/lib/libmeshlab-common.so" "$build/pymeshlab2025/lib/libmeshlab-common.so" "$forky_lib" "${hosts[@]}"
+fi
 
 # --- libcanonform-dev ---------------------------------------------------------------------------
 # The library for other projects (docs/library.md): the headers, the static libraries of the areas

@@ -43,7 +43,7 @@ TYPES = {
 FUNCTIONS = {
     "numerics": """vertex_adjacency connected_components align_rigid use_multigrid linear_solver_names
         parse_smacof_acceleration smacof_acceleration_names smacof_parameters run_guttman mds_parameters
-        classical_mds landmark_mds least_squares_mds mds raw_stress""",
+        classical_mds landmark_mds least_squares_mds mds raw_stress portable_atan2""",
     "surface": """conformal_factor normalize_scale normalize_parameter cotan_laplacian feature_point_parameters
         local_maxima feature_points sqrt_count gaussian_curvature all_pairs_geodesic_distances
         all_pairs_geodesic_bytes all_pairs_geodesic_seconds_estimate geodesic_distances_from repair_mesh
@@ -172,13 +172,15 @@ def rename(area, args):
         inside = f"src/canonform/{area}/" in relpath + "/"
         declares = f"namespace canonform::{area} {{" in text  # e.g. a plugin's actions in canonform::meshlab
         using = relpath.endswith(".cpp") and re.search(r"^using namespace canonform;$", text, re.M) is not None
+        using = using or re.search(r"^\s*using namespace canonform::%s;$" % area, text, re.M) is not None
         if inside:
             new = rename_area_file(text, area)
         elif declares:
             new = text
         else:
             new = qualify(text, area, using)
-            if using and qualify(text, area) != new:  # it uses the area's names unqualified
+            already = re.search(r"^using namespace canonform::%s;$" % area, new, re.M)
+            if using and not already and qualify(text, area) != new:  # it uses the area's names unqualified
                 lines = new.split("\n")
                 last = max(i for i, l in enumerate(lines) if re.match(r"using namespace canonform(::\w+)*;$", l))
                 lines.insert(last + 1, f"using namespace canonform::{area};")

@@ -17,7 +17,8 @@
 #   tools/setup.sh                 # as root (or with sudo available)
 #   tools/setup.sh --packages      # print the apt packages every system needs, one a line, and exit
 #                                  # (bookworm adds mmdebstrap, the sanitizer tests' clang and the
-#                                  # documentation's mkdocs, mkdocs-material and chromium)
+#                                  # documentation's mkdocs, mkdocs-material and chromium; builds
+#                                  # beyond the plugins add the Python module's)
 #   tools/setup.sh --meshlab       # print the installed MeshLab's version (2020.09, 2022.02, 2025.07)
 #   MESHLAB_SRC=/path tools/setup.sh   # use an existing MeshLab 2020.09 source tree instead
 #
@@ -57,6 +58,11 @@ esac
 if [ "$codename" = bookworm ] && [ "${CANONFORM_HOSTS:-1}" != 0 ]; then
   PACKAGES+=(mmdebstrap)
 fi
+# The CPU matrix (tests/e2e/cpu_matrix_test.sh, docs/cpu.md) runs the tests as other x86-64 CPUs
+# with Debian's qemu-user (qemu-x86_64 -cpu MODEL); the tests are skipped without it.
+if [ "$codename" = bookworm ] && [ "${CANONFORM_CPU_MATRIX:-1}" != 0 ]; then
+  PACKAGES+=(qemu-user)
+fi
 # The Slurm test cluster (tools/slurm_cluster.sh: `canonform slurm` end to end) runs on bookworm:
 # a one-node slurmctld + slurmd with munge authentication; not needed in the host root filesystems.
 if [ "$codename" = bookworm ] && [ "${CANONFORM_SLURM_TESTS:-1}" != 0 ]; then
@@ -72,6 +78,13 @@ fi
 # the site (docs/, mkdocs.yml) and headless Chromium opens it; not needed in the host root filesystems.
 if [ "$codename" = bookworm ] && [ "${CANONFORM_DOCS_TESTS:-1}" != 0 ]; then
   PACKAGES+=(mkdocs mkdocs-material chromium)
+fi
+# The Python module (python/, docs/python.md): pybind11, and what `pip install .` and its tests
+# use - Debian's Python with its headers, setuptools and wheel (the build backend, no PyPI), pip and
+# venv, pytest. Not needed for a build of the plugins alone (CANONFORM_PLUGINS_ONLY=1, the host
+# root filesystems) or with CANONFORM_PYTHON=0.
+if [ "${CANONFORM_PLUGINS_ONLY:-0}" != 1 ] && [ "${CANONFORM_PYTHON:-1}" != 0 ]; then
+  PACKAGES+=(pybind11-dev python3-dev python3-setuptools python3-wheel python3-pip python3-venv python3-pytest)
 fi
 
 log() { printf '[setup] %s\n' "$*"; }

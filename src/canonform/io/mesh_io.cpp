@@ -6,6 +6,7 @@
 #include <Eigen/Geometry>
 
 #include <charconv>
+#include <clocale>
 #include <cmath>
 #include <cstdio>
 #include <cstdint>
@@ -114,6 +115,18 @@ bool next_statement(Lines& lines, std::string_view* line, Tokens* rest, std::str
 bool parse_double(std::string_view t, double* v) {
     if (!t.empty() && t[0] == '+') t.remove_prefix(1);
     if (t.empty()) return false;
+#ifndef __cpp_lib_to_chars
+    // libstdc++ before GCC 11 (Debian bullseye's GCC 10: the portable plugins' build) has no
+    // floating-point from_chars. strtod_l in the "C" locale reads the same decimal and inf/nan forms
+    // to the same correctly rounded double, whatever locale the host process set; hexadecimal
+    // floats, which from_chars' general format refuses, are refused here too.
+    static const locale_t c_locale = newlocale(LC_ALL_MASK, "C", locale_t(0));
+    if (t.find_first_of("xX") != std::string_view::npos) return false;
+    const std::string s(t);
+    char* end = nullptr;
+    *v = strtod_l(s.c_str(), &end, c_locale);
+    return end == s.c_str() + s.size();
+#else
     const auto r = std::from_chars(t.data(), t.data() + t.size(), *v);
     if (r.ptr != t.data() + t.size()) return false;
     if (r.ec == std::errc::result_out_of_range) {  // overflow or underflow: what strtod makes of it
@@ -122,6 +135,7 @@ bool parse_double(std::string_view t, double* v) {
         return true;
     }
     return r.ec == std::errc();
+#endif
 }
 
 bool parse_integer(std::string_view t, long long* v) {

@@ -134,7 +134,7 @@ void centre(MatrixXd& X) { X.rowwise() -= X.colwise().mean(); }
 
 /// Per-thread scratch of the all-pairs stress pass.
 struct PassScratch {
-    MatrixXd acc;           // n x dim accumulator of B(X) X (threads > 0 only)
+    MatrixXd acc;           // n x dim accumulator of B(X) X (blocks > 0 only)
     Eigen::ArrayXd dist, f;  // length n
     double stress = 0;
 };
@@ -175,18 +175,24 @@ void pair_pass(const MatrixXd& D, const MatrixXd& X, Index r0, Index r1, MatrixX
     s.stress += stress;
 }
 
-/// S(X) and B(X) X for all pairs, the rows split between threads.
+/// S(X) and B(X) X for all pairs. The strict lower triangle is split into a fixed number of row
+/// blocks with about equal numbers of pairs, each with its own accumulator, summed in block order:
+/// the threads only decide which worker does a block, so the result is the same bits for every
+/// thread count (with one accumulator per thread it depended on the number of cores).
 class AllPairsPass {
 public:
+    static constexpr int kBlocks = 16;
+
     AllPairsPass(const MatrixXd& D, Index dim, int threads)
-        : D_(D), T_(resolve_threads(threads, D.rows())), bounds_(triangle_bounds(D.rows(), T_)),
-          scratch_(static_cast<size_t>(T_)) {
+        : D_(D), B_(static_cast<int>(std::min<Index>(kBlocks, std::max<Index>(D.rows(), 1)))),
+          T_(std::min(resolve_threads(threads, D.rows()), B_)), bounds_(triangle_bounds(D.rows(), B_)),
+          scratch_(static_cast<size_t>(B_)) {
         const Index n = D.rows();
-        for (int t = 0; t < T_; ++t) {
-            PassScratch& s = scratch_[static_cast<size_t>(t)];
+        for (int b = 0; b < B_; ++b) {
+            PassScratch& s = scratch_[static_cast<size_t>(b)];
             s.dist.resize(n);
             s.f.resize(n);
-            if (t > 0) s.acc.resize(n, dim);
+            if (b > 0) s.acc.resize(n, dim);
         }
     }
 
@@ -194,33 +200,57 @@ public:
     void run(const MatrixXd& X, MatrixXd* BX, double* stress) {
         if (BX) BX->setZero(X.rows(), X.cols());
         run_parallel(T_, [&](int t) {
-            PassScratch& s = scratch_[static_cast<size_t>(t)];
-            s.stress = 0;
-            MatrixXd* acc = nullptr;
-            if (BX) {
-                if (t > 0) {
-                    s.acc.setZero(X.rows(), X.cols());
-                    acc = &s.acc;
-                } else {
-                    acc = BX;
+            for (int b = t; b < B_; b += T_) {
+                PassScratch& s = scratch_[static_cast<size_t>(b)];
+                s.stress = 0;
+                MatrixXd* acc = nullptr;
+                if (BX) {
+                    if (b > 0) {
+                        s.acc.setZero(X.rows(), X.cols());
+                        acc = &s.acc;
+                    } else {
+                        acc = BX;  // block 0 comes first in the sum
+                    }
                 }
+                pair_pass(D_, X, bounds_[static_cast<size_t>(b)], bounds_[static_cast<size_t>(b) + 1], acc, s);
             }
-            pair_pass(D_, X, bounds_[static_cast<size_t>(t)], bounds_[static_cast<size_t>(t) + 1], acc, s);
         });
         double total = 0;
-        for (int t = 0; t < T_; ++t) {
-            total += scratch_[static_cast<size_t>(t)].stress;
-            if (BX && t > 0) *BX += scratch_[static_cast<size_t>(t)].acc;
+        for (int b = 0; b < B_; ++b) {
+            total += scratch_[static_cast<size_t>(b)].stress;
+            if (BX && b > 0) *BX += scratch_[static_cast<size_t>(b)].acc;
         }
         *stress = total;
     }
 
 private:
     const MatrixXd& D_;
-    int T_;
+    int B_, T_;
     std::vector<Index> bounds_;
     std::vector<PassScratch> scratch_;
 };
+
+/// A^T B (or A B) with the inner dimension summed in blocks of 64, in order. Eigen's matrix product
+/// splits a long inner dimension into blocks sized from the L1 cache that CPUID reports (Eigen's
+/// smallest such block, for an 8 KiB L1, holds 96 doubles), so its rounding depended on the CPU;
+/// a product of 64 leaves it nothing to split.
+constexpr Index kInnerBlock = 64;
+MatrixXd transpose_times(const MatrixXd& A, const MatrixXd& B) {
+    MatrixXd out = MatrixXd::Zero(A.cols(), B.cols());
+    for (Index k = 0; k < A.rows(); k += kInnerBlock) {
+        const Index len = std::min(kInnerBlock, A.rows() - k);
+        out.noalias() += A.middleRows(k, len).transpose() * B.middleRows(k, len);
+    }
+    return out;
+}
+MatrixXd times(const MatrixXd& A, const MatrixXd& B) {
+    MatrixXd out = MatrixXd::Zero(A.rows(), B.cols());
+    for (Index k = 0; k < A.cols(); k += kInnerBlock) {
+        const Index len = std::min(kInnerBlock, A.cols() - k);
+        out.noalias() += A.middleCols(k, len) * B.middleRows(k, len);
+    }
+    return out;
+}
 
 /// Orthonormal basis (n x p) of the columns of Z (Householder QR; rank deficiency is completed by
 /// arbitrary orthonormal directions).
@@ -267,7 +297,7 @@ EigenPairs top_eigenpairs(Index n, int k, const std::function<MatrixXd(const Mat
         if (sigma != 0) Z += sigma * Q;
         if (!Z.allFinite()) throw NumericalError("eigensolver: the operator produced non-finite values");
         // Rayleigh-Ritz on span(Q): H = Q^T (B + sigma) Q, Ritz vectors U = Q W, (B + sigma) U = Z W.
-        MatrixXd H = Q.transpose() * Z;
+        MatrixXd H = transpose_times(Q, Z);
         H = 0.5 * (H + H.transpose()).eval();
         Eigen::SelfAdjointEigenSolver<MatrixXd> es(H);
         if (es.info() != Eigen::Success) throw NumericalError("eigensolver: the Rayleigh-Ritz step failed");
@@ -336,8 +366,10 @@ MdsResult classical_mds(const MatrixXd& D, const MdsOptions& options) {
     validate(D, options, "classical MDS");
     const Index n = D.rows();
     const int T = resolve_threads(options.threads, n);
-    const std::vector<Index> bounds = equal_bounds(n, T);
+    // Rows in blocks of 16 at fixed places (multiples of 16), whatever the thread count: Eigen's
+    // product takes another kernel for a shorter block, so the rows' rounding followed the blocks.
     constexpr Index kRows = 16;
+    const std::vector<Index> bounds = equal_bounds((n + kRows - 1) / kRows, T);  // in blocks
     std::vector<MatrixXd> squares(static_cast<size_t>(T), MatrixXd(n, kRows));
     // B Q = -1/2 J D^(2) J Q; row i of D^(2) Y is column i of D squared, times Y (D symmetric).
     const auto apply = [&](const MatrixXd& Q) {
@@ -345,11 +377,11 @@ MdsResult classical_mds(const MatrixXd& D, const MdsOptions& options) {
         MatrixXd Z(n, Q.cols());
         run_parallel(T, [&](int t) {
             MatrixXd& S = squares[static_cast<size_t>(t)];
-            const Index r1 = bounds[static_cast<size_t>(t) + 1];
-            for (Index i0 = bounds[static_cast<size_t>(t)]; i0 < r1; i0 += kRows) {
+            const Index r1 = std::min(n, bounds[static_cast<size_t>(t) + 1] * kRows);
+            for (Index i0 = bounds[static_cast<size_t>(t)] * kRows; i0 < r1; i0 += kRows) {
                 const Index nb = std::min(kRows, r1 - i0);
                 S.leftCols(nb) = D.middleCols(i0, nb).array().square().matrix();
-                Z.middleRows(i0, nb).noalias() = S.leftCols(nb).transpose() * Y;
+                Z.middleRows(i0, nb) = transpose_times(S.leftCols(nb), Y);
             }
         });
         centre(Z);
@@ -421,7 +453,7 @@ MdsResult landmark_mds(const MatrixXd& D, const MdsOptions& options) {
         e.vectors = es.eigenvectors().rowwise().reverse().leftCols(dim);
         fix_signs(e.vectors);
     } else {
-        e = detail::top_eigenpairs(L, dim, [&BL](const MatrixXd& Q) { return MatrixXd(BL * Q); },
+        e = detail::top_eigenpairs(L, dim, [&BL](const MatrixXd& Q) { return times(BL, Q); },
                                    options.eigen_tolerance, options.eigen_max_iterations, options.seed, {});
     }
     report_progress(options.progress, 0.6, "landmark MDS: landmark block embedded");
@@ -434,7 +466,7 @@ MdsResult landmark_mds(const MatrixXd& D, const MdsOptions& options) {
     MatrixXd S(n, L);
     for (Index l = 0; l < L; ++l)
         S.col(l) = D.col(r.landmarks[static_cast<size_t>(l)]).array().square() - mean_sq(l);
-    r.X.noalias() = -0.5 * S * Pinv_t;
+    r.X = -0.5 * times(S, Pinv_t);
     centre(r.X);
     r.converged = true;
     r.eigenvalues = e.values;

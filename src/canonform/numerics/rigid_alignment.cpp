@@ -13,7 +13,10 @@ RigidAlignment align_rigid(const Eigen::MatrixXd& src, const Eigen::MatrixXd& ds
         throw InputError("rigid alignment needs two non-empty #P x 3 point sets of the same size");
     const Eigen::RowVector3d cs = src.colwise().mean(), cd = dst.colwise().mean();
     const Eigen::MatrixXd A = src.rowwise() - cs, B = dst.rowwise() - cd;
-    const Eigen::Matrix3d H = A.transpose() * B;  // sum a_k b_k^T
+    // H = sum a_k b_k^T, summed point by point in a fixed order (an Eigen product would split the
+    // sum into blocks sized from the CPU's L1 cache, so its rounding would depend on the CPU).
+    Eigen::Matrix3d H = Eigen::Matrix3d::Zero();
+    for (Eigen::Index k = 0; k < A.rows(); ++k) H.noalias() += A.row(k).transpose() * B.row(k);
     Eigen::JacobiSVD<Eigen::Matrix3d> svd(H, Eigen::ComputeFullU | Eigen::ComputeFullV);
     Eigen::Matrix3d D = Eigen::Matrix3d::Identity();
     if ((svd.matrixV() * svd.matrixU().transpose()).determinant() < 0) D(2, 2) = -1;

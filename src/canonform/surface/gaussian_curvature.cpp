@@ -2,6 +2,7 @@
 #include "canonform/surface/gaussian_curvature.h"
 
 #include "canonform/common/errors.h"
+#include "canonform/numerics/portable_atan2.h"
 #include "canonform/surface/mesh_topology.h"
 
 #include <Eigen/Geometry>
@@ -21,7 +22,7 @@ Eigen::VectorXd gaussian_curvature(const Eigen::MatrixXd& V, const Eigen::Matrix
         for (int c = 0; c < 3; ++c) {
             const int k = F(f, c), i = F(f, (c + 1) % 3), j = F(f, (c + 2) % 3);
             const Eigen::Vector3d a = V.row(i) - V.row(k), b = V.row(j) - V.row(k);
-            K(k) -= std::atan2(a.cross(b).norm(), a.dot(b));
+            K(k) -= numerics::portable_atan2(a.cross(b).norm(), a.dot(b));  // not libm: the same bits on every CPU
         }
     }
     return K;

@@ -3,6 +3,9 @@
 #include "canonform/surface/geodesic_distances.h"
 
 #include "canonform/common/parallel.h"
+#include "canonform/numerics/portable_atan2.h"
+
+#include <Eigen/Geometry>
 
 #include <algorithm>
 #include <cmath>
@@ -106,9 +109,12 @@ FastMarching::FastMarching(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, b
             bool split = false;
             if (unfold_obtuse && la > 0 && lb > 0) {
                 // Unfold into the plane of (C, A, B): C at the origin, A on the x axis, B above it.
+                // (No libm: acos, sin and atan2 differ in the last bit between CPUs with and
+                // without FMA; portable_atan2 and sqrt do not.)
                 const double cos_t = std::max(-1.0, dot / (la * lb));
-                const double theta = std::acos(cos_t);
-                const Eigen::Vector2d a2(la, 0.0), b2(lb * cos_t, lb * std::sin(theta));
+                const double cross = u.cross(w).norm();
+                const double theta = numerics::portable_atan2(cross, dot);
+                const Eigen::Vector2d a2(la, 0.0), b2(lb * cos_t, cross / la);
                 int P = A, Q = B, cur = f;
                 Eigen::Vector2d p2 = a2, q2 = b2, prev2 = Eigen::Vector2d::Zero();
                 for (int step = 0; step < kMaxUnfoldSteps; ++step) {
@@ -139,7 +145,7 @@ FastMarching::FastMarching(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, b
                         break;
                     }
                     // Not in the section: continue across the edge of (P, Q, D) the section crosses.
-                    const double phi = std::atan2(d2.y(), d2.x());
+                    const double phi = numerics::portable_atan2(d2.y(), d2.x());
                     if (phi < theta - 0.5 * kPi) {  // beyond the section on A's side: edge (D, Q)
                         prev2 = p2;
                         P = D;

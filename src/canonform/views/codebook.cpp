@@ -4,8 +4,10 @@
 #include "canonform/common/parallel.h"
 #include "canonform/io/files.h"
 
+#ifndef CANONFORM_WITHOUT_FAISS
 #include <faiss/Clustering.h>
 #include <faiss/IndexFlat.h>
+#endif
 
 #include <algorithm>
 #include <cmath>
@@ -187,6 +189,11 @@ DescriptorMatrix lloyd(const DescriptorMatrix& X, int k, int iterations, std::mt
     return C;
 }
 
+#ifdef CANONFORM_WITHOUT_FAISS
+DescriptorMatrix faiss_kmeans(const DescriptorMatrix&, int, int, std::uint64_t) {
+    throw InputError("Codebook: this build has no FAISS (CANONFORM_WITHOUT_FAISS), so no 'kmeans' method; use 'lloyd'.");
+}
+#else
 DescriptorMatrix faiss_kmeans(const DescriptorMatrix& X, int k, int iterations, std::uint64_t seed) {
     faiss::ClusteringParameters cp;
     cp.niter = iterations;
@@ -203,6 +210,7 @@ DescriptorMatrix faiss_kmeans(const DescriptorMatrix& X, int k, int iterations, 
                              " words, expected " + std::to_string(k) + ".");
     return Eigen::Map<const DescriptorMatrix>(clustering.centroids.data(), k, kDim);
 }
+#endif
 
 }  // namespace
 

@@ -32,14 +32,32 @@ Eigen::Matrix3Xd area_vectors(const Eigen::MatrixXd& X, const Eigen::MatrixXi& F
     return A;
 }
 
-Eigen::Matrix3d euler(double a, double b, double c) {
-    const double ca = std::cos(a), sa = std::sin(a), cb = std::cos(b), sb = std::sin(b),
-                 cc = std::cos(c), sc = std::sin(c);
-    Eigen::Matrix3d Rx, Ry, Rz;
-    Rx << 1, 0, 0, 0, ca, -sa, 0, sa, ca;
-    Ry << cb, 0, sb, 0, 1, 0, -sb, 0, cb;
-    Rz << cc, -sc, 0, sc, cc, 0, 0, 0, 1;
-    return Rz * Ry * Rx;
+// The rotation of the unnormalised quaternion (1, x/2): angle 2 atan(|x| / 2) ~ |x| about x / |x|.
+// Only +, -, * and /, which IEEE 754 rounds the same on every x86-64 CPU (libm's sin and cos are
+// dispatched at run time to FMA code on CPUs that have it and differ from the SSE2 code in the
+// last bit for about 1 argument in 1500).
+Eigen::Matrix3d small_rotation(const Eigen::Vector3d& x) {
+    const double w = 1.0, a = 0.5 * x[0], b = 0.5 * x[1], c = 0.5 * x[2];
+    const double s = 1.0 / (w * w + a * a + b * b + c * c);
+    Eigen::Matrix3d R;
+    R << 1.0 - 2.0 * s * (b * b + c * c), 2.0 * s * (a * b - c * w), 2.0 * s * (a * c + b * w),
+         2.0 * s * (a * b + c * w), 1.0 - 2.0 * s * (a * a + c * c), 2.0 * s * (b * c - a * w),
+         2.0 * s * (a * c - b * w), 2.0 * s * (b * c + a * w), 1.0 - 2.0 * s * (a * a + b * b);
+    return R;
+}
+
+// (1/n) X^T X summed row by row in a fixed order. Eigen's matrix product would split the sum over
+// the rows into blocks sized from the L1 cache that CPUID reports (32 KiB on most x86-64 CPUs,
+// 48 KiB on recent ones, 64 KiB under qemu64), so its rounding depended on the CPU.
+Eigen::Matrix3d covariance(const Eigen::MatrixXd& X) {
+    double c00 = 0, c01 = 0, c02 = 0, c11 = 0, c12 = 0, c22 = 0;
+    for (Eigen::Index i = 0; i < X.rows(); ++i) {
+        const double x = X(i, 0), y = X(i, 1), z = X(i, 2);
+        c00 += x * x, c01 += x * y, c02 += x * z, c11 += y * y, c12 += y * z, c22 += z * z;
+    }
+    Eigen::Matrix3d C;
+    C << c00, c01, c02, c01, c11, c12, c02, c12, c22;
+    return C / static_cast<double>(X.rows());
 }
 
 // Makes the frame R (rows = axes) unique: axes by decreasing second moment of X, signs by the
@@ -129,11 +147,12 @@ Eigen::Matrix3Xd binned_area_vectors(const Eigen::Matrix3Xd& A, int bins) {
     return B;
 }
 
-// Nelder-Mead over Euler angles around Q0; returns the best rotation (Rz Ry Rx Q0) and its cost.
+// Nelder-Mead over the rotation vector x of small_rotation(x) Q0; returns the best rotation and its
+// cost.
 // Standard coefficients (reflection 1, expansion 2, contraction 1/2, shrink 1/2).
 std::pair<Eigen::Matrix3d, double> nelder_mead(const RectCost& cost, const Eigen::Matrix3d& Q0,
                                                double step, int max_evals, double ftol, double xtol) {
-    auto f = [&](const Eigen::Vector3d& x) { return cost(euler(x[0], x[1], x[2]) * Q0); };
+    auto f = [&](const Eigen::Vector3d& x) { return cost(small_rotation(x) * Q0); };
     std::array<Eigen::Vector3d, 4> s;
     std::array<double, 4> fv{};
     s[0].setZero();
@@ -184,26 +203,39 @@ std::pair<Eigen::Matrix3d, double> nelder_mead(const RectCost& cost, const Eigen
     int best = 0;
     for (int i = 1; i < 4; ++i)
         if (fv[i] < fv[best]) best = i;
-    return {euler(s[best][0], s[best][1], s[best][2]) * Q0, fv[best]};
+    return {small_rotation(s[best]) * Q0, fv[best]};
 }
 
-// Repeated Nelder-Mead from Q0 with shrinking initial steps until it stops improving.
-std::pair<Eigen::Matrix3d, double> minimise_from(const RectCost& cost, const Eigen::Matrix3d& Q0,
-                                                 int rounds, double xtol) {
+// How a start is minimised: Nelder-Mead rounds from the best point so far, the r-th with initial
+// step 0.3 * 0.2^r; each round stops when its simplex is within xtol (rotation vector) and ftol
+// (cost) or after 600 evaluations.
+struct Schedule {
+    int rounds;
+    double xtol, ftol;
+    bool every_round;  ///< run all rounds (else stop after the first round that does not improve)
+};
+// Coarse restarts: only the basin matters (the refinement starts over with large steps).
+constexpr Schedule kCoarse{3, 1e-4, 1e-8, false};
+// Refinement: a fixed number of rounds. A stopping rule "stop when a round does not improve" was
+// decided by rounding noise (an improvement of 1e-16 or none), and an extra round often found a
+// lower minimum 1e-3 rad away, so the result moved with the last bit of the input.
+constexpr Schedule kRefine{5, 1e-11, 1e-13, true};
+
+std::pair<Eigen::Matrix3d, double> minimise_from(const RectCost& cost, const Eigen::Matrix3d& Q0, const Schedule& sc) {
     Eigen::Matrix3d Q = Q0;
     double fq = cost(Q);
     double step = 0.3;
-    for (int r = 0; r < rounds; ++r) {
-        auto [Qn, fn] = nelder_mead(cost, Q, step, 600, 1e-15, xtol);
-        const bool improved = fn < fq - 1e-15;
+    for (int r = 0; r < sc.rounds; ++r) {
+        auto [Qn, fn] = nelder_mead(cost, Q, step, 600, sc.ftol, sc.xtol);
+        const bool improved = fn < fq * (1.0 - 1e-12);  // well above rounding noise (~1e-15)
         if (fn <= fq) {
             // Re-orthonormalise (the product of many rotations drifts by rounding).
             Eigen::JacobiSVD<Eigen::Matrix3d> svd(Qn, Eigen::ComputeFullU | Eigen::ComputeFullV);
             Q = svd.matrixU() * svd.matrixV().transpose();
             fq = cost(Q);
         }
-        if (!improved && r > 0) break;
-        step = std::max(step * 0.2, 1e-4);
+        if (!improved && r > 0 && !sc.every_round) break;
+        step *= 0.2;
     }
     return {Q, fq};
 }
@@ -236,7 +268,7 @@ PoseNormalization normalize_pose(const Eigen::MatrixXd& V, const Eigen::MatrixXi
     if (!(total > 0)) throw InputError("the mesh has zero surface area");
 
     // PCA candidate.
-    const Eigen::Matrix3d cov = (X.transpose() * X) / static_cast<double>(X.rows());
+    const Eigen::Matrix3d cov = covariance(X);
     Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(cov);
     if (eig.info() != Eigen::Success) throw NumericalError("pose normalisation: the PCA eigen-decomposition failed");
     Eigen::Matrix3d Rpca;
@@ -256,10 +288,15 @@ PoseNormalization normalize_pose(const Eigen::MatrixXd& V, const Eigen::MatrixXi
     double best_f = 1e300;
     for (int k = 0; k < options.restarts; ++k) {
         const Eigen::Matrix3d Q0 = k == 0 ? Eigen::Matrix3d::Identity() : random_rotation(gen);
-        auto [Q, fq] = minimise_from(coarse, Q0, 3, 1e-6);  // coarse
+        auto [Q, fq] = minimise_from(coarse, Q0, kCoarse);
         if (fq < best_f) best_f = fq, best_Q = Q;
     }
-    best_Q = minimise_from(cost, best_Q, 8, 1e-11).first;  // refine the winner
+    // Restarts often reach one minimum, or minima related by one of the 24 rotations of the cube
+    // (P is invariant under them), with costs equal up to rounding; which one wins is then decided
+    // by rounding. The winner's axes are therefore canonicalised (step 4) before it is refined, so
+    // that the refinement starts from the same frame whichever one won.
+    best_Q = canonicalize_axes(best_Q * Rpca, X) * Rpca.transpose();
+    best_Q = minimise_from(cost, best_Q, kRefine).first;
     Eigen::Matrix3d Rrect = canonicalize_axes(best_Q * Rpca, X);
 
     out.pca_projected_area = RectCost{A, 1.0 / total}(Rpca);

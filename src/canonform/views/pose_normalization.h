@@ -15,14 +15,18 @@
 //        P(Q) = sum_t |Q a_t|_1 / sum_t |a_t|,   a_t = area vector of triangle t (area x unit normal),
 //    i.e. the sum of the areas of the projections of all triangles on the yz, xz and xy planes,
 //    divided by the surface area (P in [1, sqrt 3]; Lian et al.'s rectilinearity is a decreasing
-//    function of the minimum of P: 1 for a box-like mesh). Q = Rz(c) Ry(b) Rx(a) Q_k is parametrised by three
-//    Euler angles around each start Q_k; start 0 is the PCA frame, starts 1..restarts-1 are random
-//    rotations of it (std::mt19937_64 seeded with `seed`, raw 64-bit outputs, so platform
-//    independent). Each start runs Nelder-Mead (initial step 0.3 rad, restarted at the optimum
-//    with shrinking steps until it stops improving); the lowest P over all starts wins and is
-//    refined. Departure (for speed): the starts' coarse search minimises P over the area vectors
-//    summed per direction bin (PoseOptions::direction_bins; equal to P when no bin holds vectors
-//    whose rotated components differ in sign), only the refinement uses every face.
+//    function of the minimum of P: 1 for a box-like mesh). Around each start Q_k a rotation is
+//    parametrised by a vector x as R(x) Q_k, R(x) = the rotation of the quaternion (1, x/2) (angle
+//    2 atan(|x|/2), so about |x| for small x; only +, -, *, /, no libm). Start 0 is the PCA frame,
+//    starts 1..restarts-1 are random rotations of it (std::mt19937_64 seeded with `seed`, raw
+//    64-bit outputs, so platform independent). Each start runs up to 3 Nelder-Mead rounds
+//    (initial steps 0.3, 0.06, 0.012) until a round does not improve; the lowest P over all starts
+//    wins. Its axes are canonicalised (step 4) and it is refined on every face by 5 Nelder-Mead
+//    rounds (initial steps 0.3 * 0.2^r, r = 0..4), always all 5: P has many shallow local minima
+//    close together, and a rule "stop when a round does not improve" was decided by rounding.
+//    Departure (for speed): the starts' coarse search minimises P over the area vectors summed per
+//    direction bin (PoseOptions::direction_bins; equal to P when no bin holds vectors whose
+//    rotated components differ in sign), only the refinement uses every face.
 // 4. Axis canonicalisation (both candidates): P is invariant under the 24 cube rotations, and PCA
 //    axes have free signs, so each candidate frame is made unique by (a) ordering its axes by the
 //    second moment of X along them, largest first, then (b) choosing signs: of the three axes, the
@@ -34,9 +38,14 @@
 //    pca_cost and rect_cost are these volumes.
 //
 // Invariance: the result is equivariant under rigid motions and uniform scaling of the input
-// (tested to 1e-6) unless the shape is degenerate for one of the rules: two (nearly) equal PCA
+// (tested to 1e-6 on X) unless the shape is degenerate for one of the rules: two (nearly) equal PCA
 // eigenvalues or second moments, two axes with (nearly) zero third moment, two distinct local
 // minima of P with (nearly) equal value, or (nearly) equal bounding-box volumes.
+// The same on every x86-64 CPU, to the bit: only +, -, *, /, sqrt and comparisons, in an order
+// fixed at compile time. No libm function (sin, cos, atan, exp, log, pow have FMA variants chosen
+// at run time), and no Eigen matrix product with a long inner dimension (Eigen splits it into
+// blocks sized from the L1 cache that CPUID reports, so the rounding depends on the CPU): the
+// covariance is summed row by row.
 #pragma once
 
 #include "canonform/common/errors.h"
