@@ -38,9 +38,10 @@ for t in "${targets[@]}"; do
   dirs=()
   [ -d "$here/tests/fuzz/corpus/$t" ] && dirs+=("$here/tests/fuzz/corpus/$t")
   [ -d "$seeds/$t" ] && dirs+=("$seeds/$t")
-  LLVM_PROFILE_FILE=$build/coverage/$t.profraw "$bin" -runs=0 -rss_limit_mb=2048 "${dirs[@]}" > "$build/coverage/$t.log" 2>&1 || true
+  CANONFORM_FUZZ_SCRATCH=$build/coverage/scratch LLVM_PROFILE_FILE=$build/coverage/$t.profraw "$bin" -runs=0 -rss_limit_mb=2048 "${dirs[@]}" > "$build/coverage/$t.log" 2>&1 || true
   objects+=(-object "$bin")
 done
+rm -rf "$build/coverage/scratch"
 llvm-profdata merge -sparse "$build"/coverage/*.profraw -o "$build/coverage/all.profdata"
 sources=("$here"/src/canonform/io/*.cpp "$here/src/canonform/views/descriptor_file.cpp" "$here/src/canonform/views/codebook.cpp")
 llvm-cov report "${objects[@]:1}" -instr-profile="$build/coverage/all.profdata" "${sources[@]}" > "$build/coverage/report.txt"

@@ -28,7 +28,6 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
-#include <filesystem>
 #include <string>
 
 #include <unistd.h>
@@ -44,12 +43,14 @@ void require(bool ok, const char* what) {
     }
 }
 
-/// A folder of this process for the file round trips (made once, removed at exit).
+/// The folder for the file round trips: $CANONFORM_FUZZ_SCRATCH (run_fuzz.sh and fuzz_coverage.sh
+/// name one in the build folder and remove it afterwards: libFuzzer ends without running atexit
+/// handlers), else a folder of this process under /tmp.
 [[maybe_unused]] const std::string& scratch() {
     static const std::string dir = [] {
-        const std::string d = "/tmp/canonform-fuzz-" + std::to_string(::getpid());
+        const char* env = std::getenv("CANONFORM_FUZZ_SCRATCH");
+        const std::string d = env && *env ? std::string(env) : "/tmp/canonform-fuzz-" + std::to_string(::getpid());
         io::make_directories(d + "/sub");
-        std::atexit([] { std::error_code ec; std::filesystem::remove_all(scratch(), ec); });
         return d;
     }();
     return dir;
