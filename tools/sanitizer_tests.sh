@@ -13,7 +13,11 @@
 # these tests need: no plugins (they run inside the non-instrumented meshlabserver; see docs/testing.md), no
 # benchmarks.
 #   tools/sanitizer_tests.sh [ctest arguments]     CANONFORM_FUZZ_SECONDS=N (default 15 per target)
+#   tools/sanitizer_tests.sh --build-only          the build alone (run_tests.sh starts it, niced,
+#                                                  while ctest runs; the second call then only tests)
 set -euo pipefail
+build_only=0
+if [ "${1:-}" = --build-only ]; then build_only=1; shift; fi
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 build=${CANONFORM_SAN_BUILD_DIR:-$here/build-san}
 mkdir -p "$build"
@@ -32,6 +36,7 @@ if ! { CC=clang CXX=clang++ cmake -S "$here" -B "$build" -DCMAKE_BUILD_TYPE=RelW
 fi
 t1=$(date +%s)
 echo "[sanitizers] built in $((t1 - t0)) s"
+[ "$build_only" = 1 ] && exit 0
 cd "$build"
 # Reports are failures; leaks too (LeakSanitizer), except those of the libraries below us that we
 # cannot fix (tests/sanitizer_suppressions.txt).
