@@ -35,6 +35,7 @@
 namespace {
 
 using namespace canonform;
+using namespace canonform::surface;
 
 void require(bool ok, const char* what) {
     if (!ok) {
