@@ -18,6 +18,7 @@
 
 #include <QFileInfo>
 
+#include <map>
 #include <optional>
 #include <sstream>
 #include <type_traits>
@@ -116,11 +117,15 @@ surface::ConformalFactorResult validated_conformal_factor(const Bridged& b, cons
     return surface::conformal_factor(b.V, b.F, opt);
 }
 
-void check_ring(int ring) {
-    if (ring < 1 || ring > 10) throw InputError("the ring size must be between 1 and 10");
+/// The options of a parameter set from the filter's values of its parameters (checked: InputError
+/// naming a value out of range).
+template <class Options>
+Options options_from(const ParameterSet<Options>& set, const ParamValues& p) {
+    return set.read(p.texts(set.parameters()));
 }
 
-ActionOutputs conformal_factor_action(MeshDocument& md, const ParamValues& p, const ActionContext& ctx) {
+ActionOutputs conformal_factor_action(const FilterSpec&, MeshDocument& md, const ParamValues& p,
+                                      const ActionContext& ctx) {
     MeshModel& mm = current_mesh(md);
     FilterInput in = filter_input(mm, p, ctx);
     const surface::ConformalFactorResult cf = validated_conformal_factor(in.b, ctx);
@@ -141,16 +146,13 @@ ActionOutputs conformal_factor_action(MeshDocument& md, const ParamValues& p, co
             {"residual", cf.residual}};
 }
 
-ActionOutputs feature_points_action(MeshDocument& md, const ParamValues& p, const ActionContext& ctx) {
+ActionOutputs feature_points_action(const FilterSpec&, MeshDocument& md, const ParamValues& p,
+                                    const ActionContext& ctx) {
     MeshModel& mm = current_mesh(md);
-    const int ring = p.get_int("ring");
-    check_ring(ring);
+    const surface::FeaturePointOptions opt = options_from(surface::feature_point_parameters(), p);
+    const int ring = opt.ring;
     FilterInput in = filter_input(mm, p, ctx);
     const surface::ConformalFactorResult cf = validated_conformal_factor(in.b, ctx);
-    surface::FeaturePointOptions opt;
-    opt.ring = ring;
-    opt.fill = p.get_int("fill") == 1 ? surface::FeatureFill::Random : surface::FeatureFill::None;
-    opt.seed = static_cast<std::uint64_t>(p.get_int("seed"));
     const surface::FeaturePoints fp = surface::feature_points(in.b.F, cf.normalized, opt);
 
     // Everything computed: now change the document.
@@ -207,40 +209,27 @@ void write_canonical_form(MeshDocument& md, MeshModel& mm, const Bridged& b, con
     vcg::tri::UpdateBounding<CMeshO>::Box(target->cm);
 }
 
-/// The settings of `method` from the filter's parameters of the same names (the others keep the
-/// method's defaults).
-canonical::MethodSettings method_settings(const canonical::CanonicalMethod& method, const FilterSpec& spec, const ParamValues& p) {
-    std::vector<std::pair<std::string, std::string>> given;
-    for (const ParamSpec& fp : spec.params) {
-        if (!method.parameter(fp.name)) continue;
-        std::ostringstream v;
-        v.precision(17);
-        const MethodParameter* mp = method.parameter(fp.name);
-        if (fp.kind == ParamKind::String) {
-            v << p.get_string(fp.name);
-        } else if (fp.kind == ParamKind::Enum && !mp->choices.empty()) {  // the enum's index names a choice
-            const int k = p.get_int(fp.name);
-            if (k < 0 || k >= static_cast<int>(mp->choices.size())) throw InputError(std::string("unknown ") + fp.name + " choice");
-            v << mp->choices[static_cast<size_t>(k)];
-        }
-        else
-            v << p.get(fp.name);
-        given.emplace_back(fp.name, v.str());
-    }
-    return method.settings(given);
+/// The settings of `method` from the filter's parameters of the same names (every parameter of
+/// the method is one of its filter's: canonical_filter_table.cpp).
+canonical::MethodSettings method_settings(const canonical::CanonicalMethod& method, const ParamValues& p) {
+    return method.settings(p.texts(method.parameters));
 }
 
-/// "Euclidean canonical form" and "Geodesic canonical form": the method of the registry that the
-/// filter's enum (`variant` / `method`) names, its result in a new layer or in place.
-ActionOutputs canonical_form_action(FilterId id, MeshDocument& md, const ParamValues& p, const ActionContext& ctx) {
+/// A filter of a method family ("Euclidean canonical form": `variant`, "Geodesic canonical form":
+/// `method`): the method of the registry its enum (its first parameter) names, with the filter's
+/// values of the method's parameters; its result in a new layer or in place.
+template <canonical::MethodFamily family>
+ActionOutputs canonical_form_action(const FilterSpec& spec, MeshDocument& md, const ParamValues& p,
+                                    const ActionContext& ctx) {
     MeshModel& mm = current_mesh(md);
-    const FilterSpec& spec = filter_spec(filter_table(), int(id));
-    const bool euclidean = id == FilterId::EuclideanCanonicalForm;
-    const auto methods = canonical::canonical_methods_of(euclidean ? canonical::MethodFamily::Euclidean : canonical::MethodFamily::Geodesic);
-    const int choice = p.get_int(euclidean ? "variant" : "method");
-    if (choice < 0 || choice >= static_cast<int>(methods.size())) throw InputError("unknown method choice");
+    const auto methods = canonical::canonical_methods_of(family);
+    const Parameter& selector = spec.params.front();
+    const int choice = p.get_int(selector.name());
+    if (choice < 0 || choice >= static_cast<int>(methods.size()))
+        throw InputError(selector.name() + " must be " + selector.requirement() + ", got the index " +
+                         std::to_string(choice));
     const canonical::CanonicalMethod& method = *methods[static_cast<size_t>(choice)];
-    const canonical::MethodSettings settings = method_settings(method, spec, p);
+    const canonical::MethodSettings settings = method_settings(method, p);
 
     FilterInput in = filter_input(mm, p, ctx);
     validate_and_note(in.b, ctx);
@@ -252,7 +241,7 @@ ActionOutputs canonical_form_action(FilterId id, MeshDocument& md, const ParamVa
     const auto b = commit_repair(mm, in);  // everything computed: now change the document
     write_canonical_form(md, mm, b, r.V, r.quality.size() ? &r.quality : nullptr,
                          r.features.empty() ? nullptr : &r.features, p.get_bool("new_layer"));
-    ctx.log(std::string(spec.name) + " of '" + mm.label().toStdString() + "': " + r.description);
+    ctx.log(spec.name + " of '" + mm.label().toStdString() + "': " + r.description);
     ActionOutputs out;
     for (const auto& [key, value] : r.summary)
         if (!std::holds_alternative<std::string>(value))
@@ -262,17 +251,28 @@ ActionOutputs canonical_form_action(FilterId id, MeshDocument& md, const ParamVa
     return out;
 }
 
+using Action = ActionOutputs (*)(const FilterSpec&, MeshDocument&, const ParamValues&, const ActionContext&);
+
+/// The action of every filter of the table, by Python name. A new filter: its table row
+/// (canonical_filter_table.cpp), its action above and one line here.
+const std::map<std::string, Action>& actions() {
+    static const std::map<std::string, Action> a = {
+        {"compute_conformal_factor", conformal_factor_action},
+        {"compute_feature_points", feature_points_action},
+        {"generate_euclidean_canonical_form", canonical_form_action<canonical::MethodFamily::Euclidean>},
+        {"generate_geodesic_canonical_form", canonical_form_action<canonical::MethodFamily::Geodesic>},
+    };
+    return a;
+}
+
 }  // namespace
 
 ActionOutputs apply_filter_action(int id, MeshDocument& md, const ParamValues& params,
                                   const ActionContext& context) {
-    switch (static_cast<FilterId>(id)) {
-    case FilterId::ConformalFactor: return conformal_factor_action(md, params, context);
-    case FilterId::FeaturePoints: return feature_points_action(md, params, context);
-    case FilterId::EuclideanCanonicalForm:
-    case FilterId::GeodesicCanonicalForm: return canonical_form_action(static_cast<FilterId>(id), md, params, context);
-    }
-    throw InputError("unknown filter");
+    const FilterSpec& spec = filter_spec(filter_table(), id);
+    const auto it = actions().find(spec.python_name);
+    if (it == actions().end()) throw InputError("filter '" + spec.name + "' has no action");
+    return it->second(spec, md, params, context);
 }
 
 }  // namespace canonform::meshlab

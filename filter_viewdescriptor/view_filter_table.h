@@ -7,8 +7,6 @@
 
 namespace canonform::meshlab {
 
-enum class ViewFilterId : int { DepthViewDescriptor = 100 };
-
 /// The filters of filter_viewdescriptor, in menu order.
 const std::vector<FilterSpec>& view_filter_table();
 

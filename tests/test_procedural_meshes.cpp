@@ -27,8 +27,7 @@
 
 namespace {
 
-using canonform::procedural::Figure;
-using canonform::procedural::FigurePose;
+using namespace canonform::procedural;
 using canonform::Mesh;
 using Eigen::Vector3d;
 
@@ -329,8 +328,8 @@ TEST(ProceduralDisc, OneBoundaryLoopFlatAndUpwards) {
 // --------------------------------------------------------------------------------------- figure
 
 /// Figures are expensive enough to share between tests.
-const procedural::Figure& figure(int target, int pose) {
-    static std::map<std::pair<int, int>, procedural::Figure> cache;
+const Figure& figure(int target, int pose) {
+    static std::map<std::pair<int, int>, Figure> cache;
     const auto it = cache.find({target, pose});
     if (it != cache.end()) return it->second;
     return cache
@@ -343,14 +342,14 @@ class ProceduralFigureAtTarget : public ::testing::TestWithParam<int> {};
 
 TEST_P(ProceduralFigureAtTarget, VertexCountNearTarget) {
     const int target = GetParam();
-    const procedural::Figure& f = figure(target, 0);
+    const Figure& f = figure(target, 0);
     EXPECT_NEAR(static_cast<double>(f.mesh.V.rows()), target, 0.25 * target);
 }
 
 TEST_P(ProceduralFigureAtTarget, WatertightGenusZeroSingleComponent) {
     for (const int pose : {0, 3}) {
         SCOPED_TRACE("pose " + std::to_string(pose));
-        const procedural::Figure& f = figure(GetParam(), pose);
+        const Figure& f = figure(GetParam(), pose);
         const Topology t = topology(f.mesh);
         EXPECT_TRUE(t.oriented_manifold) << t.problem;
         EXPECT_TRUE(t.fans_are_discs) << t.problem;
@@ -372,8 +371,8 @@ TEST_P(ProceduralFigureAtTarget, NoDegenerateTriangles) {
 }
 
 TEST_P(ProceduralFigureAtTarget, PosesShareConnectivityAndAreNearIsometric) {
-    const procedural::Figure& rest = figure(GetParam(), 0);
-    const procedural::Figure& posed = figure(GetParam(), 3);
+    const Figure& rest = figure(GetParam(), 0);
+    const Figure& posed = figure(GetParam(), 3);
     ASSERT_EQ(rest.mesh.V.rows(), posed.mesh.V.rows());
     ASSERT_EQ(rest.mesh.F.rows(), posed.mesh.F.rows());
     EXPECT_TRUE(rest.mesh.F == posed.mesh.F);
@@ -395,13 +394,13 @@ TEST_P(ProceduralFigureAtTarget, PosesShareConnectivityAndAreNearIsometric) {
 TEST_P(ProceduralFigureAtTarget, LimbTipsOnTheSurfaceAndFarApart) {
     const std::vector<std::string> names = {"head",      "left_hand",  "right_hand",
                                             "left_foot", "right_foot", "tail"};
-    const procedural::Figure& rest = figure(GetParam(), 0);
+    const Figure& rest = figure(GetParam(), 0);
     const double height = rest.mesh.V.col(2).maxCoeff() - rest.mesh.V.col(2).minCoeff();
     EXPECT_GT(height, 1.8);
     EXPECT_LT(height, 2.2);
     for (const int pose : {0, 3}) {
         SCOPED_TRACE("pose " + std::to_string(pose));
-        const procedural::Figure& f = figure(GetParam(), pose);
+        const Figure& f = figure(GetParam(), pose);
         ASSERT_EQ(f.limb_names, names);
         ASSERT_EQ(f.limb_tips.size(), names.size());
         ASSERT_EQ(f.limb_radius.size(), names.size());
@@ -437,7 +436,7 @@ INSTANTIATE_TEST_SUITE_P(Targets, ProceduralFigureAtTarget, ::testing::Values(20
 TEST(ProceduralFigure, NamedPosesDoNotSelfIntersect) {
     for (int pose = 0; pose < canonform::procedural::kFigureNamedPoses; ++pose) {
         SCOPED_TRACE("pose " + std::to_string(pose));
-        const procedural::Figure& f = figure(4000, pose);
+        const Figure& f = figure(4000, pose);
         EXPECT_EQ(self_intersections(f.mesh), 0);
         EXPECT_GT(min_area_and_angle(f.mesh).second, 1.0 * kPi / 180.0);
     }
@@ -446,12 +445,12 @@ TEST(ProceduralFigure, NamedPosesDoNotSelfIntersect) {
 TEST(ProceduralFigure, RandomPosesAreDeterministicAndClean) {
     for (const int id : {6, 7, 23, 1000}) {
         SCOPED_TRACE("pose " + std::to_string(id));
-        const procedural::FigurePose a = canonform::procedural::figure_pose(id), b = canonform::procedural::figure_pose(id);
+        const FigurePose a = canonform::procedural::figure_pose(id), b = canonform::procedural::figure_pose(id);
         EXPECT_EQ(a.left_arm.elbow_bend, b.left_arm.elbow_bend);
         EXPECT_EQ(a.right_leg.knee_bend, b.right_leg.knee_bend);
         EXPECT_EQ(a.tail_curl, b.tail_curl);
         EXPECT_NE(a.left_arm.shoulder_down, canonform::procedural::figure_pose(id + 1).left_arm.shoulder_down);
-        const procedural::Figure f = canonform::procedural::make_figure(2000, a);
+        const Figure f = canonform::procedural::make_figure(2000, a);
         EXPECT_EQ(self_intersections(f.mesh), 0);
         EXPECT_GT(min_area_and_angle(f.mesh).second, 1.0 * kPi / 180.0);
     }
@@ -460,8 +459,8 @@ TEST(ProceduralFigure, RandomPosesAreDeterministicAndClean) {
 TEST(ProceduralFigure, NamedPosesAreDistinct) {
     for (int i = 0; i < canonform::procedural::kFigureNamedPoses; ++i)
         for (int j = i + 1; j < canonform::procedural::kFigureNamedPoses; ++j) {
-            const procedural::Figure& a = figure(2000, i);
-            const procedural::Figure& b = figure(2000, j);
+            const Figure& a = figure(2000, i);
+            const Figure& b = figure(2000, j);
             EXPECT_GT((a.mesh.V - b.mesh.V).rowwise().norm().maxCoeff(), 0.1) << i << " vs " << j;
         }
 }
@@ -469,31 +468,31 @@ TEST(ProceduralFigure, NamedPosesAreDistinct) {
 TEST(ProceduralFigure, ValidAndRepeatableAtOtherTargets) {
     for (const int target : {500, 1234, 30000}) {
         SCOPED_TRACE("target " + std::to_string(target));
-        const procedural::Figure a = canonform::procedural::make_figure(target, canonform::procedural::figure_pose(2));
+        const Figure a = canonform::procedural::make_figure(target, canonform::procedural::figure_pose(2));
         EXPECT_NEAR(static_cast<double>(a.mesh.V.rows()), target, 0.25 * target);
         const Topology t = topology(a.mesh);
         EXPECT_TRUE(t.oriented_manifold && t.fans_are_discs) << t.problem;
         EXPECT_EQ(t.components, 1);
         EXPECT_EQ(t.euler, 2);
-        const procedural::Figure b = canonform::procedural::make_figure(target, canonform::procedural::figure_pose(2));
+        const Figure b = canonform::procedural::make_figure(target, canonform::procedural::figure_pose(2));
         EXPECT_TRUE(a.mesh.V == b.mesh.V);
         EXPECT_TRUE(a.mesh.F == b.mesh.F);
     }
 }
 
 TEST(ProceduralFigureClasses, StandardProportionsGiveExactlyTheStandardFigure) {
-    const procedural::Figure a = canonform::procedural::make_figure(2000, canonform::procedural::figure_pose(3));
-    const procedural::Figure b = canonform::procedural::make_figure(2000, canonform::procedural::figure_pose(3), canonform::procedural::figure_class("standard"));
+    const Figure a = canonform::procedural::make_figure(2000, canonform::procedural::figure_pose(3));
+    const Figure b = canonform::procedural::make_figure(2000, canonform::procedural::figure_pose(3), canonform::procedural::figure_class("standard"));
     EXPECT_TRUE(a.mesh.V == b.mesh.V);
     EXPECT_TRUE(a.mesh.F == b.mesh.F);
 }
 
 TEST(ProceduralFigureClasses, EveryClassIsCleanInEveryNamedPoseWithTheSameFaces) {
-    const procedural::Figure standard = canonform::procedural::make_figure(2000, procedural::FigurePose{});
+    const Figure standard = canonform::procedural::make_figure(2000, FigurePose{});
     for (const std::string& name : canonform::procedural::figure_class_names()) {
         for (int pose = 0; pose < canonform::procedural::kFigureNamedPoses; ++pose) {
             SCOPED_TRACE(name + ", pose " + std::to_string(pose));
-            const procedural::Figure f = canonform::procedural::make_figure(2000, canonform::procedural::figure_pose(pose), canonform::procedural::figure_class(name));
+            const Figure f = canonform::procedural::make_figure(2000, canonform::procedural::figure_pose(pose), canonform::procedural::figure_class(name));
             EXPECT_TRUE(f.mesh.F == standard.mesh.F);
             const Topology t = topology(f.mesh);
             EXPECT_TRUE(t.oriented_manifold && t.fans_are_discs) << t.problem;
@@ -516,7 +515,7 @@ TEST(ProceduralFigureClasses, RandomPosesOfTheGeneratedCollectionAreClean) {
         for (int k = canonform::procedural::kFigureNamedPoses; k < 10; ++k) {
             const int id = 1000 + 37 * static_cast<int>(c) + k;
             SCOPED_TRACE(names[c] + ", pose " + std::to_string(id));
-            const procedural::Figure f = canonform::procedural::make_figure(2000, canonform::procedural::figure_pose(id), canonform::procedural::figure_class(names[c]));
+            const Figure f = canonform::procedural::make_figure(2000, canonform::procedural::figure_pose(id), canonform::procedural::figure_class(names[c]));
             EXPECT_EQ(self_intersections(f.mesh), 0);
             EXPECT_GT(min_area_and_angle(f.mesh).second, 1.0 * kPi / 180.0);
         }
@@ -525,11 +524,11 @@ TEST(ProceduralFigureClasses, RandomPosesOfTheGeneratedCollectionAreClean) {
 TEST(ProceduralFigureClasses, LengthFactorsStretchTheLimbsByThatFactor) {
     // Rest pose: the left hand tip lies at the shoulder joint (x = 0.26) plus the arm's length
     // along x; the tail tip behind the tail's base (y = 0.10) by the tail's length along its axis.
-    const procedural::Figure s = canonform::procedural::make_figure(3000, procedural::FigurePose{});
+    const Figure s = canonform::procedural::make_figure(3000, FigurePose{});
     canonform::procedural::FigureProportions p;
     p.arm_length = 1.5;
     p.tail_length = 0.6;
-    const procedural::Figure l = canonform::procedural::make_figure(3000, procedural::FigurePose{}, p);
+    const Figure l = canonform::procedural::make_figure(3000, FigurePose{}, p);
     const double arm_s = s.limb_tips[1].x() - 0.26, arm_l = l.limb_tips[1].x() - 0.26;
     EXPECT_NEAR(arm_l / arm_s, 1.5, 0.03);
     const double tail_s = (s.limb_tips[5] - Vector3d(0, 0.10, 0.86)).norm();
@@ -543,14 +542,14 @@ TEST(ProceduralFigureClasses, RejectsUnknownClassesAndProportionsOutOfRange) {
     EXPECT_THROW(canonform::procedural::figure_class("giraffe"), std::invalid_argument);
     canonform::procedural::FigureProportions p;
     p.leg_length = 3.0;
-    EXPECT_THROW(canonform::procedural::make_figure(2000, procedural::FigurePose{}, p), std::invalid_argument);
+    EXPECT_THROW(canonform::procedural::make_figure(2000, FigurePose{}, p), std::invalid_argument);
     p.leg_length = 0.0;
-    EXPECT_THROW(canonform::procedural::make_figure(2000, procedural::FigurePose{}, p), std::invalid_argument);
+    EXPECT_THROW(canonform::procedural::make_figure(2000, FigurePose{}, p), std::invalid_argument);
 }
 
 TEST(ProceduralFigure, RejectsBadArguments) {
     EXPECT_THROW(canonform::procedural::figure_pose(-1), std::invalid_argument);
-    EXPECT_THROW(canonform::procedural::make_figure(10, procedural::FigurePose{}), std::invalid_argument);
+    EXPECT_THROW(canonform::procedural::make_figure(10, FigurePose{}), std::invalid_argument);
 }
 
 }  // namespace

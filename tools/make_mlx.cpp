@@ -13,7 +13,7 @@ namespace {
 
 bool write_all(const std::vector<canonform::meshlab::FilterSpec>& table, const std::string& dir) {
     for (const auto& f : table) {
-        const std::string path = dir + "/" + f.script_file;
+        const std::string path = dir + "/" + f.script_file();
         std::ofstream out(path);
         out << canonform::meshlab::default_script(f);
         if (!out) {

@@ -58,7 +58,7 @@ py::object summary_value(const canonical::SummaryValue& v) {
 
 /// Checks an integer against a parameter of the registry (its range is defined there once).
 void check_as(const char* method, const char* parameter, const std::string& value) {
-    const MethodParameter* p = canonical::canonical_method(method).parameter(parameter);
+    const Parameter* p = canonical::canonical_method(method).parameter(parameter);
     if (p) p->check(value);
 }
 
@@ -172,18 +172,19 @@ double cpp_call_seconds(const py::object& V, const py::object& F, const std::str
 
 std::vector<py::dict> methods() {
     std::vector<py::dict> out;
-    for (const canonical::CanonicalMethod& m : canonical::canonical_methods()) {
+    for (const canonical::CanonicalMethod* method : canonical::canonical_methods()) {
+        const canonical::CanonicalMethod& m = *method;
         py::list params;
-        for (const MethodParameter& p : m.parameters) {
+        for (const Parameter& p : m.parameters) {
             py::dict d;
-            d["name"] = p.name;
-            d["default"] = p.default_value;
-            d["help"] = text(p.help);
-            d["min"] = p.min;
-            d["max"] = p.max;
-            d["integer"] = p.integer;
-            d["choices"] = p.choices;
-            d["zero_means_default"] = p.zero_means_default;
+            d["name"] = p.name();
+            d["default"] = p.default_value();
+            d["help"] = text(p.help());
+            d["min"] = p.min();
+            d["max"] = p.max();
+            d["integer"] = p.type() == ParameterType::Int;
+            d["choices"] = p.choices();
+            d["zero_means_default"] = p.zero_means_default();
             params.append(d);
         }
         py::dict d;

@@ -37,19 +37,20 @@ surface::ConformalFactorResult conformal_of(const std::string& path, const Mesh&
 void add_conformal(CLI::App& app) {
     struct Args {
         std::string in, out;
-        bool raw = false, json = false, repair = false;
+        bool json = false, repair = false;
+        ParameterArgs normalize;
     };
     auto a = std::make_shared<Args>();
     auto* c = app.add_subcommand("conformal", "the conformal factor (eqs. 7-9) as vertex quality of a PLY");
     add_in_out(c, a->in, a->out, "output mesh (PLY: conformal factor as vertex quality; .off/.obj/.stl: geometry only)");
-    c->add_flag("--raw", a->raw, "store the raw conformal factor (mean zero) instead of [0, 1]");
+    add_parameter(c, surface::normalize_parameter(), a->normalize);
     c->add_flag("--json", a->json, "print a JSON summary on stdout");
     add_repair_flag(c, a->repair);
     c->callback([a] {
         const auto t0 = std::chrono::steady_clock::now();
         const Mesh m = read_large_mesh(a->in, a->repair, a->json);
         const surface::ConformalFactorResult cf = conformal_of(a->in, m);
-        io::write_mesh(a->out, m.V, m.F, a->raw ? cf.raw : cf.normalized);
+        io::write_mesh(a->out, m.V, m.F, a->normalize.switches.at("normalize") ? cf.normalized : cf.raw);
         if (a->json)
             print_json({{"vertices", m.V.rows()}, {"faces", m.F.rows()}, {"min", cf.raw.minCoeff()},
                         {"max", cf.raw.maxCoeff()}, {"residual", cf.residual}, {"seconds", seconds_since(t0)}});
@@ -58,30 +59,21 @@ void add_conformal(CLI::App& app) {
 
 void add_features(CLI::App& app) {
     struct Args {
-        std::string in, out, fill = "none";
-        int ring = 2;
-        std::uint64_t seed = 0;
+        std::string in, out;
+        ParameterArgs features;  // ring, fill, seed (feature_points.h)
         bool json = false, repair = false;
     };
     auto a = std::make_shared<Args>();
     auto* c = app.add_subcommand("features", "the feature points (2-ring maxima of the conformal factor) as a point cloud");
     add_in_out(c, a->in, a->out, "output point cloud: the feature points (PLY quality: conformal factor; or .off, .obj)",
                true, false);
-    c->add_option("--ring", a->ring, "k of the k-ring in which a feature point is a strict maximum")
-        ->check(CLI::Range(1, 10));
-    c->add_option("--fill", a->fill, "none: local maxima only (variant N); random: seeded random vertices up to "
-                                     "ceil(sqrt N) (variant A)")
-        ->check(CLI::IsMember({"none", "random"}));
-    c->add_option("--seed", a->seed, "seed of the random fill")->check(finite_range(0, 4294967295.0));
+    add_parameters(c, surface::feature_point_parameters(), a->features);
     c->add_flag("--json", a->json, "print a JSON summary on stdout");
     add_repair_flag(c, a->repair);
     c->callback([a] {
         const auto t0 = std::chrono::steady_clock::now();
+        const surface::FeaturePointOptions opt = read_parameters(surface::feature_point_parameters(), a->features);
         const Mesh m = read_large_mesh(a->in, a->repair, a->json);
-        surface::FeaturePointOptions opt;
-        opt.ring = a->ring;
-        opt.fill = a->fill == "random" ? surface::FeatureFill::Random : surface::FeatureFill::None;
-        opt.seed = a->seed;
         const surface::ConformalFactorResult cf = conformal_of(a->in, m);
         const surface::FeaturePoints fp = surface::feature_points(m.F, cf.normalized, opt);
         Eigen::MatrixXd P(static_cast<Eigen::Index>(fp.indices.size()), 3);
@@ -101,43 +93,39 @@ void add_canonical(CLI::App& app) {
     // The options are the parameters of every method of the registry (a method's own options,
     // checked by it), plus the choice of method and how to run it.
     struct Args {
-        std::string in, out, method = "euclidean", variant = "N";
+        std::string in, out, method = "euclidean", variant;
         int threads = 0;
         bool quiet = false, json = false, repair = false;
-        std::map<std::string, std::string> values;  // parameter -> value as given
-        std::map<std::string, CLI::Option*> options;
+        ParameterArgs parameters;  // every parameter of every method, as given
     };
     auto a = std::make_shared<Args>();
+    std::vector<std::string> variants;
+    for (const canonical::CanonicalMethod* m : canonical::canonical_methods_of(canonical::MethodFamily::Euclidean)) variants.push_back(m->label);
+    a->variant = canonical::default_method_of(canonical::MethodFamily::Euclidean).label;
     std::string names = "euclidean (with --variant)";
-    for (const auto& m : canonical::canonical_methods()) names += ", " + m.name;
+    for (const canonical::CanonicalMethod* m : canonical::canonical_methods()) names += ", " + m->name;
     auto* c = app.add_subcommand("canonical", "the canonical form of a mesh, by any method of the registry");
     add_in_out(c, a->in, a->out, "output mesh (the form; PLY quality: the conformal factor where the method has one)");
     c->add_option("--method", a->method, "the method: " + names);
-    c->add_option("--variant", a->variant, "with --method euclidean: A or N (the paper's variants)")
-        ->check(CLI::IsMember({"A", "N"}));
+    c->add_option("--variant", a->variant, "with --method euclidean: the paper's variant")->check(CLI::IsMember(variants));
     // One option per parameter name; its help says which methods take it and their defaults.
-    std::map<std::string, std::pair<const MethodParameter*, std::vector<std::string>>> params;
+    std::map<std::string, std::pair<const Parameter*, std::vector<std::string>>> params;
     std::vector<std::string> order;
-    for (const auto& m : canonical::canonical_methods())
-        for (const auto& p : m.parameters) {
-            auto& entry = params[p.name];
+    for (const canonical::CanonicalMethod* m : canonical::canonical_methods())
+        for (const Parameter& p : m->parameters) {
+            auto& entry = params[p.name()];
             if (!entry.first) {
                 entry.first = &p;
-                order.push_back(p.name);
+                order.push_back(p.name());
             }
-            entry.second.push_back(m.name + " " + p.default_value);
+            entry.second.push_back(m->name + " " + p.default_value());
         }
     for (const std::string& name : order) {
-        const MethodParameter& p = *params[name].first;
-        std::string flags = "--" + p.name, defaults;
-        for (auto& ch : flags)
-            if (ch == '_') ch = '-';
-        if (!p.alias.empty()) flags = "--" + p.alias + "," + flags;
+        std::string defaults;
         for (const std::string& d : params[name].second) defaults += (defaults.empty() ? "" : ", ") + d;
-        // The value is checked by the method (MethodParameter::check: finite, in range) once the
-        // method is known; the type name shows it is a number.
-        a->options[name] = c->add_option(flags, a->values[name], p.help + " (default: " + defaults + ")")
-                               ->type_name(!p.choices.empty() ? "TEXT" : p.integer ? "INT" : "FLOAT");
+        // The value is checked by the method (Parameter::check: finite, in range) once the method
+        // is known: methods may give one name different ranges.
+        add_parameter(c, *params[name].first, a->parameters, defaults, false);
     }
     c->add_option("--threads", a->threads, "threads of the method's parallel loops (0: every core)")
         ->check(CLI::Range(0, 1024));
@@ -149,10 +137,9 @@ void add_canonical(CLI::App& app) {
         canonical::MethodSpec spec;
         spec.name = a->method == "euclidean" ? "euclidean-" + a->variant : a->method;
         const canonical::CanonicalMethod& method = canonical::canonical_method(spec.name);
-        for (const auto& [name, option] : a->options) {
-            if (option->count() == 0) continue;
+        for (const auto& [name, value] : a->parameters.given()) {
             if (!method.parameter(name)) throw UsageError("--" + name + " is not an option of method " + method.name);
-            spec.given.emplace_back(name, a->values[name]);
+            spec.given.emplace_back(name, value);
         }
         canonical::MethodSettings settings;
         try {

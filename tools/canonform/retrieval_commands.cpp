@@ -8,6 +8,7 @@
 #include "canonform/io/files.h"
 #include "canonform/retrieval/experiment.h"
 #include "canonform/retrieval/retrieval_measures.h"
+#include "canonform/views/view_parameters.h"
 
 #include <cstdio>
 #include <cstdlib>
@@ -58,7 +59,7 @@ void print_row(std::ostream& o, const std::string& name, const retrieval::Measur
 
 void add_experiment_options(CLI::App* c, ExperimentArgs& a) {
     std::string names;
-    for (const auto& m : canonical::canonical_methods()) names += (names.empty() ? "" : ", ") + m.name;
+    for (const canonical::CanonicalMethod* m : canonical::canonical_methods()) names += (names.empty() ? "" : ", ") + m->name;
     c->add_option("--dataset", a.o.dataset, "collection folder (label paths are relative to it)")->required();
     c->add_option("--labels", a.o.labels, "labels file, rows path,class (default: DATASET/labels.csv)");
     c->add_option("--out", a.o.out, "run folder (for a sharded run on a filesystem every machine shares)")->required();
@@ -79,15 +80,13 @@ void add_experiment_options(CLI::App* c, ExperimentArgs& a) {
     c->add_option("--noise", a.o.noise, "vertex noise, as a fraction of the mean edge length")
         ->check(finite_range(0, 10));
     c->add_option("--seed", a.o.seed, "seed of the noise and the codebook")->check(finite_range(0, 4294967295.0));
-    c->add_option("--sift", a.sift, "SIFT extractor: canonform (default: the project's own, Lowe 2004) or opencv "
-                                    "(OpenCV's cv::SIFT); see docs/sift.md")
-        ->check(CLI::IsMember(views::sift_backend_names()));
+    add_parameter(c, *find_parameter(views::view_descriptor_parameters().parameters(), "sift"), a.sift);
     add_repair_flag(c, a.o.repair);
 }
 
 retrieval::ExperimentOptions finish_experiment_options(const ExperimentArgs& a, bool fused) {
     retrieval::ExperimentOptions o = a.o;
-    o.views.sift.backend = views::parse_sift_backend(a.sift);
+    o.views.sift.backend = read_parameters(views::view_descriptor_parameters(), a.sift).sift.backend;
     if (o.labels.empty()) o.labels = o.dataset + "/labels.csv";
     if (o.codebook == "kmeans" || o.codebook == "lloyd" || o.codebook == "random") {
         o.codebook_training.method = views::parse_codebook_method(o.codebook);

@@ -319,8 +319,8 @@ void add_index(CLI::App& app) {
             for (const std::string& m : split_list(a->methods)) methods.push_back(canonical::parse_method_spec(m));
         }
         if (methods.empty())
-            for (const auto& m : canonical::canonical_methods()) {
-                const canonical::MethodSpec spec = canonical::parse_method_spec(m.name);
+            for (const canonical::CanonicalMethod* m : canonical::canonical_methods()) {
+                const canonical::MethodSpec spec = canonical::parse_method_spec(m->name);
                 if (io::is_file(a->run + "/" + spec.folder() + "/models.csv")) methods.push_back(spec);
             }
         if (methods.empty()) throw InputError("'" + a->run + "': no method folder with models.csv: name --method");

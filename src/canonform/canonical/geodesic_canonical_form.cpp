@@ -79,24 +79,96 @@ GeodesicCanonicalFormResult geodesic_canonical_form(const Eigen::MatrixXd& V0, c
     if (!D.allFinite()) throw NumericalError("geodesic distances: some vertices were not reached");
 
     // Step 3: MDS in [0.7, 1]. Least squares starts from classical MDS (see the header).
-    numerics::MdsOptions mo;
-    copy_iteration_options(options, mo);
+    numerics::MdsOptions mo = options.mds;
+    mo.dim = 3;
     mo.threads = options.threads;
     mo.check_input = false;  // symmetric with zero diagonal by construction
+    mo.progress = nullptr;
     if (options.progress) mo.progress = [&](double f, const char* s) { return options.progress(0.7 + 0.3 * f, s); };
     const auto tm = std::chrono::steady_clock::now();
     numerics::MdsResult m = numerics::mds(D, options.method, mo);
     r.mds_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - tm).count();
     if (m.X.cols() != 3 || !m.X.allFinite()) throw NumericalError("MDS returned a non-finite configuration");
 
+    static_cast<numerics::SmacofStatistics&>(r) = std::move(m);  // X stays in m
     r.mean_relative_edge_change = surface::mean_relative_edge_change(V, m.X, report.edge_list);
     r.V = options.restore_scale ? Eigen::MatrixXd((m.X * scale).rowwise() + centroid) : m.X;
-    r.iterations = m.iterations;
-    r.initial_stress = m.initial_stress;
-    r.final_stress = m.final_stress;
     report_progress(options.progress, 1.0, "done");
     r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     return r;
+}
+
+ParameterSet<GeodesicCanonicalFormOptions> geodesic_canonical_form_parameters(
+    const GeodesicCanonicalFormOptions& defaults) {
+    using O = GeodesicCanonicalFormOptions;
+    ParameterSet<O> s(defaults);
+    s.include(numerics::mds_parameters(), &O::mds);
+    s.add(Parameter::number("max_memory_gib", 0, 1e6)
+              .label("Memory limit (GiB)")
+              .help("refuse meshes whose estimated memory (an N x N distance matrix) exceeds this (GiB)")
+              .affects_result(false),
+          &O::max_memory_gib);
+    s.add(Parameter::number("max_seconds", 0, 1e9)
+              .label("Time limit (s)")
+              .help("refuse meshes whose estimated computing time exceeds this (s)")
+              .affects_result(false),
+          &O::max_seconds);
+    return s;
+}
+
+CanonicalMethod geodesic_method(numerics::MdsMethod mds) {
+    GeodesicCanonicalFormOptions defaults;
+    defaults.method = mds;
+    const ParameterSet<GeodesicCanonicalFormOptions> parameters = geodesic_canonical_form_parameters(defaults);
+    CanonicalMethod m;
+    m.family = MethodFamily::Geodesic;
+    m.family_default = mds == GeodesicCanonicalFormOptions().method;
+    switch (mds) {
+    case numerics::MdsMethod::LeastSquares:
+        m.name = "geodesic-ls";
+        m.label = "least squares";
+        m.help = "geodesic canonical form, least-squares MDS (SMACOF on all pairs; the paper's LS)";
+        break;
+    case numerics::MdsMethod::Classical:
+        m.name = "geodesic-classical";
+        m.label = "classical";
+        m.help = "geodesic canonical form, classical MDS (the paper's C)";
+        break;
+    case numerics::MdsMethod::Landmark:
+        m.name = "geodesic-fast";
+        m.label = "fast";
+        m.help = "geodesic canonical form, fast (landmark) MDS (the paper's F)";
+        break;
+    }
+    m.parameters = parameters.parameters();
+    // Only least squares runs SMACOF: the others accept its acceleration, which changes nothing.
+    if (mds != numerics::MdsMethod::LeastSquares)
+        for (Parameter& p : m.parameters)
+            if (p.name() == "acceleration") p.affects_result(false);
+    const std::string name = m.name;
+    m.run = [parameters, mds, name](const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const MethodSettings& s,
+                                    const MethodContext& c) {
+        GeodesicCanonicalFormOptions o = parameters.read(s);
+        o.threads = c.threads;
+        o.progress = c.progress;
+        GeodesicCanonicalFormResult g = geodesic_canonical_form(V, F, o);
+        CanonicalForm r;
+        r.V = std::move(g.V);
+        const std::string acceleration = mds == numerics::MdsMethod::LeastSquares ? to_string(o.mds.smacof.acceleration) : "none";
+        r.summary = {{"method", name}, {"iterations", g.iterations}, {"acceleration", acceleration},
+                     {"initial_stress", g.initial_stress}, {"final_stress", g.final_stress},
+                     {"mean_relative_edge_change", g.mean_relative_edge_change},
+                     {"geodesic_seconds", g.geodesic_seconds}, {"mds_seconds", g.mds_seconds}, {"seconds", g.seconds},
+                     {"estimated_seconds", g.estimate.seconds}, {"estimated_bytes", g.estimate.bytes}};
+        std::ostringstream d;
+        d << name << ": " << V.rows() << " vertices (estimated " << g.estimate.describe() << "), geodesics "
+          << g.geodesic_seconds << " s, MDS " << g.mds_seconds << " s (" << g.iterations << " iterations, stress "
+          << g.initial_stress << " -> " << g.final_stress << "), mean relative edge-length change "
+          << g.mean_relative_edge_change << ", " << g.seconds << " s";
+        r.description = d.str();
+        return r;
+    };
+    return m;
 }
 
 }  // namespace canonform::canonical

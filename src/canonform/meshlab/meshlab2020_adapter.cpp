@@ -8,7 +8,7 @@ using canonform::meshlab::FilterSpec;
 using canonform::meshlab::mesh_mask;
 
 QString TableFilterPlugin2020::filterName(FilterIDType filter) const {
-    return QString::fromUtf8(spec(filter).name);
+    return QString::fromStdString(spec(filter).name);
 }
 
 QString TableFilterPlugin2020::filterInfo(FilterIDType filter) const {
@@ -39,8 +39,8 @@ bool TableFilterPlugin2020::applyFilter(QAction* a, MeshDocument& md, const Rich
         apply_(s.id, md, values, ctx);
         return true;
     } catch (const std::exception& e) {
-        errorMessage = QString("%1: %2").arg(QString::fromUtf8(s.name), QString::fromUtf8(e.what()));
-        Log("%s failed: %s", s.name, e.what());
+        errorMessage = QString("%1: %2").arg(QString::fromStdString(s.name), QString::fromUtf8(e.what()));
+        Log("%s failed: %s", s.name.c_str(), e.what());
         return false;
     }
 }

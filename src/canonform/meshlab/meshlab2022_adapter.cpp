@@ -33,10 +33,10 @@ std::map<std::string, QVariant> canonform::meshlab::to_qvariant_map(const Action
     return out;
 }
 
-QString TableFilterPlugin2022::filterName(ActionIDType filter) const { return QString::fromUtf8(spec(filter).name); }
+QString TableFilterPlugin2022::filterName(ActionIDType filter) const { return QString::fromStdString(spec(filter).name); }
 
 QString TableFilterPlugin2022::pythonFilterName(ActionIDType filter) const {
-    return QString::fromUtf8(spec(filter).python_name);
+    return QString::fromStdString(spec(filter).python_name);
 }
 
 QString TableFilterPlugin2022::filterInfo(ActionIDType filter) const { return QString::fromStdString(spec(filter).info); }
@@ -67,7 +67,7 @@ std::map<std::string, QVariant> TableFilterPlugin2022::applyFilter(const QAction
     try {
         return canonform::meshlab::to_qvariant_map(apply_(s.id, md, values, ctx));
     } catch (const std::exception& e) {
-        log(std::string(s.name) + " failed: " + e.what());
-        throw MLException(QString("%1: %2").arg(QString::fromUtf8(s.name), QString::fromUtf8(e.what())));
+        log(s.name + " failed: " + e.what());
+        throw MLException(QString("%1: %2").arg(QString::fromStdString(s.name), QString::fromUtf8(e.what())));
     }
 }

@@ -265,6 +265,10 @@ const char* to_string(LinearSolver s) {
     return "auto";
 }
 
+std::vector<std::string> linear_solver_names() {
+    return {to_string(LinearSolver::Auto), to_string(LinearSolver::Direct), to_string(LinearSolver::Multigrid)};
+}
+
 bool use_multigrid(LinearSolver s, long long unknowns, long long threshold) {
     if (unknowns <= AmgOptions{}.coarse_size) return false;
     return s == LinearSolver::Multigrid || (s == LinearSolver::Auto && unknowns >= threshold);

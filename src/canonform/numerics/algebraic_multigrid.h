@@ -25,6 +25,7 @@
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 
+#include <string>
 #include <vector>
 
 namespace canonform::numerics {
@@ -43,6 +44,8 @@ constexpr int kMultigridFrom = 40000;
 
 /// Name of a linear solver ("auto", "direct", "multigrid").
 const char* to_string(LinearSolver s);
+/// Every solver's name, in LinearSolver's order (a parameter's choices).
+std::vector<std::string> linear_solver_names();
 
 struct AmgOptions;
 

@@ -27,6 +27,14 @@ Eigen::MatrixXd normalize_scale(const Eigen::MatrixXd& V, Eigen::RowVector3d* ce
     return X;
 }
 
+Parameter normalize_parameter() {
+    return Parameter::flag("normalize")
+        .default_value("true")
+        .label("Normalise to [0, 1]")
+        .help("store (phi - min) / (max - min) instead of the raw conformal factor (mean zero)")
+        .alias("raw");
+}
+
 ConformalFactorResult conformal_factor(const Eigen::MatrixXd& V0, const Eigen::MatrixXi& F,
                                        const ConformalFactorOptions& options) {
     MeshReport report;  // the boundary comes with the validation, or from the caller's

@@ -27,6 +27,7 @@
 
 #include "canonform/numerics/algebraic_multigrid.h"
 #include "canonform/common/errors.h"
+#include "canonform/common/parameters.h"
 
 #include <Eigen/Core>
 
@@ -58,6 +59,10 @@ struct ConformalFactorResult {
     /// V, which lives on the same edges.
     std::vector<int> ordering;
 };
+
+/// The `normalize` parameter: store ConformalFactorResult::normalized (default) or raw (the
+/// conformal factor filter's parameter; the tool's --no-normalize, also --raw).
+Parameter normalize_parameter();
 
 /// Conformal factor of the mesh (V #V x 3, F #F x 3). Throws InputError on bad input,
 /// NumericalError if the factorisation fails or the residual is above tolerance.

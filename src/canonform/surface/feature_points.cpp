@@ -49,6 +49,23 @@ std::vector<int> local_maxima(const numerics::VertexAdjacency& adj, const Eigen:
     return maxima;
 }
 
+ParameterSet<FeaturePointOptions> feature_point_parameters(const FeaturePointOptions& defaults) {
+    ParameterSet<FeaturePointOptions> s(defaults);
+    s.add(Parameter::integer("ring", 1, 10)
+              .label("Ring size (k)")
+              .help("k of the k-ring in which a feature point is a strict maximum of the conformal factor (the "
+                    "paper uses 2)"),
+          &FeaturePointOptions::ring);
+    s.add(Parameter::choice("fill", {"none", "random"})  // FeatureFill's enumerators, in order
+              .label("Fill")
+              .help("none: local maxima only (variant N); random: add seeded random vertices up to ceil(sqrt(N)) "
+                    "(variant A)"),
+          &FeaturePointOptions::fill);
+    s.add(Parameter::integer("seed", 0, 2147483647).label("Random seed").help("seed of the random fill (variant A's extra feature points)"),
+          &FeaturePointOptions::seed);
+    return s;
+}
+
 namespace {
 
 /// Unbiased draw in [0, bound) from a 64-bit engine (rejection sampling; portable, unlike

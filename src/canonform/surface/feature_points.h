@@ -17,6 +17,7 @@
 //   "randomly selected" leaves open and a pose-invariant canonical form needs.
 #pragma once
 
+#include "canonform/common/parameters.h"
 #include "canonform/surface/mesh_topology.h"
 
 #include <Eigen/Core>
@@ -34,11 +35,15 @@ enum class FeatureFill {
 
 /// Options of feature_points().
 struct FeaturePointOptions {
-    int ring = 2;                     ///< k of the k-ring neighbourhood (1, 2 or 3 in the paper)
+    int ring = 2;                     ///< k of the k-ring neighbourhood (the paper: 2; 1 and 3 also studied)
     FeatureFill fill = FeatureFill::None;
     std::uint64_t seed = 0;           ///< seed of the random fill
     int count = -1;                   ///< target count; -1 means ceil(sqrt(#V)); more than #V is refused
 };
+
+/// The parameters of FeaturePointOptions a user sets - ring, fill, seed - with their defaults from
+/// `defaults` (common/parameters.h).
+ParameterSet<FeaturePointOptions> feature_point_parameters(const FeaturePointOptions& defaults = {});
 
 /// Result of feature_points().
 struct FeaturePoints {

@@ -84,6 +84,14 @@ std::string MeshRepair::summary() const {
     return s.str();
 }
 
+Parameter repair_parameter() {
+    return Parameter::flag("repair")
+        .label("Repair the mesh first")
+        .help("repair the mesh first: merge duplicate vertices, remove zero-area and duplicate faces, keep the largest "
+              "component, drop unreferenced vertices, and say what changed; off (default): refuse such a mesh, naming "
+              "the problem");
+}
+
 MeshRepair repair_mesh(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const MeshRepairOptions& options) {
     if (V.cols() != 3 || (F.size() && F.cols() != 3)) throw InputError("repair needs #V x 3 vertices and #F x 3 faces");
     const int n = static_cast<int>(V.rows());

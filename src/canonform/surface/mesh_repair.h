@@ -20,6 +20,7 @@
 #pragma once
 
 #include "canonform/common/mesh.h"
+#include "canonform/common/parameters.h"
 
 #include <Eigen/Core>
 
@@ -51,6 +52,9 @@ struct MeshRepair {
     /// ...: 5000 -> 4997 vertices, 9996 -> 9991 faces", or "repair: nothing to repair (...)".
     std::string summary() const;
 };
+
+/// The `repair` parameter of every command and filter that reads a mesh (default off: strict).
+Parameter repair_parameter();
 
 /// Repairs V (#V x 3) and F (#F x 3, indices in [0, #V): InputError otherwise) by the steps above.
 MeshRepair repair_mesh(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const MeshRepairOptions& options = {});

@@ -29,7 +29,7 @@ cv::Ptr<cv::SIFT> make_sift(const SiftOptions& o) {
     return cv::SIFT::create(o.max_features, o.octave_layers, o.contrast_threshold, o.edge_threshold, o.sigma);
 }
 
-SiftDescriptors meshlab::to_eigen(const cv::Mat& d, size_t rows) {
+SiftDescriptors to_eigen(const cv::Mat& d, size_t rows) {
     if (d.empty() && rows == 0) return SiftDescriptors(0, 128);
     if (d.cols != 128 || d.type() != CV_32F || d.rows != static_cast<int>(rows))
         throw NumericalError("SIFT: OpenCV returned descriptors of an unexpected shape or type.");
@@ -51,7 +51,7 @@ SiftFeatures opencv_sift_features(const std::vector<float>& image, int size, con
     cv::Mat descriptors;
     make_sift(options)->detectAndCompute(bytes, cv::noArray(), keypoints, descriptors);
     SiftFeatures out;
-    out.descriptors = meshlab::to_eigen(descriptors, keypoints.size());
+    out.descriptors = to_eigen(descriptors, keypoints.size());
     for (const cv::KeyPoint& k : keypoints)
         out.keypoints.push_back({k.pt.x - kDoubledOffset, k.pt.y - kDoubledOffset, k.size, k.angle, keypoint_octave(k),
                                  k.response});
@@ -78,7 +78,7 @@ SiftDescriptors opencv_descriptors_at(const std::vector<float>& image, int size,
     cv::Mat descriptors;
     make_sift(options)->compute(as_bytes(image, size), cv_keys, descriptors);
     if (cv_keys.size() != n) throw NumericalError("SIFT: OpenCV dropped keypoints in compute().");
-    return meshlab::to_eigen(descriptors, n);
+    return to_eigen(descriptors, n);
 }
 
 }  // namespace canonform::views
