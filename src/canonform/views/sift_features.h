@@ -35,9 +35,8 @@
 //    -1 on the view itself: one octave from sigma_0 / 2 with 2 DoG layers (k = 2^(1/2)), searched
 //    in DoG images 1 and 2 (scales 1.13 and 1.6 pixels), keypoints reported at octave -1. (With 3
 //    layers, or on the doubled grid, it finds the silhouette's pixel staircase: hundreds of
-//    keypoints per view.) These choices are measured (docs/sift.md): octave 0 on the view itself
-//    found a third of the octave-0 keypoints of OpenCV's SIFT (which doubles the image) and lost 0.07
-//    of first tier on the procedural collection; the octave -1 adds 0.04.
+//    keypoints per view.) These choices are measured (docs/sift.md): octave 0 on the view's own
+//    grid lost first tier on the procedural collection, and the octave -1 gains it.
 //    Outside the view the image is 0 (background, which is also the view's own background). The
 //    blur is a separable Gaussian truncated at 4 sigma and normalised to sum 1, its taps computed in
 //    double by our own exp (below) and rounded to float. Each image is computed only over its
@@ -92,9 +91,9 @@
 //    the keypoint's direction turned 90 degrees clockwise on screen, columns along it), o the
 //    orientation bin, 45 degrees each, counted from the keypoint's angle anticlockwise on screen.
 //    That is OpenCV's layout (found by comparing with cv::SIFT::compute's output on the same
-//    keypoints), so the two extractors' descriptors of a keypoint can be compared value by value:
-//    on the test views the nearest of OpenCV's descriptors is the same keypoint's for 96% of ours,
-//    mean cosine 0.99 (tests/test_sift_features.cpp).
+//    keypoints), so the two extractors' descriptors of a keypoint can be compared value by value
+//    (the nearest-neighbour rate against OpenCV's on the same keypoints: tests/test_sift_features.cpp,
+//    docs/sift.md).
 // Order: by octave (-1 first), DoG image, row, column; a keypoint's orientations in the order of
 // their histogram bins. max_features > 0 keeps the keypoints of largest |D(x^)| (ties: that order).
 //
