@@ -8,7 +8,8 @@
 #include <cstddef>
 #include <vector>
 
-namespace canonform::views::detail {
+namespace canonform::views {
+namespace detail {
 
 /// Sum of a histogram's counts.
 double total(const Histogram& h);
@@ -19,4 +20,5 @@ void check_histogram(const Histogram& h, const char* which, std::size_t view);
 /// InputError unless every map lists `views` view indices in [0, views).
 void check_maps(const std::vector<std::vector<int>>& maps, std::size_t views);
 
-}  // namespace canonform::views::detail
+}  // namespace detail
+}  // namespace canonform::views
