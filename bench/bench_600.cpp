@@ -103,14 +103,14 @@ int main(int argc, char** argv) {
     for (const auto& path : meshes) {
         const auto m = io::read_mesh(path);
         vertices += m.V.rows();
-        EuclideanCanonicalFormOptions o;
+        canonical::EuclideanCanonicalFormOptions o;
         Stopwatch s;
-        const auto r = euclidean_canonical_form(m.V, m.F, o);
+        const auto r = canonical::euclidean_canonical_form(m.V, m.F, o);
         n_wall.push_back(s.wall());
         n_cpu.push_back(s.cpu_s());
-        o.variant = CanonicalVariant::A;
+        o.variant = canonical::CanonicalVariant::A;
         s = Stopwatch();
-        euclidean_canonical_form(m.V, m.F, o);
+        canonical::euclidean_canonical_form(m.V, m.F, o);
         a_wall.push_back(s.wall());
         a_cpu.push_back(s.cpu_s());
         s = Stopwatch();

@@ -35,6 +35,10 @@
 #include <vector>
 
 using namespace canonform;
+using namespace canonform::numerics;
+using namespace canonform::surface;
+using namespace canonform::canonical;
+using namespace canonform::procedural;
 
 namespace {
 
@@ -126,7 +130,7 @@ int main(int argc, char** argv) {
     try {
         EuclideanCanonicalFormOptions base;
         base.variant = variant == "A" ? CanonicalVariant::A : CanonicalVariant::N;
-        base.acceleration_depth = depth;
+        base.smacof.acceleration_depth = depth;
         std::vector<Row> rows;
 
         // One set of meshes: every method on every mesh, interleaved; forms kept for the measures.
@@ -140,7 +144,7 @@ int main(int argc, char** argv) {
                 for (int r = 0; r < reps; ++r)
                     for (const auto& name : methods) {
                         EuclideanCanonicalFormOptions o = base;
-                        o.acceleration = parse_smacof_acceleration(name);
+                        o.smacof.acceleration = parse_smacof_acceleration(name);
                         EuclideanCanonicalFormResult e = euclidean_canonical_form(meshes[m].V, meshes[m].F, o);
                         secs[name].push_back(e.seconds);
                         smacof_secs[name].push_back(e.smacof_seconds);
@@ -224,12 +228,12 @@ int main(int argc, char** argv) {
             const Eigen::MatrixXd D = all_pairs_geodesic_distances(V, f.mesh.F, g);
             MdsOptions mo;
             mo.check_input = false;
-            mo.acceleration_depth = depth;
+            mo.smacof.acceleration_depth = depth;
             std::map<std::string, std::vector<double>> secs;
             std::map<std::string, MdsResult> results;
             for (int r = 0; r < repeats; ++r)
                 for (const auto& name : methods) {
-                    mo.acceleration = parse_smacof_acceleration(name);
+                    mo.smacof.acceleration = parse_smacof_acceleration(name);
                     const auto t0 = std::chrono::steady_clock::now();
                     MdsResult m = mds(D, MdsMethod::LeastSquares, mo);
                     secs[name].push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());

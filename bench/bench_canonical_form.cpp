@@ -31,7 +31,7 @@ double status_mib(const char* key) {
 }
 
 /// A number of the run's summary (0 if the method does not report it).
-double summary_number(const canonform::CanonicalForm& r, const std::string& key) {
+double summary_number(const canonform::canonical::CanonicalForm& r, const std::string& key) {
     for (const auto& [k, v] : r.summary) {
         if (k != key) continue;
         if (const double* d = std::get_if<double>(&v)) return *d;
@@ -40,7 +40,7 @@ double summary_number(const canonform::CanonicalForm& r, const std::string& key)
     return 0;
 }
 
-std::string summary_text(const canonform::CanonicalForm& r, const std::string& key) {
+std::string summary_text(const canonform::canonical::CanonicalForm& r, const std::string& key) {
     for (const auto& [k, v] : r.summary)
         if (k == key)
             if (const std::string* s = std::get_if<std::string>(&v)) return *s;
@@ -72,25 +72,25 @@ int main(int argc, char** argv) {
     try {
         // "euclidean" + --variant is the registry's euclidean-A or euclidean-N; --solver sets the
         // Euclidean methods' solver; the geodesic ones get limits no bench mesh reaches.
-        canonform::MethodSpec spec = canonform::parse_method_spec(method == "euclidean" ? "euclidean-" + variant : method);
-        const canonform::CanonicalMethod& m = spec.method();
+        canonform::canonical::MethodSpec spec = canonform::canonical::parse_method_spec(method == "euclidean" ? "euclidean-" + variant : method);
+        const canonform::canonical::CanonicalMethod& m = spec.method();
         if (m.parameter("solver")) spec.given.emplace_back("solver", requested_solver);
         if (m.parameter("max_memory_gib")) spec.given.emplace_back("max_memory_gib", "20");
         if (m.parameter("max_seconds")) spec.given.emplace_back("max_seconds", "1e6");
-        const canonform::MethodSettings settings = spec.settings();
-        canonform::MethodContext context;
+        const canonform::canonical::MethodSettings settings = spec.settings();
+        canonform::canonical::MethodContext context;
         context.threads = threads;
         const auto mesh = canonform::io::read_mesh(argv[1]);
         const double rss_loaded = status_mib("VmRSS:");
         std::vector<double> t;
-        canonform::CanonicalForm r;
+        canonform::canonical::CanonicalForm r;
         for (int k = 0; k < repeats; ++k) {  // wall time of the whole run, whatever the method
             const auto t0 = std::chrono::steady_clock::now();
             r = m.run(mesh.V, mesh.F, settings, context);
             t.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
         }
         const std::string used = summary_text(r, "solver");
-        const std::string solver = used == "multigrid" ? "AMG V-cycle" : canonform::SparseCholesky::backend();
+        const std::string solver = used == "multigrid" ? "AMG V-cycle" : canonform::numerics::SparseCholesky::backend();
         std::sort(t.begin(), t.end());
         std::printf("{\"vertices\": %ld, \"method\": \"%s\", \"variant\": \"%c\", \"repeats\": %d, "
                     "\"median_s\": %.6f, \"min_s\": %.6f, \"max_s\": %.6f, \"iterations\": %d, "
@@ -101,7 +101,7 @@ int main(int argc, char** argv) {
                     t[t.size() / 2], t.front(), t.back(), int(summary_number(r, "iterations")), r.features.size(),
                     summary_number(r, "geodesic_seconds"), summary_number(r, "estimated_seconds"),
                     summary_number(r, "estimated_bytes") / (1024.0 * 1024.0), rss_loaded, status_mib("VmHWM:"),
-                    solver.c_str(), requested_solver.c_str(), m.family == canonform::MethodFamily::Geodesic ? threads : 1);
+                    solver.c_str(), requested_solver.c_str(), m.family == canonform::canonical::MethodFamily::Geodesic ? threads : 1);
     } catch (const std::exception& e) {
         std::fprintf(stderr, "canonform_bench_canonical: %s\n", e.what());
         return 1;

@@ -72,7 +72,7 @@ int main(int argc, char** argv) {
     std::vector<ViewSet> sets;
     for (const auto& path : meshes) {
         const auto m = io::read_mesh(path);
-        sets.push_back(compute_views(euclidean_canonical_form(m.V, m.F, {}).V, m.F));
+        sets.push_back(compute_views(canonical::euclidean_canonical_form(m.V, m.F, {}).V, m.F));
     }
     std::vector<const std::vector<SiftDescriptors>*> all;
     for (const auto& s : sets) all.push_back(&s.features);

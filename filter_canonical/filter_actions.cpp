@@ -18,12 +18,13 @@
 
 #include <QFileInfo>
 
+#include <map>
 #include <optional>
 #include <sstream>
 #include <type_traits>
 #include <variant>
 
-namespace canonform::plugin {
+namespace canonform::meshlab {
 
 namespace {
 
@@ -37,13 +38,13 @@ MeshModel& current_mesh(MeshDocument& md) {
 /// by commit_repair() only once the computation has succeeded, so a failure leaves it unchanged.
 struct FilterInput {
     BridgedMesh<CMeshO> b;              ///< what to compute on (repaired if asked)
-    std::optional<MeshRepair> repair;   ///< the repair, if it changed something
+    std::optional<surface::MeshRepair> repair;   ///< the repair, if it changed something
 };
 
 FilterInput filter_input(MeshModel& mm, const ParamValues& p, const ActionContext& ctx) {
     FilterInput in{to_eigen(mm.cm), {}};
     if (p.values.count("repair") && p.get_bool("repair")) {  // scripts written before it have no "repair": off
-        MeshRepair r = repair_mesh(in.b.V, in.b.F);
+        surface::MeshRepair r = surface::repair_mesh(in.b.V, in.b.F);
         ctx.log("'" + mm.label().toStdString() + "': " + r.summary());
         if (r.changed()) in.repair = std::move(r);
     }
@@ -59,7 +60,7 @@ FilterInput filter_input(MeshModel& mm, const ParamValues& p, const ActionContex
 /// updated - and returns the current mesh bridged again: its rows are those of in.b.
 BridgedMesh<CMeshO> commit_repair(MeshModel& mm, FilterInput& in) {
     if (!in.repair) return std::move(in.b);
-    const MeshRepair& r = *in.repair;
+    const surface::MeshRepair& r = *in.repair;
     CMeshO& m = mm.cm;
     std::vector<CMeshO::FacePointer> faces;
     for (auto& f : m.face)
@@ -91,7 +92,7 @@ BridgedMesh<CMeshO> commit_repair(MeshModel& mm, FilterInput& in) {
 /// an acceptable one: boundaries are allowed (eq. 8 treats their vertices) but change the result.
 template <class Bridged>
 void validate_and_note(const Bridged& b, const ActionContext& ctx) {
-    const MeshReport r = validate_mesh(b.V, b.F);
+    const surface::MeshReport r = surface::validate_mesh(b.V, b.F);
     if (r.boundary_edges > 0) {
         std::ostringstream m;
         m << "note: the mesh is open (" << r.boundary_edges << " boundary edges, " << r.boundary_loops_vertices
@@ -108,22 +109,26 @@ QString layer_name(const MeshModel& mm, const char* suffix) {
 
 /// The conformal factor of a bridged mesh, after validate_and_note().
 template <class Bridged>
-ConformalFactorResult validated_conformal_factor(const Bridged& b, const ActionContext& ctx) {
+surface::ConformalFactorResult validated_conformal_factor(const Bridged& b, const ActionContext& ctx) {
     validate_and_note(b, ctx);
-    ConformalFactorOptions opt;
+    surface::ConformalFactorOptions opt;
     opt.progress = ctx.progress;
     opt.validate = false;
-    return conformal_factor(b.V, b.F, opt);
+    return surface::conformal_factor(b.V, b.F, opt);
 }
 
-void check_ring(int ring) {
-    if (ring < 1 || ring > 10) throw InputError("the ring size must be between 1 and 10");
+/// The options of a parameter set from the filter's values of its parameters (checked: InputError
+/// naming a value out of range).
+template <class Options>
+Options options_from(const ParameterSet<Options>& set, const ParamValues& p) {
+    return set.read(p.texts(set.parameters()));
 }
 
-ActionOutputs conformal_factor_action(MeshDocument& md, const ParamValues& p, const ActionContext& ctx) {
+ActionOutputs conformal_factor_action(const FilterSpec&, MeshDocument& md, const ParamValues& p,
+                                      const ActionContext& ctx) {
     MeshModel& mm = current_mesh(md);
     FilterInput in = filter_input(mm, p, ctx);
-    const ConformalFactorResult cf = validated_conformal_factor(in.b, ctx);
+    const surface::ConformalFactorResult cf = validated_conformal_factor(in.b, ctx);
     const bool normalized = p.get_bool("normalize");
     const auto b = commit_repair(mm, in);  // everything computed: now change the document
     mm.updateDataMask(MeshModel::MM_VERTQUALITY);
@@ -141,17 +146,14 @@ ActionOutputs conformal_factor_action(MeshDocument& md, const ParamValues& p, co
             {"residual", cf.residual}};
 }
 
-ActionOutputs feature_points_action(MeshDocument& md, const ParamValues& p, const ActionContext& ctx) {
+ActionOutputs feature_points_action(const FilterSpec&, MeshDocument& md, const ParamValues& p,
+                                    const ActionContext& ctx) {
     MeshModel& mm = current_mesh(md);
-    const int ring = p.get_int("ring");
-    check_ring(ring);
+    const surface::FeaturePointOptions opt = options_from(surface::feature_point_parameters(), p);
+    const int ring = opt.ring;
     FilterInput in = filter_input(mm, p, ctx);
-    const ConformalFactorResult cf = validated_conformal_factor(in.b, ctx);
-    FeaturePointOptions opt;
-    opt.ring = ring;
-    opt.fill = p.get_int("fill") == 1 ? FeatureFill::Random : FeatureFill::None;
-    opt.seed = static_cast<std::uint64_t>(p.get_int("seed"));
-    const FeaturePoints fp = feature_points(in.b.F, cf.normalized, opt);
+    const surface::ConformalFactorResult cf = validated_conformal_factor(in.b, ctx);
+    const surface::FeaturePoints fp = surface::feature_points(in.b.F, cf.normalized, opt);
 
     // Everything computed: now change the document.
     const auto b = commit_repair(mm, in);
@@ -173,11 +175,11 @@ ActionOutputs feature_points_action(MeshDocument& md, const ParamValues& p, cons
     std::ostringstream log;
     log << "Feature points of '" << mm.label().toStdString() << "': " << fp.indices.size() << " selected ("
         << fp.num_maxima << " local maxima over the " << ring << "-ring of " << fp.total_maxima << " found, "
-        << fp.num_random << " random; target ceil(sqrt(" << b.V.rows() << ")) = " << sqrt_count(int(b.V.rows()))
+        << fp.num_random << " random; target ceil(sqrt(" << b.V.rows() << ")) = " << surface::sqrt_count(int(b.V.rows()))
         << ")";
     ctx.log(log.str());
     return {{"selected", int(fp.indices.size())}, {"maxima", int(fp.num_maxima)}, {"random", int(fp.num_random)},
-            {"target", int(sqrt_count(int(b.V.rows())))}};
+            {"target", int(surface::sqrt_count(int(b.V.rows())))}};
 }
 
 /// Writes a canonical form X (#V x 3, rows as in `b`) into a new layer named after `mm` (or in
@@ -207,52 +209,39 @@ void write_canonical_form(MeshDocument& md, MeshModel& mm, const Bridged& b, con
     vcg::tri::UpdateBounding<CMeshO>::Box(target->cm);
 }
 
-/// The settings of `method` from the filter's parameters of the same names (the others keep the
-/// method's defaults).
-MethodSettings method_settings(const CanonicalMethod& method, const FilterSpec& spec, const ParamValues& p) {
-    std::vector<std::pair<std::string, std::string>> given;
-    for (const ParamSpec& fp : spec.params) {
-        if (!method.parameter(fp.name)) continue;
-        std::ostringstream v;
-        v.precision(17);
-        const MethodParameter* mp = method.parameter(fp.name);
-        if (fp.kind == ParamKind::String) {
-            v << p.get_string(fp.name);
-        } else if (fp.kind == ParamKind::Enum && !mp->choices.empty()) {  // the enum's index names a choice
-            const int k = p.get_int(fp.name);
-            if (k < 0 || k >= static_cast<int>(mp->choices.size())) throw InputError(std::string("unknown ") + fp.name + " choice");
-            v << mp->choices[static_cast<size_t>(k)];
-        }
-        else
-            v << p.get(fp.name);
-        given.emplace_back(fp.name, v.str());
-    }
-    return method.settings(given);
+/// The settings of `method` from the filter's parameters of the same names (every parameter of
+/// the method is one of its filter's: canonical_filter_table.cpp).
+canonical::MethodSettings method_settings(const canonical::CanonicalMethod& method, const ParamValues& p) {
+    return method.settings(p.texts(method.parameters));
 }
 
-/// "Euclidean canonical form" and "Geodesic canonical form": the method of the registry that the
-/// filter's enum (`variant` / `method`) names, its result in a new layer or in place.
-ActionOutputs canonical_form_action(FilterId id, MeshDocument& md, const ParamValues& p, const ActionContext& ctx) {
+/// A filter of a method family ("Euclidean canonical form": `variant`, "Geodesic canonical form":
+/// `method`): the method of the registry its enum (its first parameter) names, with the filter's
+/// values of the method's parameters; its result in a new layer or in place.
+template <canonical::MethodFamily family>
+ActionOutputs canonical_form_action(const FilterSpec& spec, MeshDocument& md, const ParamValues& p,
+                                    const ActionContext& ctx) {
     MeshModel& mm = current_mesh(md);
-    const FilterSpec& spec = filter_spec(filter_table(), int(id));
-    const bool euclidean = id == FilterId::EuclideanCanonicalForm;
-    const auto methods = canonical_methods_of(euclidean ? MethodFamily::Euclidean : MethodFamily::Geodesic);
-    const int choice = p.get_int(euclidean ? "variant" : "method");
-    if (choice < 0 || choice >= static_cast<int>(methods.size())) throw InputError("unknown method choice");
-    const CanonicalMethod& method = *methods[static_cast<size_t>(choice)];
-    const MethodSettings settings = method_settings(method, spec, p);
+    const auto methods = canonical::canonical_methods_of(family);
+    const Parameter& selector = spec.params.front();
+    const int choice = p.get_int(selector.name());
+    if (choice < 0 || choice >= static_cast<int>(methods.size()))
+        throw InputError(selector.name() + " must be " + selector.requirement() + ", got the index " +
+                         std::to_string(choice));
+    const canonical::CanonicalMethod& method = *methods[static_cast<size_t>(choice)];
+    const canonical::MethodSettings settings = method_settings(method, p);
 
     FilterInput in = filter_input(mm, p, ctx);
     validate_and_note(in.b, ctx);
-    MethodContext context;
+    canonical::MethodContext context;
     context.progress = ctx.progress;
     context.validate = false;  // validate_and_note() above
-    const CanonicalForm r = method.run(in.b.V, in.b.F, settings, context);
+    const canonical::CanonicalForm r = method.run(in.b.V, in.b.F, settings, context);
     if (!r.V.allFinite()) throw NumericalError(method.name + " gave a form with NaN or infinite coordinates");
     const auto b = commit_repair(mm, in);  // everything computed: now change the document
     write_canonical_form(md, mm, b, r.V, r.quality.size() ? &r.quality : nullptr,
                          r.features.empty() ? nullptr : &r.features, p.get_bool("new_layer"));
-    ctx.log(std::string(spec.name) + " of '" + mm.label().toStdString() + "': " + r.description);
+    ctx.log(spec.name + " of '" + mm.label().toStdString() + "': " + r.description);
     ActionOutputs out;
     for (const auto& [key, value] : r.summary)
         if (!std::holds_alternative<std::string>(value))
@@ -262,17 +251,28 @@ ActionOutputs canonical_form_action(FilterId id, MeshDocument& md, const ParamVa
     return out;
 }
 
+using Action = ActionOutputs (*)(const FilterSpec&, MeshDocument&, const ParamValues&, const ActionContext&);
+
+/// The action of every filter of the table, by Python name. A new filter: its table row
+/// (canonical_filter_table.cpp), its action above and one line here.
+const std::map<std::string, Action>& actions() {
+    static const std::map<std::string, Action> a = {
+        {"compute_conformal_factor", conformal_factor_action},
+        {"compute_feature_points", feature_points_action},
+        {"generate_euclidean_canonical_form", canonical_form_action<canonical::MethodFamily::Euclidean>},
+        {"generate_geodesic_canonical_form", canonical_form_action<canonical::MethodFamily::Geodesic>},
+    };
+    return a;
+}
+
 }  // namespace
 
 ActionOutputs apply_filter_action(int id, MeshDocument& md, const ParamValues& params,
                                   const ActionContext& context) {
-    switch (static_cast<FilterId>(id)) {
-    case FilterId::ConformalFactor: return conformal_factor_action(md, params, context);
-    case FilterId::FeaturePoints: return feature_points_action(md, params, context);
-    case FilterId::EuclideanCanonicalForm:
-    case FilterId::GeodesicCanonicalForm: return canonical_form_action(static_cast<FilterId>(id), md, params, context);
-    }
-    throw InputError("unknown filter");
+    const FilterSpec& spec = filter_spec(filter_table(), id);
+    const auto it = actions().find(spec.python_name);
+    if (it == actions().end()) throw InputError("filter '" + spec.name + "' has no action");
+    return it->second(spec, md, params, context);
 }
 
-}  // namespace canonform::plugin
+}  // namespace canonform::meshlab

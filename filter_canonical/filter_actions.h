@@ -12,7 +12,7 @@
 
 class MeshDocument;
 
-namespace canonform::plugin {
+namespace canonform::meshlab {
 
 /// Applies filter `id` to the current mesh of `md`. Throws canonform::InputError,
 /// NumericalError or Cancelled with a message meant for the user; on throw the document is
@@ -20,4 +20,4 @@ namespace canonform::plugin {
 ActionOutputs apply_filter_action(int id, MeshDocument& md, const ParamValues& params,
                                   const ActionContext& context);
 
-}  // namespace canonform::plugin
+}  // namespace canonform::meshlab

@@ -4,6 +4,6 @@
 #include "filter_actions.h"
 
 FilterCanonicalPlugin::FilterCanonicalPlugin()
-    : TableFilterPlugin("FilterCanonical", canonform::plugin::filter_table(), &canonform::plugin::apply_filter_action) {}
+    : TableFilterPlugin("FilterCanonical", canonform::meshlab::filter_table(), &canonform::meshlab::apply_filter_action) {}
 
 MESHLAB_PLUGIN_NAME_EXPORTER(FilterCanonicalPlugin)

@@ -4,7 +4,7 @@
 #include "view_actions.h"
 
 FilterViewDescriptorPlugin::FilterViewDescriptorPlugin()
-    : TableFilterPlugin("FilterViewDescriptor", canonform::plugin::view_filter_table(),
-                        &canonform::plugin::apply_view_action) {}
+    : TableFilterPlugin("FilterViewDescriptor", canonform::meshlab::view_filter_table(),
+                        &canonform::meshlab::apply_view_action) {}
 
 MESHLAB_PLUGIN_NAME_EXPORTER(FilterViewDescriptorPlugin)

@@ -3,6 +3,7 @@
 
 #include "canonform/views/descriptor_file.h"
 #include "canonform/views/view_descriptor.h"
+#include "canonform/views/view_parameters.h"
 #include "canonform/meshlab/vcg_bridge.h"
 
 #include "canonform/meshlab/meshlab_document.h"
@@ -11,10 +12,11 @@
 #include <QImage>
 
 #include <algorithm>
+#include <map>
 #include <numeric>
 #include <sstream>
 
-namespace canonform::plugin {
+namespace canonform::meshlab {
 
 namespace {
 
@@ -36,26 +38,16 @@ std::vector<double> flatten(const views::ModelDescriptor& d) {
     return v;
 }
 
-ActionOutputs depth_view_descriptor(MeshDocument& md, const ParamValues& p, const ActionContext& ctx) {
+ActionOutputs depth_view_descriptor(const FilterSpec&, MeshDocument& md, const ParamValues& p,
+                                    const ActionContext& ctx) {
     if (md.mm() == nullptr) throw InputError("there is no current mesh");
     MeshModel& mm = *md.mm();
     const std::string out = p.get_string("output_file");  // empty: no file (pymeshlab gets the vector)
     const std::string cb_path = p.get_string("codebook_file");
-    const int size = p.get_int("image_size");
-    if (size < 32 || size > 2048) throw InputError("the image size must be between 32 and 2048 pixels");
-
-    views::ViewDescriptorOptions opt;
-    opt.image_size = size;
-    opt.pose.seed = static_cast<std::uint64_t>(p.get_int("seed"));
-    const int sift = p.get_int("sift");
-    const auto& sift_names = views::sift_backend_names();  // the filter's enum, in SiftBackend's order
-    if (sift < 0 || sift >= static_cast<int>(sift_names.size())) {
-        std::string choices;
-        for (size_t k = 0; k < sift_names.size(); ++k)
-            choices += (k == 0 ? "" : k + 1 == sift_names.size() ? " or " : ", ") + std::to_string(k) + " (" + sift_names[k] + ")";
-        throw InputError("the SIFT extractor must be " + choices);
-    }
-    opt.sift.backend = static_cast<views::SiftBackend>(sift);
+    // image_size, seed, sift: the library's definitions (views/view_parameters.h), checked.
+    const ParameterSet<views::ViewDescriptorOptions> parameters = views::view_descriptor_parameters();
+    const views::ViewDescriptorOptions opt = parameters.read(p.texts(parameters.parameters()));
+    const int size = opt.image_size;
     const views::Codebook* codebook = nullptr;
     views::Codebook cb;
     if (!cb_path.empty()) {
@@ -97,13 +89,24 @@ ActionOutputs depth_view_descriptor(MeshDocument& md, const ParamValues& p, cons
             {"keypoints_per_view", std::vector<double>(n.begin(), n.end())}, {"descriptor", flatten(d)}};
 }
 
+using Action = ActionOutputs (*)(const FilterSpec&, MeshDocument&, const ParamValues&, const ActionContext&);
+
+/// The action of every filter of the table, by Python name. A new filter: its table row
+/// (view_filter_table.cpp), its action above and one line here.
+const std::map<std::string, Action>& actions() {
+    static const std::map<std::string, Action> a = {
+        {"compute_depth_view_descriptor", depth_view_descriptor},
+    };
+    return a;
+}
+
 }  // namespace
 
 ActionOutputs apply_view_action(int id, MeshDocument& md, const ParamValues& params, const ActionContext& context) {
-    switch (static_cast<ViewFilterId>(id)) {
-    case ViewFilterId::DepthViewDescriptor: return depth_view_descriptor(md, params, context);
-    }
-    throw InputError("unknown filter");
+    const FilterSpec& spec = filter_spec(view_filter_table(), id);
+    const auto it = actions().find(spec.python_name);
+    if (it == actions().end()) throw InputError("filter '" + spec.name + "' has no action");
+    return it->second(spec, md, params, context);
 }
 
-}  // namespace canonform::plugin
+}  // namespace canonform::meshlab

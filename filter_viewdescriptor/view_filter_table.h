@@ -5,11 +5,9 @@
 
 #include "canonform/meshlab/filter_table.h"
 
-namespace canonform::plugin {
-
-enum class ViewFilterId : int { DepthViewDescriptor = 100 };
+namespace canonform::meshlab {
 
 /// The filters of filter_viewdescriptor, in menu order.
 const std::vector<FilterSpec>& view_filter_table();
 
-}  // namespace canonform::plugin
+}  // namespace canonform::meshlab

@@ -4,6 +4,8 @@
 usage: /usr/bin/python3 tests/layout_test.py SOURCE_DIR [PLUGIN.so ...]
 
 - an area of src/canonform/ includes only the areas below it (no import circles);
+- every namespace an area's file opens is canonform::AREA (common: canonform), nested ones
+  (detail, anonymous) inside it; the plugin folders' code is in canonform::meshlab;
 - a plugin folder includes nothing from the other plugin folder, and its CMakeLists.txt names no
   file of it;
 - a plugin (.so) contains no code of the procedural-mesh library (test and example data only).
@@ -26,6 +28,14 @@ ALLOWED = {
 }
 PLUGINS = ["filter_canonical", "filter_viewdescriptor"]
 INCLUDE = re.compile(r'#include\s+"([^"]+)"')
+NAMESPACE = re.compile(r"^namespace\s+([\w:]+)\s*\{", re.M)  # at the start of a line: top level
+
+
+def check_namespaces(rel, text, expected):
+    found = NAMESPACE.findall(text)
+    for ns in found:
+        if ns.startswith("canonform") and ns != expected or not ns.startswith("canonform") and expected not in found:
+            problems.append(f"{rel}: opens namespace {ns}, not {expected}")
 
 root = sys.argv[1]
 problems = []
@@ -37,6 +47,8 @@ for area in areas:
         continue
     for name in sorted(os.listdir(os.path.join(lib, area))):
         path = os.path.join(lib, area, name)
+        check_namespaces(f"src/canonform/{area}/{name}", open(path, encoding="utf-8").read(),
+                         "canonform" if area == "common" else "canonform::" + area)
         for inc in INCLUDE.findall(open(path, encoding="utf-8").read()):
             m = re.match(r"canonform/([a-z_]+)/", inc)
             if not m:
@@ -52,6 +64,8 @@ for plugin in PLUGINS:
         if not os.path.isfile(path):
             continue
         text = open(path, encoding="utf-8").read()
+        if name.endswith((".h", ".cpp")):
+            check_namespaces(f"{plugin}/{name}", text, "canonform::meshlab")
         for other in others:
             if other + "/" in text or "../" + other in text:
                 problems.append(f"{plugin}/{name}: refers to {other}/")

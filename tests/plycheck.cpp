@@ -31,7 +31,7 @@ int main(int argc, char** argv) {
             j["same_vertex_count"] = same ? 1 : 0;
             if (same) {
                 j["max_position_diff"] = (r.V - m.V).cwiseAbs().maxCoeff();
-                j["aligned_rms"] = canonform::align_rigid(m.V, r.V).rms;
+                j["aligned_rms"] = canonform::numerics::align_rigid(m.V, r.V).rms;
                 if (q.size() && rq.size() == q.size()) j["max_quality_diff"] = (rq - q).cwiseAbs().maxCoeff();
             }
         }

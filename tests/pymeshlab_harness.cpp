@@ -23,6 +23,9 @@
 #include "canonform/meshlab/meshlab_meshset.h"
 #include "canonform/procedural/procedural_meshes.h"
 
+#include "canonical_filter_table.h"
+#include "view_filter_table.h"
+
 #include <common/globals.h>
 #include <common/python/function_set.h>
 #include <common/utilities/eigen_mesh_conversions.h>
@@ -75,6 +78,18 @@ std::string error_of(F&& f, const std::string& what) {
 }
 
 bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
+
+/// The MeshLab parameter class a table parameter is shown as (meshlab_adapter_common.h).
+std::string meshlab_type(const canonform::Parameter& p) {
+    switch (p.type()) {
+    case canonform::ParameterType::Bool: return "RichBool";
+    case canonform::ParameterType::Int: return "RichInt";
+    case canonform::ParameterType::Float: return "RichFloat";
+    case canonform::ParameterType::Choice: return "RichEnum";
+    case canonform::ParameterType::Text: return "RichString";
+    }
+    return "";
+}
 
 bool is_int(const Dict& d, const char* k) { return d.count(k) && std::string(d.at(k).typeName()) == "int"; }
 bool is_double(const Dict& d, const char* k) { return d.count(k) && std::string(d.at(k).typeName()) == "double"; }
@@ -221,33 +236,42 @@ int main(int argc, char** argv) {
             check(contains(again, "has been already loaded"), "loading the same plugin twice is refused: " + again);
         }
         const pymeshlab::FunctionSet& fs = pymeshlab::functionSetInstance();
-        const std::map<std::string, std::vector<std::string>> expected = {
-            {"compute_conformal_factor", {"normalize", "colorize", "repair"}},
-            {"compute_feature_points", {"ring", "fill", "seed", "add_layer", "repair"}},
-            {"generate_euclidean_canonical_form",
-             {"variant", "alpha", "beta", "ring", "seed", "tolerance", "max_iterations", "acceleration", "new_layer",
-              "repair"}},
-            {"generate_geodesic_canonical_form",
-             {"method", "tolerance", "max_iterations", "acceleration", "max_memory_gib", "max_seconds", "new_layer",
-              "repair"}},
-            {"compute_depth_view_descriptor",
-             {"output_file", "codebook_file", "image_size", "views_folder", "seed", "sift"}}};
-        for (const auto& [name, params] : expected) {
-            const bool has = fs.containsFilterFunction(QString::fromStdString(name));
-            std::string missing;
+        // Every filter of both tables by its Python name, with the table's keywords and MeshLab
+        // types in the table's order (the expected lists are the tables: canonical_filter_table.cpp,
+        // view_filter_table.cpp; what the names must never lose is tests/test_filter_table.cpp's).
+        std::vector<const canonform::meshlab::FilterSpec*> specs;
+        for (const auto& f : canonform::meshlab::filter_table()) specs.push_back(&f);
+        for (const auto& f : canonform::meshlab::view_filter_table()) specs.push_back(&f);
+        for (const canonform::meshlab::FilterSpec* spec : specs) {
+            const QString name = QString::fromStdString(spec->python_name);
+            const bool has = fs.containsFilterFunction(name);
+            std::string problems;
             if (has) {
-                const auto& f = fs.filterFunction(QString::fromStdString(name));
-                for (const auto& p : params)
-                    if (!f.contains(QString::fromStdString(p))) missing += " " + p;
-                if (f.parametersNumber() != params.size()) missing += " (" + std::to_string(f.parametersNumber()) + " parameters)";
+                const auto& f = fs.filterFunction(name);
+                const QStringList order = f.pythonFunctionParameters();
+                for (size_t k = 0; k < spec->params.size(); ++k) {
+                    const canonform::Parameter& p = spec->params[k];
+                    const QString pn = QString::fromStdString(p.name());
+                    if (!f.contains(pn)) {
+                        problems += " " + p.name() + " missing";
+                        continue;
+                    }
+                    const std::string type = f.getFilterFunctionParameter(pn).meshlabTypeString().toStdString();
+                    if (type != meshlab_type(p)) problems += " " + p.name() + " is " + type;
+                    if (static_cast<int>(k) >= order.size() || order[static_cast<int>(k)] != pn)
+                        problems += " " + p.name() + " out of order";
+                }
+                if (f.parametersNumber() != spec->params.size())
+                    problems += " (" + std::to_string(f.parametersNumber()) + " parameters)";
             }
-            check(has && missing.empty(), "Python name " + name + " with keywords of the table" +
-                                              (missing.empty() ? "" : ": missing" + missing));
+            check(has && problems.empty(), "Python name " + spec->python_name + " with the " +
+                                            std::to_string(spec->params.size()) + " keywords and types of the table" +
+                                            (problems.empty() ? "" : ":" + problems));
         }
 
         // 3. Every filter by its Python name on a generated figure ------------------------------
         // The figure of 'canonform generate OUT --vertices N --pose K': coordinates rounded to float.
-        const canonform::Figure fig = canonform::make_figure(vertices, canonform::figure_pose(pose));
+        const canonform::procedural::Figure fig = canonform::procedural::make_figure(vertices, canonform::procedural::figure_pose(pose));
         const Eigen::MatrixXd V = fig.mesh.V.cast<float>().cast<double>();
         const long n = V.rows();
         const int sqrt_n = static_cast<int>(std::ceil(std::sqrt(static_cast<double>(n))));

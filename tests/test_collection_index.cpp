@@ -20,6 +20,8 @@
 
 using namespace canonform;
 using namespace canonform::retrieval;
+using namespace canonform::canonical;
+using namespace canonform::procedural;
 namespace fs = std::filesystem;
 
 namespace {

@@ -11,6 +11,9 @@
 #include <numeric>
 
 using namespace canonform;
+using namespace canonform::numerics;
+using namespace canonform::surface;
+using namespace canonform::procedural;
 
 TEST(ConformalFactor, SolvesEquationSevenWithTheDocumentedSign) {
     const Figure f = make_figure(2000, figure_pose(0));

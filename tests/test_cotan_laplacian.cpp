@@ -10,6 +10,8 @@
 #include <vector>
 
 using namespace canonform;
+using namespace canonform::surface;
+using namespace canonform::procedural;
 
 namespace {
 

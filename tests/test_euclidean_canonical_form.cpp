@@ -11,6 +11,10 @@
 #include <cstdio>
 
 using namespace canonform;
+using namespace canonform::numerics;
+using namespace canonform::surface;
+using namespace canonform::canonical;
+using namespace canonform::procedural;
 
 namespace {
 
@@ -27,7 +31,7 @@ class BothVariants : public ::testing::TestWithParam<CanonicalVariant> {};
 TEST_P(BothVariants, StressDecreasesAndEdgesAreMostlyKept) {
     const Figure f = make_figure(2000, figure_pose(1));
     EuclideanCanonicalFormOptions o = options(GetParam());
-    o.record_history = true;
+    o.smacof.record_history = true;
     const EuclideanCanonicalFormResult r = euclidean_canonical_form(f.mesh.V, f.mesh.F, o);
     ASSERT_GE(r.stress_history.size(), 2u);
     for (size_t k = 1; k < r.stress_history.size(); ++k)
@@ -67,7 +71,7 @@ TEST_P(BothVariants, StretchesTheLimbsApart) {
 TEST_P(BothVariants, InvariantToRigidMotionScaleAndVertexOrder) {
     const Figure f = make_figure(1500, figure_pose(2));
     EuclideanCanonicalFormOptions o = options(GetParam());
-    o.tolerance = 1e-6;
+    o.smacof.tolerance = 1e-6;
     const EuclideanCanonicalFormResult a = euclidean_canonical_form(f.mesh.V, f.mesh.F, o);
 
     // Rotated, translated and scaled input.

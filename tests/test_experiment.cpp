@@ -21,6 +21,8 @@
 #include <unistd.h>
 
 using namespace canonform;
+using namespace canonform::canonical;
+using namespace canonform::procedural;
 namespace fs = std::filesystem;
 
 namespace {
@@ -153,7 +155,7 @@ TEST(Experiment, AMethodAddedToTheRegistryRunsLikeTheOthers) {
     CanonicalMethod toy;
     toy.name = "toy-scaled";
     toy.label = "toy";
-    toy.parameters = {{"scale", "2", "scale factor", 0.1, 10}};
+    toy.parameters = {Parameter::number("scale", 0.1, 10).default_value("2").help("scale factor")};
     toy.run = [](const Eigen::MatrixXd& V, const Eigen::MatrixXi&, const MethodSettings& s, const MethodContext&) {
         CanonicalForm r;
         r.V = V * s.number("scale");

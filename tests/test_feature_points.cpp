@@ -9,6 +9,9 @@
 #include <set>
 
 using namespace canonform;
+using namespace canonform::numerics;
+using namespace canonform::surface;
+using namespace canonform::procedural;
 
 namespace {
 

@@ -10,6 +10,8 @@
 #include <cmath>
 
 using namespace canonform;
+using namespace canonform::surface;
+using namespace canonform::procedural;
 
 TEST(GaussianCurvature, GaussBonnetOnSphere) {
     const Mesh s = make_icosphere(3);

@@ -8,6 +8,9 @@
 #include <cstdio>
 
 using namespace canonform;
+using namespace canonform::numerics;
+using namespace canonform::canonical;
+using namespace canonform::procedural;
 
 namespace {
 

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 using namespace canonform;
+using namespace canonform::numerics;
 
 TEST(Graph, AdjacencyIsSortedAndSymmetric) {
     Eigen::MatrixXi E(4, 2);

@@ -17,6 +17,7 @@
 #include <random>
 
 using namespace canonform;
+using namespace canonform::numerics;
 using Eigen::MatrixXd;
 
 namespace {
@@ -124,8 +125,8 @@ TEST(Mds, LeastSquaresFromRandomStartRecoversEuclideanPointSet) {
     const MatrixXd P = random_points(200, 4);
     const MatrixXd start = random_points(200, 5);
     MdsOptions opt;
-    opt.tolerance = 1e-14;
-    opt.max_iterations = 5000;
+    opt.smacof.tolerance = 1e-14;
+    opt.smacof.max_iterations = 5000;
     const MdsResult r = least_squares_mds(euclidean_distances(P), opt, &start);
     EXPECT_LT(r.X.colwise().mean().norm(), 1e-12);
     EXPECT_LT(aligned_rms(r.X, P), 1e-4 * rms_radius(P)) << r.iterations << " iterations";
@@ -138,8 +139,8 @@ TEST(Mds, GuttmanStepEqualsDensePseudoInverseFormula) {
     const MatrixXd D = great_circle_distances(sphere_points(n, 6));
     MatrixXd X0 = random_points(n, 7);
     MdsOptions opt;
-    opt.max_iterations = 1;
-    opt.tolerance = 0;
+    opt.smacof.max_iterations = 1;
+    opt.smacof.tolerance = 0;
     const MdsResult r = least_squares_mds(D, opt, &X0);
     ASSERT_EQ(r.iterations, 1);
     X0.rowwise() -= X0.colwise().mean();
@@ -160,10 +161,10 @@ TEST(Mds, LeastSquaresStressNeverIncreasesOnGeodesicDistances) {
     const MatrixXd D = great_circle_distances(sphere_points(300, 8));
     const MdsResult c = classical_mds(D);
     MdsOptions opt;
-    opt.tolerance = 0;
-    opt.max_iterations = 150;
-    opt.record_history = true;
-    opt.acceleration = SmacofAcceleration::None;  // plain Guttman steps (accelerations: below)
+    opt.smacof.tolerance = 0;
+    opt.smacof.max_iterations = 150;
+    opt.smacof.record_history = true;
+    opt.smacof.acceleration = SmacofAcceleration::None;  // plain Guttman steps (accelerations: below)
     const MdsResult r = least_squares_mds(D, opt);
     // With tolerance 0 it runs until the stress stops decreasing in floating point (~50 steps).
     ASSERT_EQ(r.stress_history.size(), static_cast<size_t>(r.iterations) + 1);
@@ -185,13 +186,13 @@ TEST(Mds, LeastSquaresStressNeverIncreasesOnGeodesicDistances) {
 TEST(Mds, LeastSquaresWithEveryAccelerationNeverRaisesTheStressAndReachesThePlainStress) {
     const MatrixXd D = great_circle_distances(sphere_points(300, 8));
     MdsOptions opt;
-    opt.acceleration = SmacofAcceleration::None;
+    opt.smacof.acceleration = SmacofAcceleration::None;
     const MdsResult plain = least_squares_mds(D, opt);
     for (SmacofAcceleration a : {SmacofAcceleration::Relaxed, SmacofAcceleration::Rre, SmacofAcceleration::Mpe,
                                  SmacofAcceleration::Anderson}) {
         SCOPED_TRACE(to_string(a));
-        opt.acceleration = a;
-        opt.record_history = true;
+        opt.smacof.acceleration = a;
+        opt.smacof.record_history = true;
         const MdsResult r = least_squares_mds(D, opt);
         for (size_t k = 1; k < r.stress_history.size(); ++k)
             ASSERT_LE(r.stress_history[k], r.stress_history[k - 1] * (1 + 1e-12)) << "iterate " << k;
@@ -273,8 +274,8 @@ TEST(Mds, TwoDimensionalEmbeddingsOfPlanarPoints) {
     EXPECT_LT(aligned_rms(pad(c.X), P), 1e-6 * rms_radius(P));
     const MdsResult l = landmark_mds(D, opt);
     EXPECT_LT(aligned_rms(pad(l.X), P), 1e-6 * rms_radius(P));
-    opt.tolerance = 1e-14;
-    opt.max_iterations = 5000;
+    opt.smacof.tolerance = 1e-14;
+    opt.smacof.max_iterations = 5000;
     const MatrixXd start = random_points(150, 19).leftCols(2);
     const MdsResult s = least_squares_mds(D, opt, &start);
     EXPECT_LT(aligned_rms(pad(s.X), P), 1e-4 * rms_radius(P));
@@ -305,7 +306,7 @@ TEST(Mds, EigensolverFindsPositiveEigenvaluesBehindLargeNegativeOnes) {
         for (int j = 0; j < n; ++j) R(i, j) = g(rng);
     const MatrixXd Qr = Eigen::HouseholderQR<MatrixXd>(R).householderQ();
     const MatrixXd B = Qr * spectrum.asDiagonal() * Qr.transpose();
-    const detail::EigenPairs e = detail::top_eigenpairs(
+    const numerics::detail::EigenPairs e = numerics::detail::top_eigenpairs(
         n, 3, [&B](const MatrixXd& Q) { return MatrixXd(B * Q); }, 1e-10, 5000, 1);
     EXPECT_TRUE(e.shifted);
     EXPECT_NEAR(e.values(0), 10, 1e-8);
@@ -313,7 +314,7 @@ TEST(Mds, EigensolverFindsPositiveEigenvaluesBehindLargeNegativeOnes) {
     EXPECT_NEAR(e.values(2), 2, 1e-8);
     EXPECT_LT((B * e.vectors - e.vectors * e.values.asDiagonal()).norm(), 1e-7);
     // Too few iterations: NumericalError.
-    EXPECT_THROW(detail::top_eigenpairs(n, 3, [&B](const MatrixXd& Q) { return MatrixXd(B * Q); }, 1e-10, 5, 1),
+    EXPECT_THROW(numerics::detail::top_eigenpairs(n, 3, [&B](const MatrixXd& Q) { return MatrixXd(B * Q); }, 1e-10, 5, 1),
                  NumericalError);
 }
 
@@ -322,8 +323,8 @@ TEST(Mds, ThreadCountDoesNotChangeTheResult) {
     MdsOptions one, two;
     one.threads = 1;
     two.threads = 2;
-    one.tolerance = two.tolerance = 0;
-    one.max_iterations = two.max_iterations = 30;
+    one.smacof.tolerance = two.smacof.tolerance = 0;
+    one.smacof.max_iterations = two.smacof.max_iterations = 30;
     // The same bits: users' machines differ in their number of cores.
     const MdsResult a = least_squares_mds(D, one), b = least_squares_mds(D, two);
     EXPECT_TRUE((a.X.array() == b.X.array()).all());
@@ -391,8 +392,8 @@ TEST(Mds, BadInputThrowsInputError) {
 TEST(Mds, ProgressCanCancel) {
     const MatrixXd D = great_circle_distances(sphere_points(200, 16));
     MdsOptions opt;
-    opt.tolerance = 0;
-    opt.max_iterations = 100;
+    opt.smacof.tolerance = 0;
+    opt.smacof.max_iterations = 100;
     int calls = 0;
     opt.progress = [&calls](double f, const char*) {
         EXPECT_GE(f, 0.0);
@@ -429,7 +430,7 @@ TEST(Mds, SameBitsWhateverTheCpuCacheSizes) {
     const MatrixXd D = great_circle_distances(sphere_points(700, 9));
     MdsOptions o;
     o.threads = 1;
-    o.max_iterations = 20;
+    o.smacof.max_iterations = 20;
     o.landmarks = 300;  // a landmark block longer than Eigen's product blocks
     for (MdsMethod m : {MdsMethod::Classical, MdsMethod::Landmark, MdsMethod::LeastSquares}) {
         const auto runs = canonform::test::under_l1_cache_sizes([&] { return mds(D, m, o).X; });

@@ -17,6 +17,7 @@
 #include <filesystem>
 
 using namespace canonform;
+using namespace canonform::procedural;
 using canonform::test::fuzz_seed;
 using canonform::test::message_of;
 namespace fs = std::filesystem;

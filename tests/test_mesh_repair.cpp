@@ -12,6 +12,9 @@
 #include <gtest/gtest.h>
 
 using namespace canonform;
+using namespace canonform::surface;
+using namespace canonform::canonical;
+using namespace canonform::procedural;
 
 namespace {
 

@@ -11,6 +11,9 @@
 #include <vector>
 
 using namespace canonform;
+using namespace canonform::numerics;
+using namespace canonform::surface;
+using namespace canonform::procedural;
 
 namespace {
 

@@ -18,7 +18,7 @@ TEST(PortableAtan2, AgreesWithLibmToAFewUnitsInTheLastPlace) {
     for (int i = 0; i < 200000; ++i) {
         const double y = std::ldexp(u(g), static_cast<int>(g() % 40) - 20);
         const double x = std::ldexp(u(g), static_cast<int>(g() % 40) - 20);
-        const double a = cf::portable_atan2(y, x), b = std::atan2(y, x);
+        const double a = cf::numerics::portable_atan2(y, x), b = std::atan2(y, x);
         max_abs = std::max(max_abs, std::abs(a - b));
         max_rel = std::max(max_rel, std::abs(a - b) / std::abs(b));
         ASSERT_LE(std::abs(a), M_PI);
@@ -30,23 +30,23 @@ TEST(PortableAtan2, AgreesWithLibmToAFewUnitsInTheLastPlace) {
     for (double t : {0.0, 1e-300, 1e-8, 0.41421356237309503, 0.41421356237309515, 0.5, 1.0, 2.0, 1e8}) {
         for (double sx : {1.0, -1.0})
             for (double sy : {1.0, -1.0})
-                EXPECT_NEAR(cf::portable_atan2(sy * t, sx * 1.0), std::atan2(sy * t, sx * 1.0), 4.5e-16) << t;
+                EXPECT_NEAR(cf::numerics::portable_atan2(sy * t, sx * 1.0), std::atan2(sy * t, sx * 1.0), 4.5e-16) << t;
     }
 }
 
 TEST(PortableAtan2, SpecialValuesAsInC) {
     const double inf = std::numeric_limits<double>::infinity();
-    EXPECT_EQ(cf::portable_atan2(0.0, 1.0), 0.0);
-    EXPECT_TRUE(std::signbit(cf::portable_atan2(-0.0, 1.0)));
-    EXPECT_EQ(cf::portable_atan2(0.0, 0.0), 0.0);
-    EXPECT_EQ(cf::portable_atan2(0.0, -0.0), M_PI);
-    EXPECT_EQ(cf::portable_atan2(-0.0, -1.0), -M_PI);
-    EXPECT_EQ(cf::portable_atan2(1.0, 0.0), M_PI / 2);
-    EXPECT_EQ(cf::portable_atan2(-1.0, -0.0), -M_PI / 2);
-    EXPECT_EQ(cf::portable_atan2(1.0, 1.0), M_PI / 4);
-    EXPECT_EQ(cf::portable_atan2(1.0, inf), 0.0);
-    EXPECT_EQ(cf::portable_atan2(inf, 1.0), M_PI / 2);
-    EXPECT_NEAR(cf::portable_atan2(inf, -inf), 3 * M_PI / 4, 4.5e-16);
-    EXPECT_TRUE(std::isnan(cf::portable_atan2(std::nan(""), 1.0)));
-    EXPECT_TRUE(std::isnan(cf::portable_atan2(1.0, std::nan(""))));
+    EXPECT_EQ(cf::numerics::portable_atan2(0.0, 1.0), 0.0);
+    EXPECT_TRUE(std::signbit(cf::numerics::portable_atan2(-0.0, 1.0)));
+    EXPECT_EQ(cf::numerics::portable_atan2(0.0, 0.0), 0.0);
+    EXPECT_EQ(cf::numerics::portable_atan2(0.0, -0.0), M_PI);
+    EXPECT_EQ(cf::numerics::portable_atan2(-0.0, -1.0), -M_PI);
+    EXPECT_EQ(cf::numerics::portable_atan2(1.0, 0.0), M_PI / 2);
+    EXPECT_EQ(cf::numerics::portable_atan2(-1.0, -0.0), -M_PI / 2);
+    EXPECT_EQ(cf::numerics::portable_atan2(1.0, 1.0), M_PI / 4);
+    EXPECT_EQ(cf::numerics::portable_atan2(1.0, inf), 0.0);
+    EXPECT_EQ(cf::numerics::portable_atan2(inf, 1.0), M_PI / 2);
+    EXPECT_NEAR(cf::numerics::portable_atan2(inf, -inf), 3 * M_PI / 4, 4.5e-16);
+    EXPECT_TRUE(std::isnan(cf::numerics::portable_atan2(std::nan(""), 1.0)));
+    EXPECT_TRUE(std::isnan(cf::numerics::portable_atan2(1.0, std::nan(""))));
 }

@@ -27,8 +27,7 @@
 
 namespace {
 
-using canonform::Figure;
-using canonform::FigurePose;
+using namespace canonform::procedural;
 using canonform::Mesh;
 using Eigen::Vector3d;
 
@@ -240,7 +239,7 @@ TEST(ProceduralIcosphere, CountsRadiusTopologyAndVolume) {
     const double r = 2.5;
     for (int s = 0; s <= 4; ++s) {
         SCOPED_TRACE("subdivisions " + std::to_string(s));
-        const Mesh m = canonform::make_icosphere(s, r);
+        const Mesh m = canonform::procedural::make_icosphere(s, r);
         const long p = 1L << (2 * s);  // 4^s
         EXPECT_EQ(m.V.rows(), 10 * p + 2);
         EXPECT_EQ(m.F.rows(), 20 * p);
@@ -264,15 +263,15 @@ TEST(ProceduralIcosphere, CountsRadiusTopologyAndVolume) {
 }
 
 TEST(ProceduralIcosphere, RejectsBadArguments) {
-    EXPECT_THROW(canonform::make_icosphere(-1), std::invalid_argument);
-    EXPECT_THROW(canonform::make_icosphere(2, 0.0), std::invalid_argument);
+    EXPECT_THROW(canonform::procedural::make_icosphere(-1), std::invalid_argument);
+    EXPECT_THROW(canonform::procedural::make_icosphere(2, 0.0), std::invalid_argument);
 }
 
 // ---------------------------------------------------------------------------------------- torus
 
 TEST(ProceduralTorus, ClosedGenusOneWithTheRightVolume) {
     const double R = 1.0, r = 0.3;
-    const Mesh m = canonform::make_torus(64, 32, R, r);
+    const Mesh m = canonform::procedural::make_torus(64, 32, R, r);
     EXPECT_EQ(m.V.rows(), 64 * 32);
     EXPECT_EQ(m.F.rows(), 2 * 64 * 32);
     const Topology t = topology(m);
@@ -288,8 +287,8 @@ TEST(ProceduralTorus, ClosedGenusOneWithTheRightVolume) {
         const double rho = std::hypot(p.x(), p.y());
         ASSERT_NEAR(std::hypot(rho - R, p.z()), r, 1e-12);
     }
-    EXPECT_THROW(canonform::make_torus(2, 8), std::invalid_argument);
-    EXPECT_THROW(canonform::make_torus(8, 8, 0.2, 0.3), std::invalid_argument);
+    EXPECT_THROW(canonform::procedural::make_torus(2, 8), std::invalid_argument);
+    EXPECT_THROW(canonform::procedural::make_torus(8, 8, 0.2, 0.3), std::invalid_argument);
 }
 
 // ----------------------------------------------------------------------------------------- disc
@@ -298,7 +297,7 @@ TEST(ProceduralDisc, OneBoundaryLoopFlatAndUpwards) {
     const double radius = 1.7;
     for (const int target : {7, 100, 1000, 5000}) {
         SCOPED_TRACE("target " + std::to_string(target));
-        const Mesh m = canonform::make_disc(target, radius);
+        const Mesh m = canonform::procedural::make_disc(target, radius);
         EXPECT_NEAR(static_cast<double>(m.V.rows()), target, 0.15 * target + 1);
         const Topology t = topology(m);
         EXPECT_TRUE(t.oriented_manifold) << t.problem;
@@ -323,7 +322,7 @@ TEST(ProceduralDisc, OneBoundaryLoopFlatAndUpwards) {
         EXPECT_GT(min_area, 0.0);
         EXPECT_GT(min_angle, 20.0 * kPi / 180.0);
     }
-    EXPECT_THROW(canonform::make_disc(3), std::invalid_argument);
+    EXPECT_THROW(canonform::procedural::make_disc(3), std::invalid_argument);
 }
 
 // --------------------------------------------------------------------------------------- figure
@@ -335,7 +334,7 @@ const Figure& figure(int target, int pose) {
     if (it != cache.end()) return it->second;
     return cache
         .emplace(std::make_pair(target, pose),
-                 canonform::make_figure(target, canonform::figure_pose(pose)))
+                 canonform::procedural::make_figure(target, canonform::procedural::figure_pose(pose)))
         .first->second;
 }
 
@@ -435,7 +434,7 @@ TEST_P(ProceduralFigureAtTarget, LimbTipsOnTheSurfaceAndFarApart) {
 INSTANTIATE_TEST_SUITE_P(Targets, ProceduralFigureAtTarget, ::testing::Values(2000, 10000));
 
 TEST(ProceduralFigure, NamedPosesDoNotSelfIntersect) {
-    for (int pose = 0; pose < canonform::kFigureNamedPoses; ++pose) {
+    for (int pose = 0; pose < canonform::procedural::kFigureNamedPoses; ++pose) {
         SCOPED_TRACE("pose " + std::to_string(pose));
         const Figure& f = figure(4000, pose);
         EXPECT_EQ(self_intersections(f.mesh), 0);
@@ -446,20 +445,20 @@ TEST(ProceduralFigure, NamedPosesDoNotSelfIntersect) {
 TEST(ProceduralFigure, RandomPosesAreDeterministicAndClean) {
     for (const int id : {6, 7, 23, 1000}) {
         SCOPED_TRACE("pose " + std::to_string(id));
-        const FigurePose a = canonform::figure_pose(id), b = canonform::figure_pose(id);
+        const FigurePose a = canonform::procedural::figure_pose(id), b = canonform::procedural::figure_pose(id);
         EXPECT_EQ(a.left_arm.elbow_bend, b.left_arm.elbow_bend);
         EXPECT_EQ(a.right_leg.knee_bend, b.right_leg.knee_bend);
         EXPECT_EQ(a.tail_curl, b.tail_curl);
-        EXPECT_NE(a.left_arm.shoulder_down, canonform::figure_pose(id + 1).left_arm.shoulder_down);
-        const Figure f = canonform::make_figure(2000, a);
+        EXPECT_NE(a.left_arm.shoulder_down, canonform::procedural::figure_pose(id + 1).left_arm.shoulder_down);
+        const Figure f = canonform::procedural::make_figure(2000, a);
         EXPECT_EQ(self_intersections(f.mesh), 0);
         EXPECT_GT(min_area_and_angle(f.mesh).second, 1.0 * kPi / 180.0);
     }
 }
 
 TEST(ProceduralFigure, NamedPosesAreDistinct) {
-    for (int i = 0; i < canonform::kFigureNamedPoses; ++i)
-        for (int j = i + 1; j < canonform::kFigureNamedPoses; ++j) {
+    for (int i = 0; i < canonform::procedural::kFigureNamedPoses; ++i)
+        for (int j = i + 1; j < canonform::procedural::kFigureNamedPoses; ++j) {
             const Figure& a = figure(2000, i);
             const Figure& b = figure(2000, j);
             EXPECT_GT((a.mesh.V - b.mesh.V).rowwise().norm().maxCoeff(), 0.1) << i << " vs " << j;
@@ -469,31 +468,31 @@ TEST(ProceduralFigure, NamedPosesAreDistinct) {
 TEST(ProceduralFigure, ValidAndRepeatableAtOtherTargets) {
     for (const int target : {500, 1234, 30000}) {
         SCOPED_TRACE("target " + std::to_string(target));
-        const Figure a = canonform::make_figure(target, canonform::figure_pose(2));
+        const Figure a = canonform::procedural::make_figure(target, canonform::procedural::figure_pose(2));
         EXPECT_NEAR(static_cast<double>(a.mesh.V.rows()), target, 0.25 * target);
         const Topology t = topology(a.mesh);
         EXPECT_TRUE(t.oriented_manifold && t.fans_are_discs) << t.problem;
         EXPECT_EQ(t.components, 1);
         EXPECT_EQ(t.euler, 2);
-        const Figure b = canonform::make_figure(target, canonform::figure_pose(2));
+        const Figure b = canonform::procedural::make_figure(target, canonform::procedural::figure_pose(2));
         EXPECT_TRUE(a.mesh.V == b.mesh.V);
         EXPECT_TRUE(a.mesh.F == b.mesh.F);
     }
 }
 
 TEST(ProceduralFigureClasses, StandardProportionsGiveExactlyTheStandardFigure) {
-    const Figure a = canonform::make_figure(2000, canonform::figure_pose(3));
-    const Figure b = canonform::make_figure(2000, canonform::figure_pose(3), canonform::figure_class("standard"));
+    const Figure a = canonform::procedural::make_figure(2000, canonform::procedural::figure_pose(3));
+    const Figure b = canonform::procedural::make_figure(2000, canonform::procedural::figure_pose(3), canonform::procedural::figure_class("standard"));
     EXPECT_TRUE(a.mesh.V == b.mesh.V);
     EXPECT_TRUE(a.mesh.F == b.mesh.F);
 }
 
 TEST(ProceduralFigureClasses, EveryClassIsCleanInEveryNamedPoseWithTheSameFaces) {
-    const Figure standard = canonform::make_figure(2000, FigurePose{});
-    for (const std::string& name : canonform::figure_class_names()) {
-        for (int pose = 0; pose < canonform::kFigureNamedPoses; ++pose) {
+    const Figure standard = canonform::procedural::make_figure(2000, FigurePose{});
+    for (const std::string& name : canonform::procedural::figure_class_names()) {
+        for (int pose = 0; pose < canonform::procedural::kFigureNamedPoses; ++pose) {
             SCOPED_TRACE(name + ", pose " + std::to_string(pose));
-            const Figure f = canonform::make_figure(2000, canonform::figure_pose(pose), canonform::figure_class(name));
+            const Figure f = canonform::procedural::make_figure(2000, canonform::procedural::figure_pose(pose), canonform::procedural::figure_class(name));
             EXPECT_TRUE(f.mesh.F == standard.mesh.F);
             const Topology t = topology(f.mesh);
             EXPECT_TRUE(t.oriented_manifold && t.fans_are_discs) << t.problem;
@@ -505,18 +504,18 @@ TEST(ProceduralFigureClasses, EveryClassIsCleanInEveryNamedPoseWithTheSameFaces)
             }
         }
     }
-    EXPECT_EQ(static_cast<int>(canonform::figure_class_names().size()), canonform::kFigureClasses);
+    EXPECT_EQ(static_cast<int>(canonform::procedural::figure_class_names().size()), canonform::procedural::kFigureClasses);
 }
 
 TEST(ProceduralFigureClasses, RandomPosesOfTheGeneratedCollectionAreClean) {
     // `canonform generate --collection` (seed 0) poses class c's figure k >= 6 with pose id
     // 1000 + 37 c + k; ten poses per class by default.
-    const auto names = canonform::figure_class_names();
+    const auto names = canonform::procedural::figure_class_names();
     for (size_t c = 0; c < names.size(); ++c)
-        for (int k = canonform::kFigureNamedPoses; k < 10; ++k) {
+        for (int k = canonform::procedural::kFigureNamedPoses; k < 10; ++k) {
             const int id = 1000 + 37 * static_cast<int>(c) + k;
             SCOPED_TRACE(names[c] + ", pose " + std::to_string(id));
-            const Figure f = canonform::make_figure(2000, canonform::figure_pose(id), canonform::figure_class(names[c]));
+            const Figure f = canonform::procedural::make_figure(2000, canonform::procedural::figure_pose(id), canonform::procedural::figure_class(names[c]));
             EXPECT_EQ(self_intersections(f.mesh), 0);
             EXPECT_GT(min_area_and_angle(f.mesh).second, 1.0 * kPi / 180.0);
         }
@@ -525,11 +524,11 @@ TEST(ProceduralFigureClasses, RandomPosesOfTheGeneratedCollectionAreClean) {
 TEST(ProceduralFigureClasses, LengthFactorsStretchTheLimbsByThatFactor) {
     // Rest pose: the left hand tip lies at the shoulder joint (x = 0.26) plus the arm's length
     // along x; the tail tip behind the tail's base (y = 0.10) by the tail's length along its axis.
-    const Figure s = canonform::make_figure(3000, FigurePose{});
-    canonform::FigureProportions p;
+    const Figure s = canonform::procedural::make_figure(3000, FigurePose{});
+    canonform::procedural::FigureProportions p;
     p.arm_length = 1.5;
     p.tail_length = 0.6;
-    const Figure l = canonform::make_figure(3000, FigurePose{}, p);
+    const Figure l = canonform::procedural::make_figure(3000, FigurePose{}, p);
     const double arm_s = s.limb_tips[1].x() - 0.26, arm_l = l.limb_tips[1].x() - 0.26;
     EXPECT_NEAR(arm_l / arm_s, 1.5, 0.03);
     const double tail_s = (s.limb_tips[5] - Vector3d(0, 0.10, 0.86)).norm();
@@ -540,17 +539,17 @@ TEST(ProceduralFigureClasses, LengthFactorsStretchTheLimbsByThatFactor) {
 }
 
 TEST(ProceduralFigureClasses, RejectsUnknownClassesAndProportionsOutOfRange) {
-    EXPECT_THROW(canonform::figure_class("giraffe"), std::invalid_argument);
-    canonform::FigureProportions p;
+    EXPECT_THROW(canonform::procedural::figure_class("giraffe"), std::invalid_argument);
+    canonform::procedural::FigureProportions p;
     p.leg_length = 3.0;
-    EXPECT_THROW(canonform::make_figure(2000, FigurePose{}, p), std::invalid_argument);
+    EXPECT_THROW(canonform::procedural::make_figure(2000, FigurePose{}, p), std::invalid_argument);
     p.leg_length = 0.0;
-    EXPECT_THROW(canonform::make_figure(2000, FigurePose{}, p), std::invalid_argument);
+    EXPECT_THROW(canonform::procedural::make_figure(2000, FigurePose{}, p), std::invalid_argument);
 }
 
 TEST(ProceduralFigure, RejectsBadArguments) {
-    EXPECT_THROW(canonform::figure_pose(-1), std::invalid_argument);
-    EXPECT_THROW(canonform::make_figure(10, FigurePose{}), std::invalid_argument);
+    EXPECT_THROW(canonform::procedural::figure_pose(-1), std::invalid_argument);
+    EXPECT_THROW(canonform::procedural::make_figure(10, FigurePose{}), std::invalid_argument);
 }
 
 }  // namespace

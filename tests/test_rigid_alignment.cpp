@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 using namespace canonform;
+using namespace canonform::numerics;
 
 TEST(RigidAlignment, RecoversAKnownMotion) {
     const Eigen::MatrixXd A = Eigen::MatrixXd::Random(50, 3);

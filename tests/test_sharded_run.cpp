@@ -17,6 +17,8 @@
 
 using namespace canonform;
 using namespace canonform::retrieval;
+using namespace canonform::canonical;
+using namespace canonform::procedural;
 namespace fs = std::filesystem;
 
 namespace {

@@ -11,6 +11,10 @@
 #include <random>
 
 using namespace canonform;
+using namespace canonform::numerics;
+using namespace canonform::surface;
+using namespace canonform::canonical;
+using namespace canonform::procedural;
 
 namespace {
 
@@ -151,8 +155,8 @@ TEST(Smacof, MultigridStepsNeverRaiseTheStressAndMatchTheDirectSolve) {
     // form it converges to is the direct solver's, within the stopping rule's spread.
     const Figure fig = make_figure(6000, figure_pose(2));
     EuclideanCanonicalFormOptions opt;
-    opt.tolerance = 1e-6;
-    opt.record_history = true;
+    opt.smacof.tolerance = 1e-6;
+    opt.smacof.record_history = true;
     opt.linear_solver = LinearSolver::Direct;
     const EuclideanCanonicalFormResult d = euclidean_canonical_form(fig.mesh.V, fig.mesh.F, opt);
     opt.linear_solver = LinearSolver::Multigrid;
@@ -234,17 +238,17 @@ TEST(SmacofAcceleration, EveryMethodReachesThePlainStressOnAFigure) {
     // spread); the default (RRE) takes at most 2/3 of the plain Guttman steps.
     const Figure fig = make_figure(3000, figure_pose(2));
     EuclideanCanonicalFormOptions opt;
-    opt.acceleration = SmacofAcceleration::None;
+    opt.smacof.acceleration = SmacofAcceleration::None;
     const EuclideanCanonicalFormResult plain = euclidean_canonical_form(fig.mesh.V, fig.mesh.F, opt);
     ASSERT_TRUE(plain.converged);
-    opt.tolerance = 1e-7;
+    opt.smacof.tolerance = 1e-7;
     const EuclideanCanonicalFormResult tight = euclidean_canonical_form(fig.mesh.V, fig.mesh.F, opt);
-    opt.tolerance = 1e-5;
+    opt.smacof.tolerance = 1e-5;
     const double spread = test::aligned_rms(plain.V, tight.V);
     std::printf("[ info ] plain: %d steps, stress %.6g; tolerance 1e-7: %d steps, stress %.6g, rms %.2e\n",
                 plain.iterations, plain.final_stress, tight.iterations, tight.final_stress, spread);
     for (SmacofAcceleration a : kAllAccelerations) {
-        opt.acceleration = a;
+        opt.smacof.acceleration = a;
         const EuclideanCanonicalFormResult r = euclidean_canonical_form(fig.mesh.V, fig.mesh.F, opt);
         SCOPED_TRACE(to_string(a));
         const double rms = test::aligned_rms(r.V, plain.V);
@@ -262,7 +266,7 @@ TEST(SmacofAcceleration, EveryMethodReachesThePlainStressOnAFigure) {
 TEST(SmacofAcceleration, DeterministicAndTheDefaultIsRre) {
     const Figure fig = make_figure(1500, figure_pose(3));
     EXPECT_EQ(SmacofOptions{}.acceleration, SmacofAcceleration::Rre);
-    EXPECT_EQ(EuclideanCanonicalFormOptions{}.acceleration, SmacofAcceleration::Rre);
+    EXPECT_EQ(EuclideanCanonicalFormOptions{}.smacof.acceleration, SmacofAcceleration::Rre);
     const EuclideanCanonicalFormResult a = euclidean_canonical_form(fig.mesh.V, fig.mesh.F);
     const EuclideanCanonicalFormResult b = euclidean_canonical_form(fig.mesh.V, fig.mesh.F);
     EXPECT_EQ((a.V - b.V).cwiseAbs().maxCoeff(), 0.0);

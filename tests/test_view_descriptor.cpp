@@ -10,6 +10,7 @@
 
 using namespace canonform;
 using namespace canonform::views;
+using namespace canonform::procedural;
 
 namespace {
 

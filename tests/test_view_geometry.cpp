@@ -169,7 +169,7 @@ TEST(DepthRender, CameraFrameIsARightHandedRotationWithDocumentedUp) {
 }
 
 TEST(DepthRender, SphereMatchesAnalyticDepth) {
-    const cf::Mesh s = cf::make_icosphere(5, 0.9);
+    const cf::Mesh s = cf::procedural::make_icosphere(5, 0.9);
     const int N = 256;
     for (const Eigen::Vector3d& dir : {Eigen::Vector3d(0, 0, 1), Eigen::Vector3d(1, 2, -0.5).normalized(),
                                       vw::view_directions()[17]}) {
@@ -300,7 +300,7 @@ TEST(DepthRender, SharedEdgesThroughPixelCentresLeaveNoCracks) {
 }
 
 TEST(DepthRender, SixtySixRendersOfATenThousandVertexFigureTiming) {
-    const cf::Figure fig = cf::make_figure(10000, cf::figure_pose(3));
+    const cf::procedural::Figure fig = cf::procedural::make_figure(10000, cf::procedural::figure_pose(3));
     const vw::PoseNormalization pose = vw::normalize_pose(fig.mesh.V, fig.mesh.F);
     const Eigen::MatrixXd X = vw::apply_pose(pose, fig.mesh.V);
     const auto D = vw::view_directions();
@@ -375,7 +375,7 @@ void expect_pose_invariant(const cf::Mesh& mesh, std::uint64_t seed, bool* used_
 TEST(PoseNormalization, FigureIsInvariantToSimilarityTransforms) {
     int n_rect = 0, n = 0;
     for (int pose_id : {0, 2, 3, 4, 5, 11}) {
-        const cf::Figure fig = cf::make_figure(2000, cf::figure_pose(pose_id));
+        const cf::procedural::Figure fig = cf::procedural::make_figure(2000, cf::procedural::figure_pose(pose_id));
         bool used_rect = false;
         SCOPED_TRACE(pose_id);
         expect_pose_invariant(fig.mesh, 100 + static_cast<std::uint64_t>(pose_id), &used_rect);
@@ -400,7 +400,7 @@ TEST(PoseNormalization, BoxLikeShapeIsAlignedByRectilinearity) {
 }
 
 TEST(PoseNormalization, RejectsBadInput) {
-    const cf::Mesh s = cf::make_icosphere(1);
+    const cf::Mesh s = cf::procedural::make_icosphere(1);
     EXPECT_THROW(vw::normalize_pose(s.V, Eigen::MatrixXi(0, 3)), cf::InputError);
     Eigen::MatrixXd bad = s.V;
     bad(3, 1) = std::nan("");
@@ -420,7 +420,7 @@ TEST(PoseNormalization, BinnedCoarseSearchFindsTheSameRectilinearity) {
     // The coarse restarts on direction-binned area vectors, refined on every face, reach the
     // projected-area minimum of the search over every face (within the refinement's tolerance).
     for (int pose = 0; pose < 4; ++pose) {
-        const cf::Figure fig = cf::make_figure(3000, cf::figure_pose(pose));
+        const cf::procedural::Figure fig = cf::procedural::make_figure(3000, cf::procedural::figure_pose(pose));
         vw::PoseOptions exact;
         exact.direction_bins = 0;
         const vw::PoseNormalization a = vw::normalize_pose(fig.mesh.V, fig.mesh.F);
@@ -434,7 +434,7 @@ TEST(PoseNormalization, BinnedCoarseSearchFindsTheSameRectilinearity) {
 TEST(PoseNormalization, ProjectedAreaRatioIsTheSumOverFaces) {
     // projected_area_ratio (and the rectilinearity cost it shares, evaluated on coordinate arrays
     // with SIMD packets) equals the plain sum over faces of |R a_t|_1 / sum_t |a_t|.
-    const cf::Figure fig = cf::make_figure(3000, cf::figure_pose(1));
+    const cf::procedural::Figure fig = cf::procedural::make_figure(3000, cf::procedural::figure_pose(1));
     const Eigen::Matrix3d R = Eigen::Quaterniond(Eigen::Vector4d(0.3, -0.5, 0.2, 0.7).normalized()).toRotationMatrix();
     double projected = 0, area = 0;
     for (Eigen::Index f = 0; f < fig.mesh.F.rows(); ++f) {
@@ -452,7 +452,7 @@ TEST(PoseNormalization, SameBitsWhateverTheCpuCacheSizes) {
     // Eigen blocks a matrix product by the L1 cache size that CPUID reports; the pose does not
     // depend on it (the covariance is summed row by row; no libm either, see the header).
     for (int pose_id : {4, 5}) {
-        const cf::Figure fig = cf::make_figure(2000, cf::figure_pose(pose_id));
+        const cf::procedural::Figure fig = cf::procedural::make_figure(2000, cf::procedural::figure_pose(pose_id));
         const auto poses = cf::test::under_l1_cache_sizes([&] { return vw::normalize_pose(fig.mesh.V, fig.mesh.F); });
         for (const auto& p : poses) {
             EXPECT_EQ(p.used_rectilinearity, poses[0].used_rectilinearity);

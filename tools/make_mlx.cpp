@@ -11,11 +11,11 @@
 
 namespace {
 
-bool write_all(const std::vector<canonform::plugin::FilterSpec>& table, const std::string& dir) {
+bool write_all(const std::vector<canonform::meshlab::FilterSpec>& table, const std::string& dir) {
     for (const auto& f : table) {
-        const std::string path = dir + "/" + f.script_file;
+        const std::string path = dir + "/" + f.script_file();
         std::ofstream out(path);
-        out << canonform::plugin::default_script(f);
+        out << canonform::meshlab::default_script(f);
         if (!out) {
             std::cerr << "canonform_mlx: cannot write " << path << "\n";
             return false;
@@ -32,8 +32,8 @@ int main(int argc, char** argv) {
         std::cerr << "usage: canonform_mlx CANONICAL_DIR VIEWDESCRIPTOR_DIR\n";
         return 2;
     }
-    return write_all(canonform::plugin::filter_table(), argv[1]) &&
-                   write_all(canonform::plugin::view_filter_table(), argv[2])
+    return write_all(canonform::meshlab::filter_table(), argv[1]) &&
+                   write_all(canonform::meshlab::view_filter_table(), argv[2])
                ? 0
                : 1;
 }

@@ -2,6 +2,7 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 # Makes the Debian package of the plugins for the installed MeshLab, from a build (tools/build.sh):
 #   tools/package.sh [--build-dir DIR]      prints the path of the .deb it wrote (in DIR)
+#   tools/package.sh --dev [--build-dir DIR]   libcanonform-dev instead (see dev_package below)
 #
 #   installed MeshLab         package                          contents
 #   2020.09 (bookworm)        canonform-plugins-meshlab2020    both plugins + their meshlabserver scripts
@@ -34,12 +35,14 @@
 set -euo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 build=${CANONFORM_BUILD_DIR:-$here/build}
+dev=0
 portable=""
 while [ $# -gt 0 ]; do
   case "$1" in
     --build-dir) build=$2; shift 2 ;;
+    --dev) dev=1; shift ;;
     --portable) portable=$2; shift 2 ;;
-    *) echo "usage: $0 [--build-dir DIR] [--portable pymeshlab2022|pymeshlab2023|pymeshlab2025|meshlab2025|all]" >&2; exit 2 ;;
+    *) echo "usage: $0 [--build-dir DIR] [--dev | --portable pymeshlab2022|pymeshlab2023|pymeshlab2025|meshlab2025|all]" >&2; exit 2 ;;
   esac
 done
 die() { echo "$0: $*" >&2; exit 1; }
@@ -68,6 +71,56 @@ if [ -n "$portable" ]; then
   exec "$here/tools/host.sh" bullseye "$here/tools/portable_build.sh" "$build/portable/build" "$build/portable" \
     "$build/pymeshlab2022/lib/libmeshlab-common.so" "$build/pymeshlab2025/lib/libmeshlab-common.so" "$forky_lib" "${hosts[@]}"
 fi
+
+# --- libcanonform-dev ---------------------------------------------------------------------------
+# The library for other projects (docs/library.md): the headers, the static libraries of the areas
+# the build has and the CMake package (find_package(canonform)), from cmake --install's component
+# `dev`, under /usr. Depends: the -dev packages of what those areas link (Eigen; oneTBB, CHOLMOD
+# where the build used them; OpenCV, FAISS, VLFeat for views; nlohmann-json for retrieval).
+dev_package() {
+  local version arch name=libcanonform-dev stage root deb depends cache=$build/CMakeCache.txt
+  version=$(sed -n 's/^CMAKE_PROJECT_VERSION:STATIC=//p' "$cache")
+  arch=$(dpkg --print-architecture)
+  [ -n "$version" ] || die "no project version in $cache"
+  deb=$build/${name}_${version}_${arch}.deb
+  stage=$(mktemp -d "$build/.package-dev.XXXXXX")
+  trap 'rm -rf "$stage"' EXIT
+  root=$stage/$name
+  cmake --install "$build" --component dev --prefix "$root/usr" >/dev/null
+  [ -f "$root/usr/lib/cmake/canonform/canonformConfig.cmake" ] || die "the build installs no CMake package (component dev)"
+  depends="libeigen3-dev"
+  on() { grep -q "^$1:BOOL=ON" "$cache"; }
+  grep -q '^CHOLMOD_LIBRARY:FILEPATH=/' "$cache" && ! on CANONFORM_WITHOUT_CHOLMOD && depends+=", libsuitesparse-dev"
+  [ -f "$root/usr/lib/libcanonform_views.a" ] && depends+=", libopencv-dev, libfaiss-dev, libvlfeat-dev"
+  [ -f "$root/usr/lib/libcanonform_retrieval.a" ] && depends+=", nlohmann-json3-dev"
+  grep -q "CANONFORM_HAVE_TBB" "$root/usr/lib/cmake/canonform/canonformTargets.cmake" && depends+=", libtbb-dev"
+  mkdir -p "$root/DEBIAN"
+  {
+    echo "Package: $name"
+    echo "Version: $version"
+    echo "Architecture: $arch"
+    echo "Maintainer: canonform developers <canonform@localhost>"
+    echo "Installed-Size: $(du -sk "$root/usr" | cut -f1)"
+    echo "Depends: $depends"
+    echo "Section: libdevel"
+    echo "Priority: optional"
+    echo "Description: canonical forms of non-rigid meshes - C++ library"
+    echo " Headers, static libraries and the CMake package (find_package(canonform)) of canonform:"
+    echo " Euclidean and geodesic canonical forms (Pickup et al. 2015), conformal factor, feature"
+    echo " points, SMACOF and MDS, mesh files, and (where built) view descriptors and retrieval."
+  } > "$root/DEBIAN/control"
+  local epoch
+  epoch=$(find "$root/usr" -type f -printf '%T@\n' | cut -d. -f1 | sort -n | tail -n 1)
+  find "$root" -exec touch -h -d "@$epoch" {} +
+  SOURCE_DATE_EPOCH=$epoch dpkg-deb --root-owner-group -Zxz --build "$root" "$deb.tmp" >/dev/null
+  mv "$deb.tmp" "$deb"
+  echo "$deb"
+}
+if [ "$dev" = 1 ]; then
+  dev_package
+  exit 0
+fi
+# --- the plugins' package -----------------------------------------------------------------------
 
 ml=$("$here/tools/setup.sh" --meshlab)          # 2020.09, 2022.02 or 2025.07
 series=${ml%%.*}                                # 2020, 2022, 2025

@@ -4,7 +4,7 @@
 # through the canonform tool and the real meshlabserver) with ctest; then, unless
 # CANONFORM_SANITIZER_TESTS=0 or ctest arguments are given, the unit and end-to-end tests again
 # under AddressSanitizer + UndefinedBehaviorSanitizer with a bounded run of every fuzz target
-# (tools/sanitizer_tests.sh).
+# (tools/sanitizer_tests.sh; its build runs niced alongside ctest).
 # The tests leave the machine as they found it: after the set-up (which may install packages), the
 # MeshLab plugin folder, /usr/local and the dpkg database are listed, and listed again at the end;
 # any difference fails the run. Each stage's wall time is printed.
@@ -28,13 +28,33 @@ t1=$(date +%s)
 CANONFORM_BUILD_DIR=$build "$here/tools/build.sh"
 stage "build" "$t1"
 t2=$(date +%s)
-(cd "$build" && ctest --output-on-failure -j"$(nproc)" "$@")
-stage "ctest" "$t2"
+# The sanitizer build starts now, at the lowest priority, so that it uses what ctest leaves idle
+# (root filesystems being downloaded and unpacked, single-threaded tests); its tests run after ctest.
+san=0
 if [ $# -eq 0 ] && [ "${CANONFORM_SANITIZER_TESTS:-1}" != "0" ]; then
-  t3=$(date +%s)
-  "$here/tools/sanitizer_tests.sh"
-  stage "sanitizer build and tests" "$t3"
+  san=1
+  setsid nice -n 19 "$here/tools/sanitizer_tests.sh" --build-only > "$build/sanitizer_build.log" 2>&1 &
+  san_pid=$!
 fi
+ctest_rc=0
+(cd "$build" && ctest --output-on-failure -j"$(nproc)" "$@") || ctest_rc=$?
+stage "ctest (the sanitizer build alongside)" "$t2"
+if [ "$ctest_rc" != 0 ] && [ "$san" = 1 ]; then
+  kill -- "-$san_pid" 2>/dev/null || true  # ctest failed: stop the sanitizer build (its own process group)
+  exit "$ctest_rc"
+fi
+if [ "$san" = 1 ]; then
+  t3=$(date +%s)
+  san_rc=0
+  wait "$san_pid" || san_rc=$?
+  cat "$build/sanitizer_build.log"
+  stage "sanitizer build, the rest after ctest" "$t3"
+  [ "$san_rc" = 0 ] || exit "$san_rc"
+  t4=$(date +%s)
+  "$here/tools/sanitizer_tests.sh"
+  stage "sanitizer tests" "$t4"
+fi
+[ "$ctest_rc" = 0 ] || exit "$ctest_rc"
 
 machine_state > "$build/machine_state.after"
 if ! diff "$build/machine_state.before" "$build/machine_state.after" > "$build/machine_state.diff"; then

@@ -1,13 +1,23 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: GPL-3.0-or-later
-# The unit and end-to-end tests of the library and the canonform tool again in an
+# The unit tests of the library and the canonform tool's bad-input commands again in an
 # AddressSanitizer + UndefinedBehaviorSanitizer build (clang, any report fails the test), and every
-# libFuzzer target for a bounded time on the seeds the unit tests write (tests/fuzz). Called by
+# libFuzzer target for a bounded time on the seeds the unit tests write (tests/fuzz). Without
+# arguments the slow whole-pipeline runs that the plain build already covers are left out
+# (SLOW below: the retrieval experiment's full runs, sharded runs, the collection index, the tool's
+# end-to-end and sharded runs, Slurm): under the sanitizers they took most of the stage's time, and
+# the code they run is run there by smaller tests too (the experiment's bad-collection and NaN-form
+# tests, the stages' unit tests, the tool's bad-input commands). With arguments, they go to ctest as
+# given. Called by
 # tools/run_tests.sh (so CI runs it); builds in ./build-san (or $CANONFORM_SAN_BUILD_DIR) only what
 # these tests need: no plugins (they run inside the non-instrumented meshlabserver; see docs/testing.md), no
 # benchmarks.
 #   tools/sanitizer_tests.sh [ctest arguments]     CANONFORM_FUZZ_SECONDS=N (default 15 per target)
+#   tools/sanitizer_tests.sh --build-only          the build alone (run_tests.sh starts it, niced,
+#                                                  while ctest runs; the second call then only tests)
 set -euo pipefail
+build_only=0
+if [ "${1:-}" = --build-only ]; then build_only=1; shift; fi
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 build=${CANONFORM_SAN_BUILD_DIR:-$here/build-san}
 mkdir -p "$build"
@@ -26,11 +36,14 @@ if ! { CC=clang CXX=clang++ cmake -S "$here" -B "$build" -DCMAKE_BUILD_TYPE=RelW
 fi
 t1=$(date +%s)
 echo "[sanitizers] built in $((t1 - t0)) s"
+[ "$build_only" = 1 ] && exit 0
 cd "$build"
 # Reports are failures; leaks too (LeakSanitizer), except those of the libraries below us that we
 # cannot fix (tests/sanitizer_suppressions.txt).
 export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=1:strict_string_checks=1:detect_stack_use_after_return=1}
 export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
 export LSAN_OPTIONS=${LSAN_OPTIONS:-suppressions=$here/tests/sanitizer_suppressions.txt:print_suppressions=0}
+SLOW='^(Experiment\.(ASeed|Writes|AMethod|Fused)|ShardedRun\.|CollectionIndex\.|cli\.end_to_end$|cli\.sharded$|slurm\.)'
+if [ $# -eq 0 ]; then set -- -E "$SLOW"; fi
 ctest --output-on-failure -j"$(nproc)" "$@"
 echo "[sanitizers] tests in $(( $(date +%s) - t1 )) s"

@@ -19,7 +19,7 @@ int main() {
     std::vector<std::string> labels;
     for (const std::string& cls : {std::string("standard"), std::string("long-arms")})
         for (int pose = 0; pose < 3; ++pose) {
-            meshes.push_back(canonform::make_figure(2000, canonform::figure_pose(pose), canonform::figure_class(cls)).mesh);
+            meshes.push_back(canonform::procedural::make_figure(2000, canonform::procedural::figure_pose(pose), canonform::procedural::figure_class(cls)).mesh);
             labels.push_back(cls);
         }
 
@@ -27,7 +27,7 @@ int main() {
     std::vector<views::ViewSet> sets;
     std::vector<const std::vector<views::SiftDescriptors>*> all;
     for (const auto& m : meshes) {
-        const auto form = canonform::euclidean_canonical_form(m.V, m.F);
+        const auto form = canonform::canonical::euclidean_canonical_form(m.V, m.F);
         sets.push_back(views::compute_views(form.V, m.F));
     }
     for (const auto& s : sets) all.push_back(&s.features);

@@ -44,7 +44,7 @@ std::string parameter_text(const std::string& name, const py::handle& v) {
                      py::str(py::type::handle_of(v).attr("__name__")).cast<std::string>());
 }
 
-py::object summary_value(const SummaryValue& v) {
+py::object summary_value(const canonical::SummaryValue& v) {
     return std::visit(
         [](const auto& x) -> py::object {
             using T = std::decay_t<decltype(x)>;
@@ -58,7 +58,7 @@ py::object summary_value(const SummaryValue& v) {
 
 /// Checks an integer against a parameter of the registry (its range is defined there once).
 void check_as(const char* method, const char* parameter, const std::string& value) {
-    const MethodParameter* p = canonical_method(method).parameter(parameter);
+    const Parameter* p = canonical::canonical_method(method).parameter(parameter);
     if (p) p->check(value);
 }
 
@@ -89,9 +89,9 @@ py::array_t<double> conformal(const py::object& V, const py::object& F, bool nor
     const Eigen::MatrixXd v = vertices_in(V);
     const Eigen::MatrixXi f = faces_in(F);
     Call call(progress);
-    ConformalFactorOptions o;
+    surface::ConformalFactorOptions o;
     o.progress = call.progress();
-    const ConformalFactorResult r = call.run([&] { return conformal_factor(v, f, o); });
+    const surface::ConformalFactorResult r = call.run([&] { return surface::conformal_factor(v, f, o); });
     return array_out(normalize ? r.normalized : r.raw);
 }
 
@@ -99,22 +99,22 @@ py::array_t<std::int64_t> features(const py::object& V, const py::object& F, int
                                    long long seed) {
     check_as("euclidean-N", "ring", std::to_string(ring));
     check_as("euclidean-A", "seed", std::to_string(seed));
-    FeaturePointOptions o;
+    surface::FeaturePointOptions o;
     o.ring = ring;
     if (fill == "none")
-        o.fill = FeatureFill::None;
+        o.fill = surface::FeatureFill::None;
     else if (fill == "random")
-        o.fill = FeatureFill::Random;
+        o.fill = surface::FeatureFill::Random;
     else
         throw InputError("fill must be 'none' or 'random', got '" + fill + "'");
     o.seed = static_cast<std::uint64_t>(seed);
     const Eigen::MatrixXd v = vertices_in(V);
     const Eigen::MatrixXi f = faces_in(F);
     Call call;
-    const FeaturePoints fp = call.run([&] {
-        ConformalFactorOptions co;
+    const surface::FeaturePoints fp = call.run([&] {
+        surface::ConformalFactorOptions co;
         co.progress = call.interrupt_only();
-        return feature_points(f, conformal_factor(v, f, co).normalized, o);
+        return surface::feature_points(f, surface::conformal_factor(v, f, co).normalized, o);
     });
     return indices_out(fp.indices);
 }
@@ -122,24 +122,24 @@ py::array_t<std::int64_t> features(const py::object& V, const py::object& F, int
 std::tuple<py::array_t<double>, py::dict> canonical(const py::object& V, const py::object& F, const std::string& method_name, int threads,
                     const py::object& progress, const py::kwargs& params) {
     const auto t0 = Clock::now();
-    MethodSpec spec;
+    canonical::MethodSpec spec;
     spec.name = method_name;
-    const CanonicalMethod& method = canonical_method(spec.name);  // InputError listing the names
+    const canonical::CanonicalMethod& method = canonical::canonical_method(spec.name);  // InputError listing the names
     for (const auto& [key, value] : params) {
         const std::string k = py::str(key);
         spec.given.emplace_back(k, parameter_text(k, value));
     }
-    const MethodSettings settings = spec.settings();  // every name and value checked by the registry
+    const canonical::MethodSettings settings = spec.settings();  // every name and value checked by the registry
     if (threads < 0 || threads > 1024) throw InputError("threads must be between 0 and 1024, got " + std::to_string(threads));
     const Eigen::MatrixXd v = vertices_in(V);
     const Eigen::MatrixXi f = faces_in(F);
     Call call(progress);
-    MethodContext context;
+    canonical::MethodContext context;
     context.threads = threads;
     context.progress = call.progress();
     context.validate = false;  // validated just before, as the tool does
-    const CanonicalForm r = call.run([&] {
-        validate_mesh(v, f);
+    const canonical::CanonicalForm r = call.run([&] {
+        surface::validate_mesh(v, f);
         return method.run(v, f, settings, context);
     });
     if (!r.V.allFinite())
@@ -157,14 +157,14 @@ std::tuple<py::array_t<double>, py::dict> canonical(const py::object& V, const p
 /// library's matrices, validating first), timed in C++ with the GIL held and no progress function -
 /// what a C++ program pays, next to which the module's overhead is measured call by call.
 double cpp_call_seconds(const py::object& V, const py::object& F, const std::string& method_name) {
-    const CanonicalMethod& method = canonical_method(method_name);
-    const MethodSettings settings = method.settings();
+    const canonical::CanonicalMethod& method = canonical::canonical_method(method_name);
+    const canonical::MethodSettings settings = method.settings();
     const Eigen::MatrixXd v = vertices_in(V);
     const Eigen::MatrixXi f = faces_in(F);
-    MethodContext context;
+    canonical::MethodContext context;
     context.threads = 1;
     const auto t0 = Clock::now();
-    const CanonicalForm r = method.run(v, f, settings, context);
+    const canonical::CanonicalForm r = method.run(v, f, settings, context);
     const double seconds = std::chrono::duration<double>(Clock::now() - t0).count();
     if (r.V.rows() != v.rows()) throw NumericalError("unexpected form size");
     return seconds;
@@ -172,24 +172,25 @@ double cpp_call_seconds(const py::object& V, const py::object& F, const std::str
 
 std::vector<py::dict> methods() {
     std::vector<py::dict> out;
-    for (const CanonicalMethod& m : canonical_methods()) {
+    for (const canonical::CanonicalMethod* method : canonical::canonical_methods()) {
+        const canonical::CanonicalMethod& m = *method;
         py::list params;
-        for (const MethodParameter& p : m.parameters) {
+        for (const Parameter& p : m.parameters) {
             py::dict d;
-            d["name"] = p.name;
-            d["default"] = p.default_value;
-            d["help"] = text(p.help);
-            d["min"] = p.min;
-            d["max"] = p.max;
-            d["integer"] = p.integer;
-            d["choices"] = p.choices;
-            d["zero_means_default"] = p.zero_means_default;
+            d["name"] = p.name();
+            d["default"] = p.default_value();
+            d["help"] = text(p.help());
+            d["min"] = p.min();
+            d["max"] = p.max();
+            d["integer"] = p.type() == ParameterType::Int;
+            d["choices"] = p.choices();
+            d["zero_means_default"] = p.zero_means_default();
             params.append(d);
         }
         py::dict d;
         d["name"] = m.name;
-        d["family"] = m.family == MethodFamily::Euclidean ? "euclidean"
-                      : m.family == MethodFamily::Geodesic ? "geodesic"
+        d["family"] = m.family == canonical::MethodFamily::Euclidean ? "euclidean"
+                      : m.family == canonical::MethodFamily::Geodesic ? "geodesic"
                                                            : "none";
         d["help"] = text(m.help);
         d["parameters"] = params;
@@ -204,8 +205,8 @@ std::tuple<py::array_t<double>, py::array_t<std::int32_t>> simplify(const py::ob
     const Eigen::MatrixXi f = faces_in(F);
     Call call;
     const Mesh s = call.run([&] {
-        validate_mesh(v, f);
-        return simplify_mesh(Mesh{v, f}, vertices);
+        surface::validate_mesh(v, f);
+        return surface::simplify_mesh(Mesh{v, f}, vertices);
     });
     return {array_out(s.V), array_out(s.F)};
 }
@@ -214,7 +215,7 @@ std::tuple<py::array_t<double>, py::array_t<std::int32_t>, py::str> repair(const
     const Eigen::MatrixXd v = vertices_in(V);
     const Eigen::MatrixXi f = faces_in(F);
     Call call;
-    const MeshRepair r = call.run([&] { return repair_mesh(v, f); });
+    const surface::MeshRepair r = call.run([&] { return surface::repair_mesh(v, f); });
     return {array_out(r.mesh.V), array_out(r.mesh.F), text(r.summary())};
 }
 
@@ -222,14 +223,14 @@ std::tuple<py::array_t<double>, py::array_t<std::int32_t>> figure(int vertices, 
     if (vertices < 500 || vertices > 2000000)
         throw InputError("vertices must be between 500 and 2000000, got " + std::to_string(vertices));
     if (pose < 0) throw InputError("pose must be 0 or more, got " + std::to_string(pose));
-    FigureProportions proportions;
+    procedural::FigureProportions proportions;
     try {
-        proportions = figure_class(body);
+        proportions = procedural::figure_class(body);
     } catch (const std::invalid_argument& e) {
         throw InputError(e.what());
     }
     Call call;
-    const Figure fig = call.run([&] { return make_figure(vertices, figure_pose(pose), proportions); });
+    const procedural::Figure fig = call.run([&] { return procedural::make_figure(vertices, procedural::figure_pose(pose), proportions); });
     // rounded to float as `canonform generate` writes it (MeshLab 2020.09 computes in float)
     return {array_out(Eigen::MatrixXd(fig.mesh.V.cast<float>().cast<double>())), array_out(fig.mesh.F)};
 }

@@ -141,7 +141,7 @@ py::dict retrieve(const py::object& dataset, const py::object& out, const py::ob
         if (retrieval::is_fused_spec(m))
             o.fused.push_back(retrieval::parse_fused_spec(m));
         else
-            o.methods.push_back(parse_method_spec(m));
+            o.methods.push_back(canonical::parse_method_spec(m));
     }
 
     Call call(progress);

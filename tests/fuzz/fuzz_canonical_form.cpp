@@ -28,6 +28,9 @@
 namespace {
 
 using namespace canonform;
+using namespace canonform::surface;
+using namespace canonform::canonical;
+using namespace canonform::procedural;
 
 double hostile(std::uint8_t code, double base) {
     switch (code % 12) {

@@ -21,9 +21,12 @@ log="$findings/last_run.log"
 # -rss_limit_mb: a reader that allocates what a lying header claims is a finding; -timeout: a hang is.
 # Leaks are findings too (LeakSanitizer, on by default with ASan).
 export ASAN_OPTIONS=${ASAN_OPTIONS:-abort_on_error=1:detect_leaks=1} UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
+# The target's file round trips write into a folder of the build, removed afterwards.
+export CANONFORM_FUZZ_SCRATCH="$findings/scratch.$$"
 "$target" -max_total_time="$seconds" -timeout=20 -rss_limit_mb=2048 -max_len=65536 -print_final_stats=1 \
   -artifact_prefix="$findings/" "$@" "${dirs[@]}" > "$log" 2>&1
 rc=$?
+rm -rf "$CANONFORM_FUZZ_SCRATCH"
 runs=$(grep -o 'stat::number_of_executed_units: *[0-9]*' "$log" | grep -o '[0-9]*$')
 cov=$(grep -o 'cov: [0-9]*' "$log" | tail -1)
 if [ $rc -ne 0 ]; then

@@ -41,7 +41,7 @@ void print_json(const nlohmann::ordered_json& j) {
 }
 
 void validate_and_note(const std::string& path, const Mesh& m, bool quiet) {
-    const MeshReport r = on_input(path, [&] { return validate_mesh(m.V, m.F); });
+    const surface::MeshReport r = on_input(path, [&] { return surface::validate_mesh(m.V, m.F); });
     if (r.boundary_edges > 0 && !quiet)
         std::cerr << "canonform: note: '" << path << "' is open (" << r.boundary_edges
                   << " boundary edges); boundary curvature uses pi instead of 2 pi (eq. 8)\n";
@@ -50,7 +50,7 @@ void validate_and_note(const std::string& path, const Mesh& m, bool quiet) {
 Mesh read_input_mesh(const std::string& path, bool repair, bool quiet, bool validate) {
     Mesh m = io::read_mesh(path);
     if (repair) {
-        const MeshRepair r = on_input(path, [&] { return repair_mesh(m.V, m.F); });
+        const surface::MeshRepair r = on_input(path, [&] { return surface::repair_mesh(m.V, m.F); });
         std::cerr << "canonform: '" << path << "': " << r.summary() << "\n";
         m = r.mesh;
     }
@@ -68,10 +68,71 @@ Mesh read_large_mesh(const std::string& path, bool repair, bool quiet) {
 }
 
 void add_repair_flag(CLI::App* command, bool& repair) {
-    command->add_flag("--repair", repair,
-                      "repair the input first: merge duplicate vertices, remove zero-area and duplicate faces, keep "
-                      "the largest component, drop unreferenced vertices (one line on stderr says what changed); "
-                      "default: refuse such meshes");
+    const Parameter p = surface::repair_parameter();
+    command->add_flag("--" + p.name(), repair, p.help() + " (one line on stderr)");
+}
+
+std::vector<std::pair<std::string, std::string>> ParameterArgs::given() const {
+    std::vector<std::pair<std::string, std::string>> out;
+    for (const std::string& name : order) {
+        const CLI::Option* o = options.at(name);
+        if (o->count() == 0) continue;
+        const auto sw = switches.find(name);
+        out.emplace_back(name, sw != switches.end() ? (sw->second ? "true" : "false") : values.at(name));
+    }
+    return out;
+}
+
+CLI::Option* add_parameter(CLI::App* c, const Parameter& p, ParameterArgs& args, const std::string& defaults,
+                           bool check) {
+    std::string flag = "--" + p.name();
+    for (auto& ch : flag)
+        if (ch == '_') ch = '-';
+    // The default: CLI11 shows the option's ("=2"); a list of them (one per method) goes in the help.
+    const std::string help = defaults.empty() ? p.help() : p.help() + " (default: " + defaults + ")";
+    args.order.push_back(p.name());
+    CLI::Option* o = nullptr;
+    if (p.type() == ParameterType::Bool) {
+        const bool on = p.truth(p.default_value());
+        args.switches[p.name()] = on;
+        std::string names = flag;
+        if (on) {  // on by default: --NAME and --no-NAME (and the alias) turn it off
+            names += ",!--no-" + flag.substr(2);
+            if (!p.alias().empty()) names += ",!--" + p.alias();
+        } else if (!p.alias().empty()) {
+            names += ",--" + p.alias();
+        }
+        o = c->add_flag(names, args.switches[p.name()], help + (on ? " (on by default)" : ""));
+    } else {
+        if (!p.alias().empty()) flag = "--" + p.alias() + "," + flag;
+        args.values[p.name()] = p.default_value();
+        o = c->add_option(flag, args.values[p.name()], help)
+                ->type_name(p.type() == ParameterType::Choice ? "TEXT"
+                            : p.type() == ParameterType::Int  ? "INT"
+                            : p.type() == ParameterType::Float ? "FLOAT"
+                                                               : "TEXT");
+        if (!defaults.empty()) o->default_str("");
+        if (check)
+            o->check(CLI::Validator(
+                [p](std::string& value) -> std::string {
+                    try {
+                        p.check(value);
+                    } catch (const InputError& e) {
+                        return e.what();
+                    }
+                    return "";
+                },
+                p.type() == ParameterType::Choice ? "{" + [&p] {
+                    std::string s;
+                    for (const auto& ch : p.choices()) s += (s.empty() ? "" : ",") + ch;
+                    return s;
+                }() + "}"
+                : p.is_number() ? (p.type() == ParameterType::Int ? "INT" : "NUMBER") + std::string(" in [") +
+                                      format_number(p.min()) + ", " + format_number(p.max()) + "]"
+                                : ""));
+    }
+    args.options[p.name()] = o;
+    return o;
 }
 
 CLI::Validator mesh_output(bool faces) {

@@ -8,6 +8,7 @@
 #pragma once
 
 #include "canonform/common/errors.h"
+#include "canonform/common/parameters.h"
 #include "canonform/common/mesh.h"
 
 #include "canonform/retrieval/experiment.h"
@@ -16,6 +17,7 @@
 #include <nlohmann/json.hpp>
 
 #include <chrono>
+#include <map>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -57,8 +59,41 @@ Mesh read_input_mesh(const std::string& path, bool repair, bool quiet, bool vali
 /// live data.
 Mesh read_large_mesh(const std::string& path, bool repair, bool quiet);
 
-/// Adds --repair (default off: strict) to a command that reads meshes.
+/// Adds --repair (surface/mesh_repair.h's repair_parameter(); default off: strict) to a command
+/// that reads meshes.
 void add_repair_flag(CLI::App* command, bool& repair);
+
+/// The texts given on the command line for parameters (common/parameters.h), by add_parameter().
+struct ParameterArgs {
+    std::map<std::string, std::string> values;     ///< name -> text (the default until given)
+    std::map<std::string, bool> switches;          ///< name -> value, for a switch
+    std::map<std::string, CLI::Option*> options;   ///< name -> its option
+    std::vector<std::string> order;                ///< names, in the order added
+    /// The parameters given on the command line, in the order added: (name, text).
+    std::vector<std::pair<std::string, std::string>> given() const;
+};
+
+/// Adds the option of parameter `p` to a command, derived from its definition: --NAME (underscores
+/// as dashes) and --ALIAS; a switch is a flag (--NAME, or when it is on by default --no-NAME, and
+/// its alias, which turn it off). The help is the parameter's, with `defaults` (default: its
+/// default value); with `check`, a value the parameter refuses is a usage error naming it.
+CLI::Option* add_parameter(CLI::App* command, const Parameter& p, ParameterArgs& args,
+                           const std::string& defaults = "", bool check = true);
+
+/// The options of a ParameterSet's parameters, and the options read back from what was given
+/// (a usage error names a bad value).
+template <class Options>
+void add_parameters(CLI::App* command, const ParameterSet<Options>& set, ParameterArgs& args) {
+    for (const Parameter& p : set.parameters()) add_parameter(command, p, args);
+}
+template <class Options>
+Options read_parameters(const ParameterSet<Options>& set, const ParameterArgs& args) {
+    try {
+        return set.read(args.given());
+    } catch (const InputError& e) {
+        throw UsageError(e.what());
+    }
+}
 
 /// A validator of an output mesh name: .ply, .off, .obj, .stl or none (PLY); `faces` false for a
 /// point cloud (not .stl). A usage error (exit 2) before any work.
@@ -97,7 +132,7 @@ std::vector<std::string> split_list(const std::string& text);
 struct ExperimentArgs {
     retrieval::ExperimentOptions o;
     std::string methods = "none,euclidean-N";
-    std::string sift = "opencv-octave0-fine";
+    ParameterArgs sift;  ///< --sift (views/view_parameters.h)
 };
 void add_experiment_options(CLI::App* command, ExperimentArgs& args);
 /// The options parsed: labels default, SIFT backend, codebook method or file, methods (fused ones

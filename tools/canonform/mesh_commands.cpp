@@ -24,11 +24,11 @@ namespace canonform::cli {
 namespace {
 
 /// The conformal factor of a mesh already validated by validate_and_note().
-ConformalFactorResult conformal_of(const std::string& path, const Mesh& m) {
+surface::ConformalFactorResult conformal_of(const std::string& path, const Mesh& m) {
     return on_input(path, [&] {
-        ConformalFactorOptions o;
+        surface::ConformalFactorOptions o;
         o.validate = false;
-        return conformal_factor(m.V, m.F, o);
+        return surface::conformal_factor(m.V, m.F, o);
     });
 }
 
@@ -37,19 +37,20 @@ ConformalFactorResult conformal_of(const std::string& path, const Mesh& m) {
 void add_conformal(CLI::App& app) {
     struct Args {
         std::string in, out;
-        bool raw = false, json = false, repair = false;
+        bool json = false, repair = false;
+        ParameterArgs normalize;
     };
     auto a = std::make_shared<Args>();
     auto* c = app.add_subcommand("conformal", "the conformal factor (eqs. 7-9) as vertex quality of a PLY");
     add_in_out(c, a->in, a->out, "output mesh (PLY: conformal factor as vertex quality; .off/.obj/.stl: geometry only)");
-    c->add_flag("--raw", a->raw, "store the raw conformal factor (mean zero) instead of [0, 1]");
+    add_parameter(c, surface::normalize_parameter(), a->normalize);
     c->add_flag("--json", a->json, "print a JSON summary on stdout");
     add_repair_flag(c, a->repair);
     c->callback([a] {
         const auto t0 = std::chrono::steady_clock::now();
         const Mesh m = read_large_mesh(a->in, a->repair, a->json);
-        const ConformalFactorResult cf = conformal_of(a->in, m);
-        io::write_mesh(a->out, m.V, m.F, a->raw ? cf.raw : cf.normalized);
+        const surface::ConformalFactorResult cf = conformal_of(a->in, m);
+        io::write_mesh(a->out, m.V, m.F, a->normalize.switches.at("normalize") ? cf.normalized : cf.raw);
         if (a->json)
             print_json({{"vertices", m.V.rows()}, {"faces", m.F.rows()}, {"min", cf.raw.minCoeff()},
                         {"max", cf.raw.maxCoeff()}, {"residual", cf.residual}, {"seconds", seconds_since(t0)}});
@@ -58,32 +59,23 @@ void add_conformal(CLI::App& app) {
 
 void add_features(CLI::App& app) {
     struct Args {
-        std::string in, out, fill = "none";
-        int ring = 2;
-        std::uint64_t seed = 0;
+        std::string in, out;
+        ParameterArgs features;  // ring, fill, seed (feature_points.h)
         bool json = false, repair = false;
     };
     auto a = std::make_shared<Args>();
     auto* c = app.add_subcommand("features", "the feature points (2-ring maxima of the conformal factor) as a point cloud");
     add_in_out(c, a->in, a->out, "output point cloud: the feature points (PLY quality: conformal factor; or .off, .obj)",
                true, false);
-    c->add_option("--ring", a->ring, "k of the k-ring in which a feature point is a strict maximum")
-        ->check(CLI::Range(1, 10));
-    c->add_option("--fill", a->fill, "none: local maxima only (variant N); random: seeded random vertices up to "
-                                     "ceil(sqrt N) (variant A)")
-        ->check(CLI::IsMember({"none", "random"}));
-    c->add_option("--seed", a->seed, "seed of the random fill")->check(finite_range(0, 4294967295.0));
+    add_parameters(c, surface::feature_point_parameters(), a->features);
     c->add_flag("--json", a->json, "print a JSON summary on stdout");
     add_repair_flag(c, a->repair);
     c->callback([a] {
         const auto t0 = std::chrono::steady_clock::now();
+        const surface::FeaturePointOptions opt = read_parameters(surface::feature_point_parameters(), a->features);
         const Mesh m = read_large_mesh(a->in, a->repair, a->json);
-        FeaturePointOptions opt;
-        opt.ring = a->ring;
-        opt.fill = a->fill == "random" ? FeatureFill::Random : FeatureFill::None;
-        opt.seed = a->seed;
-        const ConformalFactorResult cf = conformal_of(a->in, m);
-        const FeaturePoints fp = feature_points(m.F, cf.normalized, opt);
+        const surface::ConformalFactorResult cf = conformal_of(a->in, m);
+        const surface::FeaturePoints fp = surface::feature_points(m.F, cf.normalized, opt);
         Eigen::MatrixXd P(static_cast<Eigen::Index>(fp.indices.size()), 3);
         Eigen::VectorXd q(P.rows());
         for (size_t k = 0; k < fp.indices.size(); ++k) {
@@ -101,43 +93,39 @@ void add_canonical(CLI::App& app) {
     // The options are the parameters of every method of the registry (a method's own options,
     // checked by it), plus the choice of method and how to run it.
     struct Args {
-        std::string in, out, method = "euclidean", variant = "N";
+        std::string in, out, method = "euclidean", variant;
         int threads = 0;
         bool quiet = false, json = false, repair = false;
-        std::map<std::string, std::string> values;  // parameter -> value as given
-        std::map<std::string, CLI::Option*> options;
+        ParameterArgs parameters;  // every parameter of every method, as given
     };
     auto a = std::make_shared<Args>();
+    std::vector<std::string> variants;
+    for (const canonical::CanonicalMethod* m : canonical::canonical_methods_of(canonical::MethodFamily::Euclidean)) variants.push_back(m->label);
+    a->variant = canonical::default_method_of(canonical::MethodFamily::Euclidean).label;
     std::string names = "euclidean (with --variant)";
-    for (const auto& m : canonical_methods()) names += ", " + m.name;
+    for (const canonical::CanonicalMethod* m : canonical::canonical_methods()) names += ", " + m->name;
     auto* c = app.add_subcommand("canonical", "the canonical form of a mesh, by any method of the registry");
     add_in_out(c, a->in, a->out, "output mesh (the form; PLY quality: the conformal factor where the method has one)");
     c->add_option("--method", a->method, "the method: " + names);
-    c->add_option("--variant", a->variant, "with --method euclidean: A or N (the paper's variants)")
-        ->check(CLI::IsMember({"A", "N"}));
+    c->add_option("--variant", a->variant, "with --method euclidean: the paper's variant")->check(CLI::IsMember(variants));
     // One option per parameter name; its help says which methods take it and their defaults.
-    std::map<std::string, std::pair<const MethodParameter*, std::vector<std::string>>> params;
+    std::map<std::string, std::pair<const Parameter*, std::vector<std::string>>> params;
     std::vector<std::string> order;
-    for (const auto& m : canonical_methods())
-        for (const auto& p : m.parameters) {
-            auto& entry = params[p.name];
+    for (const canonical::CanonicalMethod* m : canonical::canonical_methods())
+        for (const Parameter& p : m->parameters) {
+            auto& entry = params[p.name()];
             if (!entry.first) {
                 entry.first = &p;
-                order.push_back(p.name);
+                order.push_back(p.name());
             }
-            entry.second.push_back(m.name + " " + p.default_value);
+            entry.second.push_back(m->name + " " + p.default_value());
         }
     for (const std::string& name : order) {
-        const MethodParameter& p = *params[name].first;
-        std::string flags = "--" + p.name, defaults;
-        for (auto& ch : flags)
-            if (ch == '_') ch = '-';
-        if (!p.alias.empty()) flags = "--" + p.alias + "," + flags;
+        std::string defaults;
         for (const std::string& d : params[name].second) defaults += (defaults.empty() ? "" : ", ") + d;
-        // The value is checked by the method (MethodParameter::check: finite, in range) once the
-        // method is known; the type name shows it is a number.
-        a->options[name] = c->add_option(flags, a->values[name], p.help + " (default: " + defaults + ")")
-                               ->type_name(!p.choices.empty() ? "TEXT" : p.integer ? "INT" : "FLOAT");
+        // The value is checked by the method (Parameter::check: finite, in range) once the method
+        // is known: methods may give one name different ranges.
+        add_parameter(c, *params[name].first, a->parameters, defaults, false);
     }
     c->add_option("--threads", a->threads, "threads of the method's parallel loops (0: every core)")
         ->check(CLI::Range(0, 1024));
@@ -146,27 +134,26 @@ void add_canonical(CLI::App& app) {
     add_repair_flag(c, a->repair);
     c->callback([a] {
         const auto t0 = std::chrono::steady_clock::now();
-        MethodSpec spec;
+        canonical::MethodSpec spec;
         spec.name = a->method == "euclidean" ? "euclidean-" + a->variant : a->method;
-        const CanonicalMethod& method = canonical_method(spec.name);
-        for (const auto& [name, option] : a->options) {
-            if (option->count() == 0) continue;
+        const canonical::CanonicalMethod& method = canonical::canonical_method(spec.name);
+        for (const auto& [name, value] : a->parameters.given()) {
             if (!method.parameter(name)) throw UsageError("--" + name + " is not an option of method " + method.name);
-            spec.given.emplace_back(name, a->values[name]);
+            spec.given.emplace_back(name, value);
         }
-        MethodSettings settings;
+        canonical::MethodSettings settings;
         try {
             settings = spec.settings();  // checks every value
         } catch (const InputError& e) {
             throw UsageError(e.what());
         }
-        MethodContext context;
+        canonical::MethodContext context;
         context.threads = a->threads;
         context.progress = terminal_progress(a->quiet || a->json);
         const Mesh m = read_large_mesh(a->in, a->repair, a->json || a->quiet);
         const double read_seconds = seconds_since(t0);
         context.validate = false;
-        const CanonicalForm r = on_input(a->in, [&] { return method.run(m.V, m.F, settings, context); });
+        const canonical::CanonicalForm r = on_input(a->in, [&] { return method.run(m.V, m.F, settings, context); });
         if (!r.V.allFinite())
             throw NumericalError("'" + a->in + "': method " + method.name + " gave a form with NaN or infinite coordinates");
         const auto t_write = std::chrono::steady_clock::now();
@@ -198,7 +185,7 @@ void add_simplify(CLI::App& app) {
     add_repair_flag(c, a->repair);
     c->callback([a] {
         const Mesh m = read_input_mesh(a->in, a->repair, false);
-        const Mesh s = on_input(a->in, [&] { return simplify_mesh(m, a->vertices); });
+        const Mesh s = on_input(a->in, [&] { return surface::simplify_mesh(m, a->vertices); });
         io::write_mesh(a->out, s.V, s.F);
         std::cerr << "simplified " << m.V.rows() << " -> " << s.V.rows() << " vertices\n";
     });
@@ -206,9 +193,9 @@ void add_simplify(CLI::App& app) {
 
 namespace {
 
-FigureProportions class_proportions(const std::string& name) {
+procedural::FigureProportions class_proportions(const std::string& name) {
     try {
-        return figure_class(name);
+        return procedural::figure_class(name);
     } catch (const std::invalid_argument& e) {
         throw UsageError(e.what());
     }
@@ -219,7 +206,7 @@ FigureProportions class_proportions(const std::string& name) {
 /// and differ between classes. DIR/meshes/CLASS_K.ply, DIR/labels.csv, DIR/corres/CLASS_K.vts
 /// (identity: every figure has the same vertex order, so these are exact correspondences).
 void generate_collection(const std::string& dir, int n, int poses, int seed, std::vector<std::string> classes) {
-    if (classes.empty()) classes = figure_class_names();
+    if (classes.empty()) classes = procedural::figure_class_names();
     if (classes.size() < 2) throw UsageError("--classes needs at least two classes");
     for (const auto& c : classes) class_proportions(c);
     io::make_directories(dir + "/meshes");
@@ -228,10 +215,10 @@ void generate_collection(const std::string& dir, int n, int poses, int seed, std
     labels << "path,class\n";
     for (int v = 1; v <= n; ++v) ident << v << "\n";
     for (size_t c = 0; c < classes.size(); ++c) {
-        const FigureProportions prop = class_proportions(classes[c]);
+        const procedural::FigureProportions prop = class_proportions(classes[c]);
         for (int k = 0; k < poses; ++k) {
-            const int pose_id = k < kFigureNamedPoses ? k : 1000 * (seed + 1) + 37 * static_cast<int>(c) + k;
-            const Figure fig = make_figure(n, figure_pose(pose_id), prop);
+            const int pose_id = k < procedural::kFigureNamedPoses ? k : 1000 * (seed + 1) + 37 * static_cast<int>(c) + k;
+            const procedural::Figure fig = procedural::make_figure(n, procedural::figure_pose(pose_id), prop);
             const std::string name = classes[c] + "_" + std::to_string(k);
             io::write_ply(dir + "/meshes/" + name + ".ply", fig.mesh.V.cast<float>().cast<double>(), fig.mesh.F);
             io::write_file_atomic(dir + "/corres/" + name + ".vts", ident.str());
@@ -267,7 +254,7 @@ void add_generate(CLI::App& app) {
             return generate_collection(a->collection, a->vertices, a->poses, a->seed, split_list(a->classes));
         }
         if (a->out.empty()) throw UsageError("generate needs OUT (or --collection DIR)");
-        const Figure fig = make_figure(a->vertices, figure_pose(a->pose), class_proportions(a->cls));
+        const procedural::Figure fig = procedural::make_figure(a->vertices, procedural::figure_pose(a->pose), class_proportions(a->cls));
         // Rounded to float, the precision MeshLab 2020.09 works in, so that the tool and MeshLab
         // compute on exactly the same coordinates.
         io::write_mesh(a->out, fig.mesh.V.cast<float>().cast<double>(), fig.mesh.F);
@@ -369,10 +356,10 @@ void add_check(CLI::App& app) {
             notes.push_back("MeshLab's OFF importer uses such an index as a pointer: MeshLab crashes on this file "
                             "before any filter runs; `canonform check FILE --repair OUT` drops those faces");
         }
-        MeshReport report;
-        for (const MeshProblem& p : mesh_problems(m.V, m.F, {}, &report)) problems.push_back(p.message);
+        surface::MeshReport report;
+        for (const surface::MeshProblem& p : surface::mesh_problems(m.V, m.F, {}, &report)) problems.push_back(p.message);
         // What --repair would change (merges and removals the filters' own 'Repair' also make).
-        const MeshRepair fix = m.F.rows() > 0 ? repair_mesh(m.V, m.F) : MeshRepair{};
+        const surface::MeshRepair fix = m.F.rows() > 0 ? surface::repair_mesh(m.V, m.F) : surface::MeshRepair{};
         if (fix.changed()) notes.push_back("--repair would " + fix.summary());
         if (report.boundary_edges > 0)
             notes.push_back("open surface: " + std::to_string(report.boundary_edges) + " boundary edges (allowed)");
@@ -384,12 +371,12 @@ void add_check(CLI::App& app) {
 
         if (!a->repair_out.empty()) {
             const Mesh& r = fix.changed() ? fix.mesh : m;
-            const std::vector<MeshProblem> left = mesh_problems(r.V, r.F);
+            const std::vector<surface::MeshProblem> left = surface::mesh_problems(r.V, r.F);
             io::write_mesh(a->repair_out, r.V, r.F);
             nlohmann::ordered_json rj = {{"output", a->repair_out}, {"vertices", r.V.rows()}, {"faces", r.F.rows()},
                                          {"dropped_faces", file.dropped_faces}, {"summary", fix.summary()}};
             std::vector<std::string> left_messages;
-            for (const MeshProblem& p : left) left_messages.push_back(p.message);
+            for (const surface::MeshProblem& p : left) left_messages.push_back(p.message);
             rj["problems_left"] = left_messages;
             j["repair"] = rj;
             if (!a->json) {

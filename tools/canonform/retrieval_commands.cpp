@@ -8,6 +8,7 @@
 #include "canonform/io/files.h"
 #include "canonform/retrieval/experiment.h"
 #include "canonform/retrieval/retrieval_measures.h"
+#include "canonform/views/view_parameters.h"
 
 #include <cstdio>
 #include <cstdlib>
@@ -30,10 +31,10 @@ std::string pr_plot(const std::string& run) {
 
 /// RUN/grid.png: originals beside their canonical forms, one model per class (the paper's
 /// Fig. 8). Returns the report's line about it ("" if the run has only `none`).
-std::string grid_picture(const std::string& run, const std::vector<MethodSpec>& methods) {
+std::string grid_picture(const std::string& run, const std::vector<canonical::MethodSpec>& methods) {
     GridOptions g;
     g.run = run;
-    for (const MethodSpec& m : methods)
+    for (const canonical::MethodSpec& m : methods)
         if (m.name != "none") g.methods.push_back(m.folder());
     if (g.methods.empty()) return "";
     g.panel = g.methods.size() > 4 ? 110 : 150;
@@ -58,7 +59,7 @@ void print_row(std::ostream& o, const std::string& name, const retrieval::Measur
 
 void add_experiment_options(CLI::App* c, ExperimentArgs& a) {
     std::string names;
-    for (const auto& m : canonical_methods()) names += (names.empty() ? "" : ", ") + m.name;
+    for (const canonical::CanonicalMethod* m : canonical::canonical_methods()) names += (names.empty() ? "" : ", ") + m->name;
     c->add_option("--dataset", a.o.dataset, "collection folder (label paths are relative to it)")->required();
     c->add_option("--labels", a.o.labels, "labels file, rows path,class (default: DATASET/labels.csv)");
     c->add_option("--out", a.o.out, "run folder (for a sharded run on a filesystem every machine shares)")->required();
@@ -79,17 +80,13 @@ void add_experiment_options(CLI::App* c, ExperimentArgs& a) {
     c->add_option("--noise", a.o.noise, "vertex noise, as a fraction of the mean edge length")
         ->check(finite_range(0, 10));
     c->add_option("--seed", a.o.seed, "seed of the noise and the codebook")->check(finite_range(0, 4294967295.0));
-    c->add_option("--sift", a.sift, "SIFT extractor: opencv-octave0-fine (default: opencv-octave0 plus an approximate octave -1), opencv, opencv-half (first octave at the view's "
-                                    "resolution), opencv-fast (opencv-half's keypoints, descriptors of the full "
-                                    "view), opencv-octave0 (opencv's keypoints of octaves >= 0, found without "
-                                    "doubling the view), or vlfeat (VLFeat's defaults on the float depth)")
-        ->check(CLI::IsMember(views::sift_backend_names()));
+    add_parameter(c, *find_parameter(views::view_descriptor_parameters().parameters(), "sift"), a.sift);
     add_repair_flag(c, a.o.repair);
 }
 
 retrieval::ExperimentOptions finish_experiment_options(const ExperimentArgs& a, bool fused) {
     retrieval::ExperimentOptions o = a.o;
-    o.views.sift.backend = views::parse_sift_backend(a.sift);
+    o.views.sift.backend = read_parameters(views::view_descriptor_parameters(), a.sift).sift.backend;
     if (o.labels.empty()) o.labels = o.dataset + "/labels.csv";
     if (o.codebook == "kmeans" || o.codebook == "lloyd" || o.codebook == "random") {
         o.codebook_training.method = views::parse_codebook_method(o.codebook);
@@ -97,7 +94,7 @@ retrieval::ExperimentOptions finish_experiment_options(const ExperimentArgs& a, 
     }
     for (const std::string& m : split_list(a.methods)) {
         if (!retrieval::is_fused_spec(m))
-            o.methods.push_back(parse_method_spec(m));
+            o.methods.push_back(canonical::parse_method_spec(m));
         else if (fused)
             o.fused.push_back(retrieval::parse_fused_spec(m));
         else

@@ -307,7 +307,7 @@ void add_index(CLI::App& app) {
         c->add_option("--simplify", a->simplify, "the run's --simplify, for the queries (default: a sharded run's, else 0)")
             ->check(CLI::Range(0, 100000000));
     c->callback([a] {
-        std::vector<MethodSpec> methods;
+        std::vector<canonical::MethodSpec> methods;
         int simplify = a->simplify;
         if (io::is_file(a->run + "/sharded.json")) {
             const retrieval::ShardedRun r(a->run);
@@ -316,15 +316,15 @@ void add_index(CLI::App& app) {
         }
         if (!a->methods.empty()) {
             methods.clear();
-            for (const std::string& m : split_list(a->methods)) methods.push_back(parse_method_spec(m));
+            for (const std::string& m : split_list(a->methods)) methods.push_back(canonical::parse_method_spec(m));
         }
         if (methods.empty())
-            for (const auto& m : canonical_methods()) {
-                const MethodSpec spec = parse_method_spec(m.name);
+            for (const canonical::CanonicalMethod* m : canonical::canonical_methods()) {
+                const canonical::MethodSpec spec = canonical::parse_method_spec(m->name);
                 if (io::is_file(a->run + "/" + spec.folder() + "/models.csv")) methods.push_back(spec);
             }
         if (methods.empty()) throw InputError("'" + a->run + "': no method folder with models.csv: name --method");
-        for (const MethodSpec& m : methods) {
+        for (const canonical::MethodSpec& m : methods) {
             const auto t0 = std::chrono::steady_clock::now();
             const std::string folder = a->run + "/" + m.folder();
             const retrieval::CollectionIndex x = retrieval::index_method_folder(folder, m.to_string(), simplify);
@@ -367,7 +367,7 @@ void add_query(CLI::App& app) {
             folder = found[0];
         }
         const retrieval::CollectionIndex x = retrieval::CollectionIndex::load(a->run + "/" + folder + "/index.cfci");
-        const MethodSpec spec = parse_method_spec(x.method());
+        const canonical::MethodSpec spec = canonical::parse_method_spec(x.method());
         if (a->top > x.size())  // said, not silent: fewer answers than asked for
             std::cerr << "canonform query: --top " << a->top << " is more than the " << x.size()
                       << " models of the index: all " << x.size() << " are listed\n";
@@ -375,8 +375,8 @@ void add_query(CLI::App& app) {
         for (const std::string& path : a->meshes) {
             const auto t0 = std::chrono::steady_clock::now();
             Mesh m = read_input_mesh(path, a->repair, true, false);
-            if (x.simplify() > 0 && m.V.rows() > x.simplify()) m = simplify_mesh(m, x.simplify());
-            MethodContext context;
+            if (x.simplify() > 0 && m.V.rows() > x.simplify()) m = surface::simplify_mesh(m, x.simplify());
+            canonical::MethodContext context;
             context.threads = a->threads;
             const Eigen::MatrixXd X = on_input(path, [&] { return spec.method().run(m.V, m.F, spec.settings(), context).V; });
             const views::ViewSet vs = on_input(path, [&] { return views::compute_views(X, m.F); });

@@ -9,6 +9,7 @@
 #include "canonform/views/descriptor_file.h"
 #include "canonform/views/view_descriptor.h"
 #include "canonform/views/view_directions.h"
+#include "canonform/views/view_parameters.h"
 
 #include <QImage>
 #include <QPainter>
@@ -24,26 +25,14 @@ namespace {
 
 /// Options the view commands share.
 struct ViewArgs {
-    int image_size = 256;
-    std::uint64_t seed = 0;
+    ParameterArgs view;  // --sift, --image-size (--size), --seed: views/view_parameters.h
     bool repair = false;
-    std::string sift = "opencv-octave0-fine";
 
     void add(CLI::App* c) {
-        c->add_option("--sift", sift, "SIFT extractor: opencv-octave0-fine (default), opencv, opencv-half, opencv-fast, opencv-octave0 or vlfeat (sift_features.h)")
-            ->check(CLI::IsMember(views::sift_backend_names()));
-        c->add_option("--size", image_size, "pixels per side of each depth view")->check(CLI::Range(32, 2048));
-        c->add_option("--seed", seed, "seed of the rectilinearity restarts (and of the codebook)")
-            ->check(finite_range(0, 4294967295.0));
+        add_parameters(c, views::view_descriptor_parameters(), view);
         add_repair_flag(c, repair);
     }
-    views::ViewDescriptorOptions options() const {
-        views::ViewDescriptorOptions v;
-        v.image_size = image_size;
-        v.pose.seed = seed;
-        v.sift.backend = views::parse_sift_backend(sift);
-        return v;
-    }
+    views::ViewDescriptorOptions options() const { return read_parameters(views::view_descriptor_parameters(), view); }
     views::ViewSet views_of(const std::string& path) const {
         const Mesh m = read_input_mesh(path, repair, true, false);  // compute_views() validates
         return on_input(path, [&] { return views::compute_views(m.V, m.F, options()); });
@@ -86,7 +75,7 @@ void add_views(CLI::App& app) {
         p.end();
         save_png(sheet, a->dir + "/contact_sheet.png");
         const int total = std::accumulate(counts.begin(), counts.end(), 0);
-        std::cerr << "66 views of " << a->image_size << " px in " << a->dir << " (pose by "
+        std::cerr << "66 views of " << a->options().image_size << " px in " << a->dir << " (pose by "
                   << (vs.pose.used_rectilinearity ? "rectilinearity" : "PCA") << ", " << total << " SIFT keypoints)\n";
     });
 }
@@ -126,7 +115,7 @@ void add_codebook(CLI::App& app) {
         for (const auto& f : features) sets.push_back(&f);
         views::CodebookOptions co;
         co.words = a->words;
-        co.seed = a->seed;
+        co.seed = a->options().pose.seed;  // --seed: the rectilinearity restarts' and the codebook's
         co.method = views::parse_codebook_method(a->random ? "random" : a->method);
         co.sample = a->sample;
         const views::Codebook cb = views::Codebook::train(views::stack_features(sets), co);
@@ -152,7 +141,7 @@ void add_descriptor(CLI::App& app) {
         if (!a->codebook.empty()) cb = views::Codebook::load(a->codebook);
         const views::ViewSet vs = a->views_of(a->in);
         const views::ModelDescriptor d =
-            views::make_descriptor(vs.features, a->codebook.empty() ? nullptr : &cb, a->in, a->image_size);
+            views::make_descriptor(vs.features, a->codebook.empty() ? nullptr : &cb, a->in, a->options().image_size);
         views::write_descriptor(a->out, d);
         const int total = std::accumulate(d.keypoints_per_view.begin(), d.keypoints_per_view.end(), 0);
         if (a->json)

@@ -19,18 +19,20 @@
 
 namespace {
 
-using canonform::plugin::FilterKind;
-using canonform::plugin::FilterSpec;
-using canonform::plugin::ParamKind;
+using canonform::Parameter;
+using canonform::ParameterType;
+using canonform::meshlab::FilterKind;
+using canonform::meshlab::FilterSpec;
 using nlohmann::ordered_json;
 
-const char* kind_name(ParamKind k) {
-    switch (k) {
-    case ParamKind::Bool: return "bool";
-    case ParamKind::Int: return "int";
-    case ParamKind::Float: return "float";
-    case ParamKind::Enum: return "enum";
-    case ParamKind::String: return "string";
+/// The parameter types as the generator names them.
+const char* kind_name(ParameterType t) {
+    switch (t) {
+    case ParameterType::Bool: return "bool";
+    case ParameterType::Int: return "int";
+    case ParameterType::Float: return "float";
+    case ParameterType::Choice: return "enum";
+    case ParameterType::Text: return "string";
     }
     return "?";
 }
@@ -46,54 +48,35 @@ const char* menu(FilterKind k) {
     return "?";
 }
 
-/// The registry's range of a parameter of that name (the family's methods first, then any method):
-/// [min, max], or null where the registry states none.
-ordered_json registry_range(const std::string& name, canonform::MethodFamily family) {
-    const canonform::MethodParameter* found = nullptr;
-    for (int pass = 0; pass < 2 && !found; ++pass)
-        for (const auto& m : canonform::canonical_methods()) {
-            if (pass == 0 && m.family != family) continue;
-            if (const auto* p = m.parameter(name); p && (p->min != 0 || p->max != 0)) {
-                found = p;
-                break;
-            }
-        }
-    if (!found) return nullptr;
-    return ordered_json::array({found->min, found->max});
-}
-
-canonform::MethodFamily family_of(const FilterSpec& f) {
-    const std::string py = f.python_name;
-    if (py == "generate_geodesic_canonical_form") return canonform::MethodFamily::Geodesic;
-    return canonform::MethodFamily::Euclidean;
+/// [min, max] of a number, null otherwise (every number has its range in its definition).
+ordered_json range(const Parameter& p) {
+    return p.is_number() ? ordered_json::array({p.min(), p.max()}) : ordered_json(nullptr);
 }
 
 ordered_json filters(const std::vector<FilterSpec>& table) {
     ordered_json out = ordered_json::array();
     for (const auto& f : table) {
         ordered_json params = ordered_json::array();
-        for (const auto& p : f.params) {
+        for (const Parameter& p : f.params) {
             ordered_json j;
-            j["name"] = p.name;
-            j["type"] = kind_name(p.kind);
-            switch (p.kind) {
-            case ParamKind::Bool: j["default"] = p.default_value != 0; break;
-            case ParamKind::Int: j["default"] = static_cast<long long>(p.default_value); break;
-            case ParamKind::Float: j["default"] = p.default_value; break;
-            case ParamKind::Enum: j["default"] = p.choices.at(static_cast<size_t>(p.default_value)); break;
-            case ParamKind::String: j["default"] = p.default_text; break;
+            j["name"] = p.name();
+            j["type"] = kind_name(p.type());
+            switch (p.type()) {
+            case ParameterType::Bool: j["default"] = canonform::meshlab::default_number(p) != 0; break;
+            case ParameterType::Int: j["default"] = static_cast<long long>(canonform::meshlab::default_number(p)); break;
+            case ParameterType::Float: j["default"] = canonform::meshlab::default_number(p); break;
+            case ParameterType::Choice:
+            case ParameterType::Text: j["default"] = p.default_value(); break;
             }
-            j["label"] = p.label;
-            j["tooltip"] = p.tooltip;
-            j["choices"] = p.choices;
-            j["range"] = (p.kind == ParamKind::Int || p.kind == ParamKind::Float)
-                             ? registry_range(p.name, family_of(f))
-                             : ordered_json(nullptr);
+            j["label"] = p.label();
+            j["tooltip"] = canonform::meshlab::tooltip(p);
+            j["choices"] = p.choices();
+            j["range"] = range(p);
             params.push_back(j);
         }
         out.push_back({{"name", f.name},
                        {"python_name", f.python_name},
-                       {"script", f.script_file},
+                       {"script", f.script_file()},
                        {"menu", menu(f.kind)},
                        {"info", f.info},
                        {"parameters", params}});
@@ -101,35 +84,35 @@ ordered_json filters(const std::vector<FilterSpec>& table) {
     return out;
 }
 
-const char* family_name(canonform::MethodFamily f) {
+const char* family_name(canonform::canonical::MethodFamily f) {
     switch (f) {
-    case canonform::MethodFamily::None: return "";
-    case canonform::MethodFamily::Euclidean: return "Euclidean canonical form";
-    case canonform::MethodFamily::Geodesic: return "Geodesic canonical form";
+    case canonform::canonical::MethodFamily::None: return "";
+    case canonform::canonical::MethodFamily::Euclidean: return "Euclidean canonical form";
+    case canonform::canonical::MethodFamily::Geodesic: return "Geodesic canonical form";
     }
     return "";
 }
 
 ordered_json methods() {
     ordered_json out = ordered_json::array();
-    for (const auto& m : canonform::canonical_methods()) {
+    for (const canonform::canonical::CanonicalMethod* m : canonform::canonical::canonical_methods()) {
         ordered_json params = ordered_json::array();
-        for (const auto& p : m.parameters) {
+        for (const Parameter& p : m->parameters) {
             ordered_json j;
-            j["name"] = p.name;
-            j["default"] = p.default_value;
-            j["help"] = p.help;
-            j["range"] = (p.min != 0 || p.max != 0) ? ordered_json::array({p.min, p.max}) : ordered_json(nullptr);
-            j["integer"] = p.integer;
-            j["choices"] = p.choices;
-            j["alias"] = p.alias;
-            j["affects_result"] = p.affects_result;
+            j["name"] = p.name();
+            j["default"] = p.default_value();
+            j["help"] = p.help();
+            j["range"] = range(p);
+            j["integer"] = p.type() == ParameterType::Int;
+            j["choices"] = p.choices();
+            j["alias"] = p.alias();
+            j["affects_result"] = p.affects_result();
             params.push_back(j);
         }
-        out.push_back({{"name", m.name},
-                       {"label", m.label},
-                       {"filter", family_name(m.family)},
-                       {"help", m.help},
+        out.push_back({{"name", m->name},
+                       {"label", m->label},
+                       {"filter", family_name(m->family)},
+                       {"help", m->help},
                        {"parameters", params}});
     }
     return out;
@@ -144,9 +127,9 @@ int main(int argc, char** argv) {
     }
     ordered_json j;
     j["version"] = canonform::version();
-    j["plugins"] = {{{"plugin", "filter_canonical"}, {"filters", filters(canonform::plugin::filter_table())}},
+    j["plugins"] = {{{"plugin", "filter_canonical"}, {"filters", filters(canonform::meshlab::filter_table())}},
                     {{"plugin", "filter_viewdescriptor"},
-                     {"filters", filters(canonform::plugin::view_filter_table())}}};
+                     {"filters", filters(canonform::meshlab::view_filter_table())}}};
     j["methods"] = methods();
     if (argc == 2) {
         std::ofstream out(argv[1]);

@@ -6,16 +6,17 @@
 #include "canonform/surface/mesh_topology.h"
 
 #include <chrono>
+#include <sstream>
 
-namespace canonform {
+namespace canonform::canonical {
 
-StressPairs canonical_form_pairs(const Eigen::MatrixXd& V, const Eigen::MatrixXi& E,
+numerics::StressPairs canonical_form_pairs(const Eigen::MatrixXd& V, const Eigen::MatrixXi& E,
                                  const Eigen::VectorXd& phi, const std::vector<int>& features,
                                  const EuclideanCanonicalFormOptions& options) {
     const bool normalised = options.variant == CanonicalVariant::N;
     const double beta = options.effective_beta();
     const double edge_scale = normalised ? beta / static_cast<double>(E.rows()) : beta;
-    StressPairs pairs;
+    numerics::StressPairs pairs;
     const size_t nf = features.size();
     const size_t capacity = static_cast<size_t>(E.rows()) + nf * nf / 2;
     pairs.i.reserve(capacity);  // all four: no doubling of a 1M-vertex mesh's 3M pairs
@@ -66,61 +67,58 @@ EuclideanCanonicalFormResult euclidean_canonical_form(const Eigen::MatrixXd& V0,
                                                       const EuclideanCanonicalFormOptions& options) {
     const auto t0 = std::chrono::steady_clock::now();
     if (!(options.alpha > 0)) throw InputError("alpha must be positive");
-    if (options.max_iterations < 1) throw InputError("the iteration cap must be at least 1");
-    if (!(options.tolerance >= 0)) throw InputError("the tolerance must be non-negative");
-    const MeshReport report = options.validate ? validate_mesh(V0, F) : MeshReport{};
+    if (options.smacof.max_iterations < 1) throw InputError("the iteration cap must be at least 1");
+    if (!(options.smacof.tolerance >= 0)) throw InputError("the tolerance must be non-negative");
+    const surface::MeshReport report = options.validate ? surface::validate_mesh(V0, F) : surface::MeshReport{};
     report_progress(options.progress, 0.0, "scaling");
 
     Eigen::RowVector3d centroid;
     double scale = 1;
-    const Eigen::MatrixXd V = normalize_scale(V0, &centroid, &scale);
+    const Eigen::MatrixXd V = surface::normalize_scale(V0, &centroid, &scale);
 
     // Sub-steps report into [0, 0.1] (conformal factor) and [0.1, 1] (SMACOF).
-    ConformalFactorOptions cf_opt;
+    surface::ConformalFactorOptions cf_opt;
     cf_opt.validate = false;
     cf_opt.boundary = report.boundary;
     cf_opt.linear_solver = options.linear_solver;
     if (options.progress)
         cf_opt.progress = [&](double f, const char* s) { return options.progress(0.08 * f, s); };
-    const ConformalFactorResult cf = conformal_factor(V, F, cf_opt);
+    const surface::ConformalFactorResult cf = surface::conformal_factor(V, F, cf_opt);
     const auto t1 = std::chrono::steady_clock::now();
 
-    const Eigen::MatrixXi E = report.edge_list.rows() ? report.edge_list : unique_edges(F);
-    const VertexAdjacency adj = vertex_adjacency(static_cast<int>(V.rows()), E);
-    FeaturePointOptions fp_opt;
-    fp_opt.ring = options.ring;
-    fp_opt.seed = options.seed;
-    fp_opt.fill = options.variant == CanonicalVariant::A ? FeatureFill::Random : FeatureFill::None;
-    const FeaturePoints fp = feature_points(adj, cf.normalized, fp_opt);
+    const Eigen::MatrixXi E = report.edge_list.rows() ? report.edge_list : surface::unique_edges(F);
+    const numerics::VertexAdjacency adj = numerics::vertex_adjacency(static_cast<int>(V.rows()), E);
+    surface::FeaturePointOptions fp_opt = options.features;
+    fp_opt.fill = options.variant == CanonicalVariant::A ? surface::FeatureFill::Random : surface::FeatureFill::None;
+    const surface::FeaturePoints fp = surface::feature_points(adj, cf.normalized, fp_opt);
     report_progress(options.progress, 0.09, "feature points");
 
-    SmacofSolverOptions solver_opt;
+    numerics::SmacofSolverOptions solver_opt;
     solver_opt.linear_solver = options.linear_solver;
     solver_opt.ordering = smacof_ordering(cf.ordering, fp.indices);
-    const SmacofSolver solver(static_cast<int>(V.rows()),
+    const numerics::SmacofSolver solver(static_cast<int>(V.rows()),
                               canonical_form_pairs(V, E, cf.normalized, fp.indices, options), solver_opt);
     report_progress(options.progress, 0.1, "SMACOF: V factorised");
 
-    SmacofOptions sm_opt;
-    copy_iteration_options(options, sm_opt);
-    sm_opt.record_history = options.record_history;
+    numerics::SmacofOptions sm_opt = options.smacof;
     const auto t2 = std::chrono::steady_clock::now();
     if (options.progress)
         sm_opt.progress = [&](double f, const char* s) { return options.progress(0.1 + 0.9 * f, s); };
-    SmacofResult sm = solver.solve(V, sm_opt);
+    else
+        sm_opt.progress = nullptr;
+    numerics::SmacofResult sm = solver.solve(V, sm_opt);
     const auto t3 = std::chrono::steady_clock::now();
 
     EuclideanCanonicalFormResult r;
-    r.mean_relative_edge_change = mean_relative_edge_change(V, sm.X, E);
+    static_cast<numerics::SmacofStatistics&>(r) = std::move(sm);
+    r.mean_relative_edge_change = surface::mean_relative_edge_change(V, sm.X, E);
     r.V = options.restore_scale ? Eigen::MatrixXd((sm.X * scale).rowwise() + centroid) : sm.X;
     r.phi = cf.normalized;
     r.features = fp.indices;
     r.num_maxima = fp.num_maxima;
     r.num_random = fp.num_random;
-    copy_run_statistics(sm, r);
     r.beta = options.effective_beta();
     r.linear_solver = solver.linear_solver();
-    r.stress_history = std::move(sm.stress_history);
     report_progress(options.progress, 1.0, "done");
     r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     r.conformal_factor_seconds = std::chrono::duration<double>(t1 - t0).count();
@@ -129,4 +127,77 @@ EuclideanCanonicalFormResult euclidean_canonical_form(const Eigen::MatrixXd& V0,
     return r;
 }
 
-}  // namespace canonform
+ParameterSet<EuclideanCanonicalFormOptions> euclidean_canonical_form_parameters(
+    const EuclideanCanonicalFormOptions& defaults) {
+    using O = EuclideanCanonicalFormOptions;
+    ParameterSet<O> s(defaults);
+    s.add(Parameter::number("alpha", 1e-6, 1e6)
+              .label("Alpha")
+              .help("target distance of every feature-point pair, in units of the mesh radius (the paper uses 10)"),
+          &O::alpha);
+    s.add(Parameter::number("beta", 0, 1e9)
+              .zero_means_default()
+              .label("Beta (0 = variant default)")
+              .help("edge-length preservation weight; 0: the variant's default, 10 for A and 130 for N"),
+          &O::beta);
+    s.include(surface::feature_point_parameters(), &O::features, {"ring", "seed"});
+    s.include(numerics::smacof_parameters(), &O::smacof);
+    s.add(Parameter::choice("solver", numerics::linear_solver_names())
+              .label("Linear solver")
+              .help("linear solver of SMACOF and the conformal factor: auto (direct below " +
+                    std::to_string(numerics::kMultigridFrom) + " vertices, multigrid from there), direct or multigrid")
+              .affects_result(false),
+          &O::linear_solver);
+    return s;
+}
+
+CanonicalMethod euclidean_method(CanonicalVariant variant) {
+    const bool a = variant == CanonicalVariant::A;
+    const ParameterSet<EuclideanCanonicalFormOptions> parameters =
+        euclidean_canonical_form_parameters(EuclideanCanonicalFormOptions::of_variant(variant));
+    CanonicalMethod m;
+    m.name = a ? "euclidean-A" : "euclidean-N";
+    m.label = a ? "A" : "N";
+    m.family = MethodFamily::Euclidean;
+    m.family_default = variant == EuclideanCanonicalFormOptions().variant;
+    m.help = a ? "Euclidean canonical form, variant A (extra random feature points, beta 10)"
+               : "Euclidean canonical form, variant N (normalised weights, eq. 10, beta 130)";
+    m.parameters = parameters.parameters();
+    m.run = [parameters](const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const MethodSettings& s,
+                         const MethodContext& c) {
+        EuclideanCanonicalFormOptions o = parameters.read(s);
+        o.progress = c.progress;
+        o.validate = c.validate;
+        EuclideanCanonicalFormResult e = euclidean_canonical_form(V, F, o);
+        CanonicalForm r;
+        r.V = std::move(e.V);
+        r.quality = std::move(e.phi);
+        r.features = e.features;
+        // Grouped: the method, its feature points, the SMACOF run, the result, the timings.
+        const std::string variant_name = o.variant == CanonicalVariant::A ? "A" : "N";
+        r.summary = {{"method", std::string("euclidean")}, {"variant", variant_name}, {"alpha", o.alpha},
+                     {"beta", e.beta},
+                     {"feature_points", static_cast<int>(e.features.size())}, {"maxima", e.num_maxima},
+                     {"random", e.num_random},
+                     {"iterations", e.iterations}, {"acceleration", std::string(to_string(o.smacof.acceleration))},
+                     {"extrapolations", e.extrapolations}, {"rejections", e.rejections}, {"converged", e.converged},
+                     {"initial_stress", e.initial_stress}, {"final_stress", e.final_stress},
+                     {"solver", std::string(to_string(e.linear_solver))},
+                     {"mean_relative_edge_change", e.mean_relative_edge_change}, {"seconds", e.seconds},
+                     {"conformal_factor_seconds", e.conformal_factor_seconds}, {"setup_seconds", e.setup_seconds},
+                     {"smacof_seconds", e.smacof_seconds}};
+        std::ostringstream d;
+        d << "variant " << variant_name << ", alpha " << o.alpha << ", beta "
+          << e.beta << ": " << V.rows() << " vertices, " << e.features.size() << " feature points ("
+          << e.num_maxima << " maxima, " << e.num_random << " random), " << e.iterations << " SMACOF iterations ("
+          << to_string(o.smacof.acceleration) << ")"
+          << (e.converged ? "" : " (iteration cap reached)") << ", stress " << e.initial_stress << " -> "
+          << e.final_stress << ", mean relative edge-length change " << e.mean_relative_edge_change << ", "
+          << e.seconds << " s";
+        r.description = d.str();
+        return r;
+    };
+    return m;
+}
+
+}  // namespace canonform::canonical

@@ -34,15 +34,17 @@
 //   random fill).
 #pragma once
 
+#include "canonform/canonical/method_registry.h"
 #include "canonform/common/errors.h"
 #include "canonform/numerics/smacof.h"
+#include "canonform/surface/feature_points.h"
 
 #include <Eigen/Core>
 
 #include <cstdint>
 #include <vector>
 
-namespace canonform {
+namespace canonform::canonical {
 
 /// The two variants of the paper (Section 4, Tables 2-5).
 enum class CanonicalVariant {
@@ -54,40 +56,44 @@ enum class CanonicalVariant {
 struct EuclideanCanonicalFormOptions {
     CanonicalVariant variant = CanonicalVariant::N;  ///< N: deterministic, see the header note
     double alpha = 10.0;          ///< target distance of feature pairs (unit-radius frame)
-    double beta = -1.0;           ///< edge-preservation weight; <= 0 means the variant's default
-    int ring = 2;                 ///< k-ring of the local maxima
-    std::uint64_t seed = 0;       ///< seed of variant A's random fill
-    double tolerance = 1e-5;      ///< SMACOF relative stress-decrease tolerance
-    int max_iterations = 1000;    ///< SMACOF iteration cap
-    SmacofAcceleration acceleration = kDefaultSmacofAcceleration;  ///< SMACOF acceleration (smacof.h)
-    int acceleration_depth = kDefaultAccelerationDepth;            ///< RRE/MPE cycle - 1, Anderson memory
-    LinearSolver linear_solver = LinearSolver::Auto;  ///< conformal factor's and SMACOF's solver
+    double beta = 0.0;            ///< edge-preservation weight; <= 0 means the variant's default
+    /// Step 3: the k-ring, the seed and the count of the feature points (feature_points.h); their
+    /// fill is the variant's (A: random, N: none), whatever `features.fill` says.
+    surface::FeaturePointOptions features;
+    numerics::SmacofOptions smacof;         ///< step 4: tolerance, iteration cap, acceleration, history (smacof.h)
+    numerics::LinearSolver linear_solver = numerics::LinearSolver::Auto;  ///< conformal factor's and SMACOF's solver
     bool restore_scale = true;    ///< return the result in the input's units and position
-    bool record_history = false;  ///< keep the stress of every iteration
     bool validate = true;         ///< run validate_mesh() first (off only if the caller just did)
-    ProgressFn progress;          ///< optional progress callback
+    ProgressFn progress;          ///< optional progress callback (smacof.progress is not called)
 
     /// beta actually used: `beta` if positive, else 10 (A) or 130 (N).
     double effective_beta() const { return beta > 0 ? beta : (variant == CanonicalVariant::A ? 10.0 : 130.0); }
+    /// The defaults of a variant, with its beta written out (what the method registry lists).
+    static EuclideanCanonicalFormOptions of_variant(CanonicalVariant v) {
+        EuclideanCanonicalFormOptions o;
+        o.variant = v;
+        o.beta = o.effective_beta();
+        return o;
+    }
 };
 
-/// Result of euclidean_canonical_form().
-struct EuclideanCanonicalFormResult {
+/// The parameters of these options a user sets - alpha, beta, ring, seed, tolerance,
+/// max_iterations, acceleration, solver - with their defaults from `defaults` (common/parameters.h;
+/// the registry lists them with of_variant()'s defaults).
+ParameterSet<EuclideanCanonicalFormOptions> euclidean_canonical_form_parameters(
+    const EuclideanCanonicalFormOptions& defaults = {});
+
+/// Result of euclidean_canonical_form(): the form, its feature points, the SMACOF run's statistics
+/// (SmacofStatistics, in the unit-radius frame) and the timings.
+struct EuclideanCanonicalFormResult : numerics::SmacofStatistics {
     Eigen::MatrixXd V;                   ///< canonical form, #V x 3 (same vertex order and faces)
     Eigen::VectorXd phi;                 ///< normalised conformal factor, #V
     std::vector<int> features;           ///< feature points (maxima first, then random fill)
     int num_maxima = 0;                  ///< local maxima among `features`
     int num_random = 0;                  ///< random fill among `features`
-    int iterations = 0;                  ///< SMACOF iterations
-    bool converged = false;              ///< SMACOF stopped by the tolerance
-    int extrapolations = 0;              ///< SMACOF accelerated points accepted
-    int rejections = 0;                  ///< SMACOF accelerated points rejected by the safeguard
-    double initial_stress = 0;           ///< S(X_0) (unit-radius frame)
-    double final_stress = 0;             ///< S(X_final)
     double mean_relative_edge_change = 0;///< mean over edges of |d_ij - delta_ij| / delta_ij
     double beta = 0;                     ///< beta used
-    LinearSolver linear_solver = LinearSolver::Direct;  ///< solver used (Direct or Multigrid)
-    std::vector<double> stress_history;  ///< if record_history
+    numerics::LinearSolver linear_solver = numerics::LinearSolver::Direct;  ///< solver used (Direct or Multigrid)
     double seconds = 0;                  ///< wall time of the whole computation
     double conformal_factor_seconds = 0; ///< of which: the conformal factor
     double setup_seconds = 0;            ///< of which: feature points, pairs, factor / multigrid of V
@@ -99,10 +105,14 @@ struct EuclideanCanonicalFormResult {
 EuclideanCanonicalFormResult euclidean_canonical_form(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
                                                       const EuclideanCanonicalFormOptions& options = {});
 
+/// The registry's method euclidean-A or euclidean-N (method_registry.h): its parameters with the
+/// variant's defaults, its run, its summary.
+CanonicalMethod euclidean_method(CanonicalVariant variant);
+
 /// The SMACOF pairs of step 4 for a scaled mesh V, its edges E (#E x 2), normalised phi and
 /// feature points; exposed for tests and for callers that want to run SMACOF themselves.
-StressPairs canonical_form_pairs(const Eigen::MatrixXd& V, const Eigen::MatrixXi& E,
+numerics::StressPairs canonical_form_pairs(const Eigen::MatrixXd& V, const Eigen::MatrixXi& E,
                                  const Eigen::VectorXd& phi, const std::vector<int>& features,
                                  const EuclideanCanonicalFormOptions& options);
 
-}  // namespace canonform
+}  // namespace canonform::canonical

@@ -19,6 +19,7 @@
 // both from N and refuses, naming the two figures, when they exceed limits the caller can raise.
 #pragma once
 
+#include "canonform/canonical/method_registry.h"
 #include "canonform/common/errors.h"
 #include "canonform/numerics/mds.h"
 
@@ -27,21 +28,25 @@
 #include <cstddef>
 #include <string>
 
-namespace canonform {
+namespace canonform::canonical {
 
 /// Options of geodesic_canonical_form().
 struct GeodesicCanonicalFormOptions {
-    MdsMethod method = MdsMethod::LeastSquares;  ///< step 3: the paper's LS, C and F (landmark MDS)
-    double tolerance = 1e-5;         ///< SMACOF relative stress-decrease tolerance (LS only)
-    int max_iterations = 500;        ///< SMACOF iteration cap (LS only)
-    SmacofAcceleration acceleration = kDefaultSmacofAcceleration;  ///< SMACOF acceleration (LS only, smacof.h)
-    int acceleration_depth = kDefaultAccelerationDepth;            ///< RRE/MPE cycle - 1, Anderson memory
-    int threads = 0;                 ///< threads for the geodesics and SMACOF; 0 = all cores
+    numerics::MdsMethod method = numerics::MdsMethod::LeastSquares;  ///< step 3: the paper's LS, C and F (landmark MDS)
+    /// Step 3's MDS (mds.h): its SMACOF iteration (least squares only), landmarks and seed. Its
+    /// dim (3), threads, input check and progress are set from here.
+    numerics::MdsOptions mds;
+    int threads = 0;                 ///< threads for the geodesics and MDS; 0 = all cores
     double max_memory_gib = 4.0;     ///< refuse when the estimate exceeds this (GiB)
     double max_seconds = 600.0;      ///< refuse when the estimated time exceeds this (s)
     bool restore_scale = true;       ///< result in the input's units and position
     ProgressFn progress;             ///< optional progress callback
 };
+
+/// The parameters of these options a user sets - tolerance, max_iterations, acceleration (its
+/// MDS's), max_memory_gib, max_seconds - with their defaults from `defaults` (common/parameters.h).
+ParameterSet<GeodesicCanonicalFormOptions> geodesic_canonical_form_parameters(
+    const GeodesicCanonicalFormOptions& defaults = {});
 
 /// Estimated cost of geodesic_canonical_form() for n vertices.
 struct GeodesicCost {
@@ -52,14 +57,12 @@ struct GeodesicCost {
 };
 
 /// Cost estimate from the vertex count (calibrated on a 2-core 2026 x86-64 machine; see the .cpp).
-GeodesicCost estimate_geodesic_canonical_form(long n, MdsMethod method, int threads = 0);
+GeodesicCost estimate_geodesic_canonical_form(long n, numerics::MdsMethod method, int threads = 0);
 
-/// Result of geodesic_canonical_form().
-struct GeodesicCanonicalFormResult {
+/// Result of geodesic_canonical_form(): the form, the MDS run's statistics (SmacofStatistics:
+/// SMACOF's for least squares, else the eigen/landmark steps; unit-radius frame) and the timings.
+struct GeodesicCanonicalFormResult : numerics::SmacofStatistics {
     Eigen::MatrixXd V;                    ///< canonical form, #V x 3 (same vertex order and faces)
-    int iterations = 0;                   ///< SMACOF iterations (LS; else the eigen/landmark steps)
-    double initial_stress = 0;            ///< stress of the start (unit-radius frame)
-    double final_stress = 0;              ///< stress of the result
     double mean_relative_edge_change = 0; ///< mean over edges of |d_ij - |e_ij|| / |e_ij|
     double geodesic_seconds = 0;          ///< wall time of step 2
     double mds_seconds = 0;               ///< wall time of step 3
@@ -67,10 +70,13 @@ struct GeodesicCanonicalFormResult {
     GeodesicCost estimate;                ///< what was estimated beforehand
 };
 
+/// The registry's method geodesic-ls, geodesic-classical or geodesic-fast (method_registry.h).
+CanonicalMethod geodesic_method(numerics::MdsMethod mds);
+
 /// Computes the geodesic canonical form. Throws InputError on bad input or when the estimated
 /// memory or time exceeds the limits (the message names both figures and the option to raise),
 /// NumericalError on numerical failure, Cancelled if progress returns false.
 GeodesicCanonicalFormResult geodesic_canonical_form(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
                                                     const GeodesicCanonicalFormOptions& options = {});
 
-}  // namespace canonform
+}  // namespace canonform::canonical

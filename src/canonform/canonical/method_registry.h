@@ -3,7 +3,8 @@
 // and the MeshLab filters read.
 //
 // A method is a name ("euclidean-N"), a label for a filter's enum ("N"), the filter that lists it
-// (its family), its parameters with defaults and ranges, and a run function. A method with
+// (its family), its parameters (common/parameters.h: defined once, next to the algorithm's
+// options, e.g. euclidean_canonical_form_parameters()) and a run function. A method with
 // parameter values is written "NAME[:KEY=VALUE[:KEY=VALUE...]]" ("euclidean-N:beta=65"):
 // parse_method_spec() reads that and MethodSpec::to_string() writes it back, so the name, the
 // options and the call are parsed both ways. Built-in methods (method_registry.cpp):
@@ -13,12 +14,19 @@
 //   geodesic-ls, -classical, -fast   Elad and Kimmel's geodesic forms with least-squares,
 //                        classical or landmark MDS (geodesic_canonical_form.h)
 //
-// Adding a method: its own source (the algorithm, and a function that makes its CanonicalMethod)
-// and one line in builtin_methods() in method_registry.cpp. The tool's `canonical --method`, its
-// options, `retrieve --method`, the benchmarks and the filter whose family it names pick it up.
+// Adding a method (docs/extending.md): its own .h/.cpp pair (the algorithm, its options and their
+// ParameterSet, and a function that makes its CanonicalMethod) and one line in builtin_methods()
+// in method_registry.cpp. The tool's `canonical --method` and its options, `retrieve --method`,
+// the benchmarks, the filter whose family it names (its enum and its parameters), pymeshlab, the
+// .mlx scripts and the parameter listing of the docs pick it up.
+//
+// The registry may be read from any thread while another registers or unregisters a method: every
+// access holds its lock, and a method's object never moves or dies (an unregistered method is kept
+// until exit), so a reference or pointer handed out stays valid.
 #pragma once
 
 #include "canonform/common/errors.h"
+#include "canonform/common/parameters.h"
 
 #include <Eigen/Core>
 
@@ -29,42 +37,15 @@
 #include <variant>
 #include <vector>
 
-namespace canonform {
+namespace canonform::canonical {
 
 /// The MeshLab filter whose method enum lists a method ("Euclidean canonical form": variant,
 /// "Geodesic canonical form": method); None for methods no filter offers.
 enum class MethodFamily { None, Euclidean, Geodesic };
 
-/// One parameter of a method: NAME=VALUE in a method spec, --NAME in the tool (underscores as
-/// dashes, plus `alias`), the filter parameter of the same name.
-struct MethodParameter {
-    std::string name;                  ///< lower snake_case ("beta", "max_iterations")
-    std::string default_value;         ///< as text ("10", "auto")
-    std::string help;                  ///< one line, for --help
-    double min = 0;                    ///< numbers: closed range [min, max] (both 0: any finite number)
-    double max = 0;
-    bool integer = false;              ///< numbers: must be whole
-    std::vector<std::string> choices = {};  ///< non-empty: the value is one of these words
-    bool affects_result = true;        ///< part of the cache key of a retrieval run
-    bool zero_means_default = false;   ///< a given 0 stands for the default (a filter's "0 = default")
-    std::string alias = {};            ///< a second, older tool option name ("tol"), or empty
-    /// Checks `value` (throws InputError naming the parameter, the value and what it must be).
-    void check(const std::string& value) const;
-};
-
-/// Parameter values of one run (every parameter of the method: defaults and given values).
-class MethodSettings {
-public:
-    MethodSettings() = default;
-    explicit MethodSettings(std::map<std::string, std::string> values) : values_(std::move(values)) {}
-    double number(const std::string& name) const;
-    int integer(const std::string& name) const;
-    const std::string& text(const std::string& name) const;
-    const std::map<std::string, std::string>& values() const { return values_; }
-
-private:
-    std::map<std::string, std::string> values_;
-};
+/// The parameter values of one run (common/parameters.h): every parameter of the method, at its
+/// default or as given.
+using MethodSettings = Settings;
 
 /// What a run may use besides its parameters.
 struct MethodContext {
@@ -90,27 +71,36 @@ struct CanonicalMethod {
     std::string name;                          ///< "euclidean-N"
     std::string label;                         ///< its entry in its filter's enum ("N")
     MethodFamily family = MethodFamily::None;
+    bool family_default = false;               ///< its filter's default entry, the tool's default of the family
     std::string help;                          ///< one line, for --help
-    std::vector<MethodParameter> parameters;
+    std::vector<Parameter> parameters;         ///< with this method's defaults
     std::function<CanonicalForm(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const MethodSettings& settings,
                                 const MethodContext& context)>
         run;
 
-    const MethodParameter* parameter(const std::string& name) const;
+    const Parameter* parameter(const std::string& name) const;
     /// Every parameter at its default, then `given` (checked) on top.
     MethodSettings settings(const std::vector<std::pair<std::string, std::string>>& given = {}) const;
 };
 
-/// Every method, built-in first, in registration order.
-const std::vector<CanonicalMethod>& canonical_methods();
+/// Every method, built-in first, in registration order (a snapshot: pointers to methods that stay
+/// valid until exit).
+std::vector<const CanonicalMethod*> canonical_methods();
 /// The method called `name`; InputError listing the names if there is none.
 const CanonicalMethod& canonical_method(const std::string& name);
 /// The methods a filter lists, in order (their labels make the filter's enum).
 std::vector<const CanonicalMethod*> canonical_methods_of(MethodFamily family);
+/// The default method of a family (its filter's default entry; InputError if it has none).
+const CanonicalMethod& default_method_of(MethodFamily family);
+/// The parameters of a family's methods, each once, in order of first appearance, as its filter
+/// lists them: a parameter the methods give different defaults takes 0 if it is
+/// zero_means_default (std::logic_error otherwise, and when two methods define a name differently).
+std::vector<Parameter> family_parameters(MethodFamily family);
 /// Adds a method (InputError if the name is taken). For extensions and tests; built-in methods
 /// are listed in method_registry.cpp.
 void register_canonical_method(CanonicalMethod method);
-/// Removes a method added by register_canonical_method() (no-op for an unknown name).
+/// Removes a method added by register_canonical_method() from the lists (no-op for an unknown
+/// name); its object is kept, so that references taken before stay valid.
 void unregister_canonical_method(const std::string& name);
 
 /// A method with parameter values, as written "NAME[:KEY=VALUE...]".
@@ -132,4 +122,4 @@ struct MethodSpec {
 /// Parses "NAME[:KEY=VALUE...]" (InputError naming the unknown method or parameter, or the bad value).
 MethodSpec parse_method_spec(const std::string& text);
 
-}  // namespace canonform
+}  // namespace canonform::canonical

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// canonform: the one parallel loop of the library, on oneTBB.
+// canonform: the one parallel loop of the library, on oneTBB (or std::thread without it).
 //
 // Every parallel loop (fast marching from all sources, MDS blocks, k-means assignment, the
 // distance matrix, per-mesh work in a retrieval run, the procedural generator) goes through
@@ -13,6 +13,10 @@
 // spin against busy ones (more CPU time for the same work on the 2-core test machine). Progress
 // is reported only from the thread that called parallel_for() (MeshLab's GUI callback must not be
 // called from another thread).
+//
+// Without oneTBB (a core-only build, CANONFORM_HAVE_TBB undefined: CMake's CANONFORM_WITHOUT_TBB or
+// no TBB found) the same loop runs on std::thread workers that take chunks in turn; since results
+// never depend on the threads, they are the same.
 #pragma once
 
 #include "canonform/common/errors.h"
@@ -22,9 +26,15 @@
 #include <cstddef>
 #include <thread>
 
+#if defined(CANONFORM_HAVE_TBB)
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
+#else
+#include <exception>
+#include <mutex>
+#include <vector>
+#endif
 
 namespace canonform {
 
@@ -79,6 +89,7 @@ void parallel_for(std::ptrdiff_t n, Body&& body, const ParallelOptions& options 
         for (std::ptrdiff_t begin = 0; begin < n; begin += grain) run(begin, std::min(n, begin + grain), 0);
         return;
     }
+#if defined(CANONFORM_HAVE_TBB)
     tbb::task_arena arena(workers);
     arena.execute([&] {
         tbb::parallel_for(tbb::blocked_range<std::ptrdiff_t>(0, n, static_cast<std::size_t>(grain)),
@@ -88,6 +99,30 @@ void parallel_for(std::ptrdiff_t n, Body&& body, const ParallelOptions& options 
                           },
                           tbb::simple_partitioner());
     });
+#else
+    // Workers 1.. on threads, worker 0 the caller; chunks taken in turn; the first exception
+    // stops the chunks not yet started and is rethrown here.
+    std::atomic<std::ptrdiff_t> next{0};
+    std::atomic<bool> failed{false};
+    std::exception_ptr error;
+    std::mutex error_mutex;
+    auto work = [&](int worker) {
+        try {
+            for (std::ptrdiff_t begin; !failed && (begin = next.fetch_add(grain)) < n;)
+                run(begin, std::min(n, begin + grain), worker);
+        } catch (...) {
+            std::lock_guard<std::mutex> lock(error_mutex);
+            if (!error) error = std::current_exception();
+            failed = true;
+        }
+    };
+    std::vector<std::thread> threads;
+    threads.reserve(static_cast<std::size_t>(workers - 1));
+    for (int w = 1; w < workers; ++w) threads.emplace_back(work, w);
+    work(0);
+    for (auto& t : threads) t.join();
+    if (error) std::rethrow_exception(error);
+#endif
 }
 
 }  // namespace canonform

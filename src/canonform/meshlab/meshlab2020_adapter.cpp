@@ -3,12 +3,12 @@
 
 #include "canonform/meshlab/meshlab_adapter_common.h"
 
-using canonform::plugin::FilterKind;
-using canonform::plugin::FilterSpec;
-using canonform::plugin::mesh_mask;
+using canonform::meshlab::FilterKind;
+using canonform::meshlab::FilterSpec;
+using canonform::meshlab::mesh_mask;
 
 QString TableFilterPlugin2020::filterName(FilterIDType filter) const {
-    return QString::fromUtf8(spec(filter).name);
+    return QString::fromStdString(spec(filter).name);
 }
 
 QString TableFilterPlugin2020::filterInfo(FilterIDType filter) const {
@@ -16,7 +16,7 @@ QString TableFilterPlugin2020::filterInfo(FilterIDType filter) const {
 }
 
 MeshFilterInterface::FilterClass TableFilterPlugin2020::getClass(QAction* a) {
-    return canonform::plugin::filter_class<MeshFilterInterface>(spec(ID(a)).kind);
+    return canonform::meshlab::filter_class<MeshFilterInterface>(spec(ID(a)).kind);
 }
 
 int TableFilterPlugin2020::getRequirements(QAction* a) { return mesh_mask<MeshModel>(spec(ID(a)).needs); }
@@ -24,23 +24,23 @@ int TableFilterPlugin2020::getRequirements(QAction* a) { return mesh_mask<MeshMo
 int TableFilterPlugin2020::postCondition(QAction* a) const { return mesh_mask<MeshModel>(spec(ID(a)).changes); }
 
 void TableFilterPlugin2020::initParameterSet(QAction* a, MeshModel&, RichParameterList& par) {
-    canonform::plugin::add_params(spec(ID(a)), par);
+    canonform::meshlab::add_params(spec(ID(a)), par);
 }
 
 bool TableFilterPlugin2020::applyFilter(QAction* a, MeshDocument& md, const RichParameterList& par,
                                         vcg::CallBackPos* cb) {
     const FilterSpec& s = spec(ID(a));
-    const canonform::plugin::ParamValues values = canonform::plugin::read_params(s, par);
-    canonform::plugin::ActionContext ctx;
+    const canonform::meshlab::ParamValues values = canonform::meshlab::read_params(s, par);
+    canonform::meshlab::ActionContext ctx;
     ctx.log = [this](const std::string& line) { Log("%s", line.c_str()); };
-    ctx.progress = canonform::plugin::progress_to(cb);
-    Log("%s", canonform::plugin::log_header(s).c_str());
+    ctx.progress = canonform::meshlab::progress_to(cb);
+    Log("%s", canonform::meshlab::log_header(s).c_str());
     try {
         apply_(s.id, md, values, ctx);
         return true;
     } catch (const std::exception& e) {
-        errorMessage = QString("%1: %2").arg(QString::fromUtf8(s.name), QString::fromUtf8(e.what()));
-        Log("%s failed: %s", s.name, e.what());
+        errorMessage = QString("%1: %2").arg(QString::fromStdString(s.name), QString::fromUtf8(e.what()));
+        Log("%s failed: %s", s.name.c_str(), e.what());
         return false;
     }
 }

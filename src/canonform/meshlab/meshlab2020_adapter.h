@@ -11,7 +11,7 @@
 
 #include "canonform/meshlab/meshlab_adapter_common.h"
 
-class TableFilterPlugin2020 : public canonform::plugin::TableAdapter<MeshFilterInterface> {
+class TableFilterPlugin2020 : public canonform::meshlab::TableAdapter<MeshFilterInterface> {
 public:
     using TableAdapter::TableAdapter;
 

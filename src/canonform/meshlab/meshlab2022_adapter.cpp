@@ -10,11 +10,11 @@
 #include <type_traits>
 #include <variant>
 
-using canonform::plugin::FilterKind;
-using canonform::plugin::FilterSpec;
-using canonform::plugin::mesh_mask;
+using canonform::meshlab::FilterKind;
+using canonform::meshlab::FilterSpec;
+using canonform::meshlab::mesh_mask;
 
-std::map<std::string, QVariant> canonform::plugin::to_qvariant_map(const ActionOutputs& outputs) {
+std::map<std::string, QVariant> canonform::meshlab::to_qvariant_map(const ActionOutputs& outputs) {
     std::map<std::string, QVariant> out;
     for (const auto& [name, value] : outputs) {
         out[name] = std::visit(
@@ -33,16 +33,16 @@ std::map<std::string, QVariant> canonform::plugin::to_qvariant_map(const ActionO
     return out;
 }
 
-QString TableFilterPlugin2022::filterName(ActionIDType filter) const { return QString::fromUtf8(spec(filter).name); }
+QString TableFilterPlugin2022::filterName(ActionIDType filter) const { return QString::fromStdString(spec(filter).name); }
 
 QString TableFilterPlugin2022::pythonFilterName(ActionIDType filter) const {
-    return QString::fromUtf8(spec(filter).python_name);
+    return QString::fromStdString(spec(filter).python_name);
 }
 
 QString TableFilterPlugin2022::filterInfo(ActionIDType filter) const { return QString::fromStdString(spec(filter).info); }
 
 FilterPlugin::FilterClass TableFilterPlugin2022::getClass(const QAction* a) const {
-    return canonform::plugin::filter_class<FilterPlugin>(spec(ID(a)).kind);
+    return canonform::meshlab::filter_class<FilterPlugin>(spec(ID(a)).kind);
 }
 
 int TableFilterPlugin2022::getRequirements(const QAction* a) { return mesh_mask<MeshModel>(spec(ID(a)).needs); }
@@ -51,7 +51,7 @@ int TableFilterPlugin2022::postCondition(const QAction* a) const { return mesh_m
 
 RichParameterList TableFilterPlugin2022::initParameterList(const QAction* a, const MeshModel&) {
     RichParameterList par;
-    canonform::plugin::add_params(spec(ID(a)), par);
+    canonform::meshlab::add_params(spec(ID(a)), par);
     return par;
 }
 
@@ -59,15 +59,15 @@ std::map<std::string, QVariant> TableFilterPlugin2022::applyFilter(const QAction
                                                                    MeshDocument& md, unsigned int& /*postConditionMask*/,
                                                                    vcg::CallBackPos* cb) {
     const FilterSpec& s = spec(ID(a));
-    const canonform::plugin::ParamValues values = canonform::plugin::read_params(s, par);
-    canonform::plugin::ActionContext ctx;
+    const canonform::meshlab::ParamValues values = canonform::meshlab::read_params(s, par);
+    canonform::meshlab::ActionContext ctx;
     ctx.log = [this](const std::string& line) { log(line); };
-    ctx.progress = canonform::plugin::progress_to(cb);
-    log(canonform::plugin::log_header(s));
+    ctx.progress = canonform::meshlab::progress_to(cb);
+    log(canonform::meshlab::log_header(s));
     try {
-        return canonform::plugin::to_qvariant_map(apply_(s.id, md, values, ctx));
+        return canonform::meshlab::to_qvariant_map(apply_(s.id, md, values, ctx));
     } catch (const std::exception& e) {
-        log(std::string(s.name) + " failed: " + e.what());
-        throw MLException(QString("%1: %2").arg(QString::fromUtf8(s.name), QString::fromUtf8(e.what())));
+        log(s.name + " failed: " + e.what());
+        throw MLException(QString("%1: %2").arg(QString::fromStdString(s.name), QString::fromUtf8(e.what())));
     }
 }

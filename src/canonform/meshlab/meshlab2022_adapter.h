@@ -13,13 +13,13 @@
 
 #include "canonform/meshlab/meshlab_adapter_common.h"
 
-namespace canonform::plugin {
+namespace canonform::meshlab {
 /// The outputs of an action as pymeshlab converts them to Python: int, double and bool QVariants,
 /// vectors as Eigen::VectorXd (a flat numpy array: pymeshlab 2022.2 and 2025.7 convert 1-D only).
 std::map<std::string, QVariant> to_qvariant_map(const ActionOutputs& outputs);
-}  // namespace canonform::plugin
+}  // namespace canonform::meshlab
 
-class TableFilterPlugin2022 : public canonform::plugin::TableAdapter<FilterPlugin> {
+class TableFilterPlugin2022 : public canonform::meshlab::TableAdapter<FilterPlugin> {
 public:
     using TableAdapter::TableAdapter;
 

@@ -13,7 +13,7 @@
 
 #include <vector>
 
-namespace canonform::plugin {
+namespace canonform::meshlab {
 
 /// Applies filter `id` of a table to the document (throws on failure, document unchanged).
 using ApplyFn = ActionOutputs (*)(int id, MeshDocument& md, const ParamValues& params,
@@ -28,7 +28,7 @@ public:
         : name_(std::move(plugin_name)), table_(table), apply_(apply) {
         for (const auto& f : table_) {
             this->typeList.push_back(f.id);
-            this->actionList.push_back(new QAction(QString::fromUtf8(f.name), this));
+            this->actionList.push_back(new QAction(QString::fromStdString(f.name), this));
         }
     }
     QString pluginName() const override { return name_; }
@@ -59,14 +59,14 @@ template <class RichParameterListT>
 ParamValues read_params(const FilterSpec& spec, const RichParameterListT& par) {
     ParamValues values;
     for (const auto& p : spec.params) {
-        const auto name = QString::fromUtf8(p.name);
+        const auto name = QString::fromStdString(p.name());
         if (!par.hasParameter(name)) continue;
-        switch (p.kind) {
-        case ParamKind::Bool: values.values[p.name] = par.getBool(name) ? 1 : 0; break;
-        case ParamKind::Int: values.values[p.name] = par.getInt(name); break;
-        case ParamKind::Float: values.values[p.name] = static_cast<double>(par.getFloat(name)); break;
-        case ParamKind::Enum: values.values[p.name] = par.getEnum(name); break;
-        case ParamKind::String: values.strings[p.name] = par.getString(name).toStdString(); break;
+        switch (p.type()) {
+        case ParameterType::Bool: values.values[p.name()] = par.getBool(name) ? 1 : 0; break;
+        case ParameterType::Int: values.values[p.name()] = par.getInt(name); break;
+        case ParameterType::Float: values.values[p.name()] = static_cast<double>(par.getFloat(name)); break;
+        case ParameterType::Choice: values.values[p.name()] = par.getEnum(name); break;
+        case ParameterType::Text: values.strings[p.name()] = par.getString(name).toStdString(); break;
         }
     }
     return values;
@@ -100,25 +100,25 @@ ProgressFn progress_to(CallBack* cb) {
 template <class RichParameterListT>
 void add_params(const FilterSpec& spec, RichParameterListT& par) {
     for (const auto& p : spec.params) {
-        const QString name = QString::fromUtf8(p.name), label = QString::fromUtf8(p.label),
-                      tip = QString::fromUtf8(p.tooltip);
-        switch (p.kind) {
-        case ParamKind::Bool: par.addParam(RichBool(name, p.default_value != 0, label, tip)); break;
-        case ParamKind::Int: par.addParam(RichInt(name, static_cast<int>(p.default_value), label, tip)); break;
-        case ParamKind::Float:
-            par.addParam(RichFloat(name, static_cast<MESHLAB_SCALAR>(p.default_value), label, tip));
+        const QString name = QString::fromStdString(p.name()), label = QString::fromStdString(p.label()),
+                      tip = QString::fromStdString(tooltip(p));
+        switch (p.type()) {
+        case ParameterType::Bool: par.addParam(RichBool(name, default_number(p) != 0, label, tip)); break;
+        case ParameterType::Int: par.addParam(RichInt(name, static_cast<int>(default_number(p)), label, tip)); break;
+        case ParameterType::Float:
+            par.addParam(RichFloat(name, static_cast<MESHLAB_SCALAR>(default_number(p)), label, tip));
             break;
-        case ParamKind::String:
-            par.addParam(RichString(name, QString::fromStdString(p.default_text), label, tip));
+        case ParameterType::Text:
+            par.addParam(RichString(name, QString::fromStdString(p.default_value()), label, tip));
             break;
-        case ParamKind::Enum: {
+        case ParameterType::Choice: {
             QStringList choices;
-            for (const auto& c : p.choices) choices << QString::fromStdString(c);
-            par.addParam(RichEnum(name, static_cast<int>(p.default_value), choices, label, tip));
+            for (const auto& c : p.choices()) choices << QString::fromStdString(c);
+            par.addParam(RichEnum(name, static_cast<int>(default_number(p)), choices, label, tip));
             break;
         }
         }
     }
 }
 
-}  // namespace canonform::plugin
+}  // namespace canonform::meshlab

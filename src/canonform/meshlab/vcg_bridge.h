@@ -12,7 +12,7 @@
 
 #include <vector>
 
-namespace canonform {
+namespace canonform::meshlab {
 
 /// The live part of a vcg mesh as a Mesh, and where each row of V came from.
 template <class MeshT>
@@ -61,4 +61,4 @@ void write_quality(const BridgedMesh<MeshT>& b, const Eigen::VectorXd& q) {
     for (size_t k = 0; k < b.vertices.size(); ++k) b.vertices[k]->Q() = static_cast<typename MeshT::VertexType::QualityType>(q(static_cast<Eigen::Index>(k)));
 }
 
-}  // namespace canonform
+}  // namespace canonform::meshlab

@@ -11,7 +11,7 @@
 #include <stdexcept>
 #include <vector>
 
-namespace canonform {
+namespace canonform::numerics {
 namespace {
 
 using RowSparse = Eigen::SparseMatrix<double, Eigen::RowMajor>;
@@ -265,6 +265,10 @@ const char* to_string(LinearSolver s) {
     return "auto";
 }
 
+std::vector<std::string> linear_solver_names() {
+    return {to_string(LinearSolver::Auto), to_string(LinearSolver::Direct), to_string(LinearSolver::Multigrid)};
+}
+
 bool use_multigrid(LinearSolver s, long long unknowns, long long threshold) {
     if (unknowns <= AmgOptions{}.coarse_size) return false;
     return s == LinearSolver::Multigrid || (s == LinearSolver::Auto && unknowns >= threshold);
@@ -475,4 +479,4 @@ double AmgPreconditioner::operator_complexity() const {
     return total / static_cast<double>(levels_[0].A.nonZeros());
 }
 
-}  // namespace canonform
+}  // namespace canonform::numerics

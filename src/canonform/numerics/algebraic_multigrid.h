@@ -25,9 +25,10 @@
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 
+#include <string>
 #include <vector>
 
-namespace canonform {
+namespace canonform::numerics {
 
 /// How a core algorithm solves its large sparse SPD systems (SMACOF's V, the conformal factor's
 /// Laplacian).
@@ -43,6 +44,8 @@ constexpr int kMultigridFrom = 40000;
 
 /// Name of a linear solver ("auto", "direct", "multigrid").
 const char* to_string(LinearSolver s);
+/// Every solver's name, in LinearSolver's order (a parameter's choices).
+std::vector<std::string> linear_solver_names();
 
 struct AmgOptions;
 
@@ -122,4 +125,4 @@ private:
     int sweeps_ = 1;
 };
 
-}  // namespace canonform
+}  // namespace canonform::numerics

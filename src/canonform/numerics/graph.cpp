@@ -4,7 +4,7 @@
 #include <algorithm>
 #include <numeric>
 
-namespace canonform {
+namespace canonform::numerics {
 
 VertexAdjacency vertex_adjacency(int n, const Eigen::MatrixXi& E) {
     VertexAdjacency adj;
@@ -53,4 +53,4 @@ std::vector<int> connected_components(int n, const Eigen::MatrixXi& E, int* coun
     return label;
 }
 
-}  // namespace canonform
+}  // namespace canonform::numerics

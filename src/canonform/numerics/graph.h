@@ -9,7 +9,7 @@
 
 #include <vector>
 
-namespace canonform {
+namespace canonform::numerics {
 
 /// Vertex adjacency in compressed form: the neighbours of v are
 /// neighbors[offsets[v] .. offsets[v+1]), sorted ascending, without v itself.
@@ -26,4 +26,4 @@ VertexAdjacency vertex_adjacency(int n, const Eigen::MatrixXi& E);
 /// with edges E; returns the number of components in *count.
 std::vector<int> connected_components(int n, const Eigen::MatrixXi& E, int* count);
 
-}  // namespace canonform
+}  // namespace canonform::numerics

@@ -21,7 +21,7 @@
 #include <string>
 #include <thread>
 
-namespace canonform {
+namespace canonform::numerics {
 
 using Eigen::Index;
 using Eigen::MatrixXd;
@@ -517,12 +517,17 @@ MdsResult least_squares_mds(const MatrixXd& D, const MdsOptions& options, const 
         centre(Y);
         return Y;
     };
-    GuttmanRun g = run_guttman(step, X, options.tolerance, options.max_iterations, options.record_history,
-                               options.progress, 0.1, "least-squares MDS", options.acceleration,
-                               options.acceleration_depth);
+    SmacofOptions iteration = options.smacof;
+    iteration.progress = options.progress;  // the whole run reports through MdsOptions::progress
     MdsResult r;
-    move_run_into(std::move(g), r);
+    static_cast<SmacofResult&>(r) = run_guttman(step, X, iteration, "least-squares MDS", 0.1);
     return r;
+}
+
+ParameterSet<MdsOptions> mds_parameters(const MdsOptions& defaults) {
+    ParameterSet<MdsOptions> s(defaults);
+    s.include(smacof_parameters(), &MdsOptions::smacof);
+    return s;
 }
 
 MdsResult mds(const MatrixXd& D, MdsMethod method, const MdsOptions& options) {
@@ -534,4 +539,4 @@ MdsResult mds(const MatrixXd& D, MdsMethod method, const MdsOptions& options) {
     throw InputError("mds: unknown method");
 }
 
-}  // namespace canonform
+}  // namespace canonform::numerics

@@ -69,21 +69,19 @@
 #include <functional>
 #include <vector>
 
-namespace canonform {
+namespace canonform::numerics {
 
 enum class MdsMethod { LeastSquares, Classical, Landmark };
 
 /// Options of the MDS solvers (fields a method does not use are ignored).
 struct MdsOptions {
     int dim = 3;                        ///< embedding dimension (>= 1)
-    double tolerance = 1e-5;            ///< SMACOF: relative stress decrease below which it stops
-    int max_iterations = 500;           ///< SMACOF: Guttman step cap
-    SmacofAcceleration acceleration = kDefaultSmacofAcceleration;  ///< SMACOF: acceleration (smacof.h)
-    int acceleration_depth = kDefaultAccelerationDepth;            ///< SMACOF: RRE/MPE cycle - 1, Anderson memory
+    /// Least squares: its SMACOF iteration (tolerance, cap, acceleration, history); its progress
+    /// is not called: `progress` below reports the whole run.
+    SmacofOptions smacof = SmacofOptions().with_max_iterations(500);
     int landmarks = 0;                  ///< landmark MDS: L in [dim+1, N]; 0 = clamp(3 ceil(sqrt N), dim+1, N)
     std::uint64_t seed = 0;             ///< subspace-iteration start, first landmark, degenerate-start noise
     int threads = 0;                    ///< worker threads; 0 = every hardware thread (thread_count())
-    bool record_history = false;        ///< SMACOF: keep S(X_0), S(X_1), ... in stress_history
     double eigen_tolerance = 1e-8;      ///< classical: relative Ritz residual for convergence
     int eigen_max_iterations = 1000;    ///< classical: subspace-iteration cap (NumericalError beyond)
     double symmetry_tolerance = 1e-9;   ///< relative to max D: allowed |D_ij - D_ji| and |D_ii|
@@ -92,16 +90,15 @@ struct MdsOptions {
     ProgressFn progress;                ///< called every few iterations; false cancels (Cancelled)
 };
 
-/// Result of the MDS solvers.
-struct MdsResult {
-    Eigen::MatrixXd X;                   ///< #N x dim configuration, centred at the origin
-    int iterations = 0;                  ///< SMACOF: Guttman steps; classical: subspace iterations; landmark: 0
-    bool converged = false;              ///< SMACOF: stopped by tolerance; classical/landmark: true
-    int extrapolations = 0;              ///< SMACOF: accelerated points accepted
-    int rejections = 0;                  ///< SMACOF: accelerated points rejected by the safeguard
-    double initial_stress = 0;           ///< S(X_0) (SMACOF start); classical/landmark: S(X), NaN if not computed
-    double final_stress = 0;             ///< S(X) of the returned X (NaN if not computed)
-    std::vector<double> stress_history;  ///< SMACOF with record_history: S(X_0), S(X_1), ...
+/// The parameters of MdsOptions a user sets (its SMACOF iteration's: smacof_parameters()), with
+/// their defaults from `defaults`.
+ParameterSet<MdsOptions> mds_parameters(const MdsOptions& defaults = {});
+
+/// Result of the MDS solvers: X (#N x dim, centred at the origin) and the statistics of
+/// SmacofResult - SMACOF's for least squares; classical: iterations = subspace iterations,
+/// converged = true, the stresses S(X) (NaN if not computed); landmark: iterations 0,
+/// converged = true, the stresses likewise.
+struct MdsResult : SmacofResult {
     Eigen::VectorXd eigenvalues;         ///< classical: top dim eigenvalues of B; landmark: of the landmark block's B
     std::vector<int> landmarks;          ///< landmark MDS: the chosen landmark indices, in order of choice
 };
@@ -143,4 +140,4 @@ EigenPairs top_eigenpairs(Eigen::Index n, int k,
 
 }  // namespace detail
 
-}  // namespace canonform
+}  // namespace canonform::numerics

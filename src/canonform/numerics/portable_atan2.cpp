@@ -4,7 +4,7 @@
 #include <cmath>
 #include <limits>
 
-namespace canonform {
+namespace canonform::numerics {
 
 namespace {
 
@@ -47,4 +47,4 @@ double portable_atan2(double y, double x) {
     return std::signbit(y) ? -r : r;
 }
 
-}  // namespace canonform
+}  // namespace canonform::numerics

@@ -19,9 +19,9 @@
 // argument gives NaN.
 #pragma once
 
-namespace canonform {
+namespace canonform::numerics {
 
 /// The angle of the point (x, y) in (-pi, pi], like std::atan2, but the same bits on every CPU.
 double portable_atan2(double y, double x);
 
-}  // namespace canonform
+}  // namespace canonform::numerics

@@ -6,7 +6,7 @@
 #include <Eigen/LU>
 #include <Eigen/SVD>
 
-namespace canonform {
+namespace canonform::numerics {
 
 RigidAlignment align_rigid(const Eigen::MatrixXd& src, const Eigen::MatrixXd& dst, bool with_scale) {
     if (src.rows() != dst.rows() || src.cols() != 3 || dst.cols() != 3 || src.rows() == 0)
@@ -35,4 +35,4 @@ Eigen::MatrixXd apply(const RigidAlignment& a, const Eigen::MatrixXd& src) {
     return ((a.scale * src * a.R.transpose()).rowwise() + a.t);
 }
 
-}  // namespace canonform
+}  // namespace canonform::numerics

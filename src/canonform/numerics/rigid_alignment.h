@@ -9,7 +9,7 @@
 
 #include <Eigen/Core>
 
-namespace canonform {
+namespace canonform::numerics {
 
 /// Result of align_rigid(): dst ~ s * src * R^T + t (rows are points).
 struct RigidAlignment {
@@ -26,4 +26,4 @@ RigidAlignment align_rigid(const Eigen::MatrixXd& src, const Eigen::MatrixXd& ds
 /// src mapped by the alignment (#P x 3).
 Eigen::MatrixXd apply(const RigidAlignment& a, const Eigen::MatrixXd& src);
 
-}  // namespace canonform
+}  // namespace canonform::numerics

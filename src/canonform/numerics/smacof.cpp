@@ -9,7 +9,7 @@
 #include <cmath>
 #include <sstream>
 
-namespace canonform {
+namespace canonform::numerics {
 
 const char* to_string(SmacofAcceleration a) {
     switch (a) {
@@ -29,6 +29,24 @@ SmacofAcceleration parse_smacof_acceleration(const std::string& name) {
                                  SmacofAcceleration::Mpe, SmacofAcceleration::Anderson})
         if (name == to_string(a)) return a;
     throw InputError("unknown SMACOF acceleration '" + name + "' (none, relaxed, rre, mpe, anderson)");
+}
+
+ParameterSet<SmacofOptions> smacof_parameters(const SmacofOptions& defaults) {
+    ParameterSet<SmacofOptions> s(defaults);
+    s.add(Parameter::number("tolerance", 0, 1)
+              .label("Tolerance")
+              .help("SMACOF stops when an iteration lowers the stress by less than this fraction")
+              .alias("tol"),
+          &SmacofOptions::tolerance);
+    s.add(Parameter::integer("max_iterations", 1, 1e7).label("Maximum iterations").help("SMACOF iteration cap").alias("max-iter"),
+          &SmacofOptions::max_iterations);
+    s.add(Parameter::choice("acceleration", smacof_acceleration_names())
+              .label("SMACOF acceleration")
+              .help("SMACOF acceleration: none (plain Guttman steps), relaxed (X + 2(G(X) - X), de Leeuw), rre or mpe "
+                    "(reduced-rank or minimal-polynomial vector extrapolation, Rosman et al. 2008), anderson (Anderson "
+                    "acceleration); a step that would raise the stress is replaced by the plain step"),
+          &SmacofOptions::acceleration);
+    return s;
 }
 
 namespace {
@@ -260,13 +278,8 @@ SmacofResult SmacofSolver::solve(const Eigen::MatrixXd& X0, const SmacofOptions&
     if (X0.rows() != n_ || X0.cols() < 1) throw InputError("SMACOF: the start has the wrong shape");
     if (!X0.allFinite()) throw InputError("SMACOF: the start has non-finite coordinates");
     StepWorkspace work;
-    GuttmanRun g = run_guttman([this, &work](const Eigen::MatrixXd& X, double* s) { return guttman(X, s, work); },
-                               X0.rowwise() - X0.colwise().mean(), options.tolerance, options.max_iterations,
-                               options.record_history, options.progress, 0.0, "SMACOF", options.acceleration,
-                               options.acceleration_depth);
-    SmacofResult r;
-    move_run_into(std::move(g), r);
-    return r;
+    return run_guttman([this, &work](const Eigen::MatrixXd& X, double* s) { return guttman(X, s, work); },
+                       X0.rowwise() - X0.colwise().mean(), options, "SMACOF");
 }
 
-}  // namespace canonform
+}  // namespace canonform::numerics

@@ -64,16 +64,16 @@
 
 #include "canonform/numerics/algebraic_multigrid.h"
 #include "canonform/common/errors.h"
+#include "canonform/common/parameters.h"
 #include "canonform/numerics/sparse_cholesky.h"
 
 #include <Eigen/Core>
 
 #include <cmath>
 #include <string>
-#include <tuple>
 #include <vector>
 
-namespace canonform {
+namespace canonform::numerics {
 
 /// The pairs (i, j) of eq. (1) with their target distance delta and weight w (> 0).
 struct StressPairs {
@@ -104,7 +104,8 @@ SmacofAcceleration parse_smacof_acceleration(const std::string& name);
 /// Every method's name, in enum order.
 std::vector<std::string> smacof_acceleration_names();
 
-/// Options of SmacofSolver::solve().
+/// Options of a SMACOF iteration: SmacofSolver::solve(), least-squares MDS (mds.h) and every
+/// method built on them, whose options hold one SmacofOptions (never a copy of its fields).
 struct SmacofOptions {
     double tolerance = 1e-5;      ///< relative stress decrease below which iteration stops
     int max_iterations = 1000;    ///< iteration cap (every stress evaluation counts)
@@ -112,18 +113,33 @@ struct SmacofOptions {
     int acceleration_depth = kDefaultAccelerationDepth;            ///< RRE/MPE cycle - 1, Anderson memory (>= 1)
     bool record_history = false;  ///< keep S(X_k) for every k in SmacofResult::stress_history
     ProgressFn progress;          ///< called every few iterations (fraction of max_iterations)
+
+    /// Named setters, for a default other than the ones above (`SmacofOptions().with_max_iterations(500)`).
+    SmacofOptions& with_tolerance(double t) { tolerance = t; return *this; }
+    SmacofOptions& with_max_iterations(int n) { max_iterations = n; return *this; }
+    SmacofOptions& with_acceleration(SmacofAcceleration a) { acceleration = a; return *this; }
 };
 
-/// Result of SmacofSolver::solve().
-struct SmacofResult {
-    Eigen::MatrixXd X;                  ///< final configuration, #V x dim, centred at the origin
-    int iterations = 0;                 ///< Guttman steps taken
-    double initial_stress = 0;          ///< S(X_0)
-    double final_stress = 0;            ///< S(X_final)
+/// The parameters of SmacofOptions a user sets - tolerance, max_iterations, acceleration - with
+/// their defaults from `defaults` (common/parameters.h: the method registry, the filters, the tool
+/// and the docs derive from them).
+ParameterSet<SmacofOptions> smacof_parameters(const SmacofOptions& defaults = {});
+
+/// What a SMACOF run reports: counts and stresses. Every result that reports a run derives from
+/// it (SmacofResult, MdsResult, the canonical forms' results), so one assignment passes it on.
+struct SmacofStatistics {
+    int iterations = 0;                 ///< stress evaluations after the start (rejected ones included)
     bool converged = false;             ///< stopped by the tolerance, not by the cap
     int extrapolations = 0;             ///< accelerated points accepted
     int rejections = 0;                 ///< accelerated points replaced by the plain step (safeguard)
+    double initial_stress = 0;          ///< S(X_0)
+    double final_stress = 0;            ///< S(X_final)
     std::vector<double> stress_history; ///< S of every accepted iterate X_0, X_1, ... if requested
+};
+
+/// Result of SmacofSolver::solve() and run_guttman().
+struct SmacofResult : SmacofStatistics {
+    Eigen::MatrixXd X;                  ///< final configuration, #V x dim, centred at the origin
 };
 
 /// Proposes the next point of an accelerated Guttman iteration (see the top of this header).
@@ -150,31 +166,21 @@ private:
     bool plain_next_ = false;                // plain_next() was called
 };
 
-/// What run_guttman() returns.
-struct GuttmanRun {
-    Eigen::MatrixXd X;                  ///< the last configuration whose stress is final_stress
-    int iterations = 0;
-    bool converged = false;             ///< stopped by the tolerance, not by the cap
-    double initial_stress = 0;
-    double final_stress = 0;
-    int extrapolations = 0;             ///< accelerated points accepted
-    int rejections = 0;                 ///< accelerated points rejected by the safeguard
-    std::vector<double> history;        ///< S(X_0), S(X_1), ... (accepted iterates) if requested
-};
-
 /// The SMACOF iteration shared by SmacofSolver::solve and least_squares_mds (mds.h): from a
 /// centred start X, `step(X, &s)` returns the Guttman transform of X and sets s = S(X). Stops when
-/// S_{k-1} - S_k < tolerance * S_{k-1} on a plain step, or after max_iterations
-/// evaluations of `step` after the first (none if <= 0). Accelerated by `acceleration` with the
-/// monotone safeguard (top of this header). Progress goes from `progress_from` to 1. `what` names
-/// the solver in error messages.
+/// S_{k-1} - S_k < options.tolerance * S_{k-1} on a plain step, or after options.max_iterations
+/// evaluations of `step` after the first (none if <= 0). Accelerated by options.acceleration with
+/// the monotone safeguard (top of this header). Progress goes to options.progress from
+/// `progress_from` to 1. `what` names the solver in error messages.
 template <class Step>
-GuttmanRun run_guttman(const Step& step, Eigen::MatrixXd X, double tolerance, int max_iterations,
-                       bool record_history, const ProgressFn& progress, double progress_from, const char* what,
-                       SmacofAcceleration acceleration = SmacofAcceleration::None,
-                       int acceleration_depth = kDefaultAccelerationDepth) {
-    GuttmanRun r;
-    GuttmanAccelerator accelerator(acceleration, acceleration_depth);
+SmacofResult run_guttman(const Step& step, Eigen::MatrixXd X, const SmacofOptions& options, const char* what,
+                         double progress_from = 0.0) {
+    const double tolerance = options.tolerance;
+    const int max_iterations = options.max_iterations;
+    const bool record_history = options.record_history;
+    const ProgressFn& progress = options.progress;
+    SmacofResult r;
+    GuttmanAccelerator accelerator(options.acceleration, options.acceleration_depth);
     const auto evaluate = [&](const Eigen::MatrixXd& Z, double* s) {
         Eigen::MatrixXd G = step(Z, s);  // S(Z) comes with the step's B(Z) Z
         if (!std::isfinite(*s) || !G.allFinite())
@@ -190,7 +196,7 @@ GuttmanRun run_guttman(const Step& step, Eigen::MatrixXd X, double tolerance, in
     if (!std::isfinite(s_x) || !Y.allFinite())
         throw NumericalError(std::string(what) + ": non-finite stress or coordinates after a Guttman step");
     r.initial_stress = r.final_stress = s_x;
-    if (record_history) r.history.push_back(s_x);
+    if (record_history) r.stress_history.push_back(s_x);
     while (r.iterations < max_iterations) {
         bool extrapolated = false;
         Eigen::MatrixXd Z = accelerator.propose(X, Y, &extrapolated);
@@ -206,7 +212,7 @@ GuttmanRun run_guttman(const Step& step, Eigen::MatrixXd X, double tolerance, in
         } else if (extrapolated) {
             ++r.extrapolations;
         }
-        if (record_history) r.history.push_back(s);
+        if (record_history) r.stress_history.push_back(s);
         r.final_stress = s;
         // The stopping rule is tested on plain steps only: an extrapolation that gains less than
         // the tolerance is followed by a plain step, which decides.
@@ -220,31 +226,6 @@ GuttmanRun run_guttman(const Step& step, Eigen::MatrixXd X, double tolerance, in
     }
     r.X = std::move(X);  // Y (one step further) is discarded so that final_stress is exactly S(r.X)
     return r;
-}
-
-/// Copies the counts and stresses of a SMACOF run between result types that name them alike
-/// (GuttmanRun, SmacofResult, MdsResult, the canonical-form results).
-template <class From, class To>
-void copy_run_statistics(const From& g, To& r) {
-    std::tie(r.iterations, r.converged, r.extrapolations, r.rejections) =
-        std::tie(g.iterations, g.converged, g.extrapolations, g.rejections);
-    std::tie(r.initial_stress, r.final_stress) = std::tie(g.initial_stress, g.final_stress);
-}
-
-/// Moves a GuttmanRun into a solver's result type (SmacofResult, MdsResult: same field names).
-template <class Result>
-void move_run_into(GuttmanRun&& g, Result& r) {
-    r.X = std::move(g.X);
-    copy_run_statistics(g, r);
-    r.stress_history = std::move(g.history);
-}
-
-/// Copies the iteration settings (tolerance, cap, acceleration) between option types that name them
-/// alike (the canonical-form options into SmacofOptions or MdsOptions).
-template <class From, class To>
-void copy_iteration_options(const From& o, To& to) {
-    std::tie(to.tolerance, to.max_iterations, to.acceleration, to.acceleration_depth) =
-        std::tie(o.tolerance, o.max_iterations, o.acceleration, o.acceleration_depth);
 }
 
 /// Options of the SmacofSolver constructor.
@@ -300,4 +281,4 @@ private:
     AmgPreconditioner amg_;    // Multigrid: the same matrix
 };
 
-}  // namespace canonform
+}  // namespace canonform::numerics

@@ -9,7 +9,7 @@
 #include <Eigen/SparseCholesky>
 #endif
 
-namespace canonform {
+namespace canonform::numerics {
 
 namespace {
 void check_shapes(const Eigen::SparseMatrix<double>& A, const std::vector<int>& ordering) {
@@ -160,4 +160,4 @@ SparseCholesky::~SparseCholesky() = default;
 SparseCholesky::SparseCholesky(SparseCholesky&&) noexcept = default;
 SparseCholesky& SparseCholesky::operator=(SparseCholesky&&) noexcept = default;
 
-}  // namespace canonform
+}  // namespace canonform::numerics

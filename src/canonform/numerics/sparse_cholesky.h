@@ -19,7 +19,7 @@
 #include <memory>
 #include <vector>
 
-namespace canonform {
+namespace canonform::numerics {
 
 /// LDL^T factorisation of a symmetric positive (semi-)definite sparse matrix.
 class SparseCholesky {
@@ -51,4 +51,4 @@ private:
     mutable bool ok_ = false;
 };
 
-}  // namespace canonform
+}  // namespace canonform::numerics

@@ -27,7 +27,7 @@
 #include <utility>
 #include <vector>
 
-namespace canonform {
+namespace canonform::procedural {
 namespace {
 
 using Eigen::Matrix3d;
@@ -960,7 +960,7 @@ bool check_quality(const BodySdf& sdf, const std::vector<Vector3d>& V, const std
 void relax(const BodySdf& sdf, std::vector<Vector3d>* V, const std::vector<Face>& F,
            const std::vector<char>& pinned, int iterations, double lambda, double max_step) {
     const size_t nv = V->size();
-    const VertexAdjacency adjacency = vertex_adjacency(static_cast<int>(nv), unique_edges(to_trimesh({}, F).F));
+    const numerics::VertexAdjacency adjacency = numerics::vertex_adjacency(static_cast<int>(nv), surface::unique_edges(to_trimesh({}, F).F));
     const std::vector<int>& off = adjacency.offsets;
     const std::vector<int>& nb = adjacency.neighbors;
     const std::vector<Vector3d> start = *V;
@@ -1694,4 +1694,4 @@ Figure make_figure(int target_vertices, const FigurePose& pose, const FigureProp
     return fig;
 }
 
-}  // namespace canonform
+}  // namespace canonform::procedural

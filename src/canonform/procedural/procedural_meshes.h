@@ -31,7 +31,7 @@
 #include <string>
 #include <vector>
 
-namespace canonform {
+namespace canonform::procedural {
 
 /// Icosphere: icosahedron subdivided `subdivisions` (0..9) times, projected on a sphere of
 /// `radius` (centre origin). 10*4^s+2 vertices, 20*4^s faces. Throws std::invalid_argument on bad
@@ -133,4 +133,4 @@ Figure make_figure(int target_vertices, const FigurePose& pose);
 /// The same with other body proportions (see FigureProportions): same faces and vertex order.
 Figure make_figure(int target_vertices, const FigurePose& pose, const FigureProportions& proportions);
 
-}  // namespace canonform
+}  // namespace canonform::procedural

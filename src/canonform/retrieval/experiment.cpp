@@ -33,7 +33,7 @@ double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock:
 
 /// Seeded vertex noise: every coordinate moves by N(0, (sigma * mean edge length)^2).
 void add_noise(Mesh& m, double sigma, std::uint64_t seed) {
-    const Eigen::MatrixXi E = unique_edges(m.F);
+    const Eigen::MatrixXi E = surface::unique_edges(m.F);
     double mean = 0;
     for (Eigen::Index e = 0; e < E.rows(); ++e) mean += (m.V.row(E(e, 0)) - m.V.row(E(e, 1))).norm();
     mean /= static_cast<double>(std::max<Eigen::Index>(1, E.rows()));
@@ -117,9 +117,9 @@ Experiment::Experiment(ExperimentOptions options, std::vector<Model> models)
     const ExperimentOptions& o = options_;
     for (const FusedSpec& f : options_.fused)
         for (const std::string& member : f.members) {
-            const MethodSpec m = parse_method_spec(member);
+            const canonical::MethodSpec m = canonical::parse_method_spec(member);
             bool listed = false;
-            for (const MethodSpec& x : options_.methods) listed = listed || x.folder() == m.folder();
+            for (const canonical::MethodSpec& x : options_.methods) listed = listed || x.folder() == m.folder();
             if (!listed) options_.methods.push_back(m);
         }
     if (o.methods.empty()) throw InputError("name at least one --method");
@@ -151,7 +151,7 @@ Experiment::Experiment(ExperimentOptions options, std::vector<Model> models)
     io::write_file_atomic(o.out + "/collection.csv", c.str());
 }
 
-std::string Experiment::cache_entry(const MethodSpec& method, std::size_t k) const {
+std::string Experiment::cache_entry(const canonical::MethodSpec& method, std::size_t k) const {
     const ExperimentOptions& o = options_;
     std::ostringstream params;
     // The form and its views depend on the seed only through the noise (the codebook's seed is
@@ -163,7 +163,7 @@ std::string Experiment::cache_entry(const MethodSpec& method, std::size_t k) con
     return o.out + "/cache/" + io::hex(io::fnv1a(params.str(), models_[k].hash));
 }
 
-MeshFeatures Experiment::mesh_features(const MethodSpec& method, std::size_t k) const {
+MeshFeatures Experiment::mesh_features(const canonical::MethodSpec& method, std::size_t k) const {
     const ExperimentOptions& o = options_;
     const Model& model = models_[k];
     MeshFeatures r;
@@ -194,18 +194,18 @@ MeshFeatures Experiment::mesh_features(const MethodSpec& method, std::size_t k) 
     try {
         Mesh m = io::read_mesh(model.path);
         if (o.repair) {
-            const MeshRepair fix = repair_mesh(m.V, m.F);
+            const surface::MeshRepair fix = surface::repair_mesh(m.V, m.F);
             if (fix.changed()) r.note += (r.note.empty() ? "" : "; ") + fix.summary();
             m = fix.mesh;
         }
         if (o.simplify > 0 && m.V.rows() > o.simplify) {
-            m = simplify_mesh(m, o.simplify);
+            m = surface::simplify_mesh(m, o.simplify);
         } else if (o.simplify > 0) {  // said, not silent: the mesh is already at most that size
             r.note += (r.note.empty() ? "" : "; ") + std::string("not simplified: ") + std::to_string(m.V.rows()) +
                       " vertices, at most the --simplify " + std::to_string(o.simplify);
         }
         if (o.noise > 0) add_noise(m, o.noise, o.seed ^ model.hash);
-        MethodContext context;
+        canonical::MethodContext context;
         context.threads = 1;  // the meshes run in parallel
         const Eigen::MatrixXd X = method.method().run(m.V, m.F, method.settings(), context).V;
         if (!X.allFinite()) throw NumericalError("the method gave a form with NaN or infinite coordinates");
@@ -221,7 +221,7 @@ MeshFeatures Experiment::mesh_features(const MethodSpec& method, std::size_t k) 
     return r;
 }
 
-std::vector<MeshFeatures> Experiment::features(const MethodSpec& method) const {
+std::vector<MeshFeatures> Experiment::features(const canonical::MethodSpec& method) const {
     io::make_directories(options_.out + "/" + method.folder() + "/forms");
     std::vector<MeshFeatures> results(models_.size());
     ParallelOptions par;
@@ -241,7 +241,7 @@ views::CodebookOptions Experiment::codebook_options() const {
     return co;
 }
 
-views::Codebook Experiment::codebook(const MethodSpec& method, const std::vector<MeshFeatures>& features,
+views::Codebook Experiment::codebook(const canonical::MethodSpec& method, const std::vector<MeshFeatures>& features,
                                      const std::vector<std::size_t>& good) const {
     const ExperimentOptions& o = options_;
     if (!o.codebook.empty()) return views::Codebook::load(o.codebook);
@@ -269,7 +269,7 @@ views::Codebook Experiment::codebook(const MethodSpec& method, const std::vector
     return cb;
 }
 
-MethodOutcome Experiment::run_method(const MethodSpec& spec) const {
+MethodOutcome Experiment::run_method(const canonical::MethodSpec& spec) const {
     const ExperimentOptions& o = options_;
     MethodOutcome out;
     out.spec = spec;
@@ -325,7 +325,7 @@ MethodOutcome Experiment::run_method(const MethodSpec& spec) const {
 void Experiment::finish_method(MethodOutcome& out, const std::vector<size_t>& good, const Eigen::MatrixXf& D) const {
     const ExperimentOptions& o = options_;
     const auto t0 = Clock::now();
-    const MethodSpec& spec = out.spec;
+    const canonical::MethodSpec& spec = out.spec;
     const std::string method = spec.folder();
     const std::string& dir = out.folder;
     std::vector<std::string> labels;
@@ -354,7 +354,7 @@ void Experiment::finish_method(MethodOutcome& out, const std::vector<size_t>& go
     } catch (const std::exception& ex) {
         log_line(o, "[" + method + "] pose consistency not measured: " + ex.what());
     }
-    const MethodSettings settings = spec.settings();
+    const canonical::MethodSettings settings = spec.settings();
     nlohmann::ordered_json js;
     js["method"] = method;
     js["base"] = spec.name;
@@ -373,7 +373,7 @@ void Experiment::finish_method(MethodOutcome& out, const std::vector<size_t>& go
 
 std::vector<MethodOutcome> Experiment::run() const {
     std::vector<MethodOutcome> outcomes;
-    for (const MethodSpec& m : options_.methods) outcomes.push_back(run_method(m));
+    for (const canonical::MethodSpec& m : options_.methods) outcomes.push_back(run_method(m));
     for (const FusedSpec& f : options_.fused) outcomes.push_back(run_fused(f));
     return outcomes;
 }
@@ -382,7 +382,7 @@ MethodOutcome Experiment::run_fused(const FusedSpec& fused) const {
     const ExperimentOptions& o = options_;
     const auto t0 = Clock::now();
     std::vector<std::string> folders;
-    for (const std::string& m : fused.members) folders.push_back(parse_method_spec(m).folder());
+    for (const std::string& m : fused.members) folders.push_back(canonical::parse_method_spec(m).folder());
     MethodOutcome out;
     out.label = fused.folder(folders);
     out.members = folders;
@@ -577,7 +577,7 @@ double pose_consistency(const std::vector<Model>& models, const std::vector<size
                 std::sqrt((Q.rowwise() - Q.colwise().mean()).squaredNorm() / static_cast<double>(Q.rows()));
             Eigen::MatrixXd M = P;
             M.col(0) *= -1;
-            sum += std::min(align_rigid(P, Q).rms, align_rigid(M, Q).rms) / radius;
+            sum += std::min(numerics::align_rigid(P, Q).rms, numerics::align_rigid(M, Q).rms) / radius;
             ++*pairs;
         }
     }

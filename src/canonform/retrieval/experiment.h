@@ -48,7 +48,7 @@ struct ExperimentOptions {
     std::string dataset;              ///< folder the label paths are relative to
     std::string labels;               ///< labels file ("path,class")
     std::string out;                  ///< run folder
-    std::vector<MethodSpec> methods;  ///< canonical-form methods, in order (folders must differ)
+    std::vector<canonical::MethodSpec> methods;  ///< canonical-form methods, in order (folders must differ)
     /// Fused methods (fused_distances.h), run after `methods`; a member not among `methods` is
     /// added to them.
     std::vector<FusedSpec> fused;
@@ -76,7 +76,7 @@ struct MeshFeatures {
 
 /// The outcome of one method.
 struct MethodOutcome {
-    MethodSpec spec;
+    canonical::MethodSpec spec;
     std::string label;                 ///< a fused method's folder name ("" for a canonical-form method)
     std::vector<std::string> members;  ///< a fused method's member folders, in order (empty otherwise)
     std::string folder;                ///< RUN/METHOD
@@ -104,19 +104,19 @@ public:
     /// Stage 1 for one mesh: [simplify, noise,] the canonical form (written to METHOD/forms/) and
     /// the SIFT features of its 66 views, from the cache when it has them. Never throws: a failure
     /// is returned with its reason.
-    MeshFeatures mesh_features(const MethodSpec& method, std::size_t model) const;
+    MeshFeatures mesh_features(const canonical::MethodSpec& method, std::size_t model) const;
     /// The cache entry of one mesh under one method: RUN/cache/KEY, with KEY from the file's
     /// content and the parameters; mesh_features() keeps KEY.cfvd (the features) and KEY.ply (the form).
     /// The seed is part of KEY only with noise: without it, runs that differ only in the seed (the
     /// codebook's) share the entries.
-    std::string cache_entry(const MethodSpec& method, std::size_t model) const;
+    std::string cache_entry(const canonical::MethodSpec& method, std::size_t model) const;
     /// How each method's codebook is trained (options.codebook_training with its words and seed), on
     /// the good meshes' features stacked in collection order (views::stack_features()).
     views::CodebookOptions codebook_options() const;
     /// Stage 1 for every mesh, in parallel, with progress.
-    std::vector<MeshFeatures> features(const MethodSpec& method) const;
+    std::vector<MeshFeatures> features(const canonical::MethodSpec& method) const;
     /// Stage 2: the given codebook, or one trained on the features of the meshes `good` (cached).
-    views::Codebook codebook(const MethodSpec& method, const std::vector<MeshFeatures>& features,
+    views::Codebook codebook(const canonical::MethodSpec& method, const std::vector<MeshFeatures>& features,
                              const std::vector<std::size_t>& good) const;
     /// The last stage of a method from its distances D between the meshes `good` (in order):
     /// writes distances.bin (+ .csv), models.csv, metrics.json, timings.json (out's seconds, plus
@@ -124,7 +124,7 @@ public:
     /// carries spec, folder, meshes, failed and the seconds of the earlier stages.
     void finish_method(MethodOutcome& out, const std::vector<std::size_t>& good, const Eigen::MatrixXf& D) const;
     /// Every stage of one method; writes its folder.
-    MethodOutcome run_method(const MethodSpec& method) const;
+    MethodOutcome run_method(const canonical::MethodSpec& method) const;
     /// A fused method from its members' distance matrices (RUN/MEMBER/distances.bin, written by
     /// run_method()) over the models every member has; writes its folder like run_method().
     MethodOutcome run_fused(const FusedSpec& fused) const;

@@ -38,7 +38,7 @@ void write_json(const std::string& path, const Json& j) {
 Json plan_json(const ShardedPlan& p) {
     const ExperimentOptions& o = p.experiment;
     Json methods = Json::array();
-    for (const MethodSpec& m : o.methods) methods.push_back(m.to_string());
+    for (const canonical::MethodSpec& m : o.methods) methods.push_back(m.to_string());
     return {{"format", "canonform sharded run 1"},
             {"dataset", o.dataset},
             {"labels", o.labels},
@@ -64,7 +64,7 @@ ShardedPlan plan_from_json(const Json& j, const std::string& run) {
     o.dataset = j.at("dataset").get<std::string>();
     o.labels = j.at("labels").get<std::string>();
     o.out = run;
-    for (const auto& m : j.at("methods")) o.methods.push_back(parse_method_spec(m.get<std::string>()));
+    for (const auto& m : j.at("methods")) o.methods.push_back(canonical::parse_method_spec(m.get<std::string>()));
     o.words = j.at("words").get<int>();
     o.codebook = j.at("codebook").get<std::string>();
     const Json& training = j.at("codebook_training");
@@ -311,7 +311,7 @@ void ShardedRun::features(int shard, Json& m) const {
     const auto models = shard_models(shard);
     const std::size_t begin = models.first, end = models.second;
     Json methods = Json::object();
-    for (const MethodSpec& spec : plan_.experiment.methods) {
+    for (const canonical::MethodSpec& spec : plan_.experiment.methods) {
         io::make_directories(run_ + "/" + spec.folder() + "/forms");
         std::vector<MeshFeatures> r(end - begin);
         ParallelOptions par;
@@ -338,7 +338,7 @@ void ShardedRun::features(int shard, Json& m) const {
     m["methods"] = methods;
 }
 
-ShardedRun::Collected ShardedRun::collect(const MethodSpec& spec) const {
+ShardedRun::Collected ShardedRun::collect(const canonical::MethodSpec& spec) const {
     Collected c;
     for (int i = 0; i < parts(Stage::Features); ++i) {
         const Json m = read_json(marker(Stage::Features, i) + ".json");
@@ -363,7 +363,7 @@ ShardedRun::Collected ShardedRun::collect(const MethodSpec& spec) const {
 
 void ShardedRun::codebook(Json& m) const {
     const ExperimentOptions& o = plan_.experiment;
-    for (const MethodSpec& spec : o.methods) {
+    for (const canonical::MethodSpec& spec : o.methods) {
         const std::string dir = run_ + "/" + spec.folder();
         io::make_directories(dir);
         const Collected c = collect(spec);
@@ -413,7 +413,7 @@ void ShardedRun::histograms(int shard, Json& m) const {
     // Plain variables, not a structured binding: clang 14 cannot capture one in a lambda.
     const auto models = shard_models(shard);
     const std::size_t begin = models.first, end = models.second;
-    for (const MethodSpec& spec : plan_.experiment.methods) {
+    for (const canonical::MethodSpec& spec : plan_.experiment.methods) {
         const std::string dir = run_ + "/" + spec.folder();
         io::make_directories(dir + "/descriptors");
         const views::Codebook cb = views::Codebook::load(dir + "/codebook.bin");
@@ -437,7 +437,7 @@ void ShardedRun::histograms(int shard, Json& m) const {
 }
 
 void ShardedRun::distances(int block, Json& m) const {
-    for (const MethodSpec& spec : plan_.experiment.methods) {
+    for (const canonical::MethodSpec& spec : plan_.experiment.methods) {
         const std::string dir = run_ + "/" + spec.folder();
         const Collected c = collect(spec);
         const auto rows = block_rows(block, c.good.size());
@@ -464,7 +464,7 @@ void ShardedRun::distances(int block, Json& m) const {
 
 void ShardedRun::merge(Json& m) const {
     std::vector<MethodOutcome> outcomes;
-    for (const MethodSpec& spec : plan_.experiment.methods) {
+    for (const canonical::MethodSpec& spec : plan_.experiment.methods) {
         const std::string dir = run_ + "/" + spec.folder();
         const Collected c = collect(spec);
         for (const std::string& note : c.notes)

@@ -104,7 +104,7 @@ private:
         int cached = 0;
         double seconds = 0;
     };
-    Collected collect(const MethodSpec& method) const;
+    Collected collect(const canonical::MethodSpec& method) const;
 
     std::string run_;
     ShardedPlan plan_;

@@ -11,7 +11,7 @@
 #include <cmath>
 #include <sstream>
 
-namespace canonform {
+namespace canonform::surface {
 
 Eigen::MatrixXd normalize_scale(const Eigen::MatrixXd& V, Eigen::RowVector3d* centroid, double* scale) {
     const Eigen::RowVector3d c = V.colwise().mean();
@@ -25,6 +25,14 @@ Eigen::MatrixXd normalize_scale(const Eigen::MatrixXd& V, Eigen::RowVector3d* ce
     if (centroid) *centroid = c;
     if (scale) *scale = r;
     return X;
+}
+
+Parameter normalize_parameter() {
+    return Parameter::flag("normalize")
+        .default_value("true")
+        .label("Normalise to [0, 1]")
+        .help("store (phi - min) / (max - min) instead of the raw conformal factor (mean zero)")
+        .alias("raw");
 }
 
 ConformalFactorResult conformal_factor(const Eigen::MatrixXd& V0, const Eigen::MatrixXi& F,
@@ -55,17 +63,17 @@ ConformalFactorResult conformal_factor(const Eigen::MatrixXd& V0, const Eigen::M
     V.resize(0, 3);
     Eigen::VectorXd phi(n);
     phi(0) = 0;
-    if (use_multigrid(options.linear_solver, n - 1)) {
-        const AmgPreconditioner amg(Lr);
+    if (numerics::use_multigrid(options.linear_solver, n - 1)) {
+        const numerics::AmgPreconditioner amg(Lr);
         report_progress(options.progress, 0.7, "conformal factor: solving (multigrid)");
         Eigen::MatrixXd x = Eigen::MatrixXd::Zero(n - 1, 1);
-        const PcgReport rep = amg.pcg(Eigen::MatrixXd(rhs.tail(n - 1)), x, 1e-10, 500);
+        const numerics::PcgReport rep = amg.pcg(Eigen::MatrixXd(rhs.tail(n - 1)), x, 1e-10, 500);
         if (!rep.converged)
             throw NumericalError("conformal factor: the multigrid solve did not converge (is the mesh "
                                  "free of degenerate triangles?)");
         phi.tail(n - 1) = x.col(0);
     } else {
-        SparseCholesky solver;
+        numerics::SparseCholesky solver;
         if (!solver.compute(Lr))
             throw NumericalError("conformal factor: the Cholesky factorisation of the cotangent Laplacian "
                                  "failed (is the mesh connected and free of degenerate triangles?)");
@@ -99,4 +107,4 @@ ConformalFactorResult conformal_factor(const Eigen::MatrixXd& V0, const Eigen::M
     return r;
 }
 
-}  // namespace canonform
+}  // namespace canonform::surface

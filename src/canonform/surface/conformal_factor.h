@@ -27,17 +27,18 @@
 
 #include "canonform/numerics/algebraic_multigrid.h"
 #include "canonform/common/errors.h"
+#include "canonform/common/parameters.h"
 
 #include <Eigen/Core>
 
 #include <vector>
 
-namespace canonform {
+namespace canonform::surface {
 
 /// Options of conformal_factor().
 struct ConformalFactorOptions {
     double residual_tolerance = 1e-6;  ///< max ||L phi - rhs||_inf / ||rhs||_inf accepted
-    LinearSolver linear_solver = LinearSolver::Auto;  ///< how eq. (7) is solved
+    numerics::LinearSolver linear_solver = numerics::LinearSolver::Auto;  ///< how eq. (7) is solved
     bool validate = true;              ///< run validate_mesh() first (InputError on bad input)
     /// Boundary vertices (#V flags, MeshReport::boundary) when the caller validated the mesh
     /// itself; empty = found from F (or taken from validate_mesh's report).
@@ -59,6 +60,10 @@ struct ConformalFactorResult {
     std::vector<int> ordering;
 };
 
+/// The `normalize` parameter: store ConformalFactorResult::normalized (default) or raw (the
+/// conformal factor filter's parameter; the tool's --no-normalize, also --raw).
+Parameter normalize_parameter();
+
 /// Conformal factor of the mesh (V #V x 3, F #F x 3). Throws InputError on bad input,
 /// NumericalError if the factorisation fails or the residual is above tolerance.
 ConformalFactorResult conformal_factor(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
@@ -70,4 +75,4 @@ ConformalFactorResult conformal_factor(const Eigen::MatrixXd& V, const Eigen::Ma
 Eigen::MatrixXd normalize_scale(const Eigen::MatrixXd& V, Eigen::RowVector3d* centroid = nullptr,
                                 double* scale = nullptr);
 
-}  // namespace canonform
+}  // namespace canonform::surface

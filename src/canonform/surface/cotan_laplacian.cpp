@@ -5,7 +5,7 @@
 
 #include <vector>
 
-namespace canonform {
+namespace canonform::surface {
 
 Eigen::SparseMatrix<double> cotan_laplacian(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F) {
     const Eigen::Index n = V.rows();
@@ -36,4 +36,4 @@ Eigen::SparseMatrix<double> cotan_laplacian(const Eigen::MatrixXd& V, const Eige
     return L;
 }
 
-}  // namespace canonform
+}  // namespace canonform::surface

@@ -15,9 +15,9 @@
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 
-namespace canonform {
+namespace canonform::surface {
 
 /// Cotangent Laplacian L = D - W of the mesh (V #V x 3, F #F x 3); #V x #V, symmetric.
 Eigen::SparseMatrix<double> cotan_laplacian(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F);
 
-}  // namespace canonform
+}  // namespace canonform::surface

@@ -8,7 +8,7 @@
 #include <numeric>
 #include <random>
 
-namespace canonform {
+namespace canonform::surface {
 
 int sqrt_count(int n) {
     int s = static_cast<int>(std::sqrt(static_cast<double>(n)));
@@ -17,7 +17,7 @@ int sqrt_count(int n) {
     return s;
 }
 
-std::vector<int> local_maxima(const VertexAdjacency& adj, const Eigen::VectorXd& phi, int ring) {
+std::vector<int> local_maxima(const numerics::VertexAdjacency& adj, const Eigen::VectorXd& phi, int ring) {
     if (ring < 1) throw InputError("the ring size of a local maximum must be at least 1");
     const int n = adj.num_vertices();
     std::vector<int> maxima;
@@ -49,6 +49,23 @@ std::vector<int> local_maxima(const VertexAdjacency& adj, const Eigen::VectorXd&
     return maxima;
 }
 
+ParameterSet<FeaturePointOptions> feature_point_parameters(const FeaturePointOptions& defaults) {
+    ParameterSet<FeaturePointOptions> s(defaults);
+    s.add(Parameter::integer("ring", 1, 10)
+              .label("Ring size (k)")
+              .help("k of the k-ring in which a feature point is a strict maximum of the conformal factor (the "
+                    "paper uses 2)"),
+          &FeaturePointOptions::ring);
+    s.add(Parameter::choice("fill", {"none", "random"})  // FeatureFill's enumerators, in order
+              .label("Fill")
+              .help("none: local maxima only (variant N); random: add seeded random vertices up to ceil(sqrt(N)) "
+                    "(variant A)"),
+          &FeaturePointOptions::fill);
+    s.add(Parameter::integer("seed", 0, 2147483647).label("Random seed").help("seed of the random fill (variant A's extra feature points)"),
+          &FeaturePointOptions::seed);
+    return s;
+}
+
 namespace {
 
 /// Unbiased draw in [0, bound) from a 64-bit engine (rejection sampling; portable, unlike
@@ -62,7 +79,7 @@ std::uint64_t bounded(std::mt19937_64& rng, std::uint64_t bound) {
 
 }  // namespace
 
-FeaturePoints feature_points(const VertexAdjacency& adj, const Eigen::VectorXd& phi,
+FeaturePoints feature_points(const numerics::VertexAdjacency& adj, const Eigen::VectorXd& phi,
                              const FeaturePointOptions& options) {
     const int n = adj.num_vertices();
     if (phi.size() != n) throw InputError("feature points: one conformal factor per vertex is needed");
@@ -106,8 +123,8 @@ FeaturePoints feature_points(const VertexAdjacency& adj, const Eigen::VectorXd& 
 
 FeaturePoints feature_points(const Eigen::MatrixXi& F, const Eigen::VectorXd& phi,
                              const FeaturePointOptions& options) {
-    const VertexAdjacency adj = vertex_adjacency(static_cast<int>(phi.size()), unique_edges(F));
+    const numerics::VertexAdjacency adj = numerics::vertex_adjacency(static_cast<int>(phi.size()), unique_edges(F));
     return feature_points(adj, phi, options);
 }
 
-}  // namespace canonform
+}  // namespace canonform::surface

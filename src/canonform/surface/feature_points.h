@@ -17,6 +17,7 @@
 //   "randomly selected" leaves open and a pose-invariant canonical form needs.
 #pragma once
 
+#include "canonform/common/parameters.h"
 #include "canonform/surface/mesh_topology.h"
 
 #include <Eigen/Core>
@@ -24,7 +25,7 @@
 #include <cstdint>
 #include <vector>
 
-namespace canonform {
+namespace canonform::surface {
 
 /// How to reach the target count when there are fewer local maxima than sqrt(N).
 enum class FeatureFill {
@@ -34,11 +35,15 @@ enum class FeatureFill {
 
 /// Options of feature_points().
 struct FeaturePointOptions {
-    int ring = 2;                     ///< k of the k-ring neighbourhood (1, 2 or 3 in the paper)
+    int ring = 2;                     ///< k of the k-ring neighbourhood (the paper: 2; 1 and 3 also studied)
     FeatureFill fill = FeatureFill::None;
     std::uint64_t seed = 0;           ///< seed of the random fill
     int count = -1;                   ///< target count; -1 means ceil(sqrt(#V)); more than #V is refused
 };
+
+/// The parameters of FeaturePointOptions a user sets - ring, fill, seed - with their defaults from
+/// `defaults` (common/parameters.h).
+ParameterSet<FeaturePointOptions> feature_point_parameters(const FeaturePointOptions& defaults = {});
 
 /// Result of feature_points().
 struct FeaturePoints {
@@ -49,10 +54,10 @@ struct FeaturePoints {
 };
 
 /// Vertices that are strict maxima of `phi` (#V) over their k-ring in the graph `adjacency`.
-std::vector<int> local_maxima(const VertexAdjacency& adjacency, const Eigen::VectorXd& phi, int ring);
+std::vector<int> local_maxima(const numerics::VertexAdjacency& adjacency, const Eigen::VectorXd& phi, int ring);
 
 /// Feature points of a mesh with vertex adjacency `adjacency` and conformal factor `phi` (#V).
-FeaturePoints feature_points(const VertexAdjacency& adjacency, const Eigen::VectorXd& phi,
+FeaturePoints feature_points(const numerics::VertexAdjacency& adjacency, const Eigen::VectorXd& phi,
                              const FeaturePointOptions& options = {});
 
 /// Convenience overload building the adjacency from the faces F (#F x 3).
@@ -62,4 +67,4 @@ FeaturePoints feature_points(const Eigen::MatrixXi& F, const Eigen::VectorXd& ph
 /// ceil(sqrt(n)), computed exactly in integers.
 int sqrt_count(int n);
 
-}  // namespace canonform
+}  // namespace canonform::surface

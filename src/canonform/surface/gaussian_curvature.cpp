@@ -9,7 +9,7 @@
 
 #include <cmath>
 
-namespace canonform {
+namespace canonform::surface {
 
 Eigen::VectorXd gaussian_curvature(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
                                    const std::vector<bool>& known_boundary) {
@@ -22,10 +22,10 @@ Eigen::VectorXd gaussian_curvature(const Eigen::MatrixXd& V, const Eigen::Matrix
         for (int c = 0; c < 3; ++c) {
             const int k = F(f, c), i = F(f, (c + 1) % 3), j = F(f, (c + 2) % 3);
             const Eigen::Vector3d a = V.row(i) - V.row(k), b = V.row(j) - V.row(k);
-            K(k) -= portable_atan2(a.cross(b).norm(), a.dot(b));  // not libm: the same bits on every CPU
+            K(k) -= numerics::portable_atan2(a.cross(b).norm(), a.dot(b));  // not libm: the same bits on every CPU
         }
     }
     return K;
 }
 
-}  // namespace canonform
+}  // namespace canonform::surface

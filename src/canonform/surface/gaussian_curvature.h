@@ -13,11 +13,11 @@
 
 #include <vector>
 
-namespace canonform {
+namespace canonform::surface {
 
 /// Angle-deficit Gaussian curvature per vertex (#V); boundary vertices use pi (eq. 8).
 /// `boundary` (#V flags, e.g. MeshReport::boundary of validate_mesh) if known, else found from F.
 Eigen::VectorXd gaussian_curvature(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
                                    const std::vector<bool>& boundary = {});
 
-}  // namespace canonform
+}  // namespace canonform::surface

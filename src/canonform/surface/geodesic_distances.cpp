@@ -13,7 +13,7 @@
 #include <limits>
 #include <string>
 
-namespace canonform {
+namespace canonform::surface {
 
 namespace {
 
@@ -113,7 +113,7 @@ FastMarching::FastMarching(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, b
                 // without FMA; portable_atan2 and sqrt do not.)
                 const double cos_t = std::max(-1.0, dot / (la * lb));
                 const double cross = u.cross(w).norm();
-                const double theta = portable_atan2(cross, dot);
+                const double theta = numerics::portable_atan2(cross, dot);
                 const Eigen::Vector2d a2(la, 0.0), b2(lb * cos_t, cross / la);
                 int P = A, Q = B, cur = f;
                 Eigen::Vector2d p2 = a2, q2 = b2, prev2 = Eigen::Vector2d::Zero();
@@ -145,7 +145,7 @@ FastMarching::FastMarching(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, b
                         break;
                     }
                     // Not in the section: continue across the edge of (P, Q, D) the section crosses.
-                    const double phi = portable_atan2(d2.y(), d2.x());
+                    const double phi = numerics::portable_atan2(d2.y(), d2.x());
                     if (phi < theta - 0.5 * kPi) {  // beyond the section on A's side: edge (D, Q)
                         prev2 = p2;
                         P = D;
@@ -278,4 +278,4 @@ double all_pairs_geodesic_seconds_estimate(long n, const Eigen::MatrixXd* V) {
     return c * dn * dn * std::log2(dn);
 }
 
-}  // namespace canonform
+}  // namespace canonform::surface

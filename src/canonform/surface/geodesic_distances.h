@@ -47,7 +47,7 @@
 #include <utility>
 #include <vector>
 
-namespace canonform {
+namespace canonform::surface {
 
 /// Fast marching set-up of one mesh: the update stencils of every vertex (its triangles, with
 /// obtuse corners split by unfolding), built once and reused for any number of sources. Thread
@@ -129,4 +129,4 @@ std::size_t all_pairs_geodesic_bytes(long n);
 /// currently unused (the cost depends on n for meshes of ordinary valence).
 double all_pairs_geodesic_seconds_estimate(long n, const Eigen::MatrixXd* V = nullptr);
 
-}  // namespace canonform
+}  // namespace canonform::surface

@@ -14,7 +14,7 @@
 #include <sstream>
 #include <unordered_map>
 
-namespace canonform {
+namespace canonform::surface {
 
 namespace {
 
@@ -82,6 +82,14 @@ std::string MeshRepair::summary() const {
     for (size_t k = 0; k < parts.size(); ++k) s << (k ? ", " : "") << parts[k];
     s << ": " << in_v << " -> " << mesh.V.rows() << " vertices, " << in_f << " -> " << mesh.F.rows() << " faces";
     return s.str();
+}
+
+Parameter repair_parameter() {
+    return Parameter::flag("repair")
+        .label("Repair the mesh first")
+        .help("repair the mesh first: merge duplicate vertices, remove zero-area and duplicate faces, keep the largest "
+              "component, drop unreferenced vertices, and say what changed; off (default): refuse such a mesh, naming "
+              "the problem");
 }
 
 MeshRepair repair_mesh(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const MeshRepairOptions& options) {
@@ -200,4 +208,4 @@ MeshRepair repair_mesh(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const
     return r;
 }
 
-}  // namespace canonform
+}  // namespace canonform::surface

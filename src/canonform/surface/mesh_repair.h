@@ -20,13 +20,14 @@
 #pragma once
 
 #include "canonform/common/mesh.h"
+#include "canonform/common/parameters.h"
 
 #include <Eigen/Core>
 
 #include <string>
 #include <vector>
 
-namespace canonform {
+namespace canonform::surface {
 
 /// Options of repair_mesh().
 struct MeshRepairOptions {
@@ -52,7 +53,10 @@ struct MeshRepair {
     std::string summary() const;
 };
 
+/// The `repair` parameter of every command and filter that reads a mesh (default off: strict).
+Parameter repair_parameter();
+
 /// Repairs V (#V x 3) and F (#F x 3, indices in [0, #V): InputError otherwise) by the steps above.
 MeshRepair repair_mesh(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const MeshRepairOptions& options = {});
 
-}  // namespace canonform
+}  // namespace canonform::surface

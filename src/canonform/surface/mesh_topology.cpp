@@ -12,7 +12,7 @@
 #include <sstream>
 #include <utility>
 
-namespace canonform {
+namespace canonform::surface {
 
 namespace {
 
@@ -239,7 +239,7 @@ MeshReport run_checks(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const 
         problem("unreferenced_vertices", msg);
     }
     r.edge_list = edges_of_keys(keys, n);  // = unique_edges(F): the same sorted keys
-    connected_components(static_cast<int>(n), r.edge_list, &r.components);
+    numerics::connected_components(static_cast<int>(n), r.edge_list, &r.components);
     if (options.require_single_component && r.components > 1) {
         std::ostringstream msg;
         msg << "the mesh has " << r.components
@@ -279,4 +279,4 @@ double mean_relative_edge_change(const Eigen::MatrixXd& V0, const Eigen::MatrixX
     return E.rows() ? change / static_cast<double>(E.rows()) : 0.0;
 }
 
-}  // namespace canonform
+}  // namespace canonform::surface

@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-namespace canonform {
+namespace canonform::surface {
 
 /// Unique undirected edges of F, each as (i, j) with i < j; #E x 2, sorted lexicographically.
 Eigen::MatrixXi unique_edges(const Eigen::MatrixXi& F);
@@ -70,4 +70,4 @@ std::vector<MeshProblem> mesh_problems(const Eigen::MatrixXd& V, const Eigen::Ma
 /// from the embedding V0 to V1 (both #V x 3; 0 without edges).
 double mean_relative_edge_change(const Eigen::MatrixXd& V0, const Eigen::MatrixXd& V1, const Eigen::MatrixXi& E);
 
-}  // namespace canonform
+}  // namespace canonform::surface

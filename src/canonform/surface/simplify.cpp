@@ -19,7 +19,7 @@
 
 #include <string>
 
-namespace canonform {
+namespace canonform::surface {
 
 namespace {
 
@@ -112,4 +112,4 @@ Mesh simplify_mesh(const Mesh& mesh, int target_vertices) {
     return out;
 }
 
-}  // namespace canonform
+}  // namespace canonform::surface

@@ -6,10 +6,10 @@
 
 #include "canonform/common/mesh.h"
 
-namespace canonform {
+namespace canonform::surface {
 
 /// Simplifies the mesh to about `target_vertices` vertices (the face budget is scaled from the
 /// current face count). Throws InputError if the target is not below the current count or < 10.
 Mesh simplify_mesh(const Mesh& mesh, int target_vertices);
 
-}  // namespace canonform
+}  // namespace canonform::surface

@@ -3,7 +3,7 @@
 
 #include <Eigen/Geometry>
 
-namespace canonform {
+namespace canonform::surface {
 
 Eigen::VectorXd vertex_areas(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F) {
     Eigen::VectorXd A = Eigen::VectorXd::Zero(V.rows());
@@ -15,4 +15,4 @@ Eigen::VectorXd vertex_areas(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F)
     return A;
 }
 
-}  // namespace canonform
+}  // namespace canonform::surface

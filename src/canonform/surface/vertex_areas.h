@@ -8,9 +8,9 @@
 
 #include <Eigen/Core>
 
-namespace canonform {
+namespace canonform::surface {
 
 /// Barycentric vertex area: one third of the one-ring area (#V), in squared units of V.
 Eigen::VectorXd vertex_areas(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F);
 
-}  // namespace canonform
+}  // namespace canonform::surface

@@ -6,8 +6,7 @@
 #include <algorithm>
 #include <cmath>
 
-namespace canonform {
-namespace views {
+namespace canonform::views {
 
 std::vector<std::uint8_t> DepthImage::gray() const {
     std::vector<std::uint8_t> g(depth.size());
@@ -137,5 +136,4 @@ DepthImage render_depth(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
     return img;
 }
 
-}  // namespace views
-}  // namespace canonform
+}  // namespace canonform::views

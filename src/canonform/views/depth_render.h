@@ -31,8 +31,7 @@
 #include <cstdint>
 #include <vector>
 
-namespace canonform {
-namespace views {
+namespace canonform::views {
 
 /// A square depth image.
 struct DepthImage {
@@ -56,5 +55,4 @@ Eigen::Matrix3d camera_frame(const Eigen::Vector3d& direction);
 DepthImage render_depth(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
                         const Eigen::Vector3d& direction, int size = 256);
 
-}  // namespace views
-}  // namespace canonform
+}  // namespace canonform::views

@@ -9,8 +9,7 @@
 #include <numeric>
 #include <random>
 
-namespace canonform {
-namespace views {
+namespace canonform::views {
 
 namespace {
 
@@ -314,5 +313,4 @@ Eigen::MatrixXd apply_pose(const PoseNormalization& pose, const Eigen::MatrixXd&
     return ((V.rowwise() - pose.centre) * pose.scale) * pose.R.transpose();
 }
 
-}  // namespace views
-}  // namespace canonform
+}  // namespace canonform::views

@@ -54,8 +54,7 @@
 
 #include <cstdint>
 
-namespace canonform {
-namespace views {
+namespace canonform::views {
 
 /// Options of normalize_pose().
 struct PoseOptions {
@@ -97,5 +96,4 @@ Eigen::MatrixXd apply_pose(const PoseNormalization& pose, const Eigen::MatrixXd&
 double projected_area_ratio(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
                             const Eigen::Matrix3d& R = Eigen::Matrix3d::Identity());
 
-}  // namespace views
-}  // namespace canonform
+}  // namespace canonform::views

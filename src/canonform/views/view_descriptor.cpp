@@ -13,10 +13,10 @@ std::vector<int> ViewSet::keypoint_counts() const {
 }
 
 ViewSet compute_views(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const ViewDescriptorOptions& options) {
-    ValidationOptions vo;
+    surface::ValidationOptions vo;
     vo.min_vertices = 4;
     vo.require_single_component = false;  // a view of several parts is still a view
-    validate_mesh(V, F, vo);
+    surface::validate_mesh(V, F, vo);
     ViewSet s;
     s.pose = normalize_pose(V, F, options.pose);
     const Eigen::MatrixXd X = apply_pose(s.pose, V);

@@ -9,8 +9,7 @@
 #include <map>
 #include <utility>
 
-namespace canonform {
-namespace views {
+namespace canonform::views {
 
 namespace {
 
@@ -107,5 +106,4 @@ std::vector<std::vector<int>> rotation_view_maps() {
     return maps;
 }
 
-}  // namespace views
-}  // namespace canonform
+}  // namespace canonform::views

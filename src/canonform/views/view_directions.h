@@ -25,8 +25,7 @@
 
 #include <vector>
 
-namespace canonform {
-namespace views {
+namespace canonform::views {
 
 /// Number of view directions (vertices of the twice subdivided octahedron).
 constexpr int kNumViews = 66;
@@ -46,5 +45,4 @@ std::vector<Eigen::Matrix3d> cube_rotations();
 /// NumericalError if some image is not a view direction (cannot happen for the documented sets).
 std::vector<std::vector<int>> rotation_view_maps();
 
-}  // namespace views
-}  // namespace canonform
+}  // namespace canonform::views
