@@ -3,7 +3,7 @@
 
 usage: /usr/bin/python3 tools/fused_defaults.py CANONFORM --collection NAME RUN [RUN ...]
            [--collection NAME RUN ...] [--rules RULE,...] [--weights W ...] [--json FILE]
-           [--command TEXT] [--conditions TEXT]
+           [--command TEXT] [--conditions TEXT] [--top N] [--keep RULE:W ...]
 Each RUN is a finished `canonform retrieve` run (one codebook seed) with the members `none` and
 `euclidean-N` (RUN/none/distances.bin, RUN/euclidean-N/distances.bin). For every rule of
 tools/fused_rules.py (default: row-z, rrf60, rank-sum, distinct5, global-median) and every weight W
@@ -13,7 +13,9 @@ tier in that run; a collection's margin is the mean over its runs (seeds), with 
 largest; a candidate's criterion is the worst collection margin. Prints, sorted by the criterion,
 one row per candidate: the margin per collection (mean, and min..max over seeds) and the
 criterion; the members alone first (their first tier per collection). --json FILE writes the same
-as a results record (bench/results/retrieval/*.json: title, command, conditions, columns, rows).
+as a results record (bench/results/retrieval/*.json: title, command, conditions, columns, rows):
+the members, the best N candidates (--top, default all) and the candidates named by --keep
+(e.g. row-z:0.9, a previous default).
 The candidates with no constant of their own are the equal-weight ones (W = 0.5) of row-z and
 rank-sum; rrf60 has RRF's customary k = 60, distinct5 its k = 5.
 """
@@ -27,6 +29,9 @@ import numpy as np
 
 from fused_rules import RULES, load
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "docs"))
+from record_run import dump  # noqa: E402
+
 DEFAULT_RULES = ["row-z", "rrf60", "rank-sum", "distinct5", "global-median"]
 DEFAULT_WEIGHTS = [0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9]
 MEASURES = ("nn", "first_tier", "second_tier", "e_measure", "dcg")
@@ -36,7 +41,7 @@ def parse(argv):
     if not argv or argv[0].startswith("--"):
         sys.exit(__doc__)
     opts = {"cf": argv[0], "collections": [], "rules": DEFAULT_RULES, "weights": DEFAULT_WEIGHTS,
-            "json": None, "command": "", "conditions": ""}
+            "json": None, "command": "", "conditions": "", "top": None, "keep": []}
     i = 1
     while i < len(argv):
         a = argv[i]
@@ -59,6 +64,13 @@ def parse(argv):
                 opts["weights"].append(float(argv[i])); i += 1
         elif a in ("--json", "--command", "--conditions"):
             opts[a[2:]] = argv[i + 1]; i += 2
+        elif a == "--top":
+            opts["top"] = int(argv[i + 1]); i += 2
+        elif a == "--keep":
+            i += 1
+            while i < len(argv) and not argv[i].startswith("--"):
+                rule, _, w = argv[i].partition(":")
+                opts["keep"].append((rule, float(w))); i += 1
         else:
             sys.exit("unknown argument %s\n%s" % (a, __doc__))
     if not opts["collections"]:
@@ -135,7 +147,10 @@ def main():
             columns.append({"key": n + "_spread", "title": n + " min..max over seeds"})
         columns.append({"key": "worst", "title": "worst margin", "best": "max", "digits": 3})
         out = []
-        for r in members + fused:
+        top = o["top"] if o["top"] is not None else len(fused)
+        shown = [r for k, r in enumerate(fused)
+                 if k < top or any(r["rule"] == rule and abs(r["weight"] - w) < 1e-9 for rule, w in o["keep"])]
+        for r in members + shown:
             e = {"rule": r["rule"], "weight": "-" if r["weight"] is None else r["weight"], "worst": round(r["worst"], 4)}
             for n in names:
                 e[n] = round(r[n]["margin"], 4)
@@ -146,8 +161,7 @@ def main():
                "command": o["command"] or "tools/fused_defaults.py " + " ".join(sys.argv[1:]),
                "conditions": o["conditions"], "columns": columns, "rows": out}
         with open(o["json"], "w") as f:
-            json.dump(rec, f, indent=1)
-            f.write("\n")
+            f.write(dump(rec))
 
 
 if __name__ == "__main__":
