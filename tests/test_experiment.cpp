@@ -282,3 +282,44 @@ TEST(Experiment, FusedMethodSumsItsMembersNormalisedDistances) {
     const std::string report = retrieval::report_markdown(o, 6, out, "");
     EXPECT_NE(report.find("| fused_none0.4+euclidean-N_beta650.6 |"), std::string::npos);
 }
+
+namespace {
+retrieval::MethodOutcome measured(const std::string& method, double nn, double ft, double st, double e, double dcg) {
+    retrieval::MethodOutcome m;
+    m.spec = parse_method_spec(method);
+    m.evaluation.micro = {nn, ft, st, e, dcg, 10};
+    return m;
+}
+}  // namespace
+
+TEST(Experiment, SummaryNamesTheBestPerMeasureAndAFusedMethodThatDoesNotBeatItsMembers) {
+    std::vector<retrieval::MethodOutcome> out = {measured("none", 0.90, 0.70, 0.80, 0.50, 0.85),
+                                                 measured("euclidean-N", 0.95, 0.60, 0.85, 0.50, 0.80)};
+    retrieval::MethodOutcome fused = measured("none", 0.96, 0.65, 0.8504, 0.55, 0.90);
+    fused.label = "fused_none+euclidean-N";
+    fused.members = {"none", "euclidean-N"};
+    out.push_back(fused);
+    const std::string s = retrieval::summary_markdown(out);
+    // Ties at the shown precision name every method (E-measure of none and euclidean-N is 0.500,
+    // but the fused method's 0.550 is best); 2-Tier 0.8504 shows as 0.850 and ties euclidean-N.
+    EXPECT_NE(s.find("NN fused_none+euclidean-N (0.960)"), std::string::npos) << s;
+    EXPECT_NE(s.find("1-Tier none (0.700)"), std::string::npos) << s;
+    EXPECT_NE(s.find("2-Tier euclidean-N, fused_none+euclidean-N (0.850)"), std::string::npos) << s;
+    EXPECT_NE(s.find("fused_none+euclidean-N does not beat its best member on this collection: "
+                     "1-Tier 0.650 against none's 0.700; 2-Tier 0.850 ties euclidean-N's 0.850."),
+              std::string::npos) << s;
+    // Better on all five: said so, and nothing about falling behind.
+    out[2].evaluation.micro = {0.96, 0.75, 0.90, 0.60, 0.90, 10};
+    const std::string t = retrieval::summary_markdown(out);
+    EXPECT_NE(t.find("fused_none+euclidean-N beats every member on all five measures."), std::string::npos) << t;
+    EXPECT_EQ(t.find("does not beat"), std::string::npos) << t;
+    // One measured method: nothing to compare; a member without measures: no verdict on the fusion.
+    EXPECT_EQ(retrieval::summary_markdown({out[0]}), "");
+    out[1].no_measures = "no class has more than two models";
+    EXPECT_EQ(retrieval::summary_markdown(out).find("beats every member"), std::string::npos);
+    // The report carries the summary after the table.
+    retrieval::ExperimentOptions o;
+    const std::string report = retrieval::report_markdown(o, 10, out, "");
+    EXPECT_NE(report.find("## Summary"), std::string::npos);
+    EXPECT_LT(report.find("| fused_none+euclidean-N |"), report.find("## Summary"));
+}

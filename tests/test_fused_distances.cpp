@@ -6,6 +6,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdio>
+
 #include <random>
 
 using namespace canonform;
@@ -171,28 +173,30 @@ TEST(FusedDistances, RowZScoreFusionIsASymmetricDistanceMatrix) {
     EXPECT_THROW(fuse_distances({a.D, B}, {1, std::nan("")}), InputError);
 }
 
-TEST(FusedDistances, NoiseMemberAtDefaultWeightDoesNotHideTheInformativeMember) {
+TEST(FusedDistances, NoiseMemberAtDefaultWeightCostsTheInformativeMemberLittle) {
     // 6 classes x 10 models (the procedural collection's shape). The informative member finds its
-    // classes well; the other is pure noise (no class structure at all), on another scale.
-    int kept = 0, median_rule_lower = 0;
+    // classes well; the other is pure noise (no class structure at all), on another scale. The
+    // default weight (none 0.3, chosen over four collections, docs/design.md) trades a little here
+    // for the collections where the original meshes are the better member (FAUST, SHREC'07).
+    double loss = 0;
     for (unsigned seed = 1; seed <= 10; ++seed) {
         const Labelled good = labelled(6, 10, 0.5, 1.0, seed);
         const Labelled noise = labelled(1, 60, 1.0, 30.0, 100 + seed);
-        const FusedSpec spec = parse_fused_spec("fused:none+euclidean-N");  // none 0.1, the noise member
+        const FusedSpec spec = parse_fused_spec("fused:none+euclidean-N");  // none 0.3, the noise member
         const Eigen::MatrixXf F = fuse_distances({noise.D, good.D}, spec.weights);
         const double fused = first_tier(F, good.labels), alone = first_tier(good.D, good.labels);
-        EXPECT_GT(alone, 0.5) << seed;  // the informative member is informative
-        EXPECT_LT(first_tier(noise.D, good.labels), 0.3) << seed;  // the other is near chance (9/59)
-        // The fused first tier stays at the informative member's (within a fifth of a query's
-        // first tier on average) and far above the noise member's.
-        EXPECT_GT(fused, alone - 0.02) << seed;
-        kept += fused >= alone;
-        // The previous rule at its default lets the noise in (what the procedural collection showed).
-        const FusedSpec median = parse_fused_spec("fused-median:none+euclidean-N");
-        median_rule_lower += first_tier(fuse_distances({noise.D, good.D}, median.weights, median.rule), good.labels) < alone;
+        const double chance = first_tier(noise.D, good.labels);
+        EXPECT_GT(alone, 0.5) << seed;   // the informative member is informative
+        EXPECT_LT(chance, 0.3) << seed;  // the other is near chance (9/59)
+        // The noise takes less than a tenth of the first tier, and the fused stays far above it.
+        EXPECT_GT(fused, alone - 0.1) << seed;
+        EXPECT_GT(fused, chance + 0.4) << seed;
+        // A larger weight on the informative member loses less: the rule is monotone in the weight.
+        EXPECT_GE(first_tier(fuse_distances({noise.D, good.D}, {0.1, 0.9}), good.labels), fused - 0.01) << seed;
+        loss += alone - fused;
     }
-    EXPECT_GE(kept, 5);  // at least as good as the informative member alone on most collections
-    EXPECT_GE(median_rule_lower, 5);
+    std::printf("mean first-tier loss to a pure-noise member at the default weight: %.3f\n", loss / 10);
+    EXPECT_GT(loss, 0);  // the price is real (and stated in the docs), not zero
 }
 
 TEST(FusedDistances, TwoInformativeMembersBeatEachAlone) {

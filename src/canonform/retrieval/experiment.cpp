@@ -385,6 +385,7 @@ MethodOutcome Experiment::run_fused(const FusedSpec& fused) const {
     for (const std::string& m : fused.members) folders.push_back(canonical::parse_method_spec(m).folder());
     MethodOutcome out;
     out.label = fused.folder(folders);
+    out.members = folders;
     const std::string dir = o.out + "/" + out.label;
     out.folder = dir;
     io::make_directories(dir);
@@ -476,6 +477,7 @@ std::string report_markdown(const ExperimentOptions& o, std::size_t meshes, cons
                           m.distances_seconds);
         report << row;
     }
+    report << summary_markdown(outcomes);
     for (const MethodOutcome& m : outcomes)
         if (!m.no_measures.empty()) report << "\nNo measures for " << (m.label.empty() ? m.spec.folder() : m.label) << ": " << m.no_measures << ".\n";
     report << pictures;
@@ -486,6 +488,65 @@ std::string report_markdown(const ExperimentOptions& o, std::size_t meshes, cons
               "`METHOD/pr.csv`, `METHOD/distances.bin` (float32 row-major, rows as `METHOD/models.csv`), "
               "`METHOD/failures.txt`.\n";
     return report.str();
+}
+
+std::string summary_markdown(const std::vector<MethodOutcome>& outcomes) {
+    struct Column {
+        const char* title;
+        double Measures::*value;
+    };
+    static const Column columns[] = {{"NN", &Measures::nn},
+                                     {"1-Tier", &Measures::first_tier},
+                                     {"2-Tier", &Measures::second_tier},
+                                     {"E-measure", &Measures::e_measure},
+                                     {"DCG", &Measures::dcg}};
+    // Compared as the table shows them (three decimals): a difference the table hides is no win.
+    const auto shown = [](double v) { return std::llround(v * 1000.0); };
+    const auto name = [](const MethodOutcome& m) { return m.label.empty() ? m.spec.folder() : m.label; };
+    std::vector<const MethodOutcome*> measured;
+    for (const MethodOutcome& m : outcomes)
+        if (m.no_measures.empty()) measured.push_back(&m);
+    if (measured.size() < 2) return {};
+    std::ostringstream out;
+    char figure[32];
+    out << "\n## Summary\n\nBest per measure:";
+    for (const Column& c : columns) {
+        long long best = shown(measured.front()->evaluation.micro.*c.value);
+        for (const MethodOutcome* m : measured) best = std::max(best, shown(m->evaluation.micro.*c.value));
+        std::string names;
+        for (const MethodOutcome* m : measured)
+            if (shown(m->evaluation.micro.*c.value) == best) names += (names.empty() ? "" : ", ") + name(*m);
+        std::snprintf(figure, sizeof figure, "%.3f", best / 1000.0);
+        out << (&c == columns ? " " : "; ") << c.title << " " << names << " (" << figure << ")";
+    }
+    out << ".\n";
+    for (const MethodOutcome* f : measured) {
+        if (f->members.empty()) continue;
+        std::vector<const MethodOutcome*> members;
+        for (const std::string& folder : f->members)
+            for (const MethodOutcome* m : measured)
+                if (m->members.empty() && m->spec.folder() == folder) members.push_back(m);
+        if (members.size() != f->members.size()) continue;  // a member without measures
+        std::string behind;
+        for (const Column& c : columns) {
+            const MethodOutcome* top = members.front();
+            for (const MethodOutcome* m : members)
+                if (shown(m->evaluation.micro.*c.value) > shown(top->evaluation.micro.*c.value)) top = m;
+            const long long mine = shown(f->evaluation.micro.*c.value), theirs = shown(top->evaluation.micro.*c.value);
+            if (mine > theirs) continue;
+            char text[160];
+            std::snprintf(text, sizeof text, "%s %.3f %s %s's %.3f", c.title, mine / 1000.0,
+                          mine == theirs ? "ties" : "against", name(*top).c_str(), theirs / 1000.0);
+            behind += (behind.empty() ? "" : "; ") + std::string(text);
+        }
+        if (behind.empty())
+            out << "\n" << name(*f) << " beats every member on all five measures.\n";
+        else
+            out << "\n" << name(*f) << " does not beat its best member on this collection: " << behind
+                << ". Here the better member alone is at least as good on those measures (docs/retrieval.md, "
+                   "\"Fused methods\").\n";
+    }
+    return out.str();
 }
 
 double pose_consistency(const std::vector<Model>& models, const std::vector<size_t>& good, const std::string& dataset,

@@ -78,6 +78,7 @@ struct MeshFeatures {
 struct MethodOutcome {
     canonical::MethodSpec spec;
     std::string label;                 ///< a fused method's folder name ("" for a canonical-form method)
+    std::vector<std::string> members;  ///< a fused method's member folders, in order (empty otherwise)
     std::string folder;                ///< RUN/METHOD
     Evaluation evaluation;
     std::string no_measures;           ///< why there are no measures ("" if there are): classes too small
@@ -135,10 +136,17 @@ private:
     std::vector<Model> models_;
 };
 
-/// RUN/report.md of a run: the collection, one table row per method, then `pictures` (markdown
-/// lines: the precision-recall plot, the grid) and the notes on the measures.
+/// RUN/report.md of a run: the collection, one table row per method, the summary (summary_markdown),
+/// then `pictures` (markdown lines: the precision-recall plot, the grid) and the notes on the measures.
 std::string report_markdown(const ExperimentOptions& options, std::size_t meshes,
                             const std::vector<MethodOutcome>& outcomes, const std::string& pictures);
+
+/// What a user acts on after a run of several methods (markdown, "" for fewer than two measured
+/// methods): the best method per measure (NN, 1-Tier, 2-Tier, E-measure, DCG; ties named
+/// together, compared at the three decimals the table shows), and for every fused method whose
+/// members were run, the measures on which it does not beat its best member, with both figures
+/// (or that it beats every member on all five).
+std::string summary_markdown(const std::vector<MethodOutcome>& outcomes);
 
 /// Pose consistency of a method's forms (FOLDER/forms/NAME.ply) against ground-truth
 /// correspondences (DATASET/corres/NAME.vts, line k = the 1-based vertex at template point k):
