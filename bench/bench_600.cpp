@@ -10,12 +10,13 @@
 // the machine may be shared, and CPU seconds are what an extrapolation to 2 idle cores needs.
 // Prints one JSON line per stage.
 //   canonform_bench_600 MESH... [--models 600] [--words 1500] [--sample 100000] [--threads 2] [--all]
-//       [--sift opencv|opencv-half|opencv-fast|opencv-octave0|opencv-octave0-fine|vlfeat]
+//       [--sift canonform|opencv]
 // (--all: also FAISS k-means on every descriptor, no sample)
 #include "canonform/views/bag_of_features.h"
 #include "canonform/views/codebook.h"
 #include "canonform/canonical/euclidean_canonical_form.h"
 #include "canonform/views/view_descriptor.h"
+#include "canonform/views/opencv_sift.h"
 #include "canonform/views/view_directions.h"
 #include "bench_util.h"
 #include "canonform/io/mesh_io.h"
@@ -69,6 +70,7 @@ struct Stopwatch {
 }  // namespace
 
 int main(int argc, char** argv) {
+    canonform::views::register_opencv_sift();
     using namespace canonform;
     using namespace canonform::views;
     std::vector<std::string> meshes;

@@ -4,11 +4,12 @@
 // most 0.30 CPU s; a 600 x 600 clock-matching distance matrix in at most 60 s on 2 cores). CPU
 // seconds of the process (all threads; the machine may be shared), medians over the repeats,
 // the backends interleaved. Prints JSON lines.
-//   canonform_bench_views MESH [--repeats R] [--backends opencv,opencv-half,opencv-fast,opencv-octave0,opencv-octave0-fine,vlfeat]
+//   canonform_bench_views MESH [--repeats R] [--backends canonform,opencv]
 // A backend may carry OpenCV options: NAME@CONTRAST[@LAYERS], e.g. opencv-half@0.0005@4.
 #include "canonform/views/bag_of_features.h"
 #include "canonform/views/codebook.h"
 #include "canonform/views/view_descriptor.h"
+#include "canonform/views/opencv_sift.h"
 #include "canonform/views/view_directions.h"
 #include "bench_util.h"
 #include "canonform/io/mesh_io.h"
@@ -39,13 +40,14 @@ double cpu() {
 }  // namespace
 
 int main(int argc, char** argv) {
+    canonform::views::register_opencv_sift();
     using namespace canonform::views;
     if (argc < 2) {
-        std::fprintf(stderr, "usage: canonform_bench_views MESH [--repeats R] [--backends opencv,opencv-half,opencv-fast,opencv-octave0,opencv-octave0-fine,vlfeat]\n");
+        std::fprintf(stderr, "usage: canonform_bench_views MESH [--repeats R] [--backends canonform,opencv]\n");
         return 2;
     }
     int repeats = 5;
-    std::vector<std::string> backends = {"opencv", "opencv-half", "opencv-fast", "vlfeat"};
+    std::vector<std::string> backends = {"canonform", "opencv"};
     for (int k = 2; k + 1 < argc; k += 2) {
         if (!std::strcmp(argv[k], "--repeats")) repeats = std::max(1, std::atoi(argv[k + 1]));
         if (!std::strcmp(argv[k], "--backends")) {

@@ -45,7 +45,7 @@ ActionOutputs depth_view_descriptor(const FilterSpec&, MeshDocument& md, const P
     const std::string out = p.get_string("output_file");  // empty: no file (pymeshlab gets the vector)
     const std::string cb_path = p.get_string("codebook_file");
     // image_size, seed, sift: the library's definitions (views/view_parameters.h), checked.
-    const ParameterSet<views::ViewDescriptorOptions> parameters = views::view_descriptor_parameters();
+    const ParameterSet<views::ViewDescriptorOptions> parameters = views::view_descriptor_parameters({}, views::builtin_sift_backend_names());
     const views::ViewDescriptorOptions opt = parameters.read(p.texts(parameters.parameters()));
     const int size = opt.image_size;
     const views::Codebook* codebook = nullptr;

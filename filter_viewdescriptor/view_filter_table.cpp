@@ -30,7 +30,7 @@ Parameter views_folder_parameter() {
 
 const std::vector<FilterSpec>& view_filter_table() {
     static const std::vector<FilterSpec> table = [] {
-        const std::vector<Parameter> views = views::view_descriptor_parameters().parameters();
+        const std::vector<Parameter> views = views::view_descriptor_parameters({}, views::builtin_sift_backend_names()).parameters();
         const auto view = [&views](const char* name) { return *find_parameter(views, name); };
         std::vector<FilterSpec> t;
         t.push_back(FilterSpec("Depth view descriptor", "compute_depth_view_descriptor", FilterKind::Measure)

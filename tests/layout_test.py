@@ -8,7 +8,9 @@ usage: /usr/bin/python3 tests/layout_test.py SOURCE_DIR [PLUGIN.so ...]
   (detail, anonymous) inside it; the plugin folders' code is in canonform::meshlab;
 - a plugin folder includes nothing from the other plugin folder, and its CMakeLists.txt names no
   file of it;
-- a plugin (.so) contains no code of the procedural-mesh library (test and example data only).
+- a plugin (.so) contains no code of the procedural-mesh library (test and example data only);
+- the view-descriptor plugin needs no OpenCV, VLFeat, FAISS, BLAS, LAPACK, OpenMP or oneTBB at run
+  time (its SIFT and word assignment are the library's own; those libraries are the tool's).
 """
 import os
 import re
@@ -79,6 +81,16 @@ for so in sys.argv[2:]:
     leaked = [line for line in symbols.splitlines() if "make_figure" in line or "make_icosphere" in line]
     if leaked:
         problems.append(f"{so}: contains procedural-mesh code ({leaked[0].split()[-1]} ...)")
+
+VIEW_PLUGIN_MAY_NOT_NEED = re.compile(r"libopencv|libvl\.|libfaiss|libblas|libopenblas|liblapack|libgomp|libtbb")
+for so in sys.argv[2:]:
+    if "filter_viewdescriptor" not in os.path.basename(so):
+        continue
+    dynamic = subprocess.run(["objdump", "-p", so], capture_output=True, text=True, check=True).stdout
+    needed = [line.split()[-1] for line in dynamic.splitlines() if line.strip().startswith("NEEDED")]
+    extra = [n for n in needed if VIEW_PLUGIN_MAY_NOT_NEED.match(n)]
+    if extra:
+        problems.append(f"{so}: needs {', '.join(extra)} (the view filter must not; see src/CMakeLists.txt)")
 
 for p in problems:
     print("layout:", p)

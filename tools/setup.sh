@@ -31,7 +31,7 @@ PACKAGES=(
   meshlab qtbase5-dev libqt5opengl5-dev libglew-dev libeigen3-dev
   cmake g++ make dpkg-dev pkg-config
   libsuitesparse-dev libopencv-dev libgtest-dev googletest libcli11-dev nlohmann-json3-dev libtbb-dev
-  libfaiss-dev libopenblas0-pthread libvlfeat-dev
+  libfaiss-dev libopenblas0-pthread
   xvfb xauth x11-utils xdotool imagemagick
   python3-matplotlib python3-numpy bc
 )

@@ -4,6 +4,8 @@
 #include "bindings.h"
 #include "support.h"
 
+#include "canonform/views/opencv_sift.h"
+
 #ifndef CANONFORM_VERSION
 #error "CANONFORM_VERSION must be defined (python/CMakeLists.txt)"
 #endif
@@ -15,6 +17,8 @@ PYBIND11_MODULE(_canonform, m) {
     m.attr("__version__") = CANONFORM_VERSION;
     canonform::python::register_errors(m);
     canonform::python::bind_meshes(m);
+    // The `opencv` SIFT extractor lives in a library of its own (sift_features.h); the module carries it.
+    canonform::views::register_opencv_sift();
     canonform::python::bind_views(m);
     canonform::python::bind_retrieval(m);
 }

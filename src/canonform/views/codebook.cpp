@@ -1,15 +1,10 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "canonform/views/codebook.h"
 
-#include "canonform/common/parallel.h"
 #include "canonform/io/files.h"
 
-#ifndef CANONFORM_WITHOUT_FAISS
-#include <faiss/Clustering.h>
-#include <faiss/IndexFlat.h>
-#endif
-
 #include <algorithm>
+#include <cstdint>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -37,93 +32,51 @@ void put_f32(std::string& out, float f) {
 std::uint32_t get_u32(const unsigned char* p) {
     return std::uint32_t(p[0]) | (std::uint32_t(p[1]) << 8) | (std::uint32_t(p[2]) << 16) | (std::uint32_t(p[3]) << 24);
 }
+// Words in units of 1/kWordScale as 16-bit integers: values up to kMaxWordValue fit.
+constexpr double kWordScale = 64;
+constexpr float kMaxWordValue = 511.f;
+
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(__SANITIZE_ADDRESS__)
+#define CANONFORM_INT_CLONES __attribute__((target_clones("avx2", "default")))
+#else
+#define CANONFORM_INT_CLONES
+#endif
+
+// For four descriptors x (4 x 128 integers 0-255), the index of the word q (w x 128, units of 1/64)
+// with the smallest |q|^2 - 128 x.q, that is 4096 |x - q/64|^2 - 4096 |x|^2 (ties: the lower index).
+// Integer arithmetic (no sum reaches 2^31: 128 * 255 * 32704 < 2^31), so every CPU and every
+// instruction set - the AVX2 clone or SSE2 - gives the same answer.
+CANONFORM_INT_CLONES void nearest_of_four(const std::int16_t* __restrict x, const std::int16_t* __restrict q,
+                                          const std::int64_t* __restrict qn, int words, int* best) {
+    std::int64_t score[4] = {std::numeric_limits<std::int64_t>::max(), std::numeric_limits<std::int64_t>::max(),
+                             std::numeric_limits<std::int64_t>::max(), std::numeric_limits<std::int64_t>::max()};
+    for (int r = 0; r < 4; ++r) best[r] = 0;
+    for (int w = 0; w < words; ++w) {
+        const std::int16_t* c = q + static_cast<std::ptrdiff_t>(w) * kDim;
+        int s0 = 0, s1 = 0, s2 = 0, s3 = 0;
+        for (int i = 0; i < kDim; ++i) {
+            const int ci = c[i];
+            s0 += x[i] * ci;
+            s1 += x[kDim + i] * ci;
+            s2 += x[2 * kDim + i] * ci;
+            s3 += x[3 * kDim + i] * ci;
+        }
+        const std::int64_t n = qn[w];
+        const std::int64_t t[4] = {n - 128 * std::int64_t(s0), n - 128 * std::int64_t(s1), n - 128 * std::int64_t(s2),
+                                   n - 128 * std::int64_t(s3)};
+        for (int r = 0; r < 4; ++r)
+            if (t[r] < score[r]) {
+                score[r] = t[r];
+                best[r] = w;
+            }
+    }
+}
+
 float get_f32(const unsigned char* p) {
     const std::uint32_t v = get_u32(p);
     float f;
     std::memcpy(&f, &v, 4);
     return f;
-}
-
-// ---- random numbers (platform independent for a seed) ---------------------------------------------
-double uniform01(std::mt19937_64& rng) { return static_cast<double>(rng() >> 11) * (1.0 / 9007199254740992.0); }
-std::size_t uniform_index(std::mt19937_64& rng, std::size_t n) { return static_cast<std::size_t>(rng() % n); }
-
-// First `k` entries of a seeded partial Fisher-Yates shuffle of 0..n-1.
-std::vector<int> sample_distinct(std::mt19937_64& rng, int n, int k) {
-    std::vector<int> idx(n);
-    std::iota(idx.begin(), idx.end(), 0);
-    for (int i = 0; i < k; ++i) std::swap(idx[i], idx[i + uniform_index(rng, static_cast<std::size_t>(n - i))]);
-    idx.resize(k);
-    return idx;
-}
-
-// Nearest word (ties to the lower index) and its squared distance, for every row of X.
-void nearest_words(const DescriptorMatrix& X, const DescriptorMatrix& C, const Eigen::VectorXf& c_norms,
-                   std::vector<int>& label, std::vector<float>* dist2) {
-    const Eigen::Index n = X.rows(), w = C.rows();
-    label.assign(static_cast<std::size_t>(n), 0);
-    if (dist2) dist2->assign(static_cast<std::size_t>(n), 0.f);
-    constexpr Eigen::Index kBlock = 256;
-    const Eigen::Index blocks = (n + kBlock - 1) / kBlock;
-    // Eight blocks (2048 rows) at least per worker: fewer do not pay for a thread.
-    ParallelOptions par;
-    par.grain = 8;
-    std::vector<Eigen::MatrixXf> scratch(static_cast<std::size_t>(parallel_workers(blocks, par)));
-    parallel_for(blocks, [&](Eigen::Index b, int worker) {
-        Eigen::MatrixXf& S = scratch[static_cast<std::size_t>(worker)];  // block x words
-        const Eigen::Index r0 = b * kBlock, rn = std::min(kBlock, n - r0);
-        // Dynamic-size maps: the fixed 128 columns would also instantiate Eigen's GEMV path,
-        // which draws a false -Waggressive-loop-optimizations warning from GCC 12.
-        const Eigen::Map<const Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> Xb(
-            X.data() + r0 * kDim, rn, kDim);
-        const Eigen::Map<const Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> Cm(
-            C.data(), w, kDim);
-        S.noalias() = Xb * Cm.transpose();
-        for (Eigen::Index r = 0; r < rn; ++r) {
-            float best = std::numeric_limits<float>::infinity();
-            int arg = 0;
-            for (Eigen::Index j = 0; j < w; ++j) {
-                const float d = c_norms[j] - 2.f * S(r, j);
-                if (d < best) { best = d; arg = static_cast<int>(j); }
-            }
-            label[static_cast<std::size_t>(r0 + r)] = arg;
-            if (dist2)
-                (*dist2)[static_cast<std::size_t>(r0 + r)] =
-                    std::max(0.f, best + X.row(r0 + r).squaredNorm());
-        }
-    }, par);
-}
-
-Eigen::VectorXf row_norms(const DescriptorMatrix& C) { return C.rowwise().squaredNorm(); }
-
-DescriptorMatrix kmeans_pp_seed(const DescriptorMatrix& X, int k, std::mt19937_64& rng) {
-    const int n = static_cast<int>(X.rows());
-    const int m = std::min(n, 20 * k);
-    std::vector<int> subset = sample_distinct(rng, n, m);
-    DescriptorMatrix S(m, kDim);
-    for (int i = 0; i < m; ++i) S.row(i) = X.row(subset[i]);
-    DescriptorMatrix C(k, kDim);
-    Eigen::VectorXd d2 = Eigen::VectorXd::Constant(m, std::numeric_limits<double>::infinity());
-    int pick = static_cast<int>(uniform_index(rng, static_cast<std::size_t>(m)));
-    for (int c = 0; c < k; ++c) {
-        if (c > 0) {
-            const double total = d2.sum();
-            if (total > 0) {
-                double u = uniform01(rng) * total, acc = 0;
-                pick = m - 1;
-                for (int i = 0; i < m; ++i) {
-                    acc += d2[i];
-                    if (acc > u && d2[i] > 0) { pick = i; break; }
-                }
-            } else {
-                pick = static_cast<int>(uniform_index(rng, static_cast<std::size_t>(m)));  // all duplicates
-            }
-        }
-        C.row(c) = S.row(pick);
-        const Eigen::VectorXf dn = (S.rowwise() - S.row(pick)).rowwise().squaredNorm();
-        d2 = d2.cwiseMin(dn.cast<double>());
-    }
-    return C;
 }
 
 }  // namespace
@@ -133,7 +86,22 @@ Codebook Codebook::from_words(DescriptorMatrix words) {
     if (!words.allFinite()) throw InputError("Codebook: a word has a non-finite value.");
     Codebook cb;
     cb.words_ = std::move(words);
-    cb.norms_ = row_norms(cb.words_);
+    // The words in units of 1/64 as 16-bit integers, when they fit (every codebook of SIFT
+    // descriptors does: its words are means of values 0-255).
+    cb.quantised_ = cb.words_.minCoeff() >= 0.f && cb.words_.maxCoeff() <= kMaxWordValue;
+    if (cb.quantised_) {
+        cb.qwords_.resize(static_cast<size_t>(cb.words_.size()));
+        cb.qnorms_.resize(static_cast<size_t>(cb.words_.rows()));
+        for (Eigen::Index r = 0; r < cb.words_.rows(); ++r) {
+            std::int64_t n = 0;
+            for (int c = 0; c < kDim; ++c) {
+                const auto q = static_cast<std::int16_t>(std::lround(double(cb.words_(r, c)) * kWordScale));
+                cb.qwords_[static_cast<size_t>(r * kDim + c)] = q;
+                n += std::int64_t(q) * q;
+            }
+            cb.qnorms_[static_cast<size_t>(r)] = n;
+        }
+    }
     return cb;
 }
 
@@ -153,156 +121,54 @@ std::string codebook_method_name(CodebookOptions::Method method) {
     return "kmeans";
 }
 
-namespace {
-
-DescriptorMatrix lloyd(const DescriptorMatrix& X, int k, int iterations, std::mt19937_64& rng) {
-    const int n = static_cast<int>(X.rows());
-    DescriptorMatrix C = kmeans_pp_seed(X, k, rng);
-    std::vector<int> label, previous;
-    std::vector<float> dist2;
-    for (int it = 0; it < iterations; ++it) {
-        nearest_words(X, C, row_norms(C), label, &dist2);
-        if (label == previous) break;
-        // New means, accumulated sequentially (deterministic).
-        Eigen::MatrixXd sum = Eigen::MatrixXd::Zero(k, kDim);
-        std::vector<int> count(static_cast<std::size_t>(k), 0);
-        for (int i = 0; i < n; ++i) {
-            sum.row(label[i]) += X.row(i).cast<double>();
-            ++count[static_cast<std::size_t>(label[i])];
-        }
-        std::vector<int> order;  // points by decreasing distance, for re-seeding empty clusters
-        std::size_t next_far = 0;
-        for (int c = 0; c < k; ++c) {
-            if (count[static_cast<std::size_t>(c)] > 0) {
-                C.row(c) = (sum.row(c) / count[static_cast<std::size_t>(c)]).cast<float>();
-                continue;
-            }
-            if (order.empty()) {
-                order.resize(static_cast<std::size_t>(n));
-                std::iota(order.begin(), order.end(), 0);
-                std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return dist2[a] > dist2[b]; });
-            }
-            C.row(c) = X.row(order[std::min(next_far++, order.size() - 1)]);
-        }
-        previous.swap(label);
-    }
-    return C;
-}
-
-#ifdef CANONFORM_WITHOUT_FAISS
-DescriptorMatrix faiss_kmeans(const DescriptorMatrix&, int, int, std::uint64_t) {
-    throw InputError("Codebook: this build has no FAISS (CANONFORM_WITHOUT_FAISS), so no 'kmeans' method; use 'lloyd'.");
-}
-#else
-DescriptorMatrix faiss_kmeans(const DescriptorMatrix& X, int k, int iterations, std::uint64_t seed) {
-    faiss::ClusteringParameters cp;
-    cp.niter = iterations;
-    cp.seed = static_cast<int>(seed % 2147483647u);
-    cp.verbose = false;
-    cp.min_points_per_centroid = 1;  // no warning for small inputs (n > k is guaranteed)
-    cp.max_points_per_centroid = std::numeric_limits<int>::max() / 2;  // we sample ourselves
-    faiss::Clustering clustering(kDim, k, cp);
-    faiss::IndexFlatL2 index(kDim);
-    // FAISS indices are int64_t: faiss::Index::idx_t up to 1.7.3 (bookworm), faiss::idx_t after.
-    clustering.train(static_cast<std::int64_t>(X.rows()), X.data(), index);
-    if (clustering.centroids.size() != static_cast<std::size_t>(k) * kDim)
-        throw NumericalError("Codebook: FAISS k-means returned " + std::to_string(clustering.centroids.size() / kDim) +
-                             " words, expected " + std::to_string(k) + ".");
-    return Eigen::Map<const DescriptorMatrix>(clustering.centroids.data(), k, kDim);
-}
-#endif
-
-}  // namespace
-
-namespace {
-
-void check_options(const CodebookOptions& options, std::int64_t total) {
-    if (options.words <= 0) throw InputError("Codebook: the number of words must be positive.");
-    if (options.kmeans_iterations < 0) throw InputError("Codebook: kmeans_iterations must be >= 0.");
-    if (options.sample < 0) throw InputError("Codebook: the training sample must be >= 0 (0 = every descriptor).");
-    if (total == 0) throw InputError("Codebook: no training descriptors (every view was blank?).");
-    if (total > std::numeric_limits<int>::max()) throw InputError("Codebook: too many training descriptors.");
-    // Never fewer words than asked for, silently: a codebook of every descriptor is not what was asked.
-    if (total < options.words)
-        throw InputError("Codebook: " + std::to_string(options.words) + " words asked for, but there are only " +
-                         std::to_string(total) + " training descriptors: ask for at most " + std::to_string(total) +
-                         " words (--words in the canonform tool), or train on more meshes.");
-}
-
-bool draws_sample(const CodebookOptions& options, std::int64_t total) {
-    return total > options.words && options.sample > 0 && options.sample < total;
-}
-
-// The sample of training_rows(), drawn from `rng` (which train_on_rows() continues).
-std::vector<int> draw_sample(std::mt19937_64& rng, int n, const CodebookOptions& options) {
-    const int m = static_cast<int>(std::max<std::int64_t>(options.sample, options.words + 1));
-    return sample_distinct(rng, n, std::min(m, n));
-}
-
-}  // namespace
-
-std::vector<int> Codebook::training_rows(std::int64_t total, const CodebookOptions& options) {
-    check_options(options, total);
-    const int n = static_cast<int>(total);
-    if (!draws_sample(options, total)) {
-        std::vector<int> all(static_cast<std::size_t>(n));
-        std::iota(all.begin(), all.end(), 0);
-        return all;
-    }
-    std::mt19937_64 rng(options.seed);
-    return draw_sample(rng, n, options);
-}
-
-Codebook Codebook::train(const DescriptorMatrix& X, const CodebookOptions& options) {
-    check_options(options, X.rows());
-    if (!X.allFinite()) throw InputError("Codebook: a training descriptor has a non-finite value.");
-    if (!draws_sample(options, X.rows())) return train_on_rows(X, X.rows(), options);
-    const std::vector<int> pick = training_rows(X.rows(), options);
-    DescriptorMatrix sampled(static_cast<Eigen::Index>(pick.size()), kDim);
-    for (std::size_t i = 0; i < pick.size(); ++i) sampled.row(static_cast<Eigen::Index>(i)) = X.row(pick[i]);
-    return train_on_rows(sampled, X.rows(), options);
-}
-
-Codebook Codebook::train_on_rows(const DescriptorMatrix& S, std::int64_t total, const CodebookOptions& options) {
-    check_options(options, total);
-    if (!S.allFinite()) throw InputError("Codebook: a training descriptor has a non-finite value.");
-    const int n = static_cast<int>(total), k = options.words;
-    std::mt19937_64 rng(options.seed);
-    const bool sampled = draws_sample(options, total);
-    if (sampled) draw_sample(rng, n, options);  // the same draws, so that rng continues alike
-    const std::int64_t expected = sampled ? std::min<std::int64_t>(std::max<std::int64_t>(options.sample, k + 1), n) : n;
-    if (static_cast<std::int64_t>(S.rows()) != expected)
-        throw InputError("Codebook: " + std::to_string(S.rows()) + " training rows given, training_rows() names " +
-                         std::to_string(expected) + ".");
-    if (n == k) return from_words(S);  // exactly as many descriptors as words: each is a word
-    const int m = static_cast<int>(S.rows());
-
-    switch (options.method) {
-        case CodebookOptions::Method::Random: {
-            const std::vector<int> pick = sample_distinct(rng, m, k);
-            DescriptorMatrix C(k, kDim);
-            for (int i = 0; i < k; ++i) C.row(i) = S.row(pick[i]);
-            return from_words(std::move(C));
-        }
-        case CodebookOptions::Method::Lloyd:
-            return from_words(lloyd(S, k, options.kmeans_iterations, rng));
-        case CodebookOptions::Method::KMeans:
-            if (options.kmeans_iterations == 0) {  // FAISS's initialisation alone: random sample points
-                const std::vector<int> pick = sample_distinct(rng, m, k);
-                DescriptorMatrix C(k, kDim);
-                for (int i = 0; i < k; ++i) C.row(i) = S.row(pick[i]);
-                return from_words(std::move(C));
-            }
-            return from_words(faiss_kmeans(S, k, options.kmeans_iterations, rng()));
-    }
-    throw InputError("Codebook: unknown method.");
-}
-
 std::vector<int> Codebook::assign(const DescriptorMatrix& descriptors) const {
     if (words_.rows() == 0) throw InputError("Codebook: assign() on an empty codebook.");
-    std::vector<int> label;
-    nearest_words(descriptors, words_, norms_, label, nullptr);
+    const Eigen::Index n = descriptors.rows();
+    std::vector<int> label(static_cast<size_t>(n), 0);
+    std::vector<std::int16_t> block(4 * kDim);
+    for (Eigen::Index r0 = 0; r0 < n; r0 += 4) {
+        const int rows = static_cast<int>(std::min<Eigen::Index>(4, n - r0));
+        bool integral = quantised_;
+        for (int r = 0; r < rows && integral; ++r)
+            for (int c = 0; c < kDim; ++c) {
+                const float v = descriptors(r0 + r, c);
+                if (!(v >= 0.f && v <= 255.f && v == std::floor(v))) {
+                    integral = false;
+                    break;
+                }
+                block[static_cast<size_t>(r * kDim + c)] = static_cast<std::int16_t>(v);
+            }
+        if (integral) {
+            for (int r = rows; r < 4; ++r)  // (a short last block: copies of its first row)
+                std::copy(block.begin(), block.begin() + kDim, block.begin() + r * kDim);
+            int best[4];
+            nearest_of_four(block.data(), qwords_.data(), qnorms_.data(), size(), best);
+            for (int r = 0; r < rows; ++r) label[static_cast<size_t>(r0 + r)] = best[r];
+        } else {
+            for (int r = 0; r < rows; ++r) label[static_cast<size_t>(r0 + r)] = nearest_exact(descriptors.row(r0 + r).data());
+        }
+    }
     return label;
+}
+
+int Codebook::nearest_exact(const float* x) const {
+    double best = std::numeric_limits<double>::infinity();
+    int arg = 0;
+    for (Eigen::Index w = 0; w < words_.rows(); ++w) {
+        const float* c = words_.row(w).data();
+        double lane[8] = {0, 0, 0, 0, 0, 0, 0, 0};  // eight partial sums in a fixed order
+        for (int i = 0; i < kDim; i += 8)
+            for (int l = 0; l < 8; ++l) {
+                const double d = double(x[i + l]) - double(c[i + l]);
+                lane[l] += d * d;
+            }
+        const double d2 = ((lane[0] + lane[1]) + (lane[2] + lane[3])) + ((lane[4] + lane[5]) + (lane[6] + lane[7]));
+        if (d2 < best) {
+            best = d2;
+            arg = static_cast<int>(w);
+        }
+    }
+    return arg;
 }
 
 void Codebook::save(const std::string& path) const {

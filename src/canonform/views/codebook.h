@@ -30,9 +30,17 @@
 //   never has fewer words than asked for. With exactly as many, every descriptor becomes a word
 //   (in input order).
 //
-// Assignment: nearest word in squared Euclidean distance, ties to the lower word index; computed
-// as |c|^2 - 2 x.c in blocks with Eigen's matrix product (float), so two words whose distances
-// differ by less than float rounding (~1e-6 relative to |x|^2) may be swapped.
+// Assignment: nearest word in squared Euclidean distance, ties to the lower word index, the same
+// on every CPU. SIFT descriptors are integers 0-255 (both extractors write them so); for those, and
+// words in [0, 511] (a codebook of SIFT descriptors: means of such values), the distance is taken to
+// the words rounded to 1/64 (a change below 1/128 per value, about a thousandth of the distance
+// between a descriptor and its word), in 16-bit integers with exact integer sums: no rounding, so
+// the choice is the same whatever instructions compute it (8 lanes with AVX2, 4 with SSE2).
+// Other descriptors or words: exact squared distances in double, summed in a fixed order. One
+// thread: a view's descriptors take well under a millisecond (bench/bench_views.cpp).
+// The training code (train, train_on_rows, training_rows) is in its own library,
+// canonform::codebook_training (codebook_training.cpp), which brings FAISS, BLAS and OpenMP; reading
+// codebooks and assigning words needs none of them.
 //
 // File format (little endian, written atomically: temp file + rename):
 //   bytes 0-3   magic "CFCB"
@@ -96,8 +104,8 @@ public:
     /// Number of words.
     int size() const { return static_cast<int>(words_.rows()); }
 
-    /// Index in [0, size()) of the nearest word of every descriptor (row). Throws InputError on an
-    /// empty codebook. Multi-threaded over blocks of descriptors for large inputs.
+    /// Index in [0, size()) of the nearest word of every descriptor (row), as described above.
+    /// Throws InputError on an empty codebook.
     std::vector<int> assign(const DescriptorMatrix& descriptors) const;
 
     /// Writes the binary file described above (atomic). Throws if it cannot be written.
@@ -114,8 +122,12 @@ public:
     const DescriptorMatrix& words() const { return words_; }
 
 private:
+    int nearest_exact(const float* x) const;
+
     DescriptorMatrix words_;
-    Eigen::VectorXf norms_;  // |word|^2, cached for assign()
+    bool quantised_ = false;             // every word in [0, 511]: qwords_ and qnorms_ are set
+    std::vector<std::int16_t> qwords_;   // round(64 word), word-major
+    std::vector<std::int64_t> qnorms_;   // |qword|^2
 };
 
 }  // namespace canonform::views

@@ -80,41 +80,54 @@ DepthImage render_depth(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
     img.depth.assign(static_cast<size_t>(size) * size, 0.0f);
     if (F.rows() == 0) return img;
 
-    // Project: pixel coordinates (col, row as doubles; centres at integers) and depth.
+    // Project: pixel coordinates (col, row as doubles; centres at integers) and depth; per vertex
+    // also the first pixel column/row at or after it and the last at or before it (ceil and floor,
+    // clamped to [-1, size] - enough, as triangles are clipped to [0, size - 1] - so a triangle's
+    // pixel box is integer minima and maxima of its corners', the same box as ceil(min) and
+    // floor(max) of the coordinates).
     const double inv_h = size / 2.0;
     const Eigen::Index nv = V.rows();
     std::vector<P2> q(static_cast<size_t>(nv));
     std::vector<double> z(static_cast<size_t>(nv));
+    std::vector<int> cx(static_cast<size_t>(nv)), fx(static_cast<size_t>(nv)), cy(static_cast<size_t>(nv)),
+        fy(static_cast<size_t>(nv));
+    const auto clamp_pixel = [size](double v) { return static_cast<int>(std::min(double(size), std::max(-1.0, v))); };
     for (Eigen::Index i = 0; i < nv; ++i) {
         const double x = C(0, 0) * V(i, 0) + C(0, 1) * V(i, 1) + C(0, 2) * V(i, 2);
         const double y = C(1, 0) * V(i, 0) + C(1, 1) * V(i, 1) + C(1, 2) * V(i, 2);
         const double w = C(2, 0) * V(i, 0) + C(2, 1) * V(i, 1) + C(2, 2) * V(i, 2);
-        q[static_cast<size_t>(i)] = {(x + 1.0) * inv_h - 0.5, (1.0 - y) * inv_h - 0.5};
-        z[static_cast<size_t>(i)] = 0.5 * (1.0 + w);
+        const size_t k = static_cast<size_t>(i);
+        q[k] = {(x + 1.0) * inv_h - 0.5, (1.0 - y) * inv_h - 0.5};
+        z[k] = 0.5 * (1.0 + w);
+        cx[k] = clamp_pixel(std::ceil(q[k].x));
+        fx[k] = clamp_pixel(std::floor(q[k].x));
+        cy[k] = clamp_pixel(std::ceil(q[k].y));
+        fy[k] = clamp_pixel(std::floor(q[k].y));
     }
 
     float* buf = img.depth.data();
-    const double lim = size - 1;
+    const int lim = size - 1;
     for (Eigen::Index f = 0; f < F.rows(); ++f) {
         const int ia = F(f, 0), ib = F(f, 1), ic = F(f, 2);
-        const P2& a = q[static_cast<size_t>(ia)];
-        const P2& b = q[static_cast<size_t>(ib)];
-        const P2& c = q[static_cast<size_t>(ic)];
+        const size_t a_ = static_cast<size_t>(ia), b_ = static_cast<size_t>(ib), c_ = static_cast<size_t>(ic);
+        // The pixel centres the triangle's box holds (most triangles of a fine mesh hold none).
+        const int c0 = std::max(0, std::min({cx[a_], cx[b_], cx[c_]}));
+        const int c1 = std::min(lim, std::max({fx[a_], fx[b_], fx[c_]}));
+        if (c0 > c1) continue;
+        const int r0 = std::max(0, std::min({cy[a_], cy[b_], cy[c_]}));
+        const int r1 = std::min(lim, std::max({fy[a_], fy[b_], fy[c_]}));
+        if (r0 > r1) continue;
+        const P2& a = q[a_];
+        const P2& b = q[b_];
+        const P2& c = q[c_];
         const double area2 = (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
         if (!(std::abs(area2) > 1e-12)) continue;
-        const double x0 = std::max(0.0, std::ceil(std::min({a.x, b.x, c.x})));
-        const double x1 = std::min(lim, std::floor(std::max({a.x, b.x, c.x})));
-        const double y0 = std::max(0.0, std::ceil(std::min({a.y, b.y, c.y})));
-        const double y1 = std::min(lim, std::floor(std::max({a.y, b.y, c.y})));
-        if (x0 > x1 || y0 > y1) continue;
         // Orientation-independent: scale the edge functions by the sign of the area.
         const double sgn = area2 > 0 ? 1.0 : -1.0;
         const double inv_area = 1.0 / area2;
-        const double za = z[static_cast<size_t>(ia)], zb = z[static_cast<size_t>(ib)],
-                     zc = z[static_cast<size_t>(ic)];
-        const int c0 = static_cast<int>(x0), c1 = static_cast<int>(x1);
+        const double za = z[a_], zb = z[b_], zc = z[c_];
         const EdgeFn ea(b, c), eb(c, a), ec(a, b);
-        for (int row = static_cast<int>(y0); row <= static_cast<int>(y1); ++row) {
+        for (int row = r0; row <= r1; ++row) {
             const double py = row;
             const double ra = ea.row(py), rb = eb.row(py), rc = ec.row(py);
             float* line = buf + static_cast<size_t>(row) * size;

@@ -1,63 +1,113 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// canonform: SIFT descriptors (difference-of-Gaussian keypoints) of one 8-bit depth view.
+// canonform: SIFT keypoints and descriptors of one depth view - the project's own implementation of
+// Lowe's method, and the choice of extractor.
 //
 // Reference: D. G. Lowe, "Distinctive image features from scale-invariant keypoints", IJCV 60(2),
-// 2004; Z. Lian, A. Godil, X. Sun, J. Xiao, "CM-BOF: visual similarity-based 3D shape retrieval
-// using Clock Matching and Bag-of-Features", Machine Vision and Applications 24, 2013 (Sec. 3.2);
+// 91-110, 2004 (below "Lowe", with its section and equation numbers); Z. Lian, A. Godil, X. Sun,
+// J. Xiao, "CM-BOF: visual similarity-based 3D shape retrieval using Clock Matching and
+// Bag-of-Features", Machine Vision and Applications 24, 2013 (Sec. 3.2: SIFT on each depth view);
 // Pickup et al., Pattern Recognition 2015 (CM-BOF on canonical forms).
 //
-// Six extractors (SiftBackend; `--sift` in the tool and `retrieve`, a parameter of the view filter):
-// - opencv: OpenCV's cv::SIFT on the 8-bit view, as described below. OpenCV doubles the image
-//   before its first octave (first octave -1): a 512 x 512 pyramid for a 256 x 256 view, which is
-//   most of its cost.
-// - opencv-half: the same on the 8-bit view halved (area average), so that OpenCV's doubling puts
-//   its first octave at the view's own resolution (VLFeat's first octave 0). About a quarter of
-//   the pixels of `opencv` in the first octave; keypoints and descriptors both from the half view.
-// - opencv-fast: opencv-half's keypoints (positions, scales, orientations) mapped to the full view,
-//   and OpenCV's descriptors computed there (cv::SIFT::compute on provided keypoints: OpenCV 4.6
-//   starts its pyramid at the smallest provided octave, here 0, so it does not double the view).
-//   The descriptors see the view's full resolution, the detector costs what opencv-half's does
-//   (measured: retrieval like opencv-half's, not opencv's - docs/sift.md).
-//   Our departure from Lowe's single-pyramid pipeline: detection and description use two pyramids
-//   (the half view's doubled image and the view itself) of the same scale.
-// - opencv-octave0: opencv's own keypoints of octaves >= 0 without its doubled image. OpenCV 4.6's
-//   detector (findScaleSpaceExtrema: 26-neighbour extrema of the DoG layers 1..3, integer
-//   pre-threshold, adjustLocalExtrema's refinement with contrast and edge tests, orientation
-//   histogram, keypoint packing) is re-implemented here on OpenCV's octave-0 grid: OpenCV's octave 0
-//   is the nearest-neighbour half of its doubled image, i.e. the view resampled at i - 1/4 on both
-//   axes (0.25 * I[i-1] + 0.75 * I[i]), blurred to sigma. That resampling, not the blur, is what a
-//   plain first octave 0 on the view lacks (it finds a third of opencv's octave-0 keypoints).
-//   Descriptors: OpenCV 4.6's calcSIFTDescriptor, ported, on the same pyramid (cv::SIFT::compute
-//   would build a second pyramid, and takes 8-bit images only). Departure from opencv: no octave
-//   -1 keypoints. Measured: 94% of opencv's octave-0 keypoints and all of octaves >= 1 found
-//   (position within half a pixel of the octave, size 10%, angle 5 degrees), 7% more at octave 0,
-//   descriptors of the matched keypoints opencv's (mean cosine 1.000) (docs/sift.md).
-// - opencv-octave0-fine: opencv-octave0 plus an approximate octave -1: one more octave, on the view
-//   itself (not resampled, not doubled), from sigma / 2 (the scale of OpenCV's doubled octave),
-//   with 2 DoG layers, the same detector and descriptor; its keypoints are reported at octave -1.
-//   Departure from opencv: OpenCV finds its octave -1 keypoints on the doubled view, which costs
-//   four times the pixels; on the view itself 2 layers find about as many (3 layers find ten
-//   times as many: the 8-bit steps). Measured: retrieval like opencv's, which opencv-octave0's
-//   lacks (docs/sift.md).
-// - vlfeat: VLFeat's vl_sift (Debian's libvlfeat-dev, 0.9.21) on the float depth image scaled to
-//   [0, 255] (no 8-bit rounding) with VLFeat's defaults, as CM-BOF's public code calls it: first
-//   octave 0, 3 levels per octave, peak threshold 0, edge threshold 10; one descriptor per
-//   keypoint orientation (up to four), scaled as VLFeat's MATLAB wrapper does (512 times the unit
-//   vector, saturated to 255), so the values have OpenCV's scale. VLFeat's bin order differs from
-//   OpenCV's, so the descriptors of two backends must not share a codebook (the retrieval cache
-//   keys include the backend).
-// Keypoints per view, CPU seconds and retrieval measures of the three: docs/sift.md and docs/benchmarks.md.
+// Extractors (SiftBackend; `--sift` of the tool's view commands and `retrieve`, the view filter's
+// `sift` parameter):
+// - canonform (default): the implementation below, written for this project from Lowe's paper.
+//   It needs no other library.
+// - opencv: OpenCV's cv::SIFT through its public API (opencv_sift.h). It lives in a library of its
+//   own that the canonform tool links and registers; the view filter does not carry it.
+// Descriptors of two extractors differ, so they never share a codebook (retrieval cache keys
+// include the extractor).
 //
-// The opencv extractor is OpenCV's cv::SIFT (features2d, OpenCV >= 4.4). CM-BOF was published with
-// VLFeat's SIFT at its defaults: peak threshold 0 and edge threshold 10. OpenCV's default
-// contrastThreshold 0.04 rejects far more low-contrast extrema, which on smooth depth images leaves
-// few keypoints. We therefore lower the contrast threshold (edge threshold 10 as in VLFeat).
+// The canonform extractor, step by step (image values in [0, 1]; a depth view is taken as 8 bits,
+// round(255 depth) / 255, as OpenCV takes it - measured: docs/sift.md).
+// 1. Scale space (Lowe Sec. 3, eq. 1). L(x, y, sigma) = G(sigma) * I; D = L(k sigma) - L(sigma),
+//    k = 2^(1/s), s = octave_layers (3, Lowe Sec. 3.2), sigma_0 = sigma (1.6, Lowe Sec. 3.3).
+//    An octave holds s + 3 Gaussian images sigma_0 k^j (j = 0..s+2) and s + 2 DoG images; each
+//    Gaussian image is the previous one blurred by sqrt(sigma_j^2 - sigma_(j-1)^2) (the incremental
+//    blur of Lowe Sec. 3), and the next octave starts from image j = s (2 sigma_0) taking every
+//    second pixel of every second row (Lowe Sec. 3). The view is taken to have blur input_blur =
+//    0.5 (Lowe Sec. 3.3), so the first image is blurred by sqrt(sigma_0^2 - 0.5^2).
+//    Octave 0 lies where Lowe's would: Lowe first doubles the image by linear interpolation (Sec.
+//    3.3) and his octave 0 takes every second pixel of the doubled image's pyramid. With pixel
+//    centres at half pixels, doubled pixel 2i is the view at i - 1/4, that is 0.75 v[i] + 0.25
+//    v[i - 1] along each axis: that resampled view, blurred to sigma_0, is our octave 0, and its
+//    keypoints are moved back by the quarter pixel. We do not compute the doubled image's own
+//    octave (-1; four times the pixels). Instead, with fine_octave (default), an approximate octave
+//    -1 on the view itself: one octave from sigma_0 / 2 with 2 DoG layers (k = 2^(1/2)), searched
+//    in DoG images 1 and 2 (scales 1.13 and 1.6 pixels), keypoints reported at octave -1. (With 3
+//    layers, or on the doubled grid, it finds the silhouette's pixel staircase: hundreds of
+//    keypoints per view.) These choices are measured (docs/sift.md): octave 0 on the view's own
+//    grid lost first tier on the procedural collection, and the octave -1 gains it.
+//    Outside the view the image is 0 (background, which is also the view's own background). The
+//    blur is a separable Gaussian truncated at 4 sigma and normalised to sum 1, its taps computed in
+//    double by our own exp (below) and rounded to float. Each image is computed only over its
+//    support - the bounding box of the view's non-zero pixels grown by 4 sigma_j - outside which it
+//    is taken as 0: a view costs in proportion to the object's size, not the image's.
+//    Octaves: while the octave's view is at least 8 pixels wide (6 for a 256 view).
+// 2. Extrema (Lowe Sec. 3.1): a sample of DoG images j = 1..s larger than all 26 neighbours or
+//    smaller than all of them, with |D| >= 0.5 t (a pre-test of ours: t is the contrast threshold
+//    below). Searched where the three DoG images involved are computed (their supports'
+//    intersection, less one pixel).
+// 3. Sub-pixel refinement (Lowe Sec. 4, eqs. 2-3): the 3 x 3 system of D's Hessian and gradient
+//    (central differences in x, y and scale) gives the offset x^; when a coordinate of x^ exceeds
+//    0.5 the sample moves to the neighbour in that direction and the fit is repeated - at most 5
+//    fits (a cap of ours), else the extremum is dropped, as is one whose Hessian is singular. A
+//    move back to the previous sample (the extremum lies between the two) ends the fit when every
+//    coordinate is within 0.6 (ours; such extrema were dropped otherwise, e.g. a blob centred
+//    between two samples).
+//    Contrast test (Lowe Sec. 4): |D(x^)| = |D + 0.5 dD/dx . x^| >= t, with
+//    t = contrast_threshold / s: Lowe's threshold (0.03 on [0, 1]) in the convention of OpenCV's
+//    public contrastThreshold parameter, which is divided by the layers per octave (the OpenCV
+//    documentation of SIFT::create), so one option means the same for both extractors. Our default
+//    0.001 (t = 0.00033, a twelfth of a gray level) keeps the weak interior extrema of depth
+//    views: kDefaultContrastThreshold. The same t for the approximate octave -1.
+//    Edge test (Lowe Sec. 4.1, eq. 4): the 2 x 2 spatial Hessian H at the sample must have
+//    Det(H) > 0 and Tr(H)^2 / Det(H) < (r + 1)^2 / r, r = edge_threshold (10, Lowe).
+//    Scale of a keypoint: sigma = sigma_0 k^(j + x^_scale) in octave pixels (the DoG image's
+//    lower scale, Lowe's labelling of eq. 1), times 2^octave in view pixels.
+// 4. Orientation (Lowe Sec. 5): in the Gaussian image j of the keypoint's DoG image (the closest
+//    in scale, since |x^_scale| <= 0.5), gradients by central differences, m = sqrt(dx^2 + dy^2),
+//    theta = atan2(dy, dx) (y = row, downwards: theta grows clockwise on screen, OpenCV's
+//    documented KeyPoint::angle convention). A 36-bin histogram over 360 degrees of m times a
+//    Gaussian of sigma_w = 1.5 sigma centred at the sub-pixel position, over the pixels within
+//    3 sigma_w (our radius); each vote is shared linearly between its two nearest bins, and the
+//    histogram is smoothed by a Gaussian of one bin (two passes of [1 2 1] / 4, circular) - both
+//    ours: Lowe does not say. Every local maximum (strictly above both neighbours) of at least 80%
+//    of the highest makes a keypoint (Lowe Sec. 5); its angle is the vertex of the parabola through
+//    the bin and its two neighbours.
+//    Samples: every p-th pixel of every p-th row, aligned on the keypoint's sample, with
+//    p = max(1, round(3 sigma / 4)) - about 4 (at least 3) samples per descriptor bin width along
+//    each axis, as Lowe's 16 x 16 sample array over the 4 x 4 bins (Sec. 6.1; every pixel, as
+//    OpenCV takes, is up to 25 per bin and costs 3 times as much); the same for the descriptor.
+// 5. Descriptor (Lowe Sec. 6.1): a 4 x 4 grid of 8-bin orientation histograms on the keypoint's
+//    rotated frame; spatial bins 3 sigma wide (Lowe samples a 16 x 16 array at the keypoint's
+//    scale; the bin width of 3 sigma is VLFeat's documented magnification factor, which OpenCV
+//    uses too). Every sample whose rotated position falls within half a bin of the grid contributes
+//    m times a Gaussian of sigma = 2 bins (half the grid width, Lowe) of its distance to the
+//    keypoint, spread trilinearly over the two nearest bins in each of row, column and orientation
+//    with weights 1 - d (Lowe). The 128 values are normalised to unit length, clipped at 0.2 and
+//    normalised again (Lowe); then stored as OpenCV stores them: min(255, round(512 v)), integers
+//    with L2 norm about 512.
+//    Layout: value (r * 4 + c) * 8 + o, r the row and c the column of the rotated grid (rows along
+//    the keypoint's direction turned 90 degrees clockwise on screen, columns along it), o the
+//    orientation bin, 45 degrees each, counted from the keypoint's angle anticlockwise on screen.
+//    That is OpenCV's layout (found by comparing with cv::SIFT::compute's output on the same
+//    keypoints), so the two extractors' descriptors of a keypoint can be compared value by value
+//    (the nearest-neighbour rate against OpenCV's on the same keypoints: tests/test_sift_features.cpp,
+//    docs/sift.md).
+// Order: by octave (-1 first), DoG image, row, column; a keypoint's orientations in the order of
+// their histogram bins. max_features > 0 keeps the keypoints of largest |D(x^)| (ties: that order).
 //
-// Measured keypoint counts and the chosen threshold (0.001): see kDefaultContrastThreshold below.
+// Bit-identical on every x86-64 CPU: the arithmetic is +, -, *, / and sqrt of IEEE floats, in an
+// order fixed by the source (no FMA contraction: the views library is compiled with
+// -ffp-contract=off). exp (Gaussian taps and weights), atan2 (angles), sin / cos (the keypoint's
+// frame) and 2^x (scales) are our own routines of those operations, not libm's (glibc picks FMA
+// variants of exp, sin, cos, atan2, log and pow at run time). The blur runs 8 lanes at a time on
+// CPUs with AVX2 (a clone chosen at run time) and as two 4-lane SSE2 halves elsewhere: each lane
+// does the same operations in the same order either way, so the choice changes no bit (checked
+// under qemu's CPU models, docs/sift.md).
 //
-// Conventions: the image is row-major, size x size, one byte per pixel; 0 is the background (far).
-// Descriptors are OpenCV's: 128 floats per keypoint, non-negative, L2 norm about 512 (OpenCV scales
-// the unit-length, 0.2-clipped vector by 512 and saturates to [0, 255]).
+// Conventions: the image is row-major, size x size; 0 is the background (far). Positions are in
+// the view's pixel coordinates, pixel centres at integers.
 #pragma once
 
 #include "canonform/common/errors.h"
@@ -73,54 +123,33 @@ namespace canonform::views {
 /// n x 128 SIFT descriptors, one per row (row-major so a row is one contiguous descriptor).
 using SiftDescriptors = Eigen::Matrix<float, Eigen::Dynamic, 128, Eigen::RowMajor>;
 
-/// The default contrast threshold of SiftOptions, chosen so that keypoint counts on depth images
-/// are comparable to VLFeat's defaults (peak threshold 0, edge threshold 10, first octave 0).
-///
-/// Measured (OpenCV 4.6 cv::SIFT vs. VLFeat 0.9.21 vl_sift_* at its defaults; keypoints counted with
-/// one entry per orientation in both) on seven synthetic 256 x 256 8-bit depth images (orthographic
-/// height fields, background 0, nearest point 255): sphere, torus, tilted box, two-sphere blob,
-/// sphere with nine Gaussian bumps, capsule stick figure, rippled sphere:
-///
-///   extractor                       sphere torus box blob bumpy figure ripple | total
-///   VLFeat (peak 0, edge 10)            4     4   26    8    40     29      7  |  118
-///   OpenCV contrastThreshold 0.04       5    24    6   11     5     25      7  |   83
-///   OpenCV contrastThreshold 0.01       5    24    6   11     9     25      7  |   87
-///   OpenCV contrastThreshold 0.002      5    24    6   11     9     27      7  |   89
-///   OpenCV contrastThreshold 0.001      5    24    6   17    19     28     12  |  111   <- default
-///   OpenCV contrastThreshold 0.0005     5    24    6   19    53     28     15  |  150
-///   OpenCV contrastThreshold 0          15    24    6   19    69     28     17  |  178
-///
-/// Silhouette extrema are strong (DoG of tens of gray levels) and survive any threshold; the gain
-/// comes from weak interior extrema (surface detail: DoG below one gray level), which OpenCV's
-/// default 0.04 (a DoG of about 3.4 gray levels with 3 layers) discards and VLFeat's peak
-/// threshold 0 keeps. 0.001 gives the closest total; 0 also keeps quantisation artefacts on
-/// smooth regions (the 10 extra zero-response keypoints on the plain sphere). Per-image counts
-/// still differ (OpenCV doubles the image before the first octave, VLFeat does not; the box's
-/// corners give VLFeat many more keypoints), so counts are comparable, not equal.
+/// The default contrast threshold (OpenCV's contrastThreshold convention: divided by the layers
+/// per octave before the test, see step 3 above). Chosen when opencv was the only extractor so that
+/// keypoint counts on depth views are comparable to VLFeat's defaults (peak threshold 0, edge
+/// threshold 10): OpenCV's default 0.04 (about 3.4 gray levels of DoG) drops the weak interior
+/// extrema that VLFeat keeps (measured on seven synthetic depth views, docs/sift.md).
 inline constexpr double kDefaultContrastThreshold = 0.001;
 
-/// The SIFT implementation (see above).
-enum class SiftBackend { OpenCV, OpenCVHalf, VLFeat, OpenCVFast, OpenCVOctave0, OpenCVOctave0Fine };
+/// The extractor (see above).
+enum class SiftBackend { Canonform, OpenCV };
 
-/// Every backend's name, in SiftBackend's order (which is also the order of the view filter's
-/// `sift` enum): "opencv", "opencv-half", "vlfeat", "opencv-fast", "opencv-octave0",
-/// "opencv-octave0-fine".
+/// Every extractor's name, in SiftBackend's order: "canonform", "opencv".
 const std::vector<std::string>& sift_backend_names();
-/// A name of sift_backend_names() (InputError naming the choices otherwise), and back.
+/// The extractors built into this library, which need no other library (the view filter's
+/// `sift` choices): "canonform".
+const std::vector<std::string>& builtin_sift_backend_names();
+/// A name of sift_backend_names() (InputError naming the choices otherwise; a removed backend's
+/// name says what replaced it), and back.
 SiftBackend parse_sift_backend(const std::string& name);
 std::string sift_backend_name(SiftBackend backend);
 
-/// One keypoint at the feature's position in the view's pixel coordinates (pixel centres at
-/// integers). OpenCV reports positions 0.25 pixel off when it doubles the image (see
-/// sift_features.cpp); that is corrected here (opencv-octave0's carry the same offset from its
-/// resampled grid, corrected too), and opencv-half's and opencv-fast's keypoints are mapped from the
-/// half view.
+/// One keypoint in the view's pixel coordinates (pixel centres at integers).
 struct SiftKeypoint {
     float x = 0, y = 0;  ///< position (column, row)
-    float size = 0;      ///< OpenCV's KeyPoint::size (diameter) for the OpenCV backends; VLFeat's sigma for vlfeat
-    float angle = 0;     ///< orientation in degrees (OpenCV's convention for the OpenCV backends)
-    int octave = 0;      ///< pyramid octave relative to the view (-1: opencv's doubled image, opencv-octave0-fine's
-                         ///< extra octave; >= 0 for the others)
+    float size = 0;      ///< diameter 2 sigma in view pixels (OpenCV's KeyPoint::size convention)
+    float angle = 0;     ///< orientation in degrees, [0, 360), clockwise on screen (atan2(d/drow, d/dcol))
+    int octave = 0;      ///< octave of the view's scale space (-1: the approximate octave below the view's)
+    float response = 0;  ///< |D(x^)| for canonform (image values in [0, 1]); OpenCV's response for opencv
 };
 
 /// Keypoints and their descriptors (row i describes keypoints[i]).
@@ -129,31 +158,42 @@ struct SiftFeatures {
     SiftDescriptors descriptors = SiftDescriptors(0, 128);
 };
 
-/// Options of sift_descriptors(); the names follow cv::SIFT::create. The thresholds apply to the
-/// OpenCV backends; vlfeat uses VLFeat's defaults (peak 0, edge 10, first octave 0).
+/// Options of sift_features(); the thresholds mean the same for both extractors (cv::SIFT::create's
+/// parameters). fine_octave and input_blur are the canonform extractor's (step 1).
 struct SiftOptions {
-    SiftBackend backend = SiftBackend::OpenCVOctave0Fine;  ///< the extractor (default since issue 13: docs/sift.md)
-    double contrast_threshold = kDefaultContrastThreshold;  ///< OpenCV contrastThreshold (>= 0)
-    double edge_threshold = 10;   ///< principal-curvature ratio limit (VLFeat and OpenCV default 10)
+    SiftBackend backend = SiftBackend::Canonform;            ///< the extractor
+    double contrast_threshold = kDefaultContrastThreshold;  ///< t * octave_layers (>= 0), see step 3
+    double edge_threshold = 10;   ///< principal-curvature ratio r (> 0; Lowe and OpenCV: 10)
     int max_features = 0;         ///< keep the strongest n keypoints; 0 = all
-    double sigma = 1.6;           ///< Gaussian sigma of the first octave's base image
-    int octave_layers = 3;        ///< DoG layers per octave
+    double sigma = 1.6;           ///< sigma_0, the blur of each octave's first image (> 0)
+    int octave_layers = 3;        ///< s, DoG images searched per octave (>= 1)
+    bool fine_octave = true;      ///< canonform: the approximate octave -1 (step 1)
+    double input_blur = 0.5;      ///< canonform: the blur the view is taken to have (>= 0, < sigma / 2; Lowe's 0.5)
 };
 
-/// SIFT descriptors of the keypoints of one size x size 8-bit image (row-major, gray.size() ==
-/// size * size). Returns n x 128 rows, in OpenCV's keypoint order (deterministic for a given
-/// image). A blank (constant) image gives 0 rows. Throws InputError if size <= 0, the buffer size
-/// does not match, or an option is out of range (negative threshold, octave_layers < 1, sigma <= 0,
-/// max_features < 0).
-SiftDescriptors sift_descriptors(const std::vector<std::uint8_t>& gray, int size,
-                                 const SiftOptions& options = {});
+/// Registers an extractor that lives in another library (opencv_sift.h's register_opencv_sift()
+/// does this for SiftBackend::OpenCV). Call before any thread extracts features.
+using SiftExtractor = SiftFeatures (*)(const std::vector<float>& image, int size, const SiftOptions& options);
+void register_sift_extractor(SiftBackend backend, SiftExtractor extractor);
+/// Whether the backend can run in this program (built in, or registered).
+bool sift_backend_available(SiftBackend backend);
 
-/// The same with the keypoints (sift_descriptors() is sift_features().descriptors).
+/// SIFT features of a size x size image with values in [0, 1] (row-major, image.size() == size *
+/// size; a depth view, or gray levels / 255): keypoints and one descriptor each, in the order above.
+/// A constant image gives none. Throws InputError if size <= 0, the buffer size does not match, a
+/// value is not finite, an option is out of range (negative threshold, octave_layers < 1,
+/// sigma <= 0, max_features < 0, input_blur outside [0, sigma / 2)) or the backend is not available
+/// in this program (the message names what is).
+SiftFeatures sift_features(const std::vector<float>& image, int size, const SiftOptions& options = {});
+SiftDescriptors sift_descriptors(const std::vector<float>& image, int size, const SiftOptions& options = {});
+
+/// The same for an 8-bit image (gray level / 255).
 SiftFeatures sift_features(const std::vector<std::uint8_t>& gray, int size, const SiftOptions& options = {});
+SiftDescriptors sift_descriptors(const std::vector<std::uint8_t>& gray, int size, const SiftOptions& options = {});
 
-/// The same for a depth image in [0, 1] (row-major, size x size): the OpenCV backends see it as
-/// 8 bits (round(255 * depth)), vlfeat as floats 255 * depth. Same errors.
-SiftDescriptors depth_sift_descriptors(const std::vector<float>& depth, int size, const SiftOptions& options = {});
+/// The same for a depth view in [0, 1] (values clamped to it), taken as 8 bits (round(255 depth))
+/// by both extractors (step 1).
 SiftFeatures depth_sift_features(const std::vector<float>& depth, int size, const SiftOptions& options = {});
+SiftDescriptors depth_sift_descriptors(const std::vector<float>& depth, int size, const SiftOptions& options = {});
 
 }  // namespace canonform::views

@@ -1,0 +1,225 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "canonform/views/codebook.h"
+
+#ifndef CANONFORM_WITHOUT_FAISS
+#include <faiss/Clustering.h>
+#include <faiss/IndexFlat.h>
+#endif
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <random>
+
+// Codebook training (Codebook::train, train_on_rows, training_rows): in a library of its own,
+// canonform::codebook_training, with FAISS (and through it BLAS and OpenMP), so that a program that
+// only reads codebooks and assigns words - the view filter - needs none of them.
+namespace canonform::views {
+namespace {
+
+constexpr int kDim = 128;
+
+// ---- random numbers (platform independent for a seed) ---------------------------------------------
+double uniform01(std::mt19937_64& rng) { return static_cast<double>(rng() >> 11) * (1.0 / 9007199254740992.0); }
+std::size_t uniform_index(std::mt19937_64& rng, std::size_t n) { return static_cast<std::size_t>(rng() % n); }
+
+// First `k` entries of a seeded partial Fisher-Yates shuffle of 0..n-1.
+std::vector<int> sample_distinct(std::mt19937_64& rng, int n, int k) {
+    std::vector<int> idx(n);
+    std::iota(idx.begin(), idx.end(), 0);
+    for (int i = 0; i < k; ++i) std::swap(idx[i], idx[i + uniform_index(rng, static_cast<std::size_t>(n - i))]);
+    idx.resize(k);
+    return idx;
+}
+
+
+
+DescriptorMatrix kmeans_pp_seed(const DescriptorMatrix& X, int k, std::mt19937_64& rng) {
+    const int n = static_cast<int>(X.rows());
+    const int m = std::min(n, 20 * k);
+    std::vector<int> subset = sample_distinct(rng, n, m);
+    DescriptorMatrix S(m, kDim);
+    for (int i = 0; i < m; ++i) S.row(i) = X.row(subset[i]);
+    DescriptorMatrix C(k, kDim);
+    Eigen::VectorXd d2 = Eigen::VectorXd::Constant(m, std::numeric_limits<double>::infinity());
+    int pick = static_cast<int>(uniform_index(rng, static_cast<std::size_t>(m)));
+    for (int c = 0; c < k; ++c) {
+        if (c > 0) {
+            const double total = d2.sum();
+            if (total > 0) {
+                double u = uniform01(rng) * total, acc = 0;
+                pick = m - 1;
+                for (int i = 0; i < m; ++i) {
+                    acc += d2[i];
+                    if (acc > u && d2[i] > 0) { pick = i; break; }
+                }
+            } else {
+                pick = static_cast<int>(uniform_index(rng, static_cast<std::size_t>(m)));  // all duplicates
+            }
+        }
+        C.row(c) = S.row(pick);
+        const Eigen::VectorXf dn = (S.rowwise() - S.row(pick)).rowwise().squaredNorm();
+        d2 = d2.cwiseMin(dn.cast<double>());
+    }
+    return C;
+}
+
+
+// The nearest word of every row of X and its squared distance (Codebook::assign's choice).
+void nearest_words(const DescriptorMatrix& X, const DescriptorMatrix& C, std::vector<int>& label, std::vector<float>* dist2) {
+    label = Codebook::from_words(C).assign(X);
+    if (!dist2) return;
+    dist2->resize(label.size());
+    for (size_t i = 0; i < label.size(); ++i)
+        (*dist2)[i] = (X.row(static_cast<Eigen::Index>(i)) - C.row(label[i])).squaredNorm();
+}
+
+}  // namespace
+
+namespace {
+
+DescriptorMatrix lloyd(const DescriptorMatrix& X, int k, int iterations, std::mt19937_64& rng) {
+    const int n = static_cast<int>(X.rows());
+    DescriptorMatrix C = kmeans_pp_seed(X, k, rng);
+    std::vector<int> label, previous;
+    std::vector<float> dist2;
+    for (int it = 0; it < iterations; ++it) {
+        nearest_words(X, C, label, &dist2);
+        if (label == previous) break;
+        // New means, accumulated sequentially (deterministic).
+        Eigen::MatrixXd sum = Eigen::MatrixXd::Zero(k, kDim);
+        std::vector<int> count(static_cast<std::size_t>(k), 0);
+        for (int i = 0; i < n; ++i) {
+            sum.row(label[i]) += X.row(i).cast<double>();
+            ++count[static_cast<std::size_t>(label[i])];
+        }
+        std::vector<int> order;  // points by decreasing distance, for re-seeding empty clusters
+        std::size_t next_far = 0;
+        for (int c = 0; c < k; ++c) {
+            if (count[static_cast<std::size_t>(c)] > 0) {
+                C.row(c) = (sum.row(c) / count[static_cast<std::size_t>(c)]).cast<float>();
+                continue;
+            }
+            if (order.empty()) {
+                order.resize(static_cast<std::size_t>(n));
+                std::iota(order.begin(), order.end(), 0);
+                std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return dist2[a] > dist2[b]; });
+            }
+            C.row(c) = X.row(order[std::min(next_far++, order.size() - 1)]);
+        }
+        previous.swap(label);
+    }
+    return C;
+}
+
+#ifdef CANONFORM_WITHOUT_FAISS
+DescriptorMatrix faiss_kmeans(const DescriptorMatrix&, int, int, std::uint64_t) {
+    throw InputError("Codebook: this build has no FAISS (CANONFORM_WITHOUT_FAISS), so no 'kmeans' method; use 'lloyd'.");
+}
+#else
+DescriptorMatrix faiss_kmeans(const DescriptorMatrix& X, int k, int iterations, std::uint64_t seed) {
+    faiss::ClusteringParameters cp;
+    cp.niter = iterations;
+    cp.seed = static_cast<int>(seed % 2147483647u);
+    cp.verbose = false;
+    cp.min_points_per_centroid = 1;  // no warning for small inputs (n > k is guaranteed)
+    cp.max_points_per_centroid = std::numeric_limits<int>::max() / 2;  // we sample ourselves
+    faiss::Clustering clustering(kDim, k, cp);
+    faiss::IndexFlatL2 index(kDim);
+    // FAISS indices are int64_t: faiss::Index::idx_t up to 1.7.3 (bookworm), faiss::idx_t after.
+    clustering.train(static_cast<std::int64_t>(X.rows()), X.data(), index);
+    if (clustering.centroids.size() != static_cast<std::size_t>(k) * kDim)
+        throw NumericalError("Codebook: FAISS k-means returned " + std::to_string(clustering.centroids.size() / kDim) +
+                             " words, expected " + std::to_string(k) + ".");
+    return Eigen::Map<const DescriptorMatrix>(clustering.centroids.data(), k, kDim);
+}
+#endif
+
+}  // namespace
+
+namespace {
+
+void check_options(const CodebookOptions& options, std::int64_t total) {
+    if (options.words <= 0) throw InputError("Codebook: the number of words must be positive.");
+    if (options.kmeans_iterations < 0) throw InputError("Codebook: kmeans_iterations must be >= 0.");
+    if (options.sample < 0) throw InputError("Codebook: the training sample must be >= 0 (0 = every descriptor).");
+    if (total == 0) throw InputError("Codebook: no training descriptors (every view was blank?).");
+    if (total > std::numeric_limits<int>::max()) throw InputError("Codebook: too many training descriptors.");
+    // Never fewer words than asked for, silently: a codebook of every descriptor is not what was asked.
+    if (total < options.words)
+        throw InputError("Codebook: " + std::to_string(options.words) + " words asked for, but there are only " +
+                         std::to_string(total) + " training descriptors: ask for at most " + std::to_string(total) +
+                         " words (--words in the canonform tool), or train on more meshes.");
+}
+
+bool draws_sample(const CodebookOptions& options, std::int64_t total) {
+    return total > options.words && options.sample > 0 && options.sample < total;
+}
+
+// The sample of training_rows(), drawn from `rng` (which train_on_rows() continues).
+std::vector<int> draw_sample(std::mt19937_64& rng, int n, const CodebookOptions& options) {
+    const int m = static_cast<int>(std::max<std::int64_t>(options.sample, options.words + 1));
+    return sample_distinct(rng, n, std::min(m, n));
+}
+
+}  // namespace
+
+std::vector<int> Codebook::training_rows(std::int64_t total, const CodebookOptions& options) {
+    check_options(options, total);
+    const int n = static_cast<int>(total);
+    if (!draws_sample(options, total)) {
+        std::vector<int> all(static_cast<std::size_t>(n));
+        std::iota(all.begin(), all.end(), 0);
+        return all;
+    }
+    std::mt19937_64 rng(options.seed);
+    return draw_sample(rng, n, options);
+}
+
+Codebook Codebook::train(const DescriptorMatrix& X, const CodebookOptions& options) {
+    check_options(options, X.rows());
+    if (!X.allFinite()) throw InputError("Codebook: a training descriptor has a non-finite value.");
+    if (!draws_sample(options, X.rows())) return train_on_rows(X, X.rows(), options);
+    const std::vector<int> pick = training_rows(X.rows(), options);
+    DescriptorMatrix sampled(static_cast<Eigen::Index>(pick.size()), kDim);
+    for (std::size_t i = 0; i < pick.size(); ++i) sampled.row(static_cast<Eigen::Index>(i)) = X.row(pick[i]);
+    return train_on_rows(sampled, X.rows(), options);
+}
+
+Codebook Codebook::train_on_rows(const DescriptorMatrix& S, std::int64_t total, const CodebookOptions& options) {
+    check_options(options, total);
+    if (!S.allFinite()) throw InputError("Codebook: a training descriptor has a non-finite value.");
+    const int n = static_cast<int>(total), k = options.words;
+    std::mt19937_64 rng(options.seed);
+    const bool sampled = draws_sample(options, total);
+    if (sampled) draw_sample(rng, n, options);  // the same draws, so that rng continues alike
+    const std::int64_t expected = sampled ? std::min<std::int64_t>(std::max<std::int64_t>(options.sample, k + 1), n) : n;
+    if (static_cast<std::int64_t>(S.rows()) != expected)
+        throw InputError("Codebook: " + std::to_string(S.rows()) + " training rows given, training_rows() names " +
+                         std::to_string(expected) + ".");
+    if (n == k) return from_words(S);  // exactly as many descriptors as words: each is a word
+    const int m = static_cast<int>(S.rows());
+
+    switch (options.method) {
+        case CodebookOptions::Method::Random: {
+            const std::vector<int> pick = sample_distinct(rng, m, k);
+            DescriptorMatrix C(k, kDim);
+            for (int i = 0; i < k; ++i) C.row(i) = S.row(pick[i]);
+            return from_words(std::move(C));
+        }
+        case CodebookOptions::Method::Lloyd:
+            return from_words(lloyd(S, k, options.kmeans_iterations, rng));
+        case CodebookOptions::Method::KMeans:
+            if (options.kmeans_iterations == 0) {  // FAISS's initialisation alone: random sample points
+                const std::vector<int> pick = sample_distinct(rng, m, k);
+                DescriptorMatrix C(k, kDim);
+                for (int i = 0; i < k; ++i) C.row(i) = S.row(pick[i]);
+                return from_words(std::move(C));
+            }
+            return from_words(faiss_kmeans(S, k, options.kmeans_iterations, rng()));
+    }
+    throw InputError("Codebook: unknown method.");
+}
+
+}  // namespace canonform::views
