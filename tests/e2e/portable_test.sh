@@ -53,16 +53,22 @@ check "forky-bare's ldconfig -p shows none of the bundled libraries but those Me
 "$cf" generate fig.ply --vertices 2500 --pose 4 > /dev/null
 "$cf" codebook cb.bin fig.ply --words 100 > /dev/null 2>&1
 # wheel HARNESS MESHLAB_COMMON DEST: the harness as pymeshlab's wheel lays itself out, with the
-# libraries forky-bare lacks (bookworm's TBB, GLEW, ... that the harness itself links) in DEST/lib
+# libraries forky-bare lacks (bookworm's TBB, GLEW, CHOLMOD and what they need in turn, ... that the
+# harness itself links) in DEST/lib, each with RUNPATH $ORIGIN as auditwheel gives a wheel's
+# libraries (a RUNPATH does not reach a library's own dependencies, so each needs its own)
 wheel() {
-  local harness=$1 common=$2 dest=$3 lib
+  local harness=$1 common=$2 dest=$3 lib round missing
   mkdir -p "$dest/lib"
   cp "$harness" "$dest/harness"
   cp "$common" "$dest/lib/libmeshlab-common.so"
-  "$src/tools/host.sh" bullseye bash -c 'patchelf --set-rpath "\$ORIGIN/lib" "$1/harness" &&
-                                         patchelf --set-rpath "\$ORIGIN" "$1/lib/libmeshlab-common.so"' rpath "$dest" >/dev/null 2>&1
-  for lib in $(bare bash -c "cd '$dest' && ldd harness lib/libmeshlab-common.so" 2>/dev/null | awk '/not found/ {print $1}' | sort -u); do
-    cp -L "$(/sbin/ldconfig -p | awk -v l="$lib" '$1 == l && /x86-64/ {print $NF; exit}')" "$dest/lib/"
+  for round in 1 2 3 4 5; do
+    "$src/tools/host.sh" bullseye bash -c 'patchelf --set-rpath "\$ORIGIN/lib" "$1/harness" &&
+                                           for l in "$1"/lib/*.so*; do patchelf --set-rpath "\$ORIGIN" "$l"; done' rpath "$dest" >/dev/null 2>&1
+    missing=$(bare bash -c "cd '$dest' && ldd harness lib/*.so*" 2>/dev/null | awk '/not found/ {print $1}' | sort -u)
+    [ -n "$missing" ] || break
+    for lib in $missing; do
+      cp -L "$(/sbin/ldconfig -p | awk -v l="$lib" '$1 == l && /x86-64/ {print $NF; exit}')" "$dest/lib/"
+    done
   done
 }
 declare -A harness=([pymeshlab2022.2]=pymeshlab2022 [pymeshlab2023.12]=pymeshlab2023 [pymeshlab2025.7]=pymeshlab2025)
