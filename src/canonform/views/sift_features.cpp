@@ -37,8 +37,8 @@ SiftBackend parse_sift_backend(const std::string& name) {
     }
     for (const char* removed : {"opencv-half", "opencv-fast", "opencv-octave0", "opencv-octave0-fine", "vlfeat"})
         if (name == removed)
-            throw InputError("SIFT: the backend '" + name + "' was removed (issue 23: its code was adapted from another " +
-                             "project, or it was measured no better than the others); 'canonform' replaces it (" +
+            throw InputError("SIFT: the backend '" + name + "' was removed (issue 23: its code was not written in this project, " +
+                             "or it was measured no better than the others); 'canonform' replaces it (" +
                              choices + ").");
     throw InputError("SIFT: unknown backend '" + name + "' (" + choices + ").");
 }
