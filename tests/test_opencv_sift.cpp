@@ -26,30 +26,7 @@ std::vector<float> synthetic_depth(bool bumps) {
     for (int r = 0; r < kN; ++r)
         for (int c = 0; c < kN; ++c) {
             const double x = (c + 0.5) / kN * 2 - 1, y = (r + 0.5) / kN * 2 - 1;
-            double z = -2;
-            if (bumps) {
-                const double q = 0.64 - x * x - y * y;
-                if (q > 0) {
-                    z = std::sqrt(q);
-                    for (int k = 0; k < 9; ++k) {
-                        const double bx = -0.45 + 0.45 * (k % 3), by = -0.45 + 0.45 * (k / 3);
-                        z += 0.15 * std::exp(-((x - bx) * (x - bx) + (y - by) * (y - by)) / 0.01);
-                    }
-                }
-            } else {
-                auto cap = [&](double ax, double ay, double bx, double by, double rad, double base) {
-                    const double dx = bx - ax, dy = by - ay;
-                    const double t = std::clamp(((x - ax) * dx + (y - ay) * dy) / (dx * dx + dy * dy), 0.0, 1.0);
-                    const double px = ax + t * dx - x, py = ay + t * dy - y, q = rad * rad - px * px - py * py;
-                    if (q > 0) z = std::max(z, base + std::sqrt(q));
-                };
-                cap(0, -0.35, 0, 0.2, 0.17, 0);
-                cap(0, -0.62, 0, -0.6, 0.12, 0.02);
-                cap(-0.12, -0.3, -0.6, -0.05, 0.06, 0.05);
-                cap(0.12, -0.3, 0.55, -0.55, 0.06, 0.05);
-                cap(-0.08, 0.2, -0.3, 0.9, 0.08, 0);
-                cap(0.08, 0.2, 0.25, 0.9, 0.08, -0.05);
-            }
+            const double z = test::synthetic_scene_height(bumps, x, y);
             if (z > -1.5) img[static_cast<size_t>(r) * kN + c] = static_cast<float>(std::round(std::clamp(1.0 + 254.0 * (z + 1) / 2, 1.0, 255.0)) / 255);
         }
     return img;

@@ -7,7 +7,9 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <functional>
 #include <random>
 #include <string>
@@ -32,6 +34,37 @@ auto under_l1_cache_sizes(Fn fn) -> std::vector<decltype(fn())> {
     }
     Eigen::setCpuCacheSizes(l1, l2, l3);
     return out;
+}
+
+/// The height of the synthetic depth scene the SIFT tests view, at (x, y) in [-1, 1]^2 (x right,
+/// y down), or -2 off the scene: a sphere of radius 0.8 with nine Gaussian bumps (bumps = true),
+/// or a capsule stick figure.
+inline double synthetic_scene_height(bool bumps, double x, double y) {
+    double z = -2;
+    if (bumps) {
+        const double q = 0.64 - x * x - y * y;
+        if (q > 0) {
+            z = std::sqrt(q);
+            for (int k = 0; k < 9; ++k) {
+                const double bx = -0.45 + 0.45 * (k % 3), by = -0.45 + 0.45 * (k / 3);
+                z += 0.15 * std::exp(-((x - bx) * (x - bx) + (y - by) * (y - by)) / 0.01);
+            }
+        }
+        return z;
+    }
+    const auto cap = [&](double ax, double ay, double bx, double by, double rad, double base) {
+        const double dx = bx - ax, dy = by - ay;
+        const double t = std::clamp(((x - ax) * dx + (y - ay) * dy) / (dx * dx + dy * dy), 0.0, 1.0);
+        const double px = ax + t * dx - x, py = ay + t * dy - y, q = rad * rad - px * px - py * py;
+        if (q > 0) z = std::max(z, base + std::sqrt(q));
+    };
+    cap(0, -0.35, 0, 0.2, 0.17, 0);
+    cap(0, -0.62, 0, -0.6, 0.12, 0.02);
+    cap(-0.12, -0.3, -0.6, -0.05, 0.06, 0.05);
+    cap(0.12, -0.3, 0.55, -0.55, 0.06, 0.05);
+    cap(-0.08, 0.2, -0.3, 0.9, 0.08, 0);
+    cap(0.08, 0.2, 0.25, 0.9, 0.08, -0.05);
+    return z;
 }
 
 /// A random rotation (uniform from a seeded quaternion).
