@@ -19,6 +19,8 @@ import math
 import struct
 import sys
 
+from check_report import Report
+
 PLY_TYPES = {"char": "b", "int8": "b", "uchar": "B", "uint8": "B", "short": "h", "int16": "h", "ushort": "H",
              "uint16": "H", "int": "i", "int32": "i", "uint": "I", "uint32": "I", "float": "f", "float32": "f",
              "double": "d", "float64": "d"}
@@ -145,18 +147,15 @@ def main(argv):
     rel = 1e-6
     if argv[:1] == ["--rel"]:
         rel, argv = float(argv[1]), argv[2:]
-    passed = failed = 0
+    report = Report()
     for pair in argv:
         a, b = pair.split(":", 1)
         try:
             ok, detail = compare(a, b, rel)
         except (OSError, ValueError, KeyError, StopIteration, struct.error) as e:
             ok, detail = False, f"{type(e).__name__}: {e}"
-        print(f"  {'ok  ' if ok else 'FAIL'} {b} = {a} to {rel:g}: {detail}")
-        passed += ok
-        failed += not ok
-    print(f"{passed} passed, {failed} failed")
-    return 0 if failed == 0 and passed > 0 else 1
+        report.check(ok, f"{b} = {a} to {rel:g}: {detail}")
+    return report.exit_code()
 
 
 if __name__ == "__main__":

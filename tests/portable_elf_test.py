@@ -28,6 +28,8 @@ import tarfile
 import tempfile
 from pathlib import Path
 
+from check_report import Report
+
 ALLOWED = {
     "libmeshlab-common.so",
     "libQt5Core.so.5", "libQt5Gui.so.5", "libQt5Widgets.so.5", "libQt5OpenGL.so.5", "libQt5Xml.so.5",
@@ -161,24 +163,20 @@ def refuses(host, plugins, scripts_dirs):
 
 
 def main(argv):
-    passed = failed = 0
+    report = Report()
     if "--refuses" in argv:
         i = argv.index("--refuses")
         argv, (host, *rest) = argv[:i], argv[i + 1:]
         plugins = [p for p in rest if p.endswith(".so")]
-        ok = refuses(host, plugins, [p for p in rest if not p.endswith(".so")])
-        passed += ok
-        failed += not ok
+        report.count(refuses(host, plugins, [p for p in rest if not p.endswith(".so")]))
     for archive in argv:
         failures, summary = check(archive)
         print("\n".join(summary))
         for f in failures:
             print(f"  FAIL {f}")
         print(f"{'ok  ' if not failures else 'FAIL'} {Path(archive).name}")
-        passed += not failures
-        failed += bool(failures)
-    print(f"{passed} passed, {failed} failed")
-    return 0 if failed == 0 and passed > 0 else 1
+        report.count(not failures)
+    return report.exit_code()
 
 
 if __name__ == "__main__":

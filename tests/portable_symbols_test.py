@@ -20,6 +20,8 @@ import tarfile
 import tempfile
 from pathlib import Path
 
+from check_report import Report
+
 
 def nm(path, defined):
     out = subprocess.run(["nm", "-D", "--defined-only" if defined else "--undefined-only", str(path)],
@@ -39,7 +41,7 @@ def nm(path, defined):
 
 def main(argv):
     double, single, archives = nm(argv[0], True), nm(argv[1], True), argv[2:]
-    passed = failed = 0
+    report = Report()
     for archive in archives:
         m = re.search(r"-(pymeshlab(2023\.12|2025\.7))-linux", Path(archive).name)
         if not m:
@@ -56,19 +58,13 @@ def main(argv):
                 meshlab = nm(plugin, False) - bundled
                 missing = sorted(meshlab - double)
                 ok = bool(meshlab) and not missing
-                print(f"  {'ok  ' if ok else 'FAIL'} {host} {plugin.name}: " +
-                      (f"all {len(meshlab)} undefined MeshLab symbols exported by 2025.07's double meshlab-common"
-                       if ok else f"{len(missing)} of {len(meshlab)} not exported: {missing[:5]}"))
-                passed += ok
-                failed += not ok
+                report.check(ok, f"{host} {plugin.name}: " +
+                             (f"all {len(meshlab)} undefined MeshLab symbols exported by 2025.07's double meshlab-common"
+                              if ok else f"{len(missing)} of {len(meshlab)} not exported: {missing[:5]}"))
                 wrong = sorted(meshlab - single)
-                ok = bool(wrong)
-                print(f"  {'ok  ' if ok else 'FAIL'} {host} {plugin.name} against the single-precision library: "
-                      f"{len(wrong)} missing, as they must be (e.g. {wrong[:1]})")
-                passed += ok
-                failed += not ok
-    print(f"{passed} passed, {failed} failed")
-    return 0 if failed == 0 and passed > 0 else 1
+                report.check(bool(wrong), f"{host} {plugin.name} against the single-precision library: "
+                                          f"{len(wrong)} missing, as they must be (e.g. {wrong[:1]})")
+    return report.exit_code()
 
 
 if __name__ == "__main__":
