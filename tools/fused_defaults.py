@@ -19,22 +19,19 @@ the members, the best N candidates (--top, default all) and the candidates named
 The candidates with no constant of their own are the equal-weight ones (W = 0.5) of row-z and
 rank-sum; rrf60 has RRF's customary k = 60, distinct5 its k = 5.
 """
-import json
 import os
-import subprocess
 import sys
 import tempfile
 
 import numpy as np
 
-from fused_rules import RULES, load
+from fused_rules import MEASURES, RULES, evaluate, member_pair
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "docs"))
 from record_run import dump  # noqa: E402
 
 DEFAULT_RULES = ["row-z", "rrf60", "rank-sum", "distinct5", "global-median"]
 DEFAULT_WEIGHTS = [0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9]
-MEASURES = ("nn", "first_tier", "second_tier", "e_measure", "dcg")
 
 
 def parse(argv):
@@ -87,26 +84,14 @@ def main():
     o = parse(sys.argv[1:])
     with tempfile.TemporaryDirectory() as tmp:
         def score(F, labels):
-            mat = os.path.join(tmp, "fused.bin")
-            np.asarray(F, dtype="<f4").tofile(mat)
-            p = subprocess.run([o["cf"], "evaluate", mat, "--labels", labels, "--json"], capture_output=True, text=True)
-            if p.returncode != 0:
-                sys.exit("fused_defaults.py: %s evaluate failed: %s" % (o["cf"], p.stderr.strip()))
-            j = json.loads(p.stdout)["micro"]
-            return {k: j[k] for k in MEASURES}
+            return evaluate(o["cf"], F, labels, tmp, "fused_defaults.py")
 
         data = {}  # collection -> [(Da, Db, labels)]
         for c, (name, runs) in enumerate(o["collections"]):
             data[name] = []
             for k, run in enumerate(runs):
-                na, classes, Da = load(run, "none")
-                nb, _, Db = load(run, "euclidean-N")
-                common = [n for n in na if n in set(nb)]
-                ia, ib = [na.index(n) for n in common], [nb.index(n) for n in common]
                 labels = os.path.join(tmp, "labels%d_%d.csv" % (c, k))
-                with open(labels, "w") as f:
-                    f.write("path,class\n" + "".join("%s,%s\n" % (n, classes[n]) for n in common))
-                data[name].append((Da[np.ix_(ia, ia)], Db[np.ix_(ib, ib)], labels))
+                data[name].append(member_pair(run, "none", "euclidean-N", labels) + (labels,))
         names = [n for n, _ in o["collections"]]
         alone = {n: [(score(Da, lab), score(Db, lab)) for Da, Db, lab in data[n]] for n in names}
         best = {n: [max(a["first_tier"], b["first_tier"]) for a, b in alone[n]] for n in names}

@@ -183,6 +183,33 @@ def load(run, method):
     return load_method(os.path.join(run, method))
 
 
+MEASURES = ("nn", "first_tier", "second_tier", "e_measure", "dcg")
+
+
+def member_pair(run, a, b, labels):
+    """Members a and b of RUN on the models both have (in a's order): (D_a, D_b); writes their
+    classes to the labels file LABELS for `canonform evaluate`."""
+    na, classes, Da = load(run, a)
+    nb, _, Db = load(run, b)
+    common = [n for n in na if n in set(nb)]
+    ia, ib = [na.index(n) for n in common], [nb.index(n) for n in common]
+    with open(labels, "w") as f:
+        f.write("path,class\n" + "".join("%s,%s\n" % (n, classes[n]) for n in common))
+    return Da[np.ix_(ia, ia)], Db[np.ix_(ib, ib)]
+
+
+def evaluate(cf, F, labels, tmp, who):
+    """The micro-averaged measures of distance matrix F ({measure: value}, MEASURES) by
+    `CF evaluate --json`; the script WHO ends with the tool's message if it fails."""
+    mat = os.path.join(tmp, "fused.bin")
+    np.asarray(F, dtype="<f4").tofile(mat)
+    p = subprocess.run([cf, "evaluate", mat, "--labels", labels, "--json"], capture_output=True, text=True)
+    if p.returncode != 0:
+        sys.exit("%s: %s evaluate failed: %s" % (who, cf, p.stderr.strip()))
+    j = json.loads(p.stdout)["micro"]
+    return {k: j[k] for k in MEASURES}
+
+
 def parse(argv):
     opts = {"target": None, "members": ["none", "euclidean-N"], "weights": None, "rules": None, "csv": None}
     pos = []
@@ -225,23 +252,11 @@ def main():
     with tempfile.TemporaryDirectory() as tmp:
         data = []
         for k, run in enumerate(runs):
-            na, classes, Da = load(run, a)
-            nb, _, Db = load(run, b)
-            common = [n for n in na if n in set(nb)]
-            ia, ib = [na.index(n) for n in common], [nb.index(n) for n in common]
             labels = os.path.join(tmp, "labels%d.csv" % k)
-            with open(labels, "w") as f:
-                f.write("path,class\n" + "".join("%s,%s\n" % (n, classes[n]) for n in common))
-            data.append((Da[np.ix_(ia, ia)], Db[np.ix_(ib, ib)], labels))
+            data.append(member_pair(run, a, b, labels) + (labels,))
 
         def score(F, labels):
-            mat = os.path.join(tmp, "fused.bin")
-            np.asarray(F, dtype="<f4").tofile(mat)
-            p = subprocess.run([cf, "evaluate", mat, "--labels", labels, "--json"], capture_output=True, text=True)
-            if p.returncode != 0:
-                sys.exit("fused_rules.py: %s evaluate failed: %s" % (cf, p.stderr.strip()))
-            j = json.loads(p.stdout)["micro"]
-            m = [j[key] for key in ("nn", "first_tier", "second_tier", "e_measure", "dcg")]
+            m = list(evaluate(cf, F, labels, tmp, "fused_rules.py").values())
             return m + [sum(m) / 5]
 
         def cells(scores):
