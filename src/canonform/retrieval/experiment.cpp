@@ -469,17 +469,17 @@ std::string report_markdown(const ExperimentOptions& o, std::size_t meshes, cons
         if (m.pose_consistency >= 0) std::snprintf(cons, sizeof cons, "%.3f", m.pose_consistency);
         if (m.no_measures.empty())
             std::snprintf(row, sizeof row, "| %s | %.3f | %.3f | %.3f | %.3f | %.3f | %s | %zu | %zu | %.1f | %.1f | %.1f |\n",
-                          (m.label.empty() ? m.spec.folder() : m.label).c_str(), e.nn, e.first_tier, e.second_tier, e.e_measure, e.dcg, cons,
+                          m.name().c_str(), e.nn, e.first_tier, e.second_tier, e.e_measure, e.dcg, cons,
                           m.meshes, m.failed, m.forms_seconds, m.codebook_seconds, m.distances_seconds);
         else
             std::snprintf(row, sizeof row, "| %s | - | - | - | - | - | %s | %zu | %zu | %.1f | %.1f | %.1f |\n",
-                          (m.label.empty() ? m.spec.folder() : m.label).c_str(), cons, m.meshes, m.failed, m.forms_seconds, m.codebook_seconds,
+                          m.name().c_str(), cons, m.meshes, m.failed, m.forms_seconds, m.codebook_seconds,
                           m.distances_seconds);
         report << row;
     }
     report << summary_markdown(outcomes);
     for (const MethodOutcome& m : outcomes)
-        if (!m.no_measures.empty()) report << "\nNo measures for " << (m.label.empty() ? m.spec.folder() : m.label) << ": " << m.no_measures << ".\n";
+        if (!m.no_measures.empty()) report << "\nNo measures for " << m.name() << ": " << m.no_measures << ".\n";
     report << pictures;
     report << "\nPose consistency: mean over same-class pairs with ground-truth correspondences (corres/*.vts) of "
               "the RMS distance between corresponding vertices after the best rigid motion (or mirror image), "
@@ -502,7 +502,6 @@ std::string summary_markdown(const std::vector<MethodOutcome>& outcomes) {
                                      {"DCG", &Measures::dcg}};
     // Compared as the table shows them (three decimals): a difference the table hides is no win.
     const auto shown = [](double v) { return std::llround(v * 1000.0); };
-    const auto name = [](const MethodOutcome& m) { return m.label.empty() ? m.spec.folder() : m.label; };
     std::vector<const MethodOutcome*> measured;
     for (const MethodOutcome& m : outcomes)
         if (m.no_measures.empty()) measured.push_back(&m);
@@ -515,7 +514,7 @@ std::string summary_markdown(const std::vector<MethodOutcome>& outcomes) {
         for (const MethodOutcome* m : measured) best = std::max(best, shown(m->evaluation.micro.*c.value));
         std::string names;
         for (const MethodOutcome* m : measured)
-            if (shown(m->evaluation.micro.*c.value) == best) names += (names.empty() ? "" : ", ") + name(*m);
+            if (shown(m->evaluation.micro.*c.value) == best) names += (names.empty() ? "" : ", ") + m->name();
         std::snprintf(figure, sizeof figure, "%.3f", best / 1000.0);
         out << (&c == columns ? " " : "; ") << c.title << " " << names << " (" << figure << ")";
     }
@@ -536,13 +535,13 @@ std::string summary_markdown(const std::vector<MethodOutcome>& outcomes) {
             if (mine > theirs) continue;
             char text[160];
             std::snprintf(text, sizeof text, "%s %.3f %s %s's %.3f", c.title, mine / 1000.0,
-                          mine == theirs ? "ties" : "against", name(*top).c_str(), theirs / 1000.0);
+                          mine == theirs ? "ties" : "against", top->name().c_str(), theirs / 1000.0);
             behind += (behind.empty() ? "" : "; ") + std::string(text);
         }
         if (behind.empty())
-            out << "\n" << name(*f) << " beats every member on all five measures.\n";
+            out << "\n" << f->name() << " beats every member on all five measures.\n";
         else
-            out << "\n" << name(*f) << " does not beat its best member on this collection: " << behind
+            out << "\n" << f->name() << " does not beat its best member on this collection: " << behind
                 << ". Here the better member alone is at least as good on those measures (docs/retrieval.md, "
                    "\"Fused methods\").\n";
     }

@@ -87,6 +87,8 @@ struct MethodOutcome {
     std::size_t meshes = 0, failed = 0;
     int cached = 0;                    ///< meshes read from the cache
     double forms_seconds = 0, codebook_seconds = 0, distances_seconds = 0;
+    /// Its name in the report: the fused method's label, else the method's folder.
+    std::string name() const { return label.empty() ? spec.folder() : label; }
 };
 
 /// A retrieval run. The constructor reads and checks the collection before any work (the labels,
