@@ -200,7 +200,7 @@ py::dict retrieve(const py::object& dataset, const py::object& out, const py::ob
         d["forms_seconds"] = m.forms_seconds;
         d["codebook_seconds"] = m.codebook_seconds;
         d["distances_seconds"] = m.distances_seconds;
-        per_method[text(m.label.empty() ? m.spec.folder() : m.label)] = d;
+        per_method[text(m.name())] = d;
     }
     result["methods"] = per_method;
     return result;
