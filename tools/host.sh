@@ -24,8 +24,9 @@
 # 2. Each clone runs it through an overlay (its changes under build/hosts/SUITE/upper), with the
 #    project tree (at its own path) and /tmp bind-mounted, proc and dev mounted; bullseye also gets
 #    a compiler cache, $CANONFORM_HOST_CACHE/ccache-bullseye, as /var/cache/ccache (CCACHE_DIR;
-#    CANONFORM_HOST_CCACHE=0: none). All is unmounted when the script ends, also on failure or
-#    interruption.
+#    CANONFORM_HOST_CCACHE=0: none). The mounts are made in a mount namespace of the script's own,
+#    so no other process sees them and they go when it ends, however it ends (also on SIGKILL); it
+#    also unmounts them itself on failure or interruption.
 # 3. trixie and forky only: inside, the README's commands for that system: tools/setup.sh,
 #    CANONFORM_PLUGINS_ONLY=1 tools/build.sh (what the package holds; build dir
 #    build/hosts/SUITE/build), tools/package.sh, then `apt-get install ./canonform-plugins-*.deb`
@@ -49,6 +50,15 @@ esac
 log() { printf '[host %s] %s\n' "$suite" "$*" >&2; }
 die() { printf '[host %s] error: %s\n' "$suite" "$*" >&2; exit 1; }
 [ "$(id -u)" -eq 0 ] || die "needs root (mmdebstrap, mount, chroot)"
+# Everything below runs in a mount namespace of its own (util-linux unshare, private propagation):
+# the overlay and its bind mounts (/tmp, /dev, the project tree) exist only there and vanish with
+# its last process, also when the script is killed with SIGKILL (a ctest timeout, a session that
+# ends). Left in the parent namespace they made `rm -rf build` reach through them into /tmp, /dev
+# and the clone itself.
+if [ -z "${CANONFORM_HOST_IN_NAMESPACE:-}" ]; then
+  command -v unshare > /dev/null || die "unshare missing (util-linux)"
+  exec env CANONFORM_HOST_IN_NAMESPACE=1 unshare --mount --propagation private -- bash "$0" "$suite" "$@"
+fi
 
 cache=${CANONFORM_HOST_CACHE:-/var/cache/canonform/hosts}
 state=$here/build/hosts/$suite

@@ -857,13 +857,6 @@ void Extractor::orientations(const Plane& L, const Candidate& c, std::vector<dou
             }
         }
     }
-    static const int smooth_passes = getenv("CF_SMOOTH") ? atoi(getenv("CF_SMOOTH")) : 0;  // EXPERIMENT
-    for (int pass = 0; pass < smooth_passes; ++pass) {  // circular [1 2 1] / 4
-        float sm[kOrientationBins];
-        for (int i = 0; i < kOrientationBins; ++i)
-            sm[i] = 0.25f * (hist[(i + kOrientationBins - 1) % kOrientationBins] + hist[(i + 1) % kOrientationBins]) + 0.5f * hist[i];
-        std::copy(sm, sm + kOrientationBins, hist);
-    }
     // Smoothed by a Gaussian of one bin (two passes of the circular [1 2 1] / 4).
     for (int pass = 0; pass < kOrientationSmoothing; ++pass) {
         float smooth[kOrientationBins];
