@@ -4,6 +4,7 @@
 #include <Eigen/Dense>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 namespace canonform::views {
@@ -65,21 +66,22 @@ struct EdgeFn {
 
 }  // namespace
 
-DepthImage render_depth(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
-                        const Eigen::Vector3d& direction, int size) {
+namespace {
+
+void check_render_input(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, int size) {
     if (size < 1 || size > 8192) throw InputError("render_depth: the image size must be in 1..8192");
     if (V.cols() != 3 || (F.size() > 0 && F.cols() != 3))
         throw InputError("render_depth: V must be #V x 3 and F #F x 3");
     if (!V.allFinite()) throw InputError("render_depth: the mesh has non-finite vertex coordinates");
     if (F.size() > 0 && (F.minCoeff() < 0 || F.maxCoeff() >= V.rows()))
         throw InputError("render_depth: a face index is out of range");
-    const Eigen::Matrix3d C = camera_frame(direction);
+}
 
-    DepthImage img;
-    img.size = size;
-    img.depth.assign(static_cast<size_t>(size) * size, 0.0f);
-    if (F.rows() == 0) return img;
-
+// The depth image seen along camera frame C into `front` (size x size, zero-filled); when `back`
+// is given (also zero-filled), also the opposite view's image unmirrored: at each covered pixel the
+// largest 1 - depth, i.e. the farthest surface of this view (see render_depth_pair).
+void rasterize(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const Eigen::Matrix3d& C, int size, float* front,
+               float* back) {
     // Project: pixel coordinates (col, row as doubles; centres at integers) and depth; per vertex
     // also the first pixel column/row at or after it and the last at or before it (ceil and floor,
     // clamped to [-1, size] - enough, as triangles are clipped to [0, size - 1] - so a triangle's
@@ -105,7 +107,6 @@ DepthImage render_depth(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
         fy[k] = clamp_pixel(std::floor(q[k].y));
     }
 
-    float* buf = img.depth.data();
     const int lim = size - 1;
     for (Eigen::Index f = 0; f < F.rows(); ++f) {
         const int ia = F(f, 0), ib = F(f, 1), ic = F(f, 2);
@@ -130,7 +131,8 @@ DepthImage render_depth(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
         for (int row = r0; row <= r1; ++row) {
             const double py = row;
             const double ra = ea.row(py), rb = eb.row(py), rc = ec.row(py);
-            float* line = buf + static_cast<size_t>(row) * size;
+            float* line = front + static_cast<size_t>(row) * size;
+            float* far_line = back ? back + static_cast<size_t>(row) * size : nullptr;
             for (int col = c0; col <= c1; ++col) {
                 const double px = col;
                 const double wa = ea.at(ra, px);
@@ -143,8 +145,46 @@ DepthImage render_depth(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
                 d = std::min(1.0, std::max(0.0, d));
                 const float df = static_cast<float>(d);
                 if (df > line[col]) line[col] = df;
+                if (far_line) {
+                    const float bf = static_cast<float>(1.0 - d);
+                    if (bf > far_line[col]) far_line[col] = bf;
+                }
             }
         }
+    }
+}
+
+}  // namespace
+
+DepthImage render_depth(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
+                        const Eigen::Vector3d& direction, int size) {
+    check_render_input(V, F, size);
+    const Eigen::Matrix3d C = camera_frame(direction);
+    DepthImage img;
+    img.size = size;
+    img.depth.assign(static_cast<size_t>(size) * size, 0.0f);
+    if (F.rows() > 0) rasterize(V, F, C, size, img.depth.data(), nullptr);
+    return img;
+}
+
+std::array<DepthImage, 2> render_depth_pair(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
+                                            const Eigen::Vector3d& direction, int size) {
+    check_render_input(V, F, size);
+    const Eigen::Matrix3d C = camera_frame(direction);
+    std::array<DepthImage, 2> img;
+    for (DepthImage& i : img) {
+        i.size = size;
+        i.depth.assign(static_cast<size_t>(size) * size, 0.0f);
+    }
+    if (F.rows() == 0) return img;
+    std::vector<float> far(static_cast<size_t>(size) * size, 0.0f);
+    rasterize(V, F, C, size, img[0].depth.data(), far.data());
+    // The opposite camera has the same up vector and the opposite right vector (camera_frame):
+    // its column c is this view's column size - 1 - c.
+    for (int row = 0; row < size; ++row) {
+        const float* src = far.data() + static_cast<size_t>(row) * size;
+        float* dst = img[1].depth.data() + static_cast<size_t>(row) * size;
+        for (int col = 0; col < size; ++col) dst[col] = src[size - 1 - col];
     }
     return img;
 }

@@ -6,6 +6,7 @@
 #include <atomic>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <memory>
 #include <string>
 #include <cstdlib>
@@ -1099,9 +1100,14 @@ SiftDescriptors sift_descriptors(const std::vector<std::uint8_t>& gray, int size
 SiftFeatures depth_sift_features(const std::vector<float>& depth, int size, const SiftOptions& options) {
     check_size(depth.size(), size, "values");
     // The 8-bit view, round(255 depth) / 255, for both extractors (step 1).
+    // round(x) for x = 255 clamp(depth) in [0, 255] is the truncation of x + 0.5: x, 255 times a
+    // float, has at most 32 significant bits, so x + 0.5 is exact unless x < 2^-14, where both are
+    // 0 (checked for every float in [0, 1]). A NaN stays NaN (sift_features refuses it).
     std::vector<float> image(depth.size());
-    for (size_t i = 0; i < depth.size(); ++i)
-        image[i] = static_cast<float>(std::round(255.0 * std::clamp(static_cast<double>(depth[i]), 0.0, 1.0))) / 255.f;
+    for (size_t i = 0; i < depth.size(); ++i) {
+        const double x = 255.0 * std::clamp(static_cast<double>(depth[i]), 0.0, 1.0);
+        image[i] = x == x ? static_cast<float>(static_cast<int>(x + 0.5)) / 255.f : std::numeric_limits<float>::quiet_NaN();
+    }
     return sift_features(image, size, options);
 }
 

@@ -20,10 +20,19 @@ ViewSet compute_views(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const 
     ViewSet s;
     s.pose = normalize_pose(V, F, options.pose);
     const Eigen::MatrixXd X = apply_pose(s.pose, V);
-    for (const Eigen::Vector3d& d : view_directions()) {
-        s.images.push_back(render_depth(X, F, d, options.image_size));
-        s.features.push_back(depth_sift_descriptors(s.images.back().depth, options.image_size, options.sift));
+    // The 33 antipodal pairs of views, each rasterised in one pass.
+    const std::vector<Eigen::Vector3d> dirs = view_directions();
+    const std::vector<int> opposite = opposite_views();
+    s.images.resize(dirs.size());
+    for (size_t i = 0; i < dirs.size(); ++i) {
+        const size_t j = static_cast<size_t>(opposite[i]);
+        if (j < i) continue;
+        auto pair = render_depth_pair(X, F, dirs[i], options.image_size);
+        s.images[i] = std::move(pair[0]);
+        s.images[j] = std::move(pair[1]);
     }
+    for (const DepthImage& img : s.images)
+        s.features.push_back(depth_sift_descriptors(img.depth, options.image_size, options.sift));
     return s;
 }
 

@@ -89,7 +89,23 @@ std::vector<std::vector<int>> build_maps() {
     return maps;
 }
 
+std::vector<int> build_opposites() {
+    const std::vector<Eigen::Vector3d>& D = view_directions();
+    std::vector<int> opposite(D.size(), -1);
+    for (size_t i = 0; i < D.size(); ++i)
+        for (size_t j = 0; j < D.size(); ++j)
+            if (D[j] == -D[i]) opposite[i] = static_cast<int>(j);
+    for (int j : opposite)
+        if (j < 0) throw NumericalError("opposite_views: a view direction has no exact opposite");
+    return opposite;
+}
+
 }  // namespace
+
+std::vector<int> opposite_views() {
+    static const std::vector<int> opposite = build_opposites();
+    return opposite;
+}
 
 std::vector<Eigen::Vector3d> view_directions() {
     static const std::vector<Eigen::Vector3d> dirs = build_view_directions();

@@ -45,4 +45,9 @@ std::vector<Eigen::Matrix3d> cube_rotations();
 /// NumericalError if some image is not a view direction (cannot happen for the documented sets).
 std::vector<std::vector<int>> rotation_view_maps();
 
+/// opposite[i] = j such that view_directions()[j] == -view_directions()[i] exactly (the set is
+/// symmetric about the origin and built symmetrically: 33 antipodal pairs; render_depth_pair
+/// renders a pair in one pass). Throws NumericalError if some direction has no exact opposite.
+std::vector<int> opposite_views();
+
 }  // namespace canonform::views
