@@ -67,10 +67,8 @@ state=$here/build/hosts/$suite
 # What each root filesystem holds. bullseye: the compiler and the -dev packages of the libraries the
 # plugins link, at bullseye's versions (their symbol versions are what the archives may need), and
 # from bookworm only header-only packages that bullseye lacks or has too old (Eigen 3.4, the one the
-# bookworm build uses; nlohmann-json; CLI11): headers carry no symbol version; and VLFeat, whose
-# bullseye package has no SIFT (removed while it was patented): bookworm's libvlfeat1 needs glibc
-# 2.29 and libgomp1 4.9, both in bullseye. Bullseye has no FAISS (the plugins never train a
-# codebook: the portable build leaves k-means out).
+# bookworm build uses; nlohmann-json; CLI11): headers carry no symbol version. Bullseye has no
+# FAISS (the plugins never train a codebook: the portable build leaves k-means out).
 extra_sources=()
 case "$suite" in
   trixie|forky) mapfile -t packages < <("$here/tools/setup.sh" --packages | sort -u) ;;
@@ -78,8 +76,7 @@ case "$suite" in
   bullseye)
     packages=(g++ make cmake pkg-config ccache patchelf python3 binutils file xz-utils
               qtbase5-dev libqt5opengl5-dev libglew-dev libtbb-dev libsuitesparse-dev libopencv-dev
-              libeigen3-dev/bookworm nlohmann-json3-dev/bookworm libcli11-dev/bookworm
-              libvlfeat-dev/bookworm libvlfeat1/bookworm)
+              libeigen3-dev/bookworm nlohmann-json3-dev/bookworm libcli11-dev/bookworm)
     extra_sources=(bookworm) ;;
 esac
 if [ "$prepare" = 1 ]; then  # (the recipe of the first version of this script: the same cache key)
