@@ -378,6 +378,58 @@ CANONFORM_SIMD_CLONES void convolve_rows(const float* const* minus, const float*
     }
 }
 
+// The extremum scan's two row kernels, 8 lanes at a time like the blur (comparisons and one
+// subtraction per lane: the same bits and the same candidates on every CPU).
+typedef int v8i __attribute__((vector_size(32)));
+inline unsigned mask8(v8i m) {
+    v4i lo, hi;
+    std::memcpy(&lo, &m, sizeof lo);
+    std::memcpy(&hi, reinterpret_cast<const char*>(&m) + sizeof lo, sizeof hi);
+    return mask4(lo) | (mask4(hi) << 4);
+}
+
+// A DoG row d = t - b over [0, w), and the largest and the smallest of every three neighbours along
+// it, mx[i] and mn[i] for i in [1, w - 1).
+CANONFORM_SIMD_CLONES void dog_row(const float* b, const float* t, float* d, float* mx, float* mn, int w) {
+    int i = 0;
+    for (; i + 8 <= w; i += 8) store8(d + i, load8(t + i) - load8(b + i));
+    for (; i < w; ++i) d[i] = t[i] - b[i];
+    for (i = 1; i + 8 <= w - 1; i += 8) {
+        const v8f l = load8(d + i - 1), c = load8(d + i), r = load8(d + i + 1);
+        store8(mx + i, l > c ? (l > r ? l : r) : (c > r ? c : r));
+        store8(mn + i, l < c ? (l < r ? l : r) : (c < r ? c : r));
+    }
+    for (; i < w - 1; ++i) {
+        mx[i] = std::max(std::max(d[i - 1], d[i]), d[i + 1]);
+        mn[i] = std::min(std::min(d[i - 1], d[i]), d[i + 1]);
+    }
+}
+
+// The positions i in [1, w - 1), ascending, where the DoG row d has a candidate: |d[i]| >= pre,
+// d[i] != 0, and d[i] above (below) its 8 neighbours in the layer (the row's neighbours, and the
+// rows above and below by their three-neighbour maxima and minima). Returns their number.
+CANONFORM_SIMD_CLONES int row_candidates(const float* d, const float* upmax, const float* upmin, const float* downmax,
+                                         const float* downmin, int w, float pre, int* out) {
+    int n = 0;
+    int i = 1;
+    const v8f vpre = splat8(pre), vneg = splat8(-pre), vzero = splat8(0.f);
+    for (; i + 8 <= w - 1; i += 8) {
+        const v8f v = load8(d + i), l = load8(d + i - 1), r = load8(d + i + 1);
+        const v8f um = load8(upmax + i), dm = load8(downmax + i), un = load8(upmin + i), dn = load8(downmin + i);
+        const v8f hmax = l > r ? l : r, vmax = um > dm ? um : dm, hmin = l < r ? l : r, vmin = un < dn ? un : dn;
+        const v8f nmax = hmax > vmax ? hmax : vmax, nmin = hmin < vmin ? hmin : vmin;
+        const v8i is = ((v >= vpre) & (v > nmax) & (v != vzero)) | ((v <= vneg) & (v < nmin) & (v != vzero));
+        for (unsigned m = mask8(is); m; m &= m - 1) out[n++] = i + __builtin_ctz(m);
+    }
+    for (; i < w - 1; ++i) {
+        const float v = d[i];
+        const float nmax = std::max(std::max(d[i - 1], d[i + 1]), std::max(upmax[i], downmax[i]));
+        const float nmin = std::min(std::min(d[i - 1], d[i + 1]), std::min(upmin[i], downmin[i]));
+        if (v != 0.f && ((v >= pre && v > nmax) || (v <= -pre && v < nmin))) out[n++] = i;
+    }
+    return n;
+}
+
 Workspace& workspace() {
     thread_local Workspace w;
     return w;
@@ -481,6 +533,7 @@ private:
     Workspace& ws_ = workspace();
     std::vector<SiftKeypoint> keys_;
     std::vector<float> ring_;  // the extremum scan's DoG rows
+    std::vector<int> hits_;    // the candidates of a DoG row
     std::vector<float> shifted_;  // the view on the doubled image's grid
     std::vector<float> wx_, wy_, dx2_, dy2_;  // window weights
     std::vector<float> desc_;  // 128 per keypoint
@@ -618,96 +671,58 @@ void Extractor::octave(int o, std::vector<Plane>& g, int label, float offset) {
         ring_.resize(9 * stride);
         auto fill = [&](int slot, int yy) {
             float* d = ring_.data() + static_cast<size_t>(3 * slot) * stride;
-            float* mx = d + stride;
-            float* mn = mx + stride;
-            const float* b = g1.row(yy) + x0 - 1;
-            const float* t = g2.row(yy) + x0 - 1;
-            int i = 0;
-            for (; i + 4 <= w; i += 4) store4(d + i, load4(t + i) - load4(b + i));
-            for (; i < w; ++i) d[i] = t[i] - b[i];
-            for (i = 1; i + 4 <= w - 1; i += 4) {
-                const v4f l = load4(d + i - 1), c = load4(d + i), r = load4(d + i + 1);
-                store4(mx + i, l > c ? (l > r ? l : r) : (c > r ? c : r));
-                store4(mn + i, l < c ? (l < r ? l : r) : (c < r ? c : r));
-            }
-            for (; i < w - 1; ++i) {
-                mx[i] = std::max(std::max(d[i - 1], d[i]), d[i + 1]);
-                mn[i] = std::min(std::min(d[i - 1], d[i]), d[i + 1]);
-            }
+            dog_row(g1.row(yy) + x0 - 1, g2.row(yy) + x0 - 1, d, d + stride, d + 2 * stride, w);
         };
         auto slot_of = [&](int yy) { return ((yy % 3) + 3) % 3; };
         fill(slot_of(region.y0 - 1), region.y0 - 1);
         fill(slot_of(region.y0), region.y0);
-        const v4f vpre = splat4(pre), vneg = splat4(-pre), vzero = splat4(0.f);
+        hits_.resize(static_cast<size_t>(w));
         for (int y = region.y0; y < region.y1; ++y) {
             fill(slot_of(y + 1), y + 1);
             const float* d = ring_.data() + static_cast<size_t>(3 * slot_of(y)) * stride;
             const float* up = ring_.data() + static_cast<size_t>(3 * slot_of(y - 1)) * stride;
             const float* down = ring_.data() + static_cast<size_t>(3 * slot_of(y + 1)) * stride;
-            const float* upmax = up + stride;
-            const float* upmin = upmax + stride;
-            const float* downmax = down + stride;
-            const float* downmin = downmax + stride;
-            // Candidates: |v| >= pre, v != 0, above (below) all 8 neighbours in the layer.
-            for (int i = 1; i < w - 1; i += 4) {
-                unsigned hits = 0;
-                if (i + 4 <= w - 1) {
-                    const v4f v = load4(d + i), l = load4(d + i - 1), r = load4(d + i + 1);
-                    const v4f um = load4(upmax + i), dm = load4(downmax + i), un = load4(upmin + i), dn = load4(downmin + i);
-                    const v4f hmax = l > r ? l : r, vmax = um > dm ? um : dm, hmin = l < r ? l : r, vmin = un < dn ? un : dn;
-                    const v4f nmax = hmax > vmax ? hmax : vmax, nmin = hmin < vmin ? hmin : vmin;
-                    const v4i is = ((v >= vpre) & (v > nmax) & (v != vzero)) | ((v <= vneg) & (v < nmin) & (v != vzero));
-                    hits = mask4(is);
-                    if (!hits) continue;
-                } else {
-                    for (int q = 0; q < 4 && i + q < w - 1; ++q) {
-                        const int e = i + q;
-                        const float v = d[e];
-                        const float nmax = std::max(std::max(d[e - 1], d[e + 1]), std::max(upmax[e], downmax[e]));
-                        const float nmin = std::min(std::min(d[e - 1], d[e + 1]), std::min(upmin[e], downmin[e]));
-                        if (v != 0.f && ((v >= pre && v > nmax) || (v <= -pre && v < nmin))) hits |= 1u << q;
-                    }
-                }
-                for (int q = 0; q < 4; ++q) {
-                    if (!(hits & (1u << q))) continue;
-                    const int x = x0 - 1 + i + q;
-                    const float v = d[i + q];
-                    // The 18 neighbours in the DoG images j - 1 and j + 1.
-                    bool extremum = true;
-                    for (int dy = -1; dy <= 1 && extremum; ++dy) {
-                        const float* r0 = g0.row(y + dy);
-                        const float* r1 = g1.row(y + dy);
-                        const float* r2 = g2.row(y + dy);
-                        const float* r3 = g3.row(y + dy);
-                        for (int dx = -1; dx <= 1; ++dx) {
-                            const int xx = x + dx;
-                            const float lower = r1[xx] - r0[xx], upper = r3[xx] - r2[xx];
-                            if (v > 0 ? (lower >= v || upper >= v) : (lower <= v || upper <= v)) {
-                                extremum = false;
-                                break;
-                            }
+            const int found_here = row_candidates(d, up + stride, up + 2 * stride, down + stride, down + 2 * stride, w, pre,
+                                                  hits_.data());
+            for (int h = 0; h < found_here; ++h) {
+                const int e = hits_[static_cast<size_t>(h)];
+                const int x = x0 - 1 + e;
+                const float v = d[e];
+                // The 18 neighbours in the DoG images j - 1 and j + 1.
+                bool extremum = true;
+                for (int dy = -1; dy <= 1 && extremum; ++dy) {
+                    const float* r0 = g0.row(y + dy);
+                    const float* r1 = g1.row(y + dy);
+                    const float* r2 = g2.row(y + dy);
+                    const float* r3 = g3.row(y + dy);
+                    for (int dx = -1; dx <= 1; ++dx) {
+                        const int xx = x + dx;
+                        const float lower = r1[xx] - r0[xx], upper = r3[xx] - r2[xx];
+                        if (v > 0 ? (lower >= v || upper >= v) : (lower <= v || upper <= v)) {
+                            extremum = false;
+                            break;
                         }
                     }
-                    if (!extremum) continue;
-                    int X = x, Y = y, J = j;
-                    double off[3], value = 0;
-                    if (!refine(g, jmin, jmax, X, Y, J, off, value)) continue;
-                    Candidate c;
-                    c.layer = J;
-                    c.X = X;
-                    c.Y = Y;
-                    c.fx = static_cast<float>(off[0]);
-                    c.fy = static_cast<float>(off[1]);
-                    c.sigma = static_cast<float>(st_.sigma0 * exp2_det((J + off[2]) / st_.layers));
-                    const double scale = std::ldexp(1.0, o);
-                    c.key.x = static_cast<float>((X + off[0]) * scale) - offset;
-                    c.key.y = static_cast<float>((Y + off[1]) * scale) - offset;
-                    if (c.key.x < 0 || c.key.y < 0 || c.key.x > size_ - 1 || c.key.y > size_ - 1) continue;
-                    c.key.size = static_cast<float>(2.0 * c.sigma * scale);
-                    c.key.octave = label;
-                    c.key.response = static_cast<float>(std::abs(value));
-                    found.push_back(c);
                 }
+                if (!extremum) continue;
+                int X = x, Y = y, J = j;
+                double off[3], value = 0;
+                if (!refine(g, jmin, jmax, X, Y, J, off, value)) continue;
+                Candidate c;
+                c.layer = J;
+                c.X = X;
+                c.Y = Y;
+                c.fx = static_cast<float>(off[0]);
+                c.fy = static_cast<float>(off[1]);
+                c.sigma = static_cast<float>(st_.sigma0 * exp2_det((J + off[2]) / st_.layers));
+                const double scale = std::ldexp(1.0, o);
+                c.key.x = static_cast<float>((X + off[0]) * scale) - offset;
+                c.key.y = static_cast<float>((Y + off[1]) * scale) - offset;
+                if (c.key.x < 0 || c.key.y < 0 || c.key.x > size_ - 1 || c.key.y > size_ - 1) continue;
+                c.key.size = static_cast<float>(2.0 * c.sigma * scale);
+                c.key.octave = label;
+                c.key.response = static_cast<float>(std::abs(value));
+                found.push_back(c);
             }
         }
     }
