@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // Benchmark of the view-based descriptor of one mesh, per SIFT backend, side by side in one run
 // (issue targets: a 10k-vertex mesh's descriptor - pose + 66 renders + SIFT + histograms - in at
-// most 0.30 CPU s; a 600 x 600 clock-matching distance matrix in at most 60 s on 2 cores). CPU
+// most 0.15 CPU s; a 600 x 600 clock-matching distance matrix in at most 60 s on 2 cores). CPU
 // seconds of the process (all threads; the machine may be shared), medians over the repeats,
 // the backends interleaved. Prints JSON lines.
 //   canonform_bench_views MESH [--repeats R] [--backends canonform,opencv]
