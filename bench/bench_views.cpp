@@ -109,20 +109,13 @@ int main(int argc, char** argv) {
     // The 66 renders alone: one at a time, and as compute_views makes them (33 antipodal pairs, one
     // pass each), interleaved.
     std::vector<double> render_cpu, render_pairs_cpu;
-    std::vector<DepthImage> images(view_directions().size());
-    const std::vector<int> opposite = opposite_views();
+    std::vector<DepthImage> images;
     for (int r = 0; r < repeats; ++r) {
         double c0 = cpu();
         for (const Eigen::Vector3d& d : view_directions()) render_depth(X, m.F, d, 256);
         render_cpu.push_back(cpu() - c0);
         c0 = cpu();
-        for (size_t i = 0; i < images.size(); ++i) {
-            const size_t j = static_cast<size_t>(opposite[i]);
-            if (j < i) continue;
-            auto pair = render_depth_pair(X, m.F, view_directions()[i], 256);
-            images[i] = std::move(pair[0]);
-            images[j] = std::move(pair[1]);
-        }
+        images = render_views(X, m.F, 256);
         render_pairs_cpu.push_back(cpu() - c0);
     }
     std::printf("{\"bench\": \"pose_and_renders\", \"vertices\": %ld, \"repeats\": %d, \"pose_cpu_s\": %.4f, "

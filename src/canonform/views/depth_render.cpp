@@ -77,6 +77,14 @@ void check_render_input(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, int 
         throw InputError("render_depth: a face index is out of range");
 }
 
+// A size x size image of background (0).
+DepthImage blank_image(int size) {
+    DepthImage img;
+    img.size = size;
+    img.depth.assign(static_cast<size_t>(size) * size, 0.0f);
+    return img;
+}
+
 // The depth image seen along camera frame C into `front` (size x size, zero-filled); when `back`
 // is given (also zero-filled), also the opposite view's image unmirrored: at each covered pixel the
 // largest 1 - depth, i.e. the farthest surface of this view (see render_depth_pair).
@@ -160,9 +168,7 @@ DepthImage render_depth(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
                         const Eigen::Vector3d& direction, int size) {
     check_render_input(V, F, size);
     const Eigen::Matrix3d C = camera_frame(direction);
-    DepthImage img;
-    img.size = size;
-    img.depth.assign(static_cast<size_t>(size) * size, 0.0f);
+    DepthImage img = blank_image(size);
     if (F.rows() > 0) rasterize(V, F, C, size, img.depth.data(), nullptr);
     return img;
 }
@@ -171,11 +177,7 @@ std::array<DepthImage, 2> render_depth_pair(const Eigen::MatrixXd& V, const Eige
                                             const Eigen::Vector3d& direction, int size) {
     check_render_input(V, F, size);
     const Eigen::Matrix3d C = camera_frame(direction);
-    std::array<DepthImage, 2> img;
-    for (DepthImage& i : img) {
-        i.size = size;
-        i.depth.assign(static_cast<size_t>(size) * size, 0.0f);
-    }
+    std::array<DepthImage, 2> img = {blank_image(size), blank_image(size)};
     if (F.rows() == 0) return img;
     std::vector<float> far(static_cast<size_t>(size) * size, 0.0f);
     rasterize(V, F, C, size, img[0].depth.data(), far.data());

@@ -12,6 +12,20 @@ std::vector<int> ViewSet::keypoint_counts() const {
     return n;
 }
 
+std::vector<DepthImage> render_views(const Eigen::MatrixXd& X, const Eigen::MatrixXi& F, int size) {
+    const std::vector<Eigen::Vector3d> dirs = view_directions();
+    const std::vector<int> opposite = opposite_views();
+    std::vector<DepthImage> images(dirs.size());
+    for (size_t i = 0; i < dirs.size(); ++i) {
+        const size_t j = static_cast<size_t>(opposite[i]);
+        if (j < i) continue;
+        auto pair = render_depth_pair(X, F, dirs[i], size);
+        images[i] = std::move(pair[0]);
+        images[j] = std::move(pair[1]);
+    }
+    return images;
+}
+
 ViewSet compute_views(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const ViewDescriptorOptions& options) {
     surface::ValidationOptions vo;
     vo.min_vertices = 4;
@@ -20,17 +34,7 @@ ViewSet compute_views(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const 
     ViewSet s;
     s.pose = normalize_pose(V, F, options.pose);
     const Eigen::MatrixXd X = apply_pose(s.pose, V);
-    // The 33 antipodal pairs of views, each rasterised in one pass.
-    const std::vector<Eigen::Vector3d> dirs = view_directions();
-    const std::vector<int> opposite = opposite_views();
-    s.images.resize(dirs.size());
-    for (size_t i = 0; i < dirs.size(); ++i) {
-        const size_t j = static_cast<size_t>(opposite[i]);
-        if (j < i) continue;
-        auto pair = render_depth_pair(X, F, dirs[i], options.image_size);
-        s.images[i] = std::move(pair[0]);
-        s.images[j] = std::move(pair[1]);
-    }
+    s.images = render_views(X, F, options.image_size);
     for (const DepthImage& img : s.images)
         s.features.push_back(depth_sift_descriptors(img.depth, options.image_size, options.sift));
     return s;
