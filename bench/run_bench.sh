@@ -20,7 +20,7 @@ raw="$out/canonical_form.jsonl"; : > "$raw"
 for k in "${!sizes[@]}"; do
   n=${sizes[$k]}
   mesh="$cache/figure_${n}.ply"
-  [ -f "$mesh" ] || "$build/tools/canonform" generate "$mesh" --vertices "$n" --pose 1
+  [ -f "$mesh" ] || "$build/apps/canonform" generate "$mesh" --vertices "$n" --pose 1
   for run in "N direct" "N multigrid" "A direct" "A multigrid"; do
     set -- $run
     taskset -c 0 "$build/bench/canonform_bench_canonical" "$mesh" --variant "$1" --solver "$2" \

@@ -20,16 +20,16 @@ while [ $# -gt 0 ]; do
     *) echo "usage: $0 [--repeats R] [--sizes N,...] [--baseline CANONFORM]" >&2; exit 2 ;;
   esac
 done
-[ -x "$build/tools/canonform" ] || CANONFORM_BUILD_DIR=$build "$here/tools/build.sh"
+[ -x "$build/apps/canonform" ] || CANONFORM_BUILD_DIR=$build "$here/tools/build.sh"
 out="$here/bench/results"; cache="$build/bench_meshes"; mkdir -p "$out" "$cache"
 tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
 raw="$out/canonical_scale.jsonl"; : > "$raw"
-binaries=("this:$build/tools/canonform")
+binaries=("this:$build/apps/canonform")
 [ -n "$baseline" ] && binaries+=("baseline:$baseline")
 IFS=, read -r -a size_list <<< "$sizes"
 for n in "${size_list[@]}"; do
   mesh="$cache/figure_${n}_pose0.ply"
-  [ -f "$mesh" ] || "$build/tools/canonform" generate "$mesh" --vertices "$n" --pose 0 > /dev/null
+  [ -f "$mesh" ] || "$build/apps/canonform" generate "$mesh" --vertices "$n" --pose 0 > /dev/null
   for ((r = 0; r < repeats; r++)); do
     for entry in "${binaries[@]}"; do
       name=${entry%%:*}; bin=${entry#*:}

@@ -11,7 +11,7 @@ here=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 build=${1:-$here/build}
 work=${2:-$(mktemp -d)}
 [ -n "${2:-}" ] || trap 'rm -rf "$work"' EXIT
-cf=$build/tools/canonform
+cf=$build/apps/canonform
 [ -x "$cf" ] || { echo "run_retrieve_600.sh: no $cf (tools/build.sh first)" >&2; exit 1; }
 [ -x /usr/bin/time ] || { echo "run_retrieve_600.sh: GNU time missing (Debian package time)" >&2; exit 1; }
 [ -f "$work/c600/labels.csv" ] || "$cf" generate --collection "$work/c600" --vertices 10000 --poses 100 > /dev/null

@@ -10,7 +10,7 @@ set -euo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 build=${CANONFORM_BUILD_DIR:-$here/build}
 [ -x "$build/bench/canonform_bench_canonical" ] || CANONFORM_BUILD_DIR=$build "$here/tools/build.sh"
-cf="$build/tools/canonform"; bench="$build/bench/canonform_bench_canonical"
+cf="$build/apps/canonform"; bench="$build/bench/canonform_bench_canonical"
 out="$here/bench/results"; cache="$build/bench_meshes"
 mkdir -p "$out" "$cache"
 geo_sizes=(1000 2000 4000 8000 16000); euc_only=(50000 200000)

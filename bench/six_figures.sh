@@ -7,7 +7,7 @@
 six_figures() {
   local build=$1 dir=$2 pose=1 c
   for c in standard long-arms short-legs long-tail stocky long-neck; do
-    "$build/tools/canonform" generate "$dir/$c.ply" --vertices 10000 --pose $pose --class $c
+    "$build/apps/canonform" generate "$dir/$c.ply" --vertices 10000 --pose $pose --class $c
     pose=$((pose + 1))
   done
 }

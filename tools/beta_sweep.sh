@@ -10,7 +10,7 @@
 set -euo pipefail
 [ $# -ge 2 ] || { sed -n '2,8p' "$0"; exit 2; }
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
-cf=${CANONFORM:-$here/../build/tools/canonform}
+cf=${CANONFORM:-$here/../build/apps/canonform}
 dataset=$1; run=$2; shift 2
 betas_a="2.5 5 10 15 20 40"
 betas_n="30 65 130 200 300 600"

@@ -31,12 +31,12 @@ if [ -z "$prefix" ]; then
     scripts="$build/meshlab/plugins/$(basename "$p" .so | sed 's/^lib//')"
     if [ -d "$scripts" ]; then install -d "$dest/$(basename "$scripts")"; install -m 0644 "$scripts"/*.mlx "$dest/$(basename "$scripts")/"; fi
   done
-  install -m 0755 "$build/tools/canonform" /usr/local/bin/canonform
-  runner="$build/tools/canonform-meshlab/canonform-meshlab"  # MeshLab 2022.02 and later
+  install -m 0755 "$build/apps/canonform" /usr/local/bin/canonform
+  runner="$build/apps/canonform-meshlab/canonform-meshlab"  # MeshLab 2022.02 and later
   [ -x "$runner" ] && install -m 0755 "$runner" /usr/local/bin/canonform-meshlab
   echo "installed: ${plugins[*]##*/} into $dest; canonform$([ -x "$runner" ] && echo " and canonform-meshlab") into /usr/local/bin"
 else
   "$here/tools/meshlab_prefix.sh" "$prefix" "${plugins[@]}"
-  install -m 0755 "$build/tools/canonform" "$prefix/bin/canonform"
+  install -m 0755 "$build/apps/canonform" "$prefix/bin/canonform"
   echo "installed: canonform into $prefix/bin"
 fi

@@ -7,7 +7,7 @@
 # Writes OUT/sigma_S/ (one run per sigma), OUT/noise.csv and OUT/noise.png.
 set -euo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
-cf=${CANONFORM:-$here/build/tools/canonform}
+cf=${CANONFORM:-$here/build/apps/canonform}
 dataset=$1 out=$2
 shift 2
 sigmas="0 0.1 0.2 0.4"

@@ -133,7 +133,7 @@ next="${ml%.*}.$(printf '%02d' $((10#${ml#*.} + 1)))"
 
 deb=$build/${name}_${version}_${arch}.deb
 # up to date: no built file newer than the package (dpkg-shlibdeps alone takes seconds)
-inputs=("$build"/meshlab/plugins "$build"/tools/canonform-meshlab/canonform-meshlab "$0")
+inputs=("$build"/meshlab/plugins "$build"/apps/canonform-meshlab/canonform-meshlab "$0")
 if [ -f "$deb" ] && [ -z "$(find "${inputs[@]}" -newer "$deb" 2>/dev/null | head -n 1)" ]; then
   echo "$deb"
   exit 0

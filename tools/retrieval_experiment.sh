@@ -9,7 +9,7 @@
 set -euo pipefail
 [ $# -ge 3 ] || { sed -n '5,7p' "$0"; exit 2; }
 coll=$(realpath "$1"); out=$2; method=$3; words=${4:-1500}
-cf=${CANONFORM:-$(dirname "$0")/../build/tools/canonform}
+cf=${CANONFORM:-$(dirname "$0")/../build/apps/canonform}
 cf=$(realpath "$cf")
 mkdir -p "$out/forms" "$out/descriptors"
 out=$(realpath "$out")

@@ -25,7 +25,7 @@ else
   meshlabserver=$build/prefix/bin/meshlabserver
   scripts=$build/prefix/lib/x86_64-linux-gnu/meshlab/plugins/filter_canonical
 fi
-canonform=$build/tools/canonform
+canonform=$build/apps/canonform
 
 mkdir -p "$out"
 echo "[example] generating a procedural articulated figure (~$vertices vertices, pose 4)"

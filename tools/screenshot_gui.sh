@@ -18,7 +18,7 @@
 set -euo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 meshlab=/usr/bin/meshlab
-canonform=${CANONFORM_BUILD_DIR:-$here/build}/tools/canonform
+canonform=${CANONFORM_BUILD_DIR:-$here/build}/apps/canonform
 outdir=$here/docs/images
 figure="" layout=2020 name=meshlab_
 while [ $# -gt 0 ]; do

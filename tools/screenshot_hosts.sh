@@ -12,10 +12,10 @@ here=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 build=${CANONFORM_BUILD_DIR:-$here/build}
 suites=("$@")
 [ ${#suites[@]} -gt 0 ] || suites=(trixie forky)
-[ -x "$build/tools/canonform" ] || { echo "$0: $build/tools/canonform missing: tools/build.sh first" >&2; exit 1; }
+[ -x "$build/apps/canonform" ] || { echo "$0: $build/apps/canonform missing: tools/build.sh first" >&2; exit 1; }
 work=$(mktemp -d /tmp/canonform-screenshots.XXXXXX)  # /tmp is visible inside the root filesystems
 trap 'rm -rf "$work"' EXIT
-"$build/tools/canonform" generate "$work/figure.ply" --vertices 5000 --pose 4 > /dev/null
+"$build/apps/canonform" generate "$work/figure.ply" --vertices 5000 --pose 4 > /dev/null
 for suite in "${suites[@]}"; do
   case "$suite" in trixie) year=2022 ;; forky) year=2025 ;; *) echo "$0: trixie or forky" >&2; exit 2 ;; esac
   "$here/tools/host.sh" "$suite" "$here/tools/screenshot_gui.sh" --meshlab /usr/bin/meshlab --figure "$work/figure.ply" \

@@ -113,7 +113,7 @@ for h in pymeshlab2022.2 pymeshlab2023.12 pymeshlab2025.7; do
 done
 
 # (a) MeshLab 2025.07 (float): forky's packaged MeshLab through canonform-meshlab ------------------------
-runner=$src/build/hosts/forky/build/tools/canonform-meshlab/canonform-meshlab
+runner=$src/build/hosts/forky/build/apps/canonform-meshlab/canonform-meshlab
 d=${dir[meshlab2025.07]}
 plugins=(--plugin "$d/libfilter_canonical.so" --plugin "$d/libfilter_viewdescriptor.so")
 declare -A params=(

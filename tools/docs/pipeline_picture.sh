@@ -6,11 +6,11 @@
 # A small procedural collection (two body types in five poses, 4000 vertices) goes through
 # `canonform retrieve --method euclidean-N`; the standard figure's fifth pose is the model shown, and
 # the distance panel is the run's matrix.
-#   tools/docs/pipeline_picture.sh OUT.png [CANONFORM]      (default: build/tools/canonform)
+#   tools/docs/pipeline_picture.sh OUT.png [CANONFORM]      (default: build/apps/canonform)
 set -euo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
 out=${1:?usage: $0 OUT.png [CANONFORM]}
-cf=$(realpath "${2:-$here/build/tools/canonform}")
+cf=$(realpath "${2:-$here/build/apps/canonform}")
 out=$(realpath -m "$out")
 work=$(mktemp -d /tmp/canonform-pipeline.XXXXXX)
 trap 'rm -rf "$work"' EXIT

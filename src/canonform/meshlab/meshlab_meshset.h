@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // canonform: MeshLab 2022.02 and later driven the way pymeshlab drives them, in C++: shared by the
 // pymeshlab harness (tests/pymeshlab_harness.cpp, against the double meshlab-common built here)
-// and the headless runner canonform-meshlab (tools/canonform-meshlab/, against the installed
+// and the headless runner canonform-meshlab (apps/canonform-meshlab/, against the installed
 // MeshLab's own libmeshlab-common.so).
 //
 // Every step is MeshLab's own code, called as pymeshlab 2022.2 / 2025.7 calls it:
