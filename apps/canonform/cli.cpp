@@ -20,18 +20,64 @@
 
 namespace canonform::cli {
 
+namespace {
+
+// CANONFORM_PROGRESS_INTERVAL: seconds between two progress lines in a log (default 5; 0: every update).
+double log_interval() {
+    static const double interval = [] {
+        const char* text = std::getenv("CANONFORM_PROGRESS_INTERVAL");
+        if (!text || !*text) return ProgressLine::kLogInterval;
+        char* end = nullptr;
+        const double v = std::strtod(text, &end);
+        if (*end || !(v >= 0 && v <= 86400)) {
+            std::fprintf(stderr, "canonform: note: CANONFORM_PROGRESS_INTERVAL='%s' is not a number of seconds in "
+                                 "[0, 86400]; using %g\n", text, ProgressLine::kLogInterval);
+            return ProgressLine::kLogInterval;
+        }
+        return v;
+    }();
+    return interval;
+}
+
+}  // namespace
+
+ProgressLine::ProgressLine(bool quiet)
+    : quiet_(quiet), terminal_(isatty(2) != 0), t0_(std::chrono::steady_clock::now()), last_(t0_) {}
+
+void ProgressLine::update(const std::string& text, bool done) {
+    if (quiet_) return;
+    if (terminal_) {
+        std::fprintf(stderr, "\r%-72s", text.c_str());
+        if (done) std::fprintf(stderr, "\n");
+        std::fflush(stderr);
+        return;
+    }
+    // A log: whole lines, the first after the interval and then at most one per interval, and the
+    // last one (if any was written, or the work took that long) - a short run writes nothing.
+    const double interval = log_interval();
+    const auto now = std::chrono::steady_clock::now();
+    if (std::chrono::duration<double>(now - last_).count() < interval && !(done && (written_ || seconds() >= interval)))
+        return;
+    std::fprintf(stderr, "%s\n", text.c_str());
+    std::fflush(stderr);
+    last_ = now;
+    written_ = !done;
+}
+
+double ProgressLine::seconds() const { return seconds_since(t0_); }
+
 ProgressFn terminal_progress(bool quiet, const std::string& label) {
-    if (quiet || !isatty(2)) return {};
-    const auto t0 = std::make_shared<std::chrono::steady_clock::time_point>(std::chrono::steady_clock::now());
-    return [t0, label](double f, const char* stage) {
-        const double el = seconds_since(*t0);
+    const auto line = std::make_shared<ProgressLine>(quiet);
+    return [line, label](double f, const char* stage) {
+        const double el = line->seconds();
         const std::string what = label.empty() ? std::string(stage) : "[" + label + "] " + stage;
+        char text[256];
         if (f > 0 && f < 1)
-            std::fprintf(stderr, "\r%3d%%  %-40s %.0f s left   ", static_cast<int>(100 * f), what.c_str(),
-                         el * (1 - f) / f);
+            std::snprintf(text, sizeof text, "%3d%%  %-40s %.0f s left", static_cast<int>(100 * f), what.c_str(),
+                          el * (1 - f) / f);
         else
-            std::fprintf(stderr, "\r%3d%%  %-40s                ", static_cast<int>(100 * f), what.c_str());
-        if (f >= 1) std::fprintf(stderr, "\n");
+            std::snprintf(text, sizeof text, "%3d%%  %s", static_cast<int>(100 * f), what.c_str());
+        line->update(text, f >= 1);
         return true;
     };
 }

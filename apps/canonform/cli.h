@@ -35,7 +35,25 @@ struct ExitStatus {
     int code;
 };
 
-/// A progress line on stderr while stderr is a terminal ("[stage] 42%  12 s left"); empty otherwise.
+/// Progress on stderr. On a terminal, one line rewritten in place; otherwise (a log file, a pipe)
+/// one whole line per update, at most one every kLogInterval seconds (CANONFORM_PROGRESS_INTERVAL
+/// overrides it; 0: every update), and the last one if any was written or the work took that long
+/// (so a short run writes nothing to a log).
+class ProgressLine {
+public:
+    static constexpr double kLogInterval = 5.0;
+    explicit ProgressLine(bool quiet);
+    /// Shows `text`; `done` marks the last update.
+    void update(const std::string& text, bool done);
+    /// Seconds since construction.
+    double seconds() const;
+
+private:
+    bool quiet_, terminal_, written_ = false;
+    std::chrono::steady_clock::time_point t0_, last_;
+};
+
+/// Progress of a library call as ProgressLine updates ("42%  [label] stage  12 s left").
 ProgressFn terminal_progress(bool quiet, const std::string& label = "");
 
 /// Prints `j` on stdout, one line (invalid UTF-8 in a string, e.g. a class name, is replaced by

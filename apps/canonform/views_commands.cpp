@@ -104,13 +104,14 @@ void add_codebook(CLI::App& app) {
     c->callback([a] {
         std::vector<std::vector<views::SiftDescriptors>> features;
         Eigen::Index rows = 0;
+        ProgressLine progress(false);
         for (size_t k = 0; k < a->meshes.size(); ++k) {
             features.push_back(a->views_of(a->meshes[k]).features);
             for (const auto& f : features.back()) rows += f.rows();
-            std::cerr << "\r" << k + 1 << "/" << a->meshes.size() << " meshes, " << rows << " SIFT descriptors"
-                      << std::flush;
+            progress.update(std::to_string(k + 1) + "/" + std::to_string(a->meshes.size()) + " meshes, " +
+                                std::to_string(rows) + " SIFT descriptors",
+                            k + 1 == a->meshes.size());
         }
-        std::cerr << "\n";
         std::vector<const std::vector<views::SiftDescriptors>*> sets;
         for (const auto& f : features) sets.push_back(&f);
         views::CodebookOptions co;

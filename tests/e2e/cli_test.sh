@@ -55,8 +55,13 @@ check "picture is a PNG" bash -c "head -c 8 pic.png | od -An -c | grep -q 'P   N
 "$cf" views fig.ply views 2>/dev/null
 check "views: 66 PNGs and a contact sheet" bash -c "[ \$(ls views/view_*.png | wc -l) -eq 66 ] && [ -s views/contact_sheet.png ]"
 "$cf" generate fig_b.ply --vertices 3000 --pose 5
-"$cf" codebook cb.bin fig.ply fig_b.ply --words 100 2>/dev/null
+"$cf" codebook cb.bin fig.ply fig_b.ply --words 100 2>codebook.log
 check "codebook written" test -s cb.bin
+check "progress in a log: no carriage return, a short run writes only its result" \
+  bash -c "! grep -q \$'\\r' codebook.log && [ \$(grep -c 'meshes, ' codebook.log) -eq 0 ] && grep -q '^codebook of 100 words' codebook.log"
+CANONFORM_PROGRESS_INTERVAL=0 "$cf" codebook cb2.bin fig.ply fig_b.ply --words 100 2>codebook2.log
+check "progress in a log: one whole line per update (CANONFORM_PROGRESS_INTERVAL=0)" \
+  bash -c "grep -qx '1/2 meshes, [0-9]* SIFT descriptors' codebook2.log && grep -qx '2/2 meshes, [0-9]* SIFT descriptors' codebook2.log"
 for m in fig fig_b canon; do "$cf" descriptor $m.ply $m.cfvd --codebook cb.bin --json > $m.desc.json; done
 check "descriptor --json: 66 views over a 100-word codebook" json fig.desc.json "j['views'] == 66 and j['codebook_words'] == 100 and j['keypoints'] > 100"
 "$cf" descriptor fig.ply fig_raw.cfvd
