@@ -27,16 +27,18 @@ check "core's configuration looked for no MeshLab, OpenCV, FAISS, VLFeat, OpenMP
 cmake --build core -j"$jobs" > core_build.log 2>&1
 check "core builds" test $? -eq 0
 cmake --install core --prefix "$work/prefix" > core_install.log 2>&1
-check "cmake --install: headers, libraries, CMake package" \
+check "cmake --install: headers, libraries, CMake package, the C API (header and shared library)" \
   test -f prefix/lib/cmake/canonform/canonformConfig.cmake -a -f prefix/include/canonform/canonical/method_registry.h \
-       -a -f prefix/lib/libcanonform_canonical.a
+       -a -f prefix/lib/libcanonform_canonical.a -a -f prefix/include/canonform/c_api/canonform.h -a -f prefix/lib/libcanonform.so
+check "the C API installs its one public header (not its internal ones)" \
+  bash -c "[ \"\$(ls prefix/include/canonform/c_api)\" = canonform.h ]"
 check "no MeshLab glue, views or retrieval installed" \
   bash -c "[ ! -e prefix/include/canonform/meshlab ] && [ ! -e prefix/include/canonform/views ] && [ ! -e prefix/lib/libcanonform_views.a ]"
 
 cmake -S "$src/tests/find_package" -B consumer -DCMAKE_BUILD_TYPE=Release -DCMAKE_PREFIX_PATH="$work/prefix" \
   > consumer_configure.log 2>&1 && cmake --build consumer -j"$jobs" > consumer_build.log 2>&1
-check "a project with find_package(canonform COMPONENTS canonical io) builds against the install" \
-  test -x consumer/consumer
+check "a project with find_package(canonform COMPONENTS canonical io c_api) builds against the install (C++ and C)" \
+  test -x consumer/consumer -a -x consumer/c_consumer
 
 "$cf" generate fig.ply --vertices 2000 --pose 3
 "$cf" simplify fig.ply fig500.ply --vertices 500 2>/dev/null
@@ -48,7 +50,10 @@ for m in "euclidean-N" "euclidean-A beta=20 seed=4" "geodesic-classical"; do
   consumer/consumer "$mesh" "lib_$name.ply" "$name" "$@" > "lib_$name.log" 2>&1
   "$cf" canonical "$mesh" "tool_$name.ply" --method "$name" "${opts[@]}" --quiet
   check "$name $*: the installed core's form is the whole build's, byte for byte (cmp)" cmp "lib_$name.ply" "tool_$name.ply"
+  consumer/c_consumer "$mesh" "c_$name.ply" "$name" "$@" > "c_$name.log" 2>&1
+  check "$name $*: ... and the installed C API's, from C (cmp)" cmp "c_$name.ply" "tool_$name.ply"
 done
+check "the core's C API says its retrieval area is not in this build" grep -q "retrieval area: not in this build" c_euclidean-N.log
 check "the consumer also calls euclidean_canonical_form() directly" grep -q "direct call: 5 iterations" lib_euclidean-N.log
 
 deb=$("$src/tools/package.sh" --dev --build-dir "$build" 2> package.log)
@@ -60,7 +65,8 @@ check "libcanonform-dev holds headers, the libraries of every area and the CMake
            grep -q './usr/include/canonform/views/view_descriptor.h' dev_contents.txt &&
            ! grep -q './usr/include/canonform/meshlab/' dev_contents.txt &&
            for a in common numerics surface canonical io procedural views retrieval; do grep -q \"./usr/lib/libcanonform_\$a.a\" dev_contents.txt || exit 1; done &&
-           grep -q './usr/lib/cmake/canonform/canonformConfig.cmake' dev_contents.txt"
+           grep -q './usr/lib/cmake/canonform/canonformConfig.cmake' dev_contents.txt &&
+           grep -q './usr/include/canonform/c_api/canonform.h' dev_contents.txt && grep -q './usr/lib/libcanonform.so' dev_contents.txt"
 check "libcanonform-dev depends on the -dev packages ($(cat dev_depends.txt))" \
   bash -c "grep -q libeigen3-dev dev_depends.txt && grep -q libopencv-dev dev_depends.txt"
 dpkg-deb -x "$deb" dev_root
@@ -69,4 +75,7 @@ cmake -S "$src/tests/find_package" -B consumer_deb -DCMAKE_BUILD_TYPE=Release -D
 check "the project builds against the unpacked libcanonform-dev (views and retrieval found too)" test -x consumer_deb/consumer
 consumer_deb/consumer fig.ply deb_euclidean-N.ply euclidean-N > /dev/null 2>&1
 check "... and its form is the tool's (cmp)" cmp deb_euclidean-N.ply tool_euclidean-N.ply
+LD_LIBRARY_PATH=$work/dev_root/usr/lib consumer_deb/c_consumer fig.ply deb_c_euclidean-N.ply euclidean-N > deb_c.log 2>&1
+check "... and the C API's from C, whose retrieval area is in that build (cmp)" \
+  bash -c "cmp deb_c_euclidean-N.ply tool_euclidean-N.ply && grep -q 'retrieval area: in this build' deb_c.log"
 finish
