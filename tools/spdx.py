@@ -53,7 +53,8 @@ def main():
         path = os.path.join(root, rel)
         with open(path, encoding="utf-8") as f:
             text = f.read()
-        if any(line.strip() == comment + TAG for line in text.splitlines()[:3]):
+        accepted = {comment + TAG} | ({"/* " + TAG + " */"} if comment == "// " else set())  # C89 comments in C
+        if any(line.strip() in accepted for line in text.splitlines()[:3]):
             continue
         if check:
             missing.append(rel)
