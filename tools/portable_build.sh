@@ -26,9 +26,10 @@ mkdir -p "$build" "$out"
 build=$(realpath "$build") out=$(realpath "$out")
 t0=$SECONDS
 # --as-needed: a plugin names only the libraries it calls (not GLEW, GL or the Qt modules
-# meshlab-common's interface lists). No FAISS in bullseye: the plugins never train a codebook.
+# meshlab-common's interface lists). The plugins alone: neither FAISS (the plugins never train a
+# codebook) nor OpenCV (not on the plugins' path).
 if ! { cmake -S "$here" -B "$build" -DCMAKE_BUILD_TYPE=Release -DCANONFORM_PORTABLE=ON -DCANONFORM_BUILD_PLUGINS=OFF \
-         -DCANONFORM_BUILD_TOOLS=OFF -DCANONFORM_BUILD_TESTS=OFF -DCANONFORM_BUILD_BENCH=OFF -DCANONFORM_WITHOUT_FAISS=ON \
+         -DCANONFORM_BUILD_TOOLS=OFF -DCANONFORM_BUILD_TESTS=OFF -DCANONFORM_BUILD_BENCH=OFF -DCANONFORM_WITHOUT_FAISS=ON -DCANONFORM_WITHOUT_OPENCV=ON \
          -DCANONFORM_PYTHON=OFF -DCANONFORM_DOCS_TESTS=OFF \
          -DCANONFORM_PORTABLE_COMMON_pymeshlab2022="$c2022" -DCANONFORM_PORTABLE_COMMON_pymeshlab2023="$c2025" \
          -DCANONFORM_PORTABLE_COMMON_pymeshlab2025="$c2025" -DCANONFORM_PORTABLE_COMMON_meshlab2025="$c2025f" \
