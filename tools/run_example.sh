@@ -1,9 +1,12 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: GPL-3.0-or-later
 # README command 1: the main job on a built-in example.
-# Sets up and builds everything, installs the plugin (as root into MeshLab's plugin folder, else
-# into a private MeshLab prefix under build/), generates a procedural articulated figure, and
-# runs the three filters in MeshLab's own meshlabserver. Writes into example_output/:
+# Sets up and builds only what the example uses (tools/build.sh --example: the packages of the
+# build and of meshlabserver under Xvfb, the installed MeshLab's source; the library, the canonform
+# tool and the plugins - command 2, tools/run_tests.sh, adds the rest), installs the plugins (as root
+# into MeshLab's plugin folder, else into a private MeshLab prefix under build/), generates a
+# procedural articulated figure, and runs the three filters in MeshLab's own meshlabserver. Writes
+# into example_output/:
 #   figure.ply            the generated figure (pose 4, ~8000 vertices)
 #   conformal_factor.ply  layer 0: the figure with the conformal factor as vertex quality/colour
 #   feature_points.ply    layer 1: the feature points (point cloud, quality = conformal factor)
@@ -15,7 +18,7 @@ build=${CANONFORM_BUILD_DIR:-$here/build}
 out=${CANONFORM_EXAMPLE_DIR:-$here/example_output}
 vertices=${CANONFORM_EXAMPLE_VERTICES:-8000}
 
-CANONFORM_BUILD_DIR=$build "$here/tools/build.sh"
+CANONFORM_BUILD_DIR=$build "$here/tools/build.sh" --example
 if [ "$(id -u)" -eq 0 ]; then
   "$here/tools/install.sh" --build-dir "$build"
   meshlabserver=/usr/bin/meshlabserver

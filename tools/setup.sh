@@ -14,11 +14,20 @@
 #   meshlab 2025.07~dfsg  (suite forky)   pymeshlab 2025.7   (CANONFORM_MESHLAB2025=0 skips it)
 # (elsewhere these are off unless set to 1).
 #
-#   tools/setup.sh                 # as root (or with sudo available)
-#   tools/setup.sh --packages      # print the apt packages every system needs, one a line, and exit
-#                                  # (bookworm adds mmdebstrap, the sanitizer tests' clang and the
-#                                  # documentation's mkdocs, mkdocs-material and chromium; builds
-#                                  # beyond the plugins add the Python module's)
+# PURPOSE says what the set-up is for, and so what it installs and fetches (tools/build.sh passes
+# the purpose of its build):
+#   plugins   the plugins (and canonform-meshlab) alone and their Debian package: tools/build.sh
+#             --plugins, tools/package.sh; the installed MeshLab's source only
+#   example   README command 1 (tools/run_example.sh): plugins' packages without dpkg-dev, plus the
+#             canonform tool's (OpenCV, FAISS); the installed MeshLab's source only
+#   all       (default) every build and test, README command 2: example's packages, the tests'
+#             (GoogleTest, ImageMagick, ...) and the Python module's; on bookworm also the test
+#             tools (mmdebstrap, qemu-user, Slurm, clang, MkDocs, Chromium) and the pymeshlab
+#             builds' MeshLab sources
+#
+#   tools/setup.sh [PURPOSE]       # as root (or with sudo available)
+#   tools/setup.sh --packages [PURPOSE]   # print the apt packages PURPOSE needs on every system, one
+#                                  # a line, and exit (without bookworm's test tools)
 #   tools/setup.sh --meshlab       # print the installed MeshLab's version (2020.09, 2022.02, 2025.07)
 #   MESHLAB_SRC=/path tools/setup.sh   # use an existing MeshLab 2020.09 source tree instead
 #
@@ -27,14 +36,14 @@ set -euo pipefail
 
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 
-PACKAGES=(
-  meshlab qtbase5-dev libqt5opengl5-dev libglew-dev libeigen3-dev
-  cmake g++ make dpkg-dev pkg-config
-  libsuitesparse-dev libopencv-dev libgtest-dev googletest libcli11-dev nlohmann-json3-dev libtbb-dev
-  libfaiss-dev libopenblas0-pthread
-  xvfb xauth x11-utils xdotool imagemagick
-  python3-matplotlib python3-numpy bc
-)
+# The plugins and canonform-meshlab (tools/build.sh --plugins) and their package (dpkg-shlibdeps),
+# run headless under Xvfb.
+PLUGINS=(meshlab qtbase5-dev libqt5opengl5-dev libglew-dev libeigen3-dev cmake g++ make pkg-config
+         libsuitesparse-dev libcli11-dev nlohmann-json3-dev libtbb-dev xvfb xauth)
+# The canonform tool and the retrieval area: OpenCV's SIFT, FAISS's k-means (on OpenBLAS).
+TOOL=(libopencv-dev libfaiss-dev libopenblas0-pthread)
+# The tests and the scripts of tools/: GoogleTest, X utilities, ImageMagick, numpy and matplotlib, bc.
+TESTS=(dpkg-dev libgtest-dev googletest x11-utils xdotool imagemagick python3-matplotlib python3-numpy bc)
 
 codename=$(. /etc/os-release && echo "${VERSION_CODENAME:-bookworm}")
 
@@ -46,45 +55,58 @@ installed_meshlab() {
   echo "${v%%[+~-]*}"
 }
 
+usage() { echo "usage: $0 [plugins|example|all] | --packages [plugins|example|all] | --meshlab" >&2; exit 2; }
+list_only=0
 case "${1:-}" in
-  --packages) printf '%s\n' "${PACKAGES[@]}"; exit 0 ;;
+  --packages) list_only=1; shift ;;
   --meshlab) installed_meshlab || { echo "meshlab is not installed" >&2; exit 1; }; exit 0 ;;
-  "") ;;
-  *) echo "usage: $0 [--packages | --meshlab]" >&2; exit 2 ;;
 esac
+default_purpose=all
+[ "${CANONFORM_PLUGINS_ONLY:-0}" = 1 ] && default_purpose=plugins
+purpose=${1:-$default_purpose}
+case "$purpose" in
+  plugins) PACKAGES=("${PLUGINS[@]}" dpkg-dev) ;;
+  example) PACKAGES=("${PLUGINS[@]}" "${TOOL[@]}") ;;
+  all) PACKAGES=("${PLUGINS[@]}" "${TOOL[@]}" "${TESTS[@]}") ;;
+  *) usage ;;
+esac
+[ $# -le 1 ] || usage
+if [ "$list_only" = 1 ]; then printf '%s\n' "${PACKAGES[@]}"; exit 0; fi
 
-# The tools/host.sh root filesystems (trixie, forky) are made with Debian's mmdebstrap, from
-# bookworm (the tests run there); not needed inside those root filesystems.
-if [ "$codename" = bookworm ] && [ "${CANONFORM_HOSTS:-1}" != 0 ]; then
-  PACKAGES+=(mmdebstrap)
-fi
-# The CPU matrix (tests/e2e/cpu_matrix_test.sh, docs/cpu.md) runs the tests as other x86-64 CPUs
-# with Debian's qemu-user (qemu-x86_64 -cpu MODEL); the tests are skipped without it.
-if [ "$codename" = bookworm ] && [ "${CANONFORM_CPU_MATRIX:-1}" != 0 ]; then
-  PACKAGES+=(qemu-user)
-fi
-# The Slurm test cluster (tools/slurm_cluster.sh: `canonform slurm` end to end) runs on bookworm:
-# a one-node slurmctld + slurmd with munge authentication; not needed in the host root filesystems.
-if [ "$codename" = bookworm ] && [ "${CANONFORM_SLURM_TESTS:-1}" != 0 ]; then
-  PACKAGES+=(slurm-wlm munge)
-fi
-# The sanitizer and fuzz tests (tools/sanitizer_tests.sh) run on bookworm too: clang with its ASan,
-# UBSan and libFuzzer runtimes (libclang-rt-dev, the default clang's), llvm-symbolizer for reports.
-if [ "$codename" = bookworm ] && [ "${CANONFORM_SANITIZER_TESTS:-1}" != 0 ]; then
-  PACKAGES+=(clang libclang-rt-dev llvm)
-fi
+# Purpose all only: the test tools, and the Python module.
+if [ "$purpose" = all ]; then
+  # The tools/host.sh root filesystems (trixie, forky) are made with Debian's mmdebstrap, from
+  # bookworm (the tests run there); not needed inside those root filesystems.
+  if [ "$codename" = bookworm ] && [ "${CANONFORM_HOSTS:-1}" != 0 ]; then
+    PACKAGES+=(mmdebstrap)
+  fi
+  # The CPU matrix (tests/e2e/cpu_matrix_test.sh, docs/cpu.md) runs the tests as other x86-64 CPUs
+  # with Debian's qemu-user (qemu-x86_64 -cpu MODEL); the tests are skipped without it.
+  if [ "$codename" = bookworm ] && [ "${CANONFORM_CPU_MATRIX:-1}" != 0 ]; then
+    PACKAGES+=(qemu-user)
+  fi
+  # The Slurm test cluster (tools/slurm_cluster.sh: `canonform slurm` end to end) runs on bookworm:
+  # a one-node slurmctld + slurmd with munge authentication; not needed in the host root filesystems.
+  if [ "$codename" = bookworm ] && [ "${CANONFORM_SLURM_TESTS:-1}" != 0 ]; then
+    PACKAGES+=(slurm-wlm munge)
+  fi
+  # The sanitizer and fuzz tests (tools/sanitizer_tests.sh) run on bookworm too: clang with its ASan,
+  # UBSan and libFuzzer runtimes (libclang-rt-dev, the default clang's), llvm-symbolizer for reports.
+  if [ "$codename" = bookworm ] && [ "${CANONFORM_SANITIZER_TESTS:-1}" != 0 ]; then
+    PACKAGES+=(clang libclang-rt-dev llvm)
+  fi
 
-# The documentation's tests (tests/docs_test.py) run on bookworm: MkDocs with mkdocs-material builds
-# the site (docs/, mkdocs.yml) and headless Chromium opens it; not needed in the host root filesystems.
-if [ "$codename" = bookworm ] && [ "${CANONFORM_DOCS_TESTS:-1}" != 0 ]; then
-  PACKAGES+=(mkdocs mkdocs-material chromium)
-fi
-# The Python module (python/, docs/python.md): pybind11, and what `pip install .` and its tests
-# use - Debian's Python with its headers, setuptools and wheel (the build backend, no PyPI), pip and
-# venv, pytest. Not needed for a build of the plugins alone (CANONFORM_PLUGINS_ONLY=1, the host
-# root filesystems) or with CANONFORM_PYTHON=0.
-if [ "${CANONFORM_PLUGINS_ONLY:-0}" != 1 ] && [ "${CANONFORM_PYTHON:-1}" != 0 ]; then
-  PACKAGES+=(pybind11-dev python3-dev python3-setuptools python3-wheel python3-pip python3-venv python3-pytest)
+  # The documentation's tests (tests/docs_test.py) run on bookworm: MkDocs with mkdocs-material builds
+  # the site (docs/, mkdocs.yml) and headless Chromium opens it; not needed in the host root filesystems.
+  if [ "$codename" = bookworm ] && [ "${CANONFORM_DOCS_TESTS:-1}" != 0 ]; then
+    PACKAGES+=(mkdocs mkdocs-material chromium)
+  fi
+  # The Python module (python/, docs/python.md): pybind11, and what `pip install .` and its tests
+  # use - Debian's Python with its headers, setuptools and wheel (the build backend, no PyPI), pip and
+  # venv, pytest. Not with CANONFORM_PYTHON=0.
+  if [ "${CANONFORM_PYTHON:-1}" != 0 ]; then
+    PACKAGES+=(pybind11-dev python3-dev python3-setuptools python3-wheel python3-pip python3-venv python3-pytest)
+  fi
 fi
 
 log() { printf '[setup] %s\n' "$*"; }
@@ -251,8 +273,10 @@ fetch_source() {
 }
 
 want2020=0; want2022=0; want2025=0
+pymeshlab=0  # the pymeshlab builds' sources on bookworm: for purpose all only
+[ "$purpose" = all ] && pymeshlab=1
 case "$host_meshlab" in
-  2020.09) want2020=1; want2022=${CANONFORM_MESHLAB2022:-1}; want2025=${CANONFORM_MESHLAB2025:-1} ;;
+  2020.09) want2020=1; want2022=${CANONFORM_MESHLAB2022:-$pymeshlab}; want2025=${CANONFORM_MESHLAB2025:-$pymeshlab} ;;
   2022.02) want2022=1; want2025=${CANONFORM_MESHLAB2025:-0} ;;
   2025.07) want2025=1; want2022=${CANONFORM_MESHLAB2022:-0} ;;
 esac
