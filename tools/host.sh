@@ -14,11 +14,18 @@
 #                           there: tests/e2e/portable_test.sh)
 #   bullseye     bullseye   the system the portable archives are built in (glibc 2.31, GCC 10,
 #                           Qt 5.15.2: tools/package.sh --portable); no MeshLab
+#   bookworm-new bookworm   a new user's Debian 12 as its installer leaves it (mmdebstrap's variant
+#                           important: debootstrap's, the installer's base system), nothing else: the
+#                           README's commands from bare metal (tools/readme_commands.sh)
 #
-# 1. The root filesystem is made once with Debian's mmdebstrap (variant apt) from the machine's own
-#    Debian mirror (derived from its apt entry): for trixie and forky the packages that
-#    tools/setup.sh installs (meshlab, compiler, Qt5, OpenCV, Xvfb, ...), for the others the lists
-#    below. It is cached outside the clone in $CANONFORM_HOST_CACHE (default
+#   tools/host.sh --make SUITE   makes SUITE's root filesystem (step 1) if it is not cached, and
+#                                nothing else (tools/run_tests.sh makes all that the tests use at once,
+#                                alongside the build)
+#
+# 1. The root filesystem is made once with Debian's mmdebstrap (variant apt, unless said above) from
+#    the machine's own Debian mirror (derived from its apt entry): for trixie and forky the packages
+#    that `tools/setup.sh plugins` installs (meshlab, compiler, Qt5, Xvfb, ...: what step 3 needs),
+#    for the others the lists below. It is cached outside the clone in $CANONFORM_HOST_CACHE (default
 #    /var/cache/canonform/hosts) as SUITE-KEY, KEY a hash of the suite and the package list; it is
 #    never changed after it is made.
 # 2. Each clone runs it through an overlay (its changes under build/hosts/SUITE/upper), with the
@@ -38,13 +45,21 @@
 set -euo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 
-usage() { echo "usage: $0 trixie|forky|forky-bare|bullseye COMMAND [ARG...]" >&2; exit 2; }
-[ $# -ge 2 ] || usage
+usage() { echo "usage: $0 trixie|forky|forky-bare|bullseye|bookworm-new COMMAND [ARG...] | --make SUITE" >&2; exit 2; }
+make_only=0
+if [ "${1:-}" = --make ]; then
+  make_only=1; shift
+  [ $# -eq 1 ] || usage
+else
+  [ $# -ge 2 ] || usage
+fi
 suite=$1; shift
+variant=apt
 case "$suite" in
   trixie|forky) release=$suite; prepare=1 ;;  # our plugins built and installed inside (step 3)
   forky-bare) release=forky; prepare=0 ;;
   bullseye) release=bullseye; prepare=0 ;;
+  bookworm-new) release=bookworm; prepare=0; variant=important ;;
   *) usage ;;
 esac
 log() { printf '[host %s] %s\n' "$suite" "$*" >&2; }
@@ -57,7 +72,8 @@ die() { printf '[host %s] error: %s\n' "$suite" "$*" >&2; exit 1; }
 # and the clone itself.
 if [ -z "${CANONFORM_HOST_IN_NAMESPACE:-}" ]; then
   command -v unshare > /dev/null || die "unshare missing (util-linux)"
-  exec env CANONFORM_HOST_IN_NAMESPACE=1 unshare --mount --propagation private -- bash "$0" "$suite" "$@"
+  [ "$make_only" = 1 ] && set -- --make "$suite" || set -- "$suite" "$@"
+  exec env CANONFORM_HOST_IN_NAMESPACE=1 unshare --mount --propagation private -- bash "$0" "$@"
 fi
 
 cache=${CANONFORM_HOST_CACHE:-/var/cache/canonform/hosts}
@@ -67,20 +83,23 @@ state=$here/build/hosts/$suite
 # What each root filesystem holds. bullseye: the compiler and the -dev packages of the libraries the
 # plugins link, at bullseye's versions (their symbol versions are what the archives may need), and
 # from bookworm only header-only packages that bullseye lacks or has too old (Eigen 3.4, the one the
-# bookworm build uses; nlohmann-json; CLI11): headers carry no symbol version. Bullseye has no
-# FAISS (the plugins never train a codebook: the portable build leaves k-means out).
+# bookworm build uses; nlohmann-json; CLI11): headers carry no symbol version. No FAISS or OpenCV:
+# the portable build is of the plugins alone, configured without them.
 extra_sources=()
 case "$suite" in
-  trixie|forky) mapfile -t packages < <("$here/tools/setup.sh" --packages | sort -u) ;;
+  trixie|forky) mapfile -t packages < <("$here/tools/setup.sh" --packages plugins | sort -u) ;;
   forky-bare) packages=(meshlab xvfb xauth) ;;
   bullseye)
     packages=(g++ make cmake pkg-config ccache patchelf python3 binutils file xz-utils
-              qtbase5-dev libqt5opengl5-dev libglew-dev libtbb-dev libsuitesparse-dev libopencv-dev
+              qtbase5-dev libqt5opengl5-dev libglew-dev libtbb-dev libsuitesparse-dev
               libeigen3-dev/bookworm nlohmann-json3-dev/bookworm libcli11-dev/bookworm)
     extra_sources=(bookworm) ;;
+  bookworm-new) packages=() ;;
 esac
 if [ "$prepare" = 1 ]; then  # (the recipe of the first version of this script: the same cache key)
   recipe="canonform host rootfs v2: mmdebstrap --variant=apt $suite main; meshlab's Recommends; ${packages[*]}"
+elif [ "$variant" != apt ]; then
+  recipe="canonform host rootfs v3 $suite: mmdebstrap --variant=$variant $release main"
 else
   recipe="canonform host rootfs v3 $suite: mmdebstrap --variant=apt $release main${extra_sources[*]:+ + ${extra_sources[*]}}; meshlab's Recommends; ${packages[*]}"
 fi
@@ -106,7 +125,8 @@ make_rootfs() {
   exec 8>"$cache/.$suite-$key.lock"
   flock 8
   [ -f "$lower/.canonform-complete" ] && return 0  # made meanwhile by another run
-  local uri opts=() t0=$SECONDS
+  local uri opts=() t0=$SECONDS f c0
+  read -r -a f < <(sed 's/^.*) //' "/proc/$$/stat"); c0=$((f[13] + f[14]))
   uri=$(mirror_uri)
   # testing/unstable: the mirror's Release files may be past their Valid-Until date
   case "$release" in forky) opts+=(--aptopt='Acquire::Check-Valid-Until "false"') ;; esac
@@ -129,7 +149,8 @@ recommends=$(chroot "$1" apt-cache depends meshlab | awk '/Recommends:/ { if (al
 chroot "$1" env DEBIAN_FRONTEND=noninteractive apt-get install -y -q --no-install-recommends $recommends
 EOF
   chmod +x "$hook"
-  if ! mmdebstrap --variant=apt --quiet "${opts[@]}" --include="$(IFS=,; echo "${packages[*]}")" \
+  [ ${#packages[@]} -eq 0 ] || opts+=(--include="$(IFS=,; echo "${packages[*]}")")
+  if ! mmdebstrap --variant="$variant" --quiet "${opts[@]}" \
         --customize-hook="$hook" \
         "$release" "$lower.tmp" "${sources[@]}" > "$cache/$suite-$key.log" 2>&1; then
     rm -f "$hook"
@@ -141,9 +162,14 @@ EOF
   printf '%s\n' "$recipe" > "$lower.tmp/.canonform-recipe"
   touch "$lower.tmp/.canonform-complete"
   mv "$lower.tmp" "$lower"
-  log "root filesystem ready in $((SECONDS - t0)) s ($(du -sh "$lower" | cut -f1))"
+  read -r -a f < <(sed 's/^.*) //' "/proc/$$/stat")
+  log "root filesystem ready in $((SECONDS - t0)) s, $(( (f[13] + f[14] - c0) / $(getconf CLK_TCK) )) CPU s ($(du -sh "$lower" | cut -f1))"
 }
 [ -f "$lower/.canonform-complete" ] || make_rootfs
+if [ "$make_only" = 1 ]; then
+  log "root filesystem ready: $lower"
+  exit 0
+fi
 
 # --- the overlay for this clone, and the mounts ----------------------------------------------
 mkdir -p "$state"

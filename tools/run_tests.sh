@@ -5,17 +5,23 @@
 # CANONFORM_SANITIZER_TESTS=0 or ctest arguments are given, the unit and end-to-end tests again
 # under AddressSanitizer + UndefinedBehaviorSanitizer with a bounded run of every fuzz target
 # (tools/sanitizer_tests.sh; its build runs niced alongside ctest).
+# The root filesystems the configured tests use (build/host_suites.txt, tests/CMakeLists.txt:
+# canonform_uses_hosts) are made at the start, alongside the build: mostly download and unpacking.
 # The tests leave the machine as they found it: after the set-up (which may install packages), the
 # MeshLab plugin folder, /usr/local and the dpkg database are listed, and listed again at the end;
-# any difference fails the run. Each stage's wall time is printed.
+# any difference fails the run. Each stage's wall time and CPU time (user + system, of every process
+# the stage ran) are printed.
 set -euo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 build=${CANONFORM_BUILD_DIR:-$here/build}
-t0=$(date +%s)
-stage() { echo "[tests] $1: $(( $(date +%s) - $2 )) s"; }
+tck=$(getconf CLK_TCK)
+# CPU seconds of this script's finished children and their descendants (/proc: cutime + cstime)
+cpu() { local f; read -r -a f < <(sed 's/^.*) //' "/proc/$$/stat"); echo $(( (f[13] + f[14]) / tck )); }
+t0=$(date +%s) c0=$(cpu)
+stage() { echo "[tests] $1: $(( $(date +%s) - $2 )) s, $(( $(cpu) - $3 )) CPU s"; }
 
 "$here/tools/setup.sh"
-stage "set-up" "$t0"
+stage "set-up" "$t0" "$c0"
 mkdir -p "$build"
 machine_state() {
   # What a test must not change. Python's byte-code caches are left out (an import may write them).
@@ -24,10 +30,25 @@ machine_state() {
 }
 machine_state > "$build/machine_state.before"
 
-t1=$(date +%s)
+t1=$(date +%s) c1=$(cpu)
+CANONFORM_BUILD_DIR=$build "$here/tools/build.sh" --configure-only
+# The root filesystems, one process each, while the build compiles; ctest's tests wait for a
+# root filesystem still being made (tools/host.sh's lock) and fail if making it failed.
+hosts_pids=()
+suites=()
+[ -f "$build/host_suites.txt" ] && mapfile -t suites < "$build/host_suites.txt"
+for s in "${suites[@]}"; do
+  "$here/tools/host.sh" --make "$s" > "$build/host_make.$s.log" 2>&1 &
+  hosts_pids+=($!)
+done
+[ ${#suites[@]} -eq 0 ] || echo "[tests] making the root filesystems alongside the build: ${suites[*]}"
 CANONFORM_BUILD_DIR=$build "$here/tools/build.sh"
-stage "build" "$t1"
-t2=$(date +%s)
+hosts_rc=0
+for p in "${hosts_pids[@]}"; do wait "$p" || hosts_rc=1; done  # usually done long before the build
+cat "$build"/host_make.*.log 2>/dev/null | grep -E "ready in|error" || true
+[ "$hosts_rc" = 0 ] || echo "[tests] making a root filesystem failed (build/host_make.*.log): its tests will fail"
+stage "build, with the root filesystems alongside" "$t1" "$c1"
+t2=$(date +%s) c2=$(cpu)
 # The sanitizer build starts now, at the lowest priority, so that it uses what ctest leaves idle
 # (root filesystems being downloaded and unpacked, single-threaded tests); its tests run after ctest.
 san=0
@@ -38,21 +59,21 @@ if [ $# -eq 0 ] && [ "${CANONFORM_SANITIZER_TESTS:-1}" != "0" ]; then
 fi
 ctest_rc=0
 (cd "$build" && ctest --output-on-failure -j"$(nproc)" "$@") || ctest_rc=$?
-stage "ctest (the sanitizer build alongside)" "$t2"
+stage "ctest (the sanitizer build alongside, not counted)" "$t2" "$c2"
 if [ "$ctest_rc" != 0 ] && [ "$san" = 1 ]; then
   kill -- "-$san_pid" 2>/dev/null || true  # ctest failed: stop the sanitizer build (its own process group)
   exit "$ctest_rc"
 fi
 if [ "$san" = 1 ]; then
-  t3=$(date +%s)
+  t3=$(date +%s) c3=$(cpu)
   san_rc=0
   wait "$san_pid" || san_rc=$?
   cat "$build/sanitizer_build.log"
-  stage "sanitizer build, the rest after ctest" "$t3"
+  stage "sanitizer build, the rest after ctest (CPU: the whole build)" "$t3" "$c3"
   [ "$san_rc" = 0 ] || exit "$san_rc"
-  t4=$(date +%s)
+  t4=$(date +%s) c4=$(cpu)
   "$here/tools/sanitizer_tests.sh"
-  stage "sanitizer tests" "$t4"
+  stage "sanitizer tests" "$t4" "$c4"
 fi
 [ "$ctest_rc" = 0 ] || exit "$ctest_rc"
 
@@ -63,4 +84,4 @@ if ! diff "$build/machine_state.before" "$build/machine_state.after" > "$build/m
   exit 1
 fi
 echo "[tests] the machine is as the tests found it (MeshLab's plugin folder, /usr/local, dpkg's database)"
-stage "all" "$t0"
+stage "all" "$t0" "$c0"
