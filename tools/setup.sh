@@ -18,8 +18,8 @@
 # the purpose of its build):
 #   plugins   the plugins (and canonform-meshlab) alone and their Debian package: tools/build.sh
 #             --plugins, tools/package.sh; the installed MeshLab's source only
-#   example   README command 1 (tools/run_example.sh): plugins' packages without dpkg-dev, plus the
-#             canonform tool's (OpenCV, FAISS); the installed MeshLab's source only
+#   example   README command 1 (tools/run_example.sh): plugins' packages plus the canonform tool's
+#             (OpenCV, FAISS); the installed MeshLab's source only
 #   all       (default) every build and test, README command 2: example's packages, the tests'
 #             (GoogleTest, ImageMagick, ...) and the Python module's; on bookworm also the test
 #             tools (mmdebstrap, qemu-user, Slurm, clang, MkDocs, Chromium) and the pymeshlab
@@ -37,13 +37,14 @@ set -euo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 
 # The plugins and canonform-meshlab (tools/build.sh --plugins) and their package (dpkg-shlibdeps),
-# run headless under Xvfb.
+# run headless under Xvfb; the MeshLab source fetched below (dpkg-source, xz: neither is on a Debian
+# as its installer leaves it).
 PLUGINS=(meshlab qtbase5-dev libqt5opengl5-dev libglew-dev libeigen3-dev cmake g++ make pkg-config
-         libsuitesparse-dev libcli11-dev nlohmann-json3-dev libtbb-dev xvfb xauth)
+         libsuitesparse-dev libcli11-dev nlohmann-json3-dev libtbb-dev xvfb xauth dpkg-dev xz-utils)
 # The canonform tool and the retrieval area: OpenCV's SIFT, FAISS's k-means (on OpenBLAS).
 TOOL=(libopencv-dev libfaiss-dev libopenblas0-pthread)
 # The tests and the scripts of tools/: GoogleTest, X utilities, ImageMagick, numpy and matplotlib, bc.
-TESTS=(dpkg-dev libgtest-dev googletest x11-utils xdotool imagemagick python3-matplotlib python3-numpy bc)
+TESTS=(libgtest-dev googletest x11-utils xdotool imagemagick python3-matplotlib python3-numpy bc)
 
 codename=$(. /etc/os-release && echo "${VERSION_CODENAME:-bookworm}")
 
@@ -65,7 +66,7 @@ default_purpose=all
 [ "${CANONFORM_PLUGINS_ONLY:-0}" = 1 ] && default_purpose=plugins
 purpose=${1:-$default_purpose}
 case "$purpose" in
-  plugins) PACKAGES=("${PLUGINS[@]}" dpkg-dev) ;;
+  plugins) PACKAGES=("${PLUGINS[@]}") ;;
   example) PACKAGES=("${PLUGINS[@]}" "${TOOL[@]}") ;;
   all) PACKAGES=("${PLUGINS[@]}" "${TOOL[@]}" "${TESTS[@]}") ;;
   *) usage ;;
