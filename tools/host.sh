@@ -18,9 +18,10 @@
 #                           important: debootstrap's, the installer's base system), nothing else: the
 #                           README's commands from bare metal (tools/readme_commands.sh)
 #
-#   tools/host.sh --make SUITE   makes SUITE's root filesystem (step 1) if it is not cached, and
-#                                nothing else (tools/run_tests.sh makes all that the tests use at once,
-#                                alongside the build)
+#   tools/host.sh --make SUITE      makes SUITE's root filesystem (step 1) if it is not cached, and
+#                                   nothing else
+#   tools/host.sh --prepare SUITE   steps 1 to 3, no command: tools/run_tests.sh prepares every
+#                                   suite the tests use at once, alongside the build
 #
 # 1. The root filesystem is made once with Debian's mmdebstrap (variant apt, unless said above) from
 #    the machine's own Debian mirror (derived from its apt entry): for trixie and forky the packages
@@ -34,9 +35,9 @@
 #    CANONFORM_HOST_CCACHE=0: none). The mounts are made in a mount namespace of the script's own,
 #    so no other process sees them and they go when it ends, however it ends (also on SIGKILL); it
 #    also unmounts them itself on failure or interruption.
-# 3. trixie and forky only: inside, the README's commands for that system: tools/setup.sh,
-#    CANONFORM_PLUGINS_ONLY=1 tools/build.sh (what the package holds; build dir
-#    build/hosts/SUITE/build), tools/package.sh, then `apt-get install ./canonform-plugins-*.deb`
+# 3. trixie and forky only: inside, the README's commands for that system: tools/build.sh
+#    --plugins (its set-up, then what the package holds; build dir build/hosts/SUITE/build),
+#    tools/package.sh, then `apt-get install ./canonform-plugins-*.deb`
 #    (only when the package changed). CANONFORM_HOST_PREPARE=0 skips this step.
 # 4. COMMAND runs inside as root, in the current directory if it is under the project tree or
 #    /tmp (else the project root); its exit status is the script's.
@@ -45,14 +46,12 @@
 set -euo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 
-usage() { echo "usage: $0 trixie|forky|forky-bare|bullseye|bookworm-new COMMAND [ARG...] | --make SUITE" >&2; exit 2; }
-make_only=0
-if [ "${1:-}" = --make ]; then
-  make_only=1; shift
-  [ $# -eq 1 ] || usage
-else
-  [ $# -ge 2 ] || usage
-fi
+usage() { echo "usage: $0 trixie|forky|forky-bare|bullseye|bookworm-new COMMAND [ARG...] | --make SUITE | --prepare SUITE" >&2; exit 2; }
+only=""  # --make: step 1 alone; --prepare: steps 1 to 3, no command
+case "${1:-}" in
+  --make|--prepare) only=$1; shift; [ $# -eq 1 ] || usage ;;
+  *) [ $# -ge 2 ] || usage ;;
+esac
 suite=$1; shift
 variant=apt
 case "$suite" in
@@ -72,7 +71,7 @@ die() { printf '[host %s] error: %s\n' "$suite" "$*" >&2; exit 1; }
 # and the clone itself.
 if [ -z "${CANONFORM_HOST_IN_NAMESPACE:-}" ]; then
   command -v unshare > /dev/null || die "unshare missing (util-linux)"
-  [ "$make_only" = 1 ] && set -- --make "$suite" || set -- "$suite" "$@"
+  if [ -n "$only" ]; then set -- "$only" "$suite"; else set -- "$suite" "$@"; fi
   exec env CANONFORM_HOST_IN_NAMESPACE=1 unshare --mount --propagation private -- bash "$0" "$@"
 fi
 
@@ -166,7 +165,7 @@ EOF
   log "root filesystem ready in $((SECONDS - t0)) s, $(( (f[13] + f[14] - c0) / $(getconf CLK_TCK) )) CPU s ($(du -sh "$lower" | cut -f1))"
 }
 [ -f "$lower/.canonform-complete" ] || make_rootfs
-if [ "$make_only" = 1 ]; then
+if [ "$only" = --make ]; then
   log "root filesystem ready: $lower"
   exit 0
 fi
@@ -244,9 +243,9 @@ inside() {  # runs its arguments inside, as root, with a clean environment
 # --- build and install the plugins inside, by the README's commands --------------------------
 if [ "$prepare" = 1 ] && [ "${CANONFORM_HOST_PREPARE:-1}" != 0 ]; then
   t0=$SECONDS
-  if ! inside "$here" env CANONFORM_BUILD_DIR="$state/build" CANONFORM_PLUGINS_ONLY=1 bash -c '
+  if ! inside "$here" env CANONFORM_BUILD_DIR="$state/build" bash -c '
       set -e
-      tools/build.sh >&2
+      tools/build.sh --plugins >&2
       deb=$(tools/package.sh --build-dir "$CANONFORM_BUILD_DIR")
       sum=$(sha256sum "$deb" | cut -d" " -f1)
       if [ "$(cat /var/lib/canonform-installed.sha256 2>/dev/null)" != "$sum" ]; then
@@ -258,6 +257,7 @@ if [ "$prepare" = 1 ] && [ "${CANONFORM_HOST_PREPARE:-1}" != 0 ]; then
   fi
   log "plugins built and installed ($((SECONDS - t0)) s)"
 fi
+[ "$only" = --prepare ] && exit 0
 
 # --- the command ---------------------------------------------------------------------------------
 cwd=$PWD

@@ -6,7 +6,9 @@
 # under AddressSanitizer + UndefinedBehaviorSanitizer with a bounded run of every fuzz target
 # (tools/sanitizer_tests.sh; its build runs niced alongside ctest).
 # The root filesystems the configured tests use (build/host_suites.txt, tests/CMakeLists.txt:
-# canonform_uses_hosts) are made at the start, alongside the build: mostly download and unpacking.
+# canonform_uses_hosts) are made at the start, alongside the build (mostly download and unpacking),
+# and the plugins built in those that have a build of their own (trixie, forky: tools/host.sh
+# --prepare); ctest's tests wait for what they need (tools/host.sh's locks).
 # The tests leave the machine as they found it: after the set-up (which may install packages), the
 # MeshLab plugin folder, /usr/local and the dpkg database are listed, and listed again at the end;
 # any difference fails the run. Each stage's wall time and CPU time (user + system, of every process
@@ -32,22 +34,18 @@ machine_state > "$build/machine_state.before"
 
 t1=$(date +%s) c1=$(cpu)
 CANONFORM_BUILD_DIR=$build "$here/tools/build.sh" --configure-only
-# The root filesystems, one process each, while the build compiles; ctest's tests wait for a
-# root filesystem still being made (tools/host.sh's lock) and fail if making it failed.
+# The root filesystems and their builds, one process each, while the build compiles; a test that
+# needs one waits for it (tools/host.sh's locks), and fails if it failed.
 hosts_pids=()
 suites=()
 [ -f "$build/host_suites.txt" ] && mapfile -t suites < "$build/host_suites.txt"
 for s in "${suites[@]}"; do
-  "$here/tools/host.sh" --make "$s" > "$build/host_make.$s.log" 2>&1 &
+  "$here/tools/host.sh" --prepare "$s" > "$build/host_prepare.$s.log" 2>&1 &
   hosts_pids+=($!)
 done
-[ ${#suites[@]} -eq 0 ] || echo "[tests] making the root filesystems alongside the build: ${suites[*]}"
+[ ${#suites[@]} -eq 0 ] || echo "[tests] root filesystems made and prepared alongside the build: ${suites[*]}"
 CANONFORM_BUILD_DIR=$build "$here/tools/build.sh"
-hosts_rc=0
-for p in "${hosts_pids[@]}"; do wait "$p" || hosts_rc=1; done  # usually done long before the build
-cat "$build"/host_make.*.log 2>/dev/null | grep -E "ready in|error" || true
-[ "$hosts_rc" = 0 ] || echo "[tests] making a root filesystem failed (build/host_make.*.log): its tests will fail"
-stage "build, with the root filesystems alongside" "$t1" "$c1"
+stage "build (the root filesystems alongside: their CPU counts in ctest's)" "$t1" "$c1"
 t2=$(date +%s) c2=$(cpu)
 # The sanitizer build starts now, at the lowest priority, so that it uses what ctest leaves idle
 # (root filesystems being downloaded and unpacked, single-threaded tests); its tests run after ctest.
@@ -59,7 +57,11 @@ if [ $# -eq 0 ] && [ "${CANONFORM_SANITIZER_TESTS:-1}" != "0" ]; then
 fi
 ctest_rc=0
 (cd "$build" && ctest --output-on-failure -j"$(nproc)" "$@") || ctest_rc=$?
-stage "ctest (the sanitizer build alongside, not counted)" "$t2" "$c2"
+hosts_rc=0
+for p in "${hosts_pids[@]}"; do wait "$p" || hosts_rc=1; done  # done: the tests waited for them
+cat "$build"/host_prepare.*.log 2>/dev/null | grep -E "ready in|built and installed|error" || true
+[ "$hosts_rc" = 0 ] || echo "[tests] making or preparing a root filesystem failed (build/host_prepare.*.log)"
+stage "ctest (with the root filesystems; the sanitizer build alongside, not counted)" "$t2" "$c2"
 if [ "$ctest_rc" != 0 ] && [ "$san" = 1 ]; then
   kill -- "-$san_pid" 2>/dev/null || true  # ctest failed: stop the sanitizer build (its own process group)
   exit "$ctest_rc"
