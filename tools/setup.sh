@@ -41,7 +41,7 @@ here=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 # as its installer leaves it).
 PLUGINS=(meshlab qtbase5-dev libqt5opengl5-dev libglew-dev libeigen3-dev cmake g++ make pkg-config
          libsuitesparse-dev libcli11-dev nlohmann-json3-dev libtbb-dev xvfb xauth dpkg-dev xz-utils)
-# The canonform tool and the retrieval area: OpenCV's SIFT, FAISS's k-means (on OpenBLAS).
+# The canonform tool, the retrieval runs, the tests: OpenCV's SIFT, FAISS's k-means (on OpenBLAS).
 TOOL=(libopencv-dev libfaiss-dev libopenblas0-pthread)
 # The tests and the scripts of tools/: GoogleTest, X utilities, ImageMagick, numpy and matplotlib, bc.
 TESTS=(libgtest-dev googletest x11-utils xdotool imagemagick python3-matplotlib python3-numpy bc)
