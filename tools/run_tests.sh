@@ -35,10 +35,12 @@ machine_state > "$build/machine_state.before"
 t1=$(date +%s) c1=$(cpu)
 CANONFORM_BUILD_DIR=$build "$here/tools/build.sh" --configure-only
 # The root filesystems and their builds, one process each, while the build compiles; a test that
-# needs one waits for it (tools/host.sh's locks), and fails if it failed.
+# needs one waits for it (tools/host.sh's locks), and fails if it failed. Not for a run of some
+# tests (ctest arguments): those make what they use themselves.
 hosts_pids=()
+trap '[ ${#hosts_pids[@]} -eq 0 ] || kill "${hosts_pids[@]}" 2>/dev/null || true' EXIT  # a failed build
 suites=()
-[ -f "$build/host_suites.txt" ] && mapfile -t suites < "$build/host_suites.txt"
+[ $# -eq 0 ] && [ -f "$build/host_suites.txt" ] && mapfile -t suites < "$build/host_suites.txt"
 for s in "${suites[@]}"; do
   "$here/tools/host.sh" --prepare "$s" > "$build/host_prepare.$s.log" 2>&1 &
   hosts_pids+=($!)
@@ -59,6 +61,7 @@ ctest_rc=0
 (cd "$build" && ctest --output-on-failure -j"$(nproc)" "$@") || ctest_rc=$?
 hosts_rc=0
 for p in "${hosts_pids[@]}"; do wait "$p" || hosts_rc=1; done  # done: the tests waited for them
+hosts_pids=()
 cat "$build"/host_prepare.*.log 2>/dev/null | grep -E "ready in|built and installed|error" || true
 [ "$hosts_rc" = 0 ] || echo "[tests] making or preparing a root filesystem failed (build/host_prepare.*.log)"
 stage "ctest (with the root filesystems; the sanitizer build alongside, not counted)" "$t2" "$c2"
