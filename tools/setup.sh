@@ -19,7 +19,7 @@
 #   plugins   the plugins (and canonform-meshlab) alone and their Debian package: tools/build.sh
 #             --plugins, tools/package.sh; the installed MeshLab's source only
 #   example   README command 1 (tools/run_example.sh): plugins' packages plus the canonform tool's
-#             (OpenCV, FAISS); the installed MeshLab's source only
+#             (FAISS; not OpenCV, whose SIFT is only for comparison); the installed MeshLab's source only
 #   all       (default) every build and test, README command 2: example's packages, the tests'
 #             (GoogleTest, ImageMagick, ...) and the Python module's; on bookworm also the test
 #             tools (mmdebstrap, qemu-user, Slurm, clang, MkDocs, Chromium) and the pymeshlab
@@ -41,8 +41,10 @@ here=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 # as its installer leaves it).
 PLUGINS=(meshlab qtbase5-dev libqt5opengl5-dev libglew-dev libeigen3-dev cmake g++ make pkg-config
          libsuitesparse-dev libcli11-dev nlohmann-json3-dev libtbb-dev xvfb xauth dpkg-dev xz-utils)
-# The canonform tool, the retrieval runs, the tests: OpenCV's SIFT, FAISS's k-means (on OpenBLAS).
-TOOL=(libopencv-dev libfaiss-dev libopenblas0-pthread)
+# The canonform tool and the retrieval runs: FAISS's k-means (on OpenBLAS).
+TOOL=(libfaiss-dev libopenblas0-pthread)
+# The tool's `opencv` SIFT extractor, kept for comparison (tests, benchmarks); not for command 1.
+OPENCV=(libopencv-dev)
 # The tests and the scripts of tools/: GoogleTest, X utilities, ImageMagick, numpy and matplotlib, bc.
 TESTS=(libgtest-dev googletest x11-utils xdotool imagemagick python3-matplotlib python3-numpy bc)
 
@@ -68,7 +70,7 @@ purpose=${1:-$default_purpose}
 case "$purpose" in
   plugins) PACKAGES=("${PLUGINS[@]}") ;;
   example) PACKAGES=("${PLUGINS[@]}" "${TOOL[@]}") ;;
-  all) PACKAGES=("${PLUGINS[@]}" "${TOOL[@]}" "${TESTS[@]}") ;;
+  all) PACKAGES=("${PLUGINS[@]}" "${TOOL[@]}" "${OPENCV[@]}" "${TESTS[@]}") ;;
   *) usage ;;
 esac
 [ $# -le 1 ] || usage
