@@ -1,20 +1,19 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""Turns bench/run_bench_scale.sh's JSON lines into bench/results/canonical_scale.{csv,md}.
+"""Prints bench/run_bench_scale.sh's JSON lines as a Markdown table (the docs' table is generated from
+the JSON lines themselves).
 
-usage: report_scale.py RAW.jsonl OUT_PREFIX
+usage: report_scale.py RAW.jsonl
 One row per binary and mesh size: medians over the runs of wall and CPU (user + system) seconds,
 of every stage's seconds (read = reading and validating the file; conformal factor; setup =
 edges, feature points, SMACOF's pairs, V and its multigrid hierarchy; SMACOF iterations; write;
 "other" = wall - the stages: process start, scaling, exit), peak RSS and minor page faults, and
 the final stress (relative to the baseline's on the same mesh, if there is one).
 """
-import csv
 import json
 import statistics
 import sys
 
 rows = [json.loads(line) for line in open(sys.argv[1]) if line.strip()]
-prefix = sys.argv[2]
 groups = {}
 for r in rows:
     r["cpu_s"] = r["user_s"] + r["system_s"]
@@ -42,11 +41,6 @@ for (n, binary), g in sorted(groups.items(), key=lambda kv: (kv[0][0], kv[0][1] 
     row["wall_x"] = (statistics.median(r["wall_s"] for r in base) / row["wall_s"]) if base else None
     out.append(row)
 
-with open(prefix + ".csv", "w", newline="") as f:
-    w = csv.DictWriter(f, fieldnames=list(out[0].keys()))
-    w.writeheader()
-    w.writerows(out)
-
 head = ["vertices", "binary", "runs"] + [c[1] for c in cols] + ["peak RSS MiB", "minor faults", "iterations",
                                                                 "final stress", "stress / baseline", "wall x"]
 lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
@@ -56,5 +50,4 @@ for r in out:
               f"{r['stress_vs_baseline']:.6f}" if r["stress_vs_baseline"] else "-",
               f"{r['wall_x']:.2f}" if r["wall_x"] else "-"]
     lines.append("| " + " | ".join(cells) + " |")
-open(prefix + ".md", "w").write("\n".join(lines) + "\n")
 print("\n".join(lines))

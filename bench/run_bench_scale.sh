@@ -5,8 +5,8 @@
 # (user + system, from /usr/bin/time), the time split by stage (read + validation, conformal
 # factor, setup, SMACOF, write; from --json), peak RSS and minor page faults, medians of R runs.
 # With BASELINE (another build's canonform), both binaries run interleaved in one run, side by
-# side, and the report adds the final stress relative to the baseline's. Writes
-# bench/results/canonical_scale.{jsonl,csv,md}.
+# side, and the printed table adds the final stress and the wall time relative to the baseline's.
+# Writes bench/results/canonical_scale.jsonl (the docs' table) and prints the table.
 #   bench/run_bench_scale.sh [--repeats R] [--sizes 200000,1000000] [--baseline BASELINE]
 set -euo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
@@ -42,4 +42,4 @@ j["binary"] = sys.argv[3]; j["run"] = int(sys.argv[4]); print(json.dumps(j))' \
     done
   done
 done
-/usr/bin/python3 "$here/bench/report_scale.py" "$raw" "$out/canonical_scale"
+/usr/bin/python3 "$here/bench/report_scale.py" "$raw"

@@ -23,11 +23,12 @@ load_before=$(cut -d' ' -f1-3 /proc/loadavg)
 read -r wall user sys rss < "$work/time.txt"
 out=$here/bench/results/retrieve_600.jsonl
 /usr/bin/python3 - "$work/run/euclidean-N/timings.json" "$wall" "$user" "$sys" "$rss" "$load_before" \
-    "$(cut -d' ' -f1-3 /proc/loadavg)" "$(git -C "$here" rev-parse --short HEAD)" > "$out.tmp" <<'PY'
+    "$(cut -d' ' -f1-3 /proc/loadavg)" "$(git -C "$here" rev-parse --short HEAD)" "$(nproc)" \
+    "$(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | xargs)" > "$out.tmp" <<'PY'
 import json, sys
 t = json.load(open(sys.argv[1]))["seconds"]
 wall, user, sys_s, rss = float(sys.argv[2]), float(sys.argv[3]), float(sys.argv[4]), int(sys.argv[5])
-print(json.dumps({"load_before": sys.argv[6], "build": sys.argv[8]}))
+print(json.dumps({"load_before": sys.argv[6], "build": sys.argv[8], "cpus": int(sys.argv[9]), "cpu": sys.argv[10]}))
 print(json.dumps({"bench": "retrieve_600", "models": 600, "vertices": 10000, "method": "euclidean-N", "threads": 2,
                   "wall_s": wall, "cpu_s": round(user + sys_s, 1), "wall_min": round(wall / 60, 2),
                   "peak_rss_mib": round(rss / 1024), "forms_and_views_s": round(t["forms_and_views"], 1),

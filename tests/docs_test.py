@@ -19,6 +19,11 @@ usage: /usr/bin/python3 tests/docs_test.py MODE --source DIR --work DIR [options
   readme
       README.md: at most 200 lines, no dates, load averages, machine paths or plans, the two commands,
       and every link leads to a file (and heading) of the repository
+  pages
+      every reference page (docs/ outside docs/records/, CHANGELOG.md which docs/changelog.md includes,
+      and mkdocs.yml's navigation) says what the software does, not when or where it was measured:
+      no dates (the changelog's release headings excepted), build hashes, issue numbers, load figures
+      or machine paths; every record page (docs/records/) is dated and in the navigation
   version --version X.Y.Z --canonform CANONFORM --params CANONFORM_PARAMS
       one version: CMake's project() version, `canonform --version`, the parameter dump the pages are
       generated from, and the newest release of CHANGELOG.md
@@ -137,17 +142,87 @@ def slug(heading):
     return re.sub(r"\s+", "-", h)
 
 
+# What makes a line a lab notebook's rather than a reference page's (mode pages; README.md too).
+NOTEBOOK = [
+    ("a date", re.compile(r"\b20\d\d-[01]\d(-[0-3]\d)?\b|\b(January|February|March|April|May|June|July|August|"
+                          r"September|October|November|December) (\d{1,2}, )?20\d\d\b")),
+    # a hexadecimal word of 7-40 digits with a letter and a digit, or any after commit/build/branch
+    ("a build hash", re.compile(r"\b(?=[0-9a-f]*[a-f])(?=[0-9a-f]*[0-9])[0-9a-f]{7,40}\b|"
+                                r"\b(commit|build|revision|branch|main)('s)?\s+`?[0-9a-f]{7,40}\b", re.I)),
+    ("an issue number", re.compile(r"\b(issue|pull request|PR)s?\s*#?\d+|(^|\s)#\d+\b", re.I)),
+    ("a load figure", re.compile(r"\bload( average)?s?( of)?\s*[(:=]?\s*\d|load average|\bquiet machine|"
+                                 r"shared machine|machine shared|nothing else running|other jobs", re.I)),
+    ("a machine path", re.compile(r"(^|[\s`'\"(=])/(work|root|home/\w+|tmp/data|mnt/data)/")),
+]
+RELEASE_HEADING = re.compile(r"^## \[?\d+\.\d+\.\d+\]?\s+-\s+20\d\d-\d\d-\d\d\s*$")
+
+
+def notebook(text, changelog=False):
+    """(line number, what, line) of every line that dates, places or loads a figure."""
+    found = []
+    for n, line in enumerate(text.splitlines(), 1):
+        for what, rx in NOTEBOOK:
+            if changelog and what == "a date" and RELEASE_HEADING.match(line):
+                continue
+            if rx.search(line):
+                found.append((n, what, line))
+    return found
+
+
+def reference_pages(source):
+    """(path relative to SOURCE, is the changelog) of every page the reference lint reads."""
+    pages = []
+    docs = os.path.join(source, "docs")
+    for d, dirs, files in os.walk(docs):
+        rel = os.path.relpath(d, source)
+        if rel == os.path.join("docs", "records") or rel.startswith(os.path.join("docs", "records") + os.sep):
+            dirs[:] = []
+            continue
+        pages += [(os.path.join(rel, f), f == "changelog.md") for f in sorted(files) if f.endswith(".md")]
+    return sorted(pages) + [("CHANGELOG.md", True), ("mkdocs.yml", False)]
+
+
+def mode_pages(a):
+    bad = []
+    pages = reference_pages(a.source)
+    for rel, changelog in pages:
+        path = os.path.join(a.source, rel)
+        if not os.path.isfile(path):
+            continue
+        with open(path, encoding="utf-8") as f:
+            text = f.read()
+        if rel == "mkdocs.yml":  # the navigation's titles and pages (records' titles are dated there)
+            text = "\n".join(line for line in text.splitlines() if "records/" not in line)
+        bad += [f"{rel}:{n}: {what}: {line.strip()[:100]}" for n, what, line in notebook(text, changelog)]
+    check(not bad, f"{len(pages)} reference pages have no dates, build hashes, issue numbers, load figures or "
+          "machine paths (studies go to docs/records/)", "\n       ".join(bad))
+    records = os.path.join(a.source, "docs", "records")
+    undated, nav = [], ""
+    if os.path.isfile(os.path.join(a.source, "mkdocs.yml")):
+        with open(os.path.join(a.source, "mkdocs.yml"), encoding="utf-8") as f:
+            nav = f.read()
+    names = sorted(f for f in os.listdir(records) if f.endswith(".md")) if os.path.isdir(records) else []
+    for name in names:
+        with open(os.path.join(records, name), encoding="utf-8") as f:
+            head = f.read(600)
+        if name != "index.md" and not re.search(r"\b20\d\d-\d\d-\d\d\b", head):
+            undated.append(f"docs/records/{name}: no date (YYYY-MM-DD) in its title or first lines")
+        if "records/" + name not in nav:
+            undated.append(f"docs/records/{name}: not in mkdocs.yml's navigation")
+    check(not undated, f"{len(names)} record pages are dated and in the navigation", "\n       ".join(undated))
+
+
 def mode_readme(a):
     path = os.path.join(a.source, "README.md")
     with open(path) as f:
         text = f.read()
     lines = text.splitlines()
     check(len(lines) <= 200, f"README.md has at most 200 lines ({len(lines)})")
-    notebook = [(k + 1, line) for k, line in enumerate(lines)
-                if re.search(r"\b20\d\d-\d\d-\d\d\b|load average|\bload \d|this machine|shared machine|/work/|/tmp/data|"
-                             r"not built|\bplan(ned)?\b|TODO", line, re.I)]
-    check(not notebook, "README.md has no dates, load averages, machine paths or plans",
-          "; ".join(f"line {n}: {line.strip()[:80]}" for n, line in notebook))
+    found = [(k + 1, line) for k, line in enumerate(lines)
+             if re.search(r"this machine|not built|\bplan(ned)?\b|TODO", line, re.I)]
+    found += [(n, line) for n, _, line in notebook(text)]
+    check(not found, "README.md has no dates, build hashes, issue numbers, load figures, machine paths or plans",
+          "; ".join(f"line {n}: {line.strip()[:80]}" for n, line in sorted(found)))
     for cmd in ("tools/run_example.sh", "tools/run_tests.sh"):
         check(re.search(r"^" + re.escape(cmd) + r"\s+# \d\. ", text, re.M) is not None, f"README.md gives command {cmd}")
     bad = []
@@ -179,7 +254,7 @@ def mode_version(a):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("mode", choices=["generated", "site", "browser", "examples", "version", "readme"])
+    ap.add_argument("mode", choices=["generated", "site", "browser", "examples", "version", "readme", "pages"])
     ap.add_argument("--source", required=True)
     ap.add_argument("--work", required=True)
     ap.add_argument("--params")

@@ -21,7 +21,8 @@ KIND is one of
     cli-commands              the tool's commands, one line each (canonform --help)
     cli                       `canonform --help` and `canonform COMMAND --help` of every command
     table ID                  a benchmark table of bench/results/manifest.json, with its command and conditions
-    record FILE               a recorded result (bench/results/retrieval/*.json, bench/results/paper/*.json)
+    record FILE [KEY=VALUE]   a recorded result (bench/results/retrieval/*.json, bench/results/paper/*.json),
+                              optionally only its rows whose KEY is VALUE
     figure ID                 a picture of bench/results/manifest.json, with its command and result file
 With --check nothing is written: the script lists every page whose generated blocks differ from what
 it would write, and exits with 1 if there is one (the test docs.generated).
@@ -84,6 +85,7 @@ class Generator:
         with open(os.path.join(root, "bench/results/manifest.json")) as f:
             self.manifest = json.load(f)
         self._help = {}
+        self.record_page = False  # the page being written is a record (docs/records/)
 
     # --- filters, pymeshlab, methods ---------------------------------------------------------
     def filters_all(self):
@@ -254,16 +256,28 @@ class Generator:
         body = [[fmt_number(r[c]) if c in r else "-" for c in cols] for r in rows]
         return table([c.replace("_", " ") for c in cols], body), header
 
-    def conditions_line(self, e, header=()):
-        parts = [f"`{e['command']}`"]
-        cond = e.get("conditions", "")
+    @staticmethod
+    def machine(e, header=()):
+        """The machine of a result, from its metadata: "2 cores (AMD EPYC)"; "" when unknown."""
+        meta = dict(e.get("machine", {}))
         for h in header:
-            if "load_before" in h:
-                cond += f"; load {h['load_before'].split()[0]} before"
-            if "load_after" in h:
-                cond += f", {h['load_after'].split()[0]} after"
+            meta.update({k: h[k] for k in ("cpus", "cpu") if k in h})
+        if "cpus" not in meta:
+            return ""
+        return f"{meta['cpus']} cores" + (f" ({meta['cpu']})" if meta.get("cpu") else "")
+
+    def conditions_line(self, e, header=()):
+        """Command, conditions and result file of a table, in a neutral form: the conditions say how it
+        was measured (repeats, medians, pinning) and on how many cores, never when, on which build or
+        under what load (those stay in the result file's metadata)."""
+        parts = [f"`{e['command']}`"]
+        cond = "; ".join(c for c in (e.get("conditions", ""), self.machine(e, header)) if c)
+        if self.record_page:  # a record (docs/records/) says when, on which build and under what load
+            cond = "; ".join(c for c in [cond, e.get("provenance", "")] + [
+                f"{k.replace('_', ' ')} {h[k]}" for h in header for k in ("date", "build", "load_before", "load_after")
+                if k in h] if c)
         if cond:
-            parts.append(cond.lstrip("; "))
+            parts.append(cond)
         files = e.get("files") or [e.get("table") or e.get("jsonl")]
         parts.append("result: " + ", ".join(f"`{f}`" for f in files if f))
         return "*" + " · ".join(parts) + "*\n"
@@ -293,9 +307,14 @@ class Generator:
                 f"**{total:.0f} CPU s, {total / 2 / 60:.1f} minutes on 2 cores**.\n")
 
     def gen_record(self, args):
+        """A recorded result; KEY=VALUE after the file keeps only the rows with that value (e.g. sift=canonform)."""
         path = args[0]
         rec = json.loads(self.read(path))
-        cols = rec["columns"]
+        where = dict(a.split("=", 1) for a in args[1:])
+        rec["rows"] = [r for r in rec["rows"] if all(str(r.get(k)) == v for k, v in where.items())]
+        if not rec["rows"]:
+            sys.exit(f"generate.py: {path}: no row with {where}")
+        cols = [c for c in rec["columns"] if c["key"] not in where]  # a column of one value says nothing
         best = {}
         for c in cols:
             if c.get("best") in ("max", "min"):
@@ -320,6 +339,8 @@ class Generator:
             line.append(f"`{rec['command']}`")
         if rec.get("conditions"):
             line.append(rec["conditions"])
+        if self.record_page and rec.get("provenance"):
+            line.append(rec["provenance"])
         line.append(f"result: `{path}`" + (f" ({rec['source']})" if rec.get("source") else ""))
         return "*" + " · ".join(line) + "*\n\n" + table([c["title"] for c in cols], body)
 
@@ -387,6 +408,8 @@ class Generator:
     def render(self, page, args_text):
         args = args_text.split()
         kind, rest = args[0], args[1:]
+        rel = os.path.relpath(page, os.path.join(self.root, "docs"))
+        self.record_page = rel.startswith("records" + os.sep)
         fn = getattr(self, "gen_" + kind.replace("-", "_"), None)
         if fn is None:
             sys.exit(f"generate.py: {page}: unknown block kind '{kind}'")

@@ -2,7 +2,7 @@
 """Records the measures of a retrieval run folder as a result file the documentation shows.
 
 usage: /usr/bin/python3 tools/docs/record_run.py RUN OUT.json --command "canonform retrieve ..." \
-           --conditions "build ..., machine, load ..." [--title TITLE] [--methods M1,M2,...]
+           --conditions "SIFT ..., codebook seed ..., 2 threads" [--title TITLE] [--methods M1,M2,...]
        /usr/bin/python3 tools/docs/record_run.py --reformat FILE.json...
 
 RUN is a folder written by `canonform retrieve` (or a sharded run): every RUN/METHOD/metrics.json
@@ -10,18 +10,23 @@ RUN is a folder written by `canonform retrieve` (or a sharded run): every RUN/ME
 becomes one row, methods in the order of --methods (default: the order of RUN/report.md's table).
 OUT.json (under bench/results/retrieval/) is what a `<!-- generated: record FILE -->` block of a
 docs page shows, with the command and conditions in one line; tools/docs/generate.py then rewrites
-the page. One row per line, so that a re-measurement shows in `git diff` as the rows that changed.
+the page. The conditions say how the run was made (extractor, seed, threads), in words a reference
+page can show; when, on which build and under what load go to the file's "provenance" (the build,
+the date and the load average are added by this script), which only record pages (docs/records/)
+show. One row per line, so that a re-measurement shows in `git diff` as the rows that changed.
 """
 import argparse
 import json
 import os
 import re
+import subprocess
 import sys
+import time
 
 MEASURES = [("nn", "NN"), ("first_tier", "1-Tier"), ("second_tier", "2-Tier"), ("e_measure", "E-measure"),
             ("dcg", "DCG")]
 SECONDS = [("forms_and_views", "forms+views s"), ("codebook", "codebook s"), ("distances_and_measures", "dist s")]
-ORDER = ["title", "command", "conditions", "source", "columns", "rows"]
+ORDER = ["title", "command", "conditions", "source", "provenance", "columns", "rows"]
 
 
 def dump(record):
@@ -108,9 +113,15 @@ def main():
     if os.path.isfile(a.out):
         with open(a.out) as f:
             old = json.load(f)
+    here = os.path.dirname(os.path.abspath(__file__))
+    build = subprocess.run(["git", "-C", here, "rev-parse", "--short", "HEAD"], capture_output=True, text=True).stdout
+    with open("/proc/loadavg") as f:
+        load = " ".join(f.read().split()[:3])
+    provenance = (f"build {build.strip() or 'unknown'}, recorded {time.strftime('%Y-%m-%d', time.gmtime())} "
+                  f"(load average {load} then); recorded from the run folder by tools/docs/record_run.py")
     rec = {"title": a.title or old.get("title") or os.path.basename(os.path.abspath(a.run)),
-           "command": a.command, "conditions": a.conditions,
-           "source": f"recorded from the run folder by tools/docs/record_run.py", "columns": columns, "rows": rows}
+           "command": a.command, "conditions": a.conditions, "provenance": provenance,
+           "columns": columns, "rows": rows}
     with open(a.out, "w") as f:
         f.write(dump(rec))
     print(f"record_run.py: {len(rows)} methods of {a.run} -> {a.out}")

@@ -29,7 +29,8 @@ def main():
     ap.add_argument("root")
     ap.add_argument("out")
     ap.add_argument("--command", required=True)
-    ap.add_argument("--conditions", required=True)
+    ap.add_argument("--conditions", required=True)  # how (extractors, seeds, threads): reference pages show it
+    ap.add_argument("--provenance", default="")  # builds, dates, loads: only record pages show it
     ap.add_argument("--title", default="")
     ap.add_argument("--collections", default="tosca,procedural,faust,shrec07")
     ap.add_argument("--backends", default="")
@@ -63,6 +64,8 @@ def main():
                     row[m + "_seeds"] = " ".join(f"{x:.3f}" for x in v)
                 rows.append(row)
     rec = {"title": a.title, "command": a.command, "conditions": a.conditions, "columns": cols, "rows": rows}
+    if a.provenance:
+        rec["provenance"] = a.provenance
     if not rec["title"]:
         del rec["title"]
     with open(a.out, "w") as f:

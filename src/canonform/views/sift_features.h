@@ -8,6 +8,10 @@
 // Bag-of-Features", Machine Vision and Applications 24, 2013 (Sec. 3.2: SIFT on each depth view);
 // Pickup et al., Pattern Recognition 2015 (CM-BOF on canonical forms).
 //
+// This comment describes the algorithm; docs/sift.md says how to choose and use an extractor and
+// gives the tests' and benchmarks' figures; docs/records/sift-extractor.md has the measurements
+// behind the departures below.
+//
 // Extractors (SiftBackend; `--sift` of the tool's view commands and `retrieve`, the view filter's
 // `sift` parameter):
 // - canonform (default): the implementation below, written for this project from Lowe's paper.
@@ -18,7 +22,7 @@
 // include the extractor).
 //
 // The canonform extractor, step by step (image values in [0, 1]; a depth view is taken as 8 bits,
-// round(255 depth) / 255, as OpenCV takes it - measured: docs/sift.md).
+// round(255 depth) / 255, as OpenCV takes it - measured: docs/records/sift-extractor.md).
 // 1. Scale space (Lowe Sec. 3, eq. 1). L(x, y, sigma) = G(sigma) * I; D = L(k sigma) - L(sigma),
 //    k = 2^(1/s), s = octave_layers (3, Lowe Sec. 3.2), sigma_0 = sigma (1.6, Lowe Sec. 3.3).
 //    An octave holds s + 3 Gaussian images sigma_0 k^j (j = 0..s+2) and s + 2 DoG images; each
@@ -35,8 +39,9 @@
 //    -1 on the view itself: one octave from sigma_0 / 2 with 2 DoG layers (k = 2^(1/2)), searched
 //    in DoG images 1 and 2 (scales 1.13 and 1.6 pixels), keypoints reported at octave -1. (With 3
 //    layers, or on the doubled grid, it finds the silhouette's pixel staircase: hundreds of
-//    keypoints per view.) These choices are measured (docs/sift.md): octave 0 on the view's own
-//    grid lost first tier on the procedural collection, and the octave -1 gains it.
+//    keypoints per view.) These choices are measured (docs/records/sift-extractor.md): octave 0
+//    on the view's own grid lost first tier on the procedural collection, and the octave -1 gains
+//    it.
 //    Outside the view the image is 0 (background, which is also the view's own background). The
 //    blur is a separable Gaussian truncated at 4 sigma and normalised to sum 1, its taps computed in
 //    double by our own exp (below) and rounded to float. Each image is computed only over its
@@ -104,7 +109,7 @@
 // variants of exp, sin, cos, atan2, log and pow at run time). The blur runs 8 lanes at a time on
 // CPUs with AVX2 (a clone chosen at run time) and as two 4-lane SSE2 halves elsewhere: each lane
 // does the same operations in the same order either way, so the choice changes no bit (checked
-// under qemu's CPU models, docs/sift.md).
+// under qemu's CPU models, docs/cpu.md).
 //
 // Conventions: the image is row-major, size x size; 0 is the background (far). Positions are in
 // the view's pixel coordinates, pixel centres at integers.
