@@ -1,14 +1,15 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""Turns the benchmark's JSON lines into a CSV, a Markdown table and a log-log plot.
+"""Turns the benchmark's JSON lines into a Markdown table and a log-log plot.
 
-usage: report.py RAW.jsonl OUT_PREFIX [--auto-from N]   (writes OUT_PREFIX.csv, .md, .png)
+usage: report.py RAW.jsonl OUT.md PLOT.png [--auto-from N]
+(bench/run_bench.sh: bench/results/canonical_form.md, and the docs' picture
+docs/images/bench_canonical_form.png: it is drawn there, where the pages take it, and nowhere else)
 With --auto-from, an "auto" group per variant is added: the direct rows below N vertices and the
 multigrid rows from N on (what SMACOF's default solver choice does).
 Rows are grouped by variant and requested SMACOF solver (direct, multigrid, auto). Ratios are
 against the smallest mesh of the same group, so linear growth shows as time ratio ~ vertex
 ratio; the growth exponent is the least-squares slope of log time against log vertices.
 """
-import csv
 import json
 import math
 import sys
@@ -19,8 +20,9 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 rows = [json.loads(line) for line in open(sys.argv[1]) if line.strip()]
-prefix = sys.argv[2]
-auto_from = int(sys.argv[4]) if len(sys.argv) > 4 and sys.argv[3] == "--auto-from" else None
+out_md = sys.argv[2]
+png = sys.argv[3]
+auto_from = int(sys.argv[5]) if len(sys.argv) > 5 and sys.argv[4] == "--auto-from" else None
 for r in rows:
     r.setdefault("requested_solver", "auto")
     r["group"] = f"{r['variant']} {r['requested_solver']}"
@@ -53,13 +55,7 @@ for name in sorted({r["group"] for r in rows}):
         r["algorithm_mib"] = r["peak_mib"] - r["rss_loaded_mib"]
     groups[name] = group
 rows.sort(key=lambda r: (r["group"], r["vertices"]))
-fields = ["variant", "requested_solver", "solver", "vertices", "feature_points", "iterations", "repeats",
-          "median_s", "min_s", "max_s", "us_per_vertex", "vertex_ratio", "time_ratio", "peak_mib", "algorithm_mib"]
-with open(prefix + ".csv", "w", newline="") as f:
-    w = csv.DictWriter(f, fieldnames=fields, extrasaction="ignore")
-    w.writeheader()
-    w.writerows(rows)
-with open(prefix + ".md", "w") as f:
+with open(out_md, "w") as f:
     f.write("| variant | solver (used) | vertices | feature points | iterations | median s (runs) | us / vertex "
             "| vertices x | time x | peak MiB (algorithm) |\n|---|---|---|---|---|---|---|---|---|---|\n")
     for r in rows:
@@ -93,5 +89,5 @@ ax.set_title("Euclidean canonical form: time against mesh size")
 ax.legend(fontsize=8)
 ax.grid(True, which="both", lw=0.3)
 fig.tight_layout()
-fig.savefig(prefix + ".png", dpi=110)
-print(open(prefix + ".md").read())
+fig.savefig(png, dpi=110)
+print(open(out_md).read())

@@ -1,8 +1,8 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""Table 1 / Fig. 7 report: CSV, Markdown table (seconds and peak MiB per method and size, and the
+"""Table 1 / Fig. 7 report: a Markdown table (seconds and peak MiB per method and size, and the
 speed-up of the Euclidean form over geodesic least squares) and a log-log plot of time against
-vertices. usage: report_table1.py RAW.jsonl OUT_PREFIX"""
-import csv
+vertices. usage: report_table1.py RAW.jsonl OUT.md PLOT.png (bench/run_table1.sh:
+bench/results/table1.md and the docs' picture docs/images/bench_table1.png, drawn only there)"""
 import json
 import sys
 
@@ -12,20 +12,13 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 rows = [json.loads(line) for line in open(sys.argv[1]) if line.strip()]
-prefix = sys.argv[2]
+out_md, png = sys.argv[2], sys.argv[3]
 methods = ["euclidean-A", "euclidean-N", "geodesic-fast", "geodesic-classical", "geodesic-ls"]
 labels = {"euclidean-A": "Euclidean A", "euclidean-N": "Euclidean N", "geodesic-fast": "geodesic F",
           "geodesic-classical": "geodesic C", "geodesic-ls": "geodesic LS"}
 by = {(r["method"], r["vertices"]): r for r in rows}
 sizes = sorted({r["vertices"] for r in rows})
-with open(prefix + ".csv", "w", newline="") as f:
-    w = csv.writer(f)
-    w.writerow(["method", "vertices", "repeats", "median_s", "min_s", "max_s", "iterations", "geodesic_s",
-                "estimated_s", "peak_mib", "threads"])
-    for r in sorted(rows, key=lambda r: (methods.index(r["method"]), r["vertices"])):
-        w.writerow([r["method"], r["vertices"], r["repeats"], r["median_s"], r["min_s"], r["max_s"],
-                    r["iterations"], r["geodesic_s"], r["estimated_s"], r["peak_mib"], r["threads"]])
-with open(prefix + ".md", "w") as f:
+with open(out_md, "w") as f:
     f.write("| vertices | " + " | ".join(labels[m] + " s (MiB)" for m in methods)
             + " | LS / Euclidean N | LS / Euclidean A |\n")
     f.write("|---" * (len(methods) + 3) + "|\n")
@@ -49,5 +42,5 @@ ax.set_title("Canonical forms: Euclidean (Pickup et al.) vs geodesic (Elad-Kimme
 ax.grid(True, which="both", lw=0.3)
 ax.legend()
 fig.tight_layout()
-fig.savefig(prefix + ".png", dpi=110)
-print(open(prefix + ".md").read())
+fig.savefig(png, dpi=110)
+print(open(out_md).read())

@@ -5,7 +5,7 @@
 # each of SMACOF's two linear solvers side by side (direct LDL^T factor, AMG V-cycle), both
 # variants. The report adds the default "auto" (direct below 40k vertices, multigrid from there:
 # SmacofSolverOptions::multigrid_from in src/canonform/numerics/smacof.h). Writes
-# bench/results/canonical_form.{csv,md,png}.
+# bench/results/canonical_form.{jsonl,md} and the docs' picture docs/images/bench_canonical_form.png.
 #   bench/run_bench.sh [--quick]        (--quick: 2k and 10k only, 3 repeats)
 set -euo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
@@ -27,4 +27,5 @@ for k in "${!sizes[@]}"; do
       --repeats "${repeats[$k]}" | tee -a "$raw"
   done
 done
-/usr/bin/python3 "$here/bench/report.py" "$raw" "$out/canonical_form" --auto-from 40000
+/usr/bin/python3 "$here/bench/report.py" "$raw" "$out/canonical_form.md" "$here/docs/images/bench_canonical_form.png" \
+  --auto-from 40000

@@ -4,7 +4,7 @@
 # (variant N; variant A at 2k and 10k) of procedural figures in several poses at 2k-200k vertices, of TOSCA and FAUST
 # (DATA/tosca_r5k, DATA/faust_r5k, with labels.csv and corres/), and least-squares MDS of a 2000-vertex
 # figure's geodesic distances, every method on every mesh interleaved. Writes
-# bench/results/acceleration.{csv,md} and acceleration.png.
+# bench/results/acceleration.{csv,md} and the docs' picture docs/images/bench_acceleration.png.
 #   bench/run_bench_acceleration.sh [DATA]     (default DATA: /work/data; skipped if absent)
 set -euo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
@@ -27,4 +27,4 @@ taskset -c 0 "$b" --geodesic 2000 --repeats 3 --csv "$tmp/5.csv" > "$tmp/5.md"
 head -2 "$tmp/1.md" > "$out/acceleration.md"; head -1 "$tmp/1.csv" > "$out/acceleration.csv"
 for f in "$tmp"/*.md; do tail -n +3 "$f" >> "$out/acceleration.md"; done
 for f in "$tmp"/*.csv; do tail -n +2 "$f" >> "$out/acceleration.csv"; done
-/usr/bin/python3 "$here/bench/plot_acceleration.py" "$out/acceleration.csv" "$out/acceleration.png"
+/usr/bin/python3 "$here/bench/plot_acceleration.py" "$out/acceleration.csv" "$here/docs/images/bench_acceleration.png"

@@ -4,7 +4,7 @@
 # simplified by quadric edge collapse to about 1k, 2k, 4k and 8k vertices (and generated at 50k
 # and 200k for the Euclidean method only); time and peak memory of Euclidean A and N and of
 # geodesic C, F and LS, each method and size in its own process, all on one core, in one run.
-# Writes bench/results/table1.{jsonl,csv,md,png}. Takes about 10-15 minutes.
+# Writes bench/results/table1.{jsonl,md} and docs/images/bench_table1.png. Takes about 10-15 minutes.
 #   bench/run_table1.sh [--quick]        (--quick: 1k and 2k only)
 set -euo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
@@ -35,4 +35,4 @@ for n in "${euc_only[@]}"; do
   run "$cache/t1_$n.ply" --variant A --repeats 3
   run "$cache/t1_$n.ply" --variant N --repeats 3
 done
-/usr/bin/python3 "$here/bench/report_table1.py" "$raw" "$out/table1"
+/usr/bin/python3 "$here/bench/report_table1.py" "$raw" "$out/table1.md" "$here/docs/images/bench_table1.png"
