@@ -10,7 +10,13 @@ usage: /usr/bin/python3 tests/layout_test.py SOURCE_DIR [PLUGIN.so ...]
   file of it;
 - a plugin (.so) contains no code of the procedural-mesh library (test and example data only);
 - the view-descriptor plugin needs no OpenCV, VLFeat, FAISS, BLAS, LAPACK, OpenMP or oneTBB at run
-  time (its SIFT and word assignment are the library's own; those libraries are the tool's).
+  time (its SIFT and word assignment are the library's own; those libraries are the tool's);
+- one home per kind of file: the programs users run are in apps/ (a C++ file with main() lives in
+  apps/, bench/, examples/ or tests/, or is one of the build's generators in tools/); tools/ holds
+  build, package, root-filesystem, test and documentation scripts, no analysis script (one that runs
+  `canonform retrieve`, reads a run's measures or distances, or plots them: those are in
+  experiments/); every script in experiments/ has its ctest experiments.NAME; git tracks no Python
+  byte code (.pyc, __pycache__/).
 """
 import os
 import re
@@ -94,8 +100,44 @@ for so in sys.argv[2:]:
     if extra:
         problems.append(f"{so}: needs {', '.join(extra)} (the view filter must not; see src/CMakeLists.txt)")
 
+# --- one home per kind of file -------------------------------------------------------------------
+GENERATORS = {"tools/make_mlx.cpp", "tools/docs/params.cpp"}  # programs the build runs to write files
+PROGRAM_HOMES = ("apps/", "bench/", "examples/", "tests/")
+MAIN = re.compile(r"^\s*int\s+main\s*\(", re.M)
+ANALYSIS = re.compile(r"^\s*(import|from)\s+(numpy|matplotlib)\b|metrics\.json|distances\.(bin|csv)|pr\.csv|"
+                      r"(\$cf|\$CANONFORM|canonform)\"?\s+retrieve\b", re.M)
+
+
+def tracked(root):
+    try:
+        out = subprocess.run(["git", "-C", root, "ls-files", "-z"], capture_output=True, text=True, check=True).stdout
+        return [f for f in out.split("\0") if f]
+    except (subprocess.CalledProcessError, FileNotFoundError):  # not a git checkout: every file
+        return [os.path.relpath(os.path.join(d, f), root).replace(os.sep, "/") for d, dirs, fs in os.walk(root)
+                for f in fs if not d.startswith(os.path.join(root, "build"))]
+
+
+files = [f for f in tracked(root) if not f.startswith("external/") and os.path.isfile(os.path.join(root, f))]
+for f in files:
+    if f.endswith(".pyc") or "/__pycache__/" in "/" + f:
+        problems.append(f"{f}: Python byte code is tracked (git rm --cached it; .gitignore has __pycache__/)")
+    if f.endswith((".cpp", ".cc")) and not f.startswith(PROGRAM_HOMES) and f not in GENERATORS:
+        if MAIN.search(open(os.path.join(root, f), encoding="utf-8", errors="replace").read()):
+            problems.append(f"{f}: a program outside apps/ (programs users run), bench/, examples/ and tests/")
+    if f.startswith("tools/") and not f.startswith("tools/docs/") and f.endswith((".py", ".sh")):
+        if ANALYSIS.search(open(os.path.join(root, f), encoding="utf-8", errors="replace").read()):
+            problems.append(f"{f}: an analysis script in tools/ (it runs retrieve or reads or plots a run's results): "
+                            "it goes to experiments/, with a test")
+cmake_tests = open(os.path.join(root, "tests", "CMakeLists.txt"), encoding="utf-8").read()
+experiments = [f for f in files if f.startswith("experiments/") and f.endswith((".py", ".sh"))]
+for f in experiments:
+    name = os.path.splitext(os.path.basename(f))[0]
+    if not re.search(r"\bexperiments\." + re.escape(name) + r"\b", cmake_tests) and \
+            not re.search(r"\b_experiments\b[^)]*\b" + re.escape(name) + r"\b", cmake_tests):
+        problems.append(f"{f}: no test experiments.{name} in tests/CMakeLists.txt (each script has a smoke test)")
+
 for p in problems:
     print("layout:", p)
-print(f"layout: {len(areas)} areas, {len(PLUGINS)} plugin folders, {len(sys.argv) - 2} plugins checked; "
-      f"{len(problems)} problems")
+print(f"layout: {len(areas)} areas, {len(PLUGINS)} plugin folders, {len(sys.argv) - 2} plugins, {len(files)} files "
+      f"({len(experiments)} experiment scripts) checked; {len(problems)} problems")
 sys.exit(1 if problems else 0)

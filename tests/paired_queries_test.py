@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""Test of tools/paired_queries.py on run folders written here: per-query NN and first tier, the
+"""Test of experiments/paired_queries.py on run folders written here: per-query NN and first tier, the
 difference of two set-ups and its bootstrap interval, and the refusal of runs of other models.
     paired_queries_test.py SOURCE_DIR"""
 import csv
@@ -13,9 +13,9 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from check_report import Report  # noqa: E402
 
 src = sys.argv[1]
-tool = os.path.join(src, "tools", "paired_queries.py")
+tool = os.path.join(src, "experiments", "paired_queries.py")
 report = Report()
-print("tools/paired_queries.py")
+print("experiments/paired_queries.py")
 classes = [c for c in "abc" for _ in range(4)]  # 3 classes of 4 models
 n = len(classes)
 

@@ -163,7 +163,7 @@ using AddCommand = void(CLI::App& app);
 // The commands, in mesh_commands.cpp, views_commands.cpp and retrieval_commands.cpp.
 AddCommand add_check, add_conformal, add_features, add_canonical, add_simplify, add_generate, add_picture,  // one mesh
     add_views, add_codebook, add_descriptor, add_distance,                                          // views
-    add_retrieve, add_evaluate, add_grid,                                                            // retrieval
+    add_retrieve, add_evaluate, add_grid, add_pr,                                                   // retrieval
     add_stage, add_status, add_slurm, add_index, add_query;                                                     // sharded_commands.cpp
 
 }  // namespace canonform::cli

@@ -29,7 +29,8 @@ const Command kCommands[] = {
     {"check", add_check},           {"conformal", add_conformal},   {"features", add_features}, {"canonical", add_canonical},
     {"simplify", add_simplify},     {"views", add_views},       {"codebook", add_codebook},
     {"descriptor", add_descriptor}, {"distance", add_distance}, {"retrieve", add_retrieve},
-    {"evaluate", add_evaluate},     {"grid", add_grid},         {"generate", add_generate},
+    {"evaluate", add_evaluate},     {"grid", add_grid},         {"pr", add_pr},
+    {"generate", add_generate},
     {"picture", add_picture},       {"stage", add_stage},       {"status", add_status},
     {"slurm", add_slurm},           {"index", add_index},       {"query", add_query},
 };

@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// canonform tool: the retrieval commands - retrieve, evaluate, grid.
+// canonform tool: the retrieval commands - retrieve, evaluate, grid, pr.
 #include "cli.h"
 #include "grid.h"
+#include "pr_plot.h"
 
 #include "canonform/io/csv.h"
 #include "canonform/io/distance_matrix_file.h"
@@ -11,7 +12,7 @@
 #include "canonform/views/view_parameters.h"
 
 #include <cstdio>
-#include <cstdlib>
+#include <filesystem>
 #include <iostream>
 #include <memory>
 #include <sstream>
@@ -20,13 +21,23 @@ namespace canonform::cli {
 
 namespace {
 
-/// RUN/pr.png: every method's precision-recall curve on one plot (tools/plot_pr.py, Debian's
-/// python3-matplotlib). Returns the report's line about it.
+/// The name of a run folder, for a title: its last path component ("tosca_o" of "runs/tosca_o/").
+std::string run_name(const std::string& run) {
+    std::filesystem::path p = std::filesystem::path(run).lexically_normal();
+    if (p.filename().empty()) p = p.parent_path();
+    return p.filename().string();
+}
+
+/// RUN/pr.png: every method's precision-recall curve on one plot (the paper's Figs. 10 and 11).
+/// Returns the report's line about it.
 std::string pr_plot(const std::string& run) {
-    const std::string plot = std::string(CANONFORM_TOOLS_DIR) + "/plot_pr.py";
-    const std::string cmd = "/usr/bin/python3 '" + plot + "' '" + run + "' > /dev/null 2>&1";
-    if (io::is_file(plot) && std::system(cmd.c_str()) == 0) return "\n![precision-recall](pr.png)\n";
-    return "\n(No precision-recall plot: run /usr/bin/python3 tools/plot_pr.py " + run + ".)\n";
+    try {
+        write_pr_plot(run + "/pr.png", read_pr_curves(run), run_name(run));
+        return "\n![precision-recall](pr.png)\n";
+    } catch (const std::exception& ex) {
+        std::fprintf(stderr, "retrieve: no precision-recall plot: %s\n", ex.what());
+        return std::string("\n(No precision-recall plot: ") + ex.what() + ")\n";
+    }
 }
 
 /// RUN/grid.png: originals beside their canonical forms, one model per class (the paper's
@@ -190,6 +201,35 @@ void add_grid(CLI::App& app) {
         const int n = write_grid(a->out, a->g);
         std::cerr << "grid: " << n << " models, " << (a->g.methods.empty() ? std::string("every method") : a->methods)
                   << " -> " << a->out << "\n";
+    });
+}
+
+void add_pr(CLI::App& app) {
+    struct Args {
+        std::string out, title;
+        std::vector<std::string> runs;
+    };
+    auto a = std::make_shared<Args>();
+    auto* c = app.add_subcommand("pr", "precision-recall curves of every method of one or more retrieve runs on "
+                                       "one plot (Figs. 10, 11)");
+    c->add_option("OUT", a->out, "output PNG")->required();
+    c->add_option("RUN", a->runs, "`canonform retrieve` run folders, each RUN[=LABEL]: LABEL goes before the "
+                                  "method names of that run (e.g. tosca_o=O tosca_s2k=S)")
+        ->required();
+    c->add_option("--title", a->title, "the title (default: the run folder's name)");
+    c->callback([a] {
+        std::vector<PrCurve> curves;
+        for (const std::string& r : a->runs) {
+            const size_t eq = r.find('=');
+            const std::string run = r.substr(0, eq), label = eq == std::string::npos ? "" : r.substr(eq + 1);
+            std::vector<PrCurve> some = read_pr_curves(run, label);
+            if (some.empty())
+                throw InputError("'" + run + "' has no METHOD/pr.csv: is it a `canonform retrieve` run folder?");
+            curves.insert(curves.end(), some.begin(), some.end());
+        }
+        const std::string first = a->runs[0].substr(0, a->runs[0].find('='));
+        write_pr_plot(a->out, curves, a->title.empty() ? run_name(first) : a->title);
+        std::cerr << "pr: " << curves.size() << " curves -> " << a->out << "\n";
     });
 }
 

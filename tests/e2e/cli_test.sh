@@ -6,7 +6,7 @@
 set -u
 cf=$(realpath "$1"); plycheck=$(realpath "$2"); work=$3
 . "$(dirname "$0")/lib.sh"
-tools=$(realpath "$(dirname "$0")/../../tools")
+experiments=$(realpath "$(dirname "$0")/../../experiments")
 rm -rf "$work"; mkdir -p "$work"; cd "$work" || exit 1
 
 echo "canonform tool, end to end"
@@ -103,7 +103,7 @@ cp -r run run_seed
 "$cf" retrieve --dataset coll --out run_seed --method none,euclidean-N --words 50 --seed 1 > run4.out 2> run4.err
 check "retrieve: another --seed takes every form and view from the cache" bash -c "[ \$(grep -c '(6 from the cache, 0 failed)' run4.err) -eq 2 ]"
 check "retrieve: another --seed trains other codebooks" bash -c "[ \$(ls run_seed/cache/codebook_*.bin | wc -l) -gt \$(ls run/cache/codebook_*.bin | wc -l) ]"
-/usr/bin/python3 "$tools/paired_nn.py" run/none run/euclidean-N run_seed/none run_seed/euclidean-N > paired.out 2>&1
+/usr/bin/python3 "$experiments/paired_nn.py" run/none run/euclidean-N run_seed/none run_seed/euclidean-N > paired.out 2>&1
 check "paired_nn.py: per-pair NN equals the runs' metrics, and a summary over the pairs" /usr/bin/python3 -c "
 import json, re
 out = open('paired.out').read()
@@ -114,7 +114,7 @@ assert 'over 2 pairs: right in a majority of pairs' in out, out"
 # fused-median: methods at their default weights (the tool's methods run in a copy, all from the cache)
 cp -r run run_fused
 "$cf" retrieve --dataset coll --out run_fused --method none,euclidean-N,fused:none+euclidean-N,fused-median:none+euclidean-N --words 50 > run_fused.out 2> run_fused.err
-/usr/bin/python3 "$tools/fused_rules.py" "$cf" run --rules row-z,global-median --weights 0.7 0.8 --csv rules.csv > rules.out 2>&1
+/usr/bin/python3 "$experiments/fused_rules.py" "$cf" run --rules row-z,global-median --weights 0.7 0.8 --csv rules.csv > rules.out 2>&1
 check "fused_rules.py: row z-score at 0.7 and global median at 0.8 score as fused: and fused-median:" /usr/bin/python3 -c "
 import csv, json
 rows = {(r['rule'], r['w_euclidean-N']): r for r in csv.DictReader(open('rules.csv'))}
@@ -152,15 +152,15 @@ check "grid --class: the models of one class (Fig. 9)" grep -q 'grid: 3 models' 
 check "grid of a folder that is no run fails with a reason" bash -c "[ $? -eq 1 ] && grep -q 'no collection.csv' err.txt && [ ! -e gx.png ]"
 "$cf" grid gx.png run --methods geodesic-ls > err.txt 2>&1
 check "grid of a method the run lacks fails with a reason" bash -c "[ $? -eq 1 ] && grep -q \"no method 'geodesic-ls'\" err.txt"
-# beta sweep (Fig. 6) on the small collection
-CANONFORM="$cf" "$tools/beta_sweep.sh" coll sweep --betas-a "5 10" --betas-n "65 130" --words 50 > sweep.out 2> sweep.err
-check "beta_sweep.sh: mean of the five measures per beta and variant, and the plot" /usr/bin/python3 -c "
-import csv; rows = list(csv.DictReader(open('sweep/beta_sweep.csv')))
-assert [(r['variant'], float(r['beta'])) for r in rows] == [('A', 5), ('A', 10), ('N', 65), ('N', 130)], rows
-for r in rows:
-    m = [float(r[k]) for k in ('nn', 'first_tier', 'second_tier', 'e_measure', 'dcg')]
-    assert abs(float(r['mean']) - sum(m) / 5) < 1e-3, r"
-check "beta_sweep.sh: plot written" bash -c "head -c 8 sweep/beta_sweep.png | od -An -c | grep -q 'P   N   G'"
+# precision-recall curves (Figs. 10, 11): drawn by the tool, in retrieve's report and by `canonform pr`
+"$cf" pr prs.png run=A run_seed=B --title "two runs" > pr.out 2>&1
+check "pr: the curves of every method of both runs on one plot" bash -c "grep -q 'pr: [0-9]* curves -> prs.png' pr.out && head -c 8 prs.png | od -An -c | grep -q 'P   N   G'"
+check "pr: one curve per method folder with a pr.csv, labelled by its run" bash -c "[ \$(grep -o 'pr: [0-9]*' pr.out | cut -d' ' -f2) -eq \$(ls run/*/pr.csv run_seed/*/pr.csv | wc -l) ]"
+"$cf" pr prx.png coll > err.txt 2>&1
+check "pr of a folder that is no run fails with a reason" bash -c "[ $? -eq 1 ] && grep -q 'has no METHOD/pr.csv' err.txt && [ ! -e prx.png ]"
+printf 'recall,precision\n0.05,1.5\n' > run_seed/none/pr.csv
+"$cf" pr prx.png run_seed > err.txt 2>&1
+check "pr of a malformed pr.csv fails naming the file and line" bash -c "[ $? -eq 1 ] && grep -q 'none/pr.csv: line 2' err.txt && [ ! -e prx.png ]"
 # a procedural labelled collection
 "$cf" generate --collection pcoll --vertices 800 --poses 3 --classes standard,long-arms,stocky > gen.out 2>&1
 check "generate --collection: classes x poses meshes, labels and correspondences" bash -c "[ \$(tail -n +2 pcoll/labels.csv | wc -l) -eq 9 ] && [ \$(grep -c ',stocky\$' pcoll/labels.csv) -eq 3 ] && [ \$(ls pcoll/meshes/*.ply | wc -l) -eq 9 ] && [ \$(wc -l < pcoll/corres/stocky_2.vts) -eq 800 ]"

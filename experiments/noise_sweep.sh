@@ -2,8 +2,8 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 # The paper's Table 5 (retrieval under vertex noise): `canonform retrieve --noise SIGMA` for each
 # sigma (Gaussian noise on every coordinate, sigma x the mean edge length of the mesh as retrieved,
-# i.e. after --simplify; seeded by --seed and the mesh), then tools/plot_noise.py.
-#   tools/noise_sweep.sh DATASET OUT [--sigmas "0 0.1 0.2 0.4"] [retrieve options, e.g. --method ... --simplify 1000]
+# i.e. after --simplify; seeded by --seed and the mesh), then experiments/plot_noise.py.
+#   experiments/noise_sweep.sh DATASET OUT [--sigmas "0 0.1 0.2 0.4"] [retrieve options, e.g. --method ... --simplify 1000]
 # Writes OUT/sigma_S/ (one run per sigma), OUT/noise.csv and OUT/noise.png.
 set -euo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
@@ -19,4 +19,4 @@ for s in $sigmas; do
   "$cf" retrieve --dataset "$dataset" --out "$out/sigma_$s" --noise "$s" "$@" > "$out/sigma_$s.md"
   args+=("$s=$out/sigma_$s")
 done
-/usr/bin/python3 "$here/tools/plot_noise.py" "$out/noise" "${args[@]}"
+/usr/bin/python3 "$here/experiments/plot_noise.py" "$out/noise" "${args[@]}"

@@ -1,12 +1,12 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """The fused method's default, chosen over several collections at once (no recomputation).
 
-usage: /usr/bin/python3 tools/fused_defaults.py CANONFORM --collection NAME RUN [RUN ...]
+usage: /usr/bin/python3 experiments/fused_defaults.py CANONFORM --collection NAME RUN [RUN ...]
            [--collection NAME RUN ...] [--rules RULE,...] [--weights W ...] [--json FILE]
            [--command TEXT] [--conditions TEXT] [--top N] [--keep RULE:W ...]
 Each RUN is a finished `canonform retrieve` run (one codebook seed) with the members `none` and
 `euclidean-N` (RUN/none/distances.bin, RUN/euclidean-N/distances.bin). For every rule of
-tools/fused_rules.py (default: row-z, rrf60, rank-sum, distinct5, global-median) and every weight W
+experiments/fused_rules.py (default: row-z, rrf60, rank-sum, distinct5, global-median) and every weight W
 of euclidean-N (default 0.1 ... 0.9; none gets 1 - W), the fused matrix of every run is scored with
 `CANONFORM evaluate --json`. A run's margin is the fused first tier minus the better member's first
 tier in that run; a collection's margin is the mean over its runs (seeds), with the smallest and
@@ -27,7 +27,7 @@ import numpy as np
 
 from fused_rules import MEASURES, RULES, evaluate, member_pair
 
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "docs"))
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tools", "docs"))
 from record_run import dump  # noqa: E402
 
 DEFAULT_RULES = ["row-z", "rrf60", "rank-sum", "distinct5", "global-median"]
@@ -143,7 +143,7 @@ def main():
             out.append(e)
         rec = {"title": "Fused rules and weights: first-tier margin over the better member, per collection "
                         "(mean over codebook seeds; runs per collection %s)" % seeds,
-               "command": o["command"] or "tools/fused_defaults.py " + " ".join(sys.argv[1:]),
+               "command": o["command"] or "experiments/fused_defaults.py " + " ".join(sys.argv[1:]),
                "conditions": o["conditions"], "columns": columns, "rows": out}
         with open(o["json"], "w") as f:
             f.write(dump(rec))

@@ -1,9 +1,9 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """The paper's Fig. 6: mean of the five retrieval measures against beta, for both variants.
 
-usage: /usr/bin/python3 tools/plot_beta.py RUN_DIR [TITLE]
+usage: /usr/bin/python3 experiments/plot_beta.py RUN_DIR [TITLE]
 Reads RUN_DIR/*/metrics.json of a `canonform retrieve` run whose methods were
-euclidean-A:beta=B and euclidean-N:beta=B (see tools/beta_sweep.sh); writes
+euclidean-A:beta=B and euclidean-N:beta=B (see experiments/beta_sweep.sh); writes
 RUN_DIR/beta_sweep.csv (variant, beta, the five micro measures, their mean, pose consistency)
 and RUN_DIR/beta_sweep.png (one panel per variant, like Fig. 6 (a) and (b)).
 """

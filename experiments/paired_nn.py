@@ -1,7 +1,7 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """Nearest neighbour of two retrieval runs compared query by query (exact McNemar test).
 
-usage: /usr/bin/python3 tools/paired_nn.py A_DIR B_DIR [A_DIR B_DIR ...]
+usage: /usr/bin/python3 experiments/paired_nn.py A_DIR B_DIR [A_DIR B_DIR ...]
 Each DIR is a method folder of a finished `canonform retrieve` run (RUN/METHOD, holding
 distances.bin and models.csv); the pairs are, e.g., the same method with two SIFT backends, one
 pair per seed. For each pair it prints both NN scores, the discordant queries (right with A only,

@@ -1,7 +1,7 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """Shape and pose in a `canonform retrieve` run, measured with ground-truth correspondences.
 
-usage: /usr/bin/python3 tools/correspondence_analysis.py RUN DATASET [--pose-of REGEX]
+usage: /usr/bin/python3 experiments/correspondence_analysis.py RUN DATASET [--pose-of REGEX]
 
 For every method of RUN whose forms are in correspondence (DATASET/corres/NAME.vts: line k = the
 1-based vertex at template point k, the same template for every model), every pair of forms is

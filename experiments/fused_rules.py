@@ -1,7 +1,7 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """Candidate fusion rules for two methods of finished `canonform retrieve` runs (no recomputation).
 
-usage: /usr/bin/python3 tools/fused_rules.py CANONFORM RUN [RUN ...] [--target K] [--members A B]
+usage: /usr/bin/python3 experiments/fused_rules.py CANONFORM RUN [RUN ...] [--target K] [--members A B]
            [--weights W ...] [--rules RULE,...] [--csv FILE]
 Reads RUN/A/distances.bin and RUN/B/distances.bin (default A = none, B = euclidean-N) of every
 RUN, and for each rule and each weight W of B (default 0.5 0.6 0.7 0.75 0.8 0.85 0.875 0.9 0.925

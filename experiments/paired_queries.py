@@ -1,7 +1,7 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """How sure is a difference between two retrieval set-ups? A paired comparison over the queries.
 
-usage: /usr/bin/python3 tools/paired_queries.py --a RUN [RUN ...] --b RUN [RUN ...] [--method M]
+usage: /usr/bin/python3 experiments/paired_queries.py --a RUN [RUN ...] --b RUN [RUN ...] [--method M]
            [--resamples N] [--seed S] [--json]
 
 Each RUN is a finished `canonform retrieve` folder (RUN/M/distances.csv, RUN/M/models.csv); the A

@@ -2,10 +2,10 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 # The paper's Fig. 6: retrieval with the Euclidean canonical forms over a range of beta, both
 # variants, and the mean of the five measures against beta.
-#   tools/beta_sweep.sh DATASET RUN [--betas-a "B ..."] [--betas-n "B ..."] [retrieve options...]
+#   experiments/beta_sweep.sh DATASET RUN [--betas-a "B ..."] [--betas-n "B ..."] [retrieve options...]
 # DATASET holds labels.csv; RUN is the run folder (its cache makes a re-run or added betas cheap).
 # Runs `canonform retrieve --method euclidean-A:beta=B,...,euclidean-N:beta=B,...` (codebook trained
-# per method on the collection) and tools/plot_beta.py: RUN/beta_sweep.{csv,png}, RUN/report.md.
+# per method on the collection) and experiments/plot_beta.py: RUN/beta_sweep.{csv,png}, RUN/report.md.
 # Other options (--simplify, --words, --threads, ...) go to canonform retrieve.
 set -euo pipefail
 [ $# -ge 2 ] || { sed -n '2,8p' "$0"; exit 2; }

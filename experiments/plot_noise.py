@@ -1,9 +1,9 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """The paper's Table 5 (retrieval under vertex noise) as a curve: measures against noise sigma.
 
-usage: /usr/bin/python3 tools/plot_noise.py OUT_PREFIX SIGMA=RUN_DIR [SIGMA=RUN_DIR ...]
+usage: /usr/bin/python3 experiments/plot_noise.py OUT_PREFIX SIGMA=RUN_DIR [SIGMA=RUN_DIR ...]
 Each RUN_DIR is a `canonform retrieve --noise SIGMA` run (same collection and methods; see
-tools/noise_sweep.sh). Writes OUT_PREFIX.csv (sigma, method, the five micro measures, their mean)
+experiments/noise_sweep.sh). Writes OUT_PREFIX.csv (sigma, method, the five micro measures, their mean)
 and OUT_PREFIX.png (nearest neighbour, first tier and the mean of the five against sigma, one
 line per method).
 """
