@@ -2,7 +2,7 @@
 #include "canonform/surface/gaussian_curvature.h"
 
 #include "canonform/common/errors.h"
-#include "canonform/numerics/portable_atan2.h"
+#include "canonform/numerics/portable_math.h"
 #include "canonform/surface/mesh_topology.h"
 
 #include <Eigen/Geometry>

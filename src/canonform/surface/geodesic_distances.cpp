@@ -3,7 +3,7 @@
 #include "canonform/surface/geodesic_distances.h"
 
 #include "canonform/common/parallel.h"
-#include "canonform/numerics/portable_atan2.h"
+#include "canonform/numerics/portable_math.h"
 
 #include <Eigen/Geometry>
 

@@ -44,9 +44,9 @@
 //    it.
 //    Outside the view the image is 0 (background, which is also the view's own background). The
 //    blur is a separable Gaussian truncated at 4 sigma and normalised to sum 1, its taps computed in
-//    double by our own exp (below) and rounded to float. Each image is computed only over its
-//    support - the bounding box of the view's non-zero pixels grown by 4 sigma_j - outside which it
-//    is taken as 0: a view costs in proportion to the object's size, not the image's.
+//    double by our own exp (numerics/portable_math.h) and rounded to float. Each image is computed
+//    only over its support - the bounding box of the view's non-zero pixels grown by 4 sigma_j -
+//    outside which it is taken as 0: a view costs in proportion to the object's size, not the image's.
 //    Octaves: while the octave's view is at least 8 pixels wide (6 for a 256 view).
 // 2. Extrema (Lowe Sec. 3.1): a sample of DoG images j = 1..s larger than all 26 neighbours or
 //    smaller than all of them, with |D| >= 0.5 t (a pre-test of ours: t is the contrast threshold
@@ -104,12 +104,16 @@
 //
 // Bit-identical on every x86-64 CPU: the arithmetic is +, -, *, / and sqrt of IEEE floats, in an
 // order fixed by the source (no FMA contraction: the views library is compiled with
-// -ffp-contract=off). exp (Gaussian taps and weights), atan2 (angles), sin / cos (the keypoint's
-// frame) and 2^x (scales) are our own routines of those operations, not libm's (glibc picks FMA
-// variants of exp, sin, cos, atan2, log and pow at run time). The blur runs 8 lanes at a time on
-// CPUs with AVX2 (a clone chosen at run time) and as two 4-lane SSE2 halves elsewhere: each lane
-// does the same operations in the same order either way, so the choice changes no bit (checked
-// under qemu's CPU models, docs/cpu.md).
+// -ffp-contract=off). exp (Gaussian taps and weights), the gradient angles, sin / cos (the
+// keypoint's frame) and 2^x (scales) are the project's own (numerics/portable_math.h), not libm's
+// (glibc picks FMA variants of exp, sin, cos, atan2, log and pow at run time). The blur runs 8
+// lanes at a time on CPUs with AVX2 (a clone chosen at run time) and as two 4-lane SSE2 halves
+// elsewhere: each lane does the same operations in the same order either way, so the choice
+// changes no bit (checked under qemu's CPU models, docs/cpu.md).
+//
+// Sources (views/): sift_features.cpp (this header's functions and the backend registry),
+// sift_pyramid (step 1), sift_extractor (steps 2-4), sift_descriptor.cpp (step 5), sift_simd.h (the
+// vector helpers).
 //
 // Conventions: the image is row-major, size x size; 0 is the background (far). Positions are in
 // the view's pixel coordinates, pixel centres at integers.

@@ -1,0 +1,116 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "canonform/numerics/portable_math.h"
+
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <limits>
+
+namespace canonform::numerics {
+
+namespace {
+
+constexpr double kPi = 3.141592653589793;           // pi rounded to double
+constexpr double kHalfPi = 1.5707963267948966;      // pi/2 rounded to double
+constexpr double kQuarterPi = 0.7853981633974483;   // pi/4 rounded to double
+constexpr double kTanPiOver8 = 0.4142135623730950;  // sqrt(2) - 1
+constexpr double kLn2 = 0.69314718055994530942;
+
+// 1/k! for k = 0..13 (k! is exact in double; one correctly rounded division each).
+constexpr std::array<double, 14> inverse_factorials() {
+    std::array<double, 14> inv{};
+    double f = 1;
+    for (int k = 0; k < 14; ++k) {
+        if (k > 0) f *= k;
+        inv[static_cast<size_t>(k)] = 1.0 / f;
+    }
+    return inv;
+}
+constexpr std::array<double, 14> kInverseFactorial = inverse_factorials();
+
+// 2^n for an integer n in [-1022, 1023]: the double whose exponent field is n + 1023.
+double power_of_two(double n) {
+    const std::uint64_t bits = static_cast<std::uint64_t>(static_cast<std::int64_t>(n) + 1023) << 52;
+    double scale;
+    std::memcpy(&scale, &bits, sizeof scale);
+    return scale;
+}
+
+// atan s for |s| <= tan(pi/8) by Euler's series (terms of the sign of s, shrinking by <= 0.147).
+double atan_reduced(double s) {
+    const double q = 1.0 / (1.0 + s * s);
+    const double z = s * s * q;
+    double term = s * q, sum = term;
+    for (int n = 1; n < 40; ++n) {
+        term *= z * (2.0 * n) / (2.0 * n + 1.0);
+        const double next = sum + term;
+        if (next == sum) break;
+        sum = next;
+    }
+    return sum;
+}
+
+}  // namespace
+
+double portable_exp(double x) {
+    if (std::isnan(x)) return x;
+    if (x > 709.79) return HUGE_VAL;
+    if (x < -745.2) return 0.0;
+    constexpr double kLn2Hi = 6.93147180369123816490e-01, kLn2Lo = 1.90821492927058770002e-10;
+    const double n = std::floor(x / kLn2 + 0.5);
+    const double r = (x - n * kLn2Hi) - n * kLn2Lo;
+    double p = kInverseFactorial[13];
+    for (int k = 12; k >= 0; --k) p = p * r + kInverseFactorial[static_cast<size_t>(k)];
+    // times 2^n, exactly where the result is normal; in two steps at the ends of the range (n = 1024
+    // near the overflow threshold, and subnormal results, which round once, in the last step).
+    if (n > 1023) return p * power_of_two(n - 1) * 2.0;
+    if (n < -1021) return p * power_of_two(n + 600) * power_of_two(-600);
+    return p * power_of_two(n);
+}
+
+double portable_exp2(double x) {
+    return portable_exp(x * kLn2);
+}
+
+void portable_sincos(double a, double& sin_a, double& cos_a) {
+    if (!(std::abs(a) <= 1e6)) {  // NaN, infinite, or beyond the exact reduction
+        sin_a = cos_a = std::numeric_limits<double>::quiet_NaN();
+        return;
+    }
+    constexpr double kHalfPiHi = 1.57079632673412561417e+00, kHalfPiLo = 6.07710050650619224932e-11;
+    const double q = std::floor(a / kHalfPi + 0.5);
+    const double r = (a - q * kHalfPiHi) - q * kHalfPiLo;
+    const double r2 = r * r;
+    double ps = 0, pc = 0, ts = r, tc = 1;
+    for (int k = 1; k <= 9; ++k) {  // terms r^(2k-1) / (2k-1)! and r^(2k-2) / (2k-2)!
+        ps += ts;
+        pc += tc;
+        ts = -ts * r2 / double((2 * k) * (2 * k + 1));
+        tc = -tc * r2 / double((2 * k - 1) * (2 * k));
+    }
+    const long quadrant = static_cast<long>(q) & 3;
+    sin_a = quadrant == 0 ? ps : quadrant == 1 ? pc : quadrant == 2 ? -ps : -pc;
+    cos_a = quadrant == 0 ? pc : quadrant == 1 ? -ps : quadrant == 2 ? -pc : ps;
+}
+
+double portable_atan2(double y, double x) {
+    if (std::isnan(x) || std::isnan(y)) return std::numeric_limits<double>::quiet_NaN();
+    const double ax = std::abs(x), ay = std::abs(y);
+    double r;
+    if (ay == 0.0) {
+        r = 0.0;
+    } else if (std::isinf(ax) || std::isinf(ay)) {
+        r = std::isinf(ax) ? (std::isinf(ay) ? kQuarterPi : 0.0) : kHalfPi;
+    } else {
+        const bool steep = ay > ax;
+        const double num = steep ? ax : ay, den = steep ? ay : ax;  // num / den in [0, 1]
+        r = num > kTanPiOver8 * den ? kQuarterPi + atan_reduced((num - den) / (num + den))
+                                    : atan_reduced(num / den);
+        if (steep) r = kHalfPi - r;
+    }
+    if (std::signbit(x)) r = kPi - r;
+    return std::signbit(y) ? -r : r;
+}
+
+}  // namespace canonform::numerics

@@ -1,0 +1,150 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "canonform/views/sift_extractor.h"
+
+#include "canonform/numerics/portable_math.h"
+#include "canonform/views/sift_simd.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace canonform::views {
+namespace sift {
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr float kClip = 0.2f;  // Lowe Sec. 6.1
+
+}  // namespace
+
+namespace {
+
+// The x range [lo, hi] (offsets from the keypoint's sample, widened by a pixel) where
+// -1 < a dx + b < 4 can hold, intersected with [lo, hi]: the descriptor's rotated square on a row.
+void narrow(double a, double b, double& lo, double& hi) {
+    if (std::abs(a) < 1e-12) {
+        if (!(b > -1.0 && b < kGrid)) hi = lo - 1;
+        return;
+    }
+    double u = (-1.0 - b) / a, v = (kGrid - b) / a;
+    if (u > v) std::swap(u, v);
+    lo = std::max(lo, std::floor(u) - 1);
+    hi = std::min(hi, std::ceil(v) + 1);
+}
+
+}  // namespace
+
+void describe(const Plane& L, const Candidate& k, double angle, WindowScratch& scratch, float* out) {
+    const double w = kBinWidth * k.sigma;             // spatial bin width (octave pixels)
+    const double half = (kGrid / 2.0 + 0.5) * w;      // half the grid plus half a bin
+    const double radius = half * 1.4142135623730951;  // the rotated square's circumradius
+    const Rect win = window(L, k, radius);
+    const int x0 = win.x0, x1 = win.x1, y0 = win.y0, y1 = win.y1;
+    // Histogram with a border of one bin on every side (rows and columns -1..4) for the spread.
+    constexpr int kSide = kGrid + 2;
+    float hist[kSide * kSide * kAngles] = {};
+    if (x0 <= x1 && y0 <= y1) {
+        double sd, cd;
+        numerics::portable_sincos(angle, sd, cd);
+        const float c = static_cast<float>(cd / w), s = static_cast<float>(sd / w);
+        const float centre = static_cast<float>(kGrid / 2.0 - 0.5);  // bin centres at 0..3
+        const size_t nx = static_cast<size_t>(x1 - x0 + 1), ny = static_cast<size_t>(y1 - y0 + 1);
+        scratch.wx.resize(nx + 16);
+        scratch.wy.resize(ny);
+        const double sigma_w = 0.5 * kGrid * w;  // half the grid's width (Lowe)
+        const double inv = -1.0 / (2.0 * sigma_w * sigma_w);
+        for (size_t i = 0; i < nx + 16; ++i) {
+            const double d = double(x0 + static_cast<int>(i) - k.X) - double(k.fx);
+            scratch.wx[i] = static_cast<float>(numerics::portable_exp(d * d * inv));
+        }
+        for (size_t i = 0; i < ny; ++i) {
+            const double d = double(y0 + static_cast<int>(i) - k.Y) - double(k.fy);
+            scratch.wy[i] = static_cast<float>(numerics::portable_exp(d * d * inv));
+        }
+        const float to_bin = static_cast<float>(kAngles / (2 * kPi));
+        const float a0 = static_cast<float>(angle);
+        const float two_pi = static_cast<float>(2 * kPi);
+        alignas(16) float wv[4], colv[4], rowv[4], obv[4];
+        const int p = sample_step(k.sigma);
+        for (int y = align_up(y0, k.Y, p); y <= y1; y += p) {
+            const float* up = L.row(y - 1);
+            const float* mid = L.row(y);
+            const float* down = L.row(y + 1);
+            const float dy = static_cast<float>(y - k.Y) - k.fy;
+            const float wyy = scratch.wy[static_cast<size_t>(y - y0)];
+            // Only the pixels near the rotated square (the test below decides).
+            double lo = x0 - k.X, hi = x1 - k.X;
+            narrow(c, double(s) * dy + centre, lo, hi);
+            narrow(-double(s), double(c) * dy + centre, lo, hi);
+            const int xa = align_up(k.X + static_cast<int>(lo), k.X, p), xb = k.X + static_cast<int>(hi);
+            const v4f lane = v4f{0.f, 1.f, 2.f, 3.f} * splat4(float(p));
+            for (int x = xa; x <= xb; x += 4 * p) {
+                const size_t i = static_cast<size_t>(x - x0);
+                const v4f dx = (splat4(static_cast<float>(x - k.X)) + lane) - splat4(k.fx);
+                const v4f col =
+                    splat4(c) * dx + splat4(s * dy) + splat4(centre);  // along the keypoint's direction
+                const v4f row =
+                    splat4(-s) * dx + splat4(c * dy) + splat4(centre);  // 90 degrees clockwise from it
+                const v4f gx = load4s(mid + x + 1, p) - load4s(mid + x - 1, p),
+                          gy = load4s(down + x, p) - load4s(up + x, p);
+                const v4f m = sqrt4(gx * gx + gy * gy);
+                const v4i in = (col > splat4(-1.f)) & (col < splat4(float(kGrid))) & (row > splat4(-1.f)) &
+                               (row < splat4(float(kGrid))) & (m > splat4(0.f)) &
+                               (v4i{0, 1, 2, 3} * splat4i(p) <= splat4i(xb - x));
+                if (!mask4(in)) continue;
+                v4f phi = splat4(a0) - approximate_angle_0_to_2pi_x4(
+                                           gy, gx);  // counted anticlockwise on screen (OpenCV's order)
+                phi = select4(phi < splat4(0.f), phi + splat4(two_pi), phi);
+                v4f ob = phi * splat4(to_bin);
+                ob = select4(ob >= splat4(float(kAngles)), ob - splat4(float(kAngles)), ob);
+                store4(wv, m * (load4s(scratch.wx.data() + i, p) * splat4(wyy)));
+                store4(colv, col);
+                store4(rowv, row);
+                store4(obv, ob);
+                for (int q = 0; q < 4; ++q) {
+                    if (!in[q]) continue;
+                    const float weight = wv[q], rw = rowv[q], cl = colv[q], obq = obv[q];
+                    const int r0 = static_cast<int>(std::floor(rw)), c0 = static_cast<int>(std::floor(cl));
+                    int o0 = static_cast<int>(obq);
+                    const float fr = rw - static_cast<float>(r0), fc = cl - static_cast<float>(c0),
+                                fo = obq - static_cast<float>(o0);
+                    if (o0 >= kAngles) o0 -= kAngles;
+                    const int o1 = o0 + 1 == kAngles ? 0 : o0 + 1;
+                    for (int dr = 0; dr < 2; ++dr) {
+                        const float wr = weight * (dr ? fr : 1.f - fr);
+                        float* hr = hist + ((r0 + dr + 1) * kSide) * kAngles;
+                        for (int dc = 0; dc < 2; ++dc) {
+                            const float wc = wr * (dc ? fc : 1.f - fc);
+                            float* h = hr + (c0 + dc + 1) * kAngles;
+                            h[o0] += wc * (1.f - fo);
+                            h[o1] += wc * fo;
+                        }
+                    }
+                }
+            }
+        }
+    }
+    // The inner 4 x 4 bins; unit length, clipped at 0.2, unit length again (Lowe Sec. 6.1).
+    float v[128];
+    for (int r = 0; r < kGrid; ++r)
+        for (int c = 0; c < kGrid; ++c)
+            for (int a = 0; a < kAngles; ++a)
+                v[(r * kGrid + c) * kAngles + a] = hist[((r + 1) * kSide + c + 1) * kAngles + a];
+    float n2 = 0;
+    for (float x : v) n2 += x * x;
+    if (n2 > 0.f) {
+        const float inv = 1.f / std::sqrt(n2);
+        n2 = 0;
+        for (float& x : v) {
+            x = std::min(x * inv, kClip);
+            n2 += x * x;
+        }
+        const float scale = 512.f / std::sqrt(n2);
+        for (int i = 0; i < 128; ++i) out[i] = std::min(255.f, std::floor(v[i] * scale + 0.5f));
+    } else {
+        for (int i = 0; i < 128; ++i) out[i] = 0.f;
+    }
+}
+
+}  // namespace sift
+}  // namespace canonform::views

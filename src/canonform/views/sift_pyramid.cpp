@@ -1,0 +1,283 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "canonform/views/sift_pyramid.h"
+
+#include "canonform/numerics/portable_math.h"
+#include "canonform/views/sift_simd.h"
+
+#include <cmath>
+#include <cstring>
+
+namespace canonform::views {
+namespace sift {
+
+int support_radius(double sigma) {
+    return std::max(1, static_cast<int>(std::ceil(4.0 * sigma)));
+}
+
+Kernel gaussian_kernel(double sigma) {
+    Kernel k;
+    k.radius = support_radius(sigma);
+    std::vector<double> w(static_cast<size_t>(k.radius) + 1);
+    double sum = 0;
+    for (int j = 0; j <= k.radius; ++j) {
+        w[static_cast<size_t>(j)] = numerics::portable_exp(-double(j) * double(j) / (2.0 * sigma * sigma));
+        sum += (j == 0 ? 1.0 : 2.0) * w[static_cast<size_t>(j)];
+    }
+    for (double v : w) k.taps.push_back(static_cast<float>(v / sum));
+    return k;
+}
+
+float* Workspace::plane(int bank, int slot, size_t n) {
+    auto& p = planes[bank];
+    auto& z = plane_sizes[bank];
+    if (p.size() <= static_cast<size_t>(slot)) {
+        p.resize(static_cast<size_t>(slot) + 1);
+        z.resize(static_cast<size_t>(slot) + 1, 0);
+    }
+    if (z[static_cast<size_t>(slot)] < n) {
+        p[static_cast<size_t>(slot)].reset(new float[n]);
+        z[static_cast<size_t>(slot)] = n;
+    }
+    return p[static_cast<size_t>(slot)].get();
+}
+
+float* Workspace::temp_for(size_t n) {
+    if (n > temp_size) {
+        temp.reset(new float[n]);
+        temp_size = n;
+    }
+    return temp.get();
+}
+
+Workspace& workspace() {
+    thread_local Workspace w;
+    return w;
+}
+
+namespace {
+
+// The two passes of the blur below, in blocks of 32 floats as 8-float vectors (sift_simd.h: 8-lane
+// AVX2 instructions in the AVX2 clone, pairs of 4-lane SSE2 ones elsewhere, the same bits).
+
+// o[i] = k0 c[i] + k1 (c[i-1] + c[i+1]) + ... + kR (c[i-R] + c[i+R]) for i in [0, n), summed in
+// that order (c must be readable at [-R, n + R)).
+CANONFORM_SIMD_CLONES void convolve_line(const float* c, float* o, int n, const float* taps, int R) {
+    int i = 0;
+    for (; i + 32 <= n; i += 32) {
+        const v8f k0 = splat8(taps[0]);
+        v8f a0 = k0 * load8(c + i), a1 = k0 * load8(c + i + 8), a2 = k0 * load8(c + i + 16),
+            a3 = k0 * load8(c + i + 24);
+        for (int j = 1; j <= R; ++j) {
+            const v8f kj = splat8(taps[j]);
+            a0 += kj * (load8(c + i - j) + load8(c + i + j));
+            a1 += kj * (load8(c + i + 8 - j) + load8(c + i + 8 + j));
+            a2 += kj * (load8(c + i + 16 - j) + load8(c + i + 16 + j));
+            a3 += kj * (load8(c + i + 24 - j) + load8(c + i + 24 + j));
+        }
+        store8(o + i, a0);
+        store8(o + i + 8, a1);
+        store8(o + i + 16, a2);
+        store8(o + i + 24, a3);
+    }
+    for (; i + 8 <= n; i += 8) {
+        v8f a = splat8(taps[0]) * load8(c + i);
+        for (int j = 1; j <= R; ++j) a += splat8(taps[j]) * (load8(c + i - j) + load8(c + i + j));
+        store8(o + i, a);
+    }
+    for (; i < n; ++i) {
+        float a = taps[0] * c[i];
+        for (int j = 1; j <= R; ++j) a += taps[j] * (c[i - j] + c[i + j]);
+        o[i] = a;
+    }
+}
+
+// o[i] = k0 r0[i] + k1 (m1[i] + p1[i]) + ... over rows r0, m_j = row -j, p_j = row +j, where a
+// null row is 0 and its terms are left out (adding 0 changes no sum).
+CANONFORM_SIMD_CLONES void convolve_rows(const float* const* minus, const float* const* plus,
+                                         const float* centre, float* o, int n, const float* taps, int R) {
+    int i = 0;
+    const v8f zero = splat8(0.f);
+    for (; i + 32 <= n; i += 32) {
+        v8f a0 = zero, a1 = zero, a2 = zero, a3 = zero;
+        if (centre) {
+            const v8f k0 = splat8(taps[0]);
+            a0 = k0 * load8(centre + i);
+            a1 = k0 * load8(centre + i + 8);
+            a2 = k0 * load8(centre + i + 16);
+            a3 = k0 * load8(centre + i + 24);
+        }
+        for (int j = 1; j <= R; ++j) {
+            const float* m = minus[j];
+            const float* p = plus[j];
+            const v8f kj = splat8(taps[j]);
+            if (m && p) {
+                a0 += kj * (load8(m + i) + load8(p + i));
+                a1 += kj * (load8(m + i + 8) + load8(p + i + 8));
+                a2 += kj * (load8(m + i + 16) + load8(p + i + 16));
+                a3 += kj * (load8(m + i + 24) + load8(p + i + 24));
+            } else if (m || p) {
+                const float* d = m ? m : p;
+                a0 += kj * load8(d + i);
+                a1 += kj * load8(d + i + 8);
+                a2 += kj * load8(d + i + 16);
+                a3 += kj * load8(d + i + 24);
+            }
+        }
+        store8(o + i, a0);
+        store8(o + i + 8, a1);
+        store8(o + i + 16, a2);
+        store8(o + i + 24, a3);
+    }
+    for (; i + 8 <= n; i += 8) {
+        v8f a = centre ? splat8(taps[0]) * load8(centre + i) : zero;
+        for (int j = 1; j <= R; ++j) {
+            const float* m = minus[j];
+            const float* p = plus[j];
+            if (m && p)
+                a += splat8(taps[j]) * (load8(m + i) + load8(p + i));
+            else if (m || p)
+                a += splat8(taps[j]) * load8((m ? m : p) + i);
+        }
+        store8(o + i, a);
+    }
+    for (; i < n; ++i) {
+        float a = centre ? taps[0] * centre[i] : 0.f;
+        for (int j = 1; j <= R; ++j) {
+            const float* m = minus[j];
+            const float* p = plus[j];
+            if (m && p)
+                a += taps[j] * (m[i] + p[i]);
+            else if (m || p)
+                a += taps[j] * (m ? m[i] : p[i]);
+        }
+        o[i] = a;
+    }
+}
+
+}  // namespace
+
+void blur(const Plane& in, Plane& out, const Kernel& k, Workspace& ws) {
+    const int R = k.radius;
+    const Rect& S = in.support;
+    const Rect& O = out.support;
+    if (O.empty()) return;
+    // Rows are computed in whole blocks of 8: up to 7 values past a row's end, which no reader
+    // takes (they fall outside the support; into the next row, which is computed after, or into
+    // the 8 spare floats at the end of a plane).
+    const int n = (O.width() + 7) & ~7;
+    // Horizontal pass into temp rows [ty0, ty1) (the input rows the vertical pass reads).
+    const int ty0 = std::max(S.y0, O.y0 - R), ty1 = std::min(S.y1, O.y1 + R);
+    const size_t tstride = static_cast<size_t>(n);
+    float* temp = ws.temp_for(tstride * static_cast<size_t>(std::max(0, ty1 - ty0)));
+    // The input row as a line over [O.x0 - R, O.x1 + R), zero outside S.
+    ws.line.assign(static_cast<size_t>(n + 2 * R), 0.f);
+    const int lx0 = O.x0 - R;
+    const int cx0 = std::max(S.x0, lx0), cx1 = std::min(S.x1, lx0 + n + 2 * R);
+    const float* taps = k.taps.data();
+    for (int y = ty0; y < ty1; ++y) {
+        float* line = ws.line.data();
+        if (cx1 > cx0)
+            std::memcpy(line + (cx0 - lx0), in.row(y) + cx0, sizeof(float) * static_cast<size_t>(cx1 - cx0));
+        convolve_line(line + R, temp + static_cast<size_t>(y - ty0) * tstride, n, taps, R);
+    }
+    // Vertical pass: rows outside [ty0, ty1) are 0.
+    auto trow = [&](int yy) -> const float* {
+        return (yy >= ty0 && yy < ty1) ? temp + static_cast<size_t>(yy - ty0) * tstride : nullptr;
+    };
+    std::vector<const float*> minus(static_cast<size_t>(R) + 1), plus(static_cast<size_t>(R) + 1);
+    for (int y = O.y0; y < O.y1; ++y) {
+        for (int j = 1; j <= R; ++j) {
+            minus[static_cast<size_t>(j)] = trow(y - j);
+            plus[static_cast<size_t>(j)] = trow(y + j);
+        }
+        convolve_rows(minus.data(), plus.data(), trow(y), out.row(y) + O.x0, n, taps, R);
+    }
+}
+
+double layer_sigma(const Settings& st, int j) {
+    return st.sigma0 * numerics::portable_exp2(double(j) / st.layers);
+}
+
+void gaussian_octave(int o, const Rect& obj, const Plane& source, double input_blur, const Settings& st,
+                     Workspace& ws, std::vector<Plane>& g) {
+    const int count = st.layers + 3;
+    // Supports: the object's box grown by 4 sigma_j; the frame holds the largest.
+    const Rect frame = obj.grown(support_radius(layer_sigma(st, count - 1)));
+    const size_t cells = static_cast<size_t>(frame.width()) * static_cast<size_t>(frame.height());
+    g.assign(static_cast<size_t>(count), Plane{});
+    for (int i = 0; i < count; ++i) {
+        Plane& p = g[static_cast<size_t>(i)];
+        p.data = ws.plane(o & 1, i, cells + 16);  // (+16: a block of samples may read past a row)
+        p.frame = frame;
+        p.stride = frame.width();
+        p.support = obj.grown(support_radius(layer_sigma(st, i)));
+    }
+    Plane& first = g[0];
+    if (o == 0) {
+        // The input (0 outside it) blurred from input_blur to sigma0.
+        const double s = st.sigma0;
+        blur(source, first, gaussian_kernel(std::sqrt(s * s - input_blur * input_blur)), ws);
+    } else {
+        // Every second pixel of every second row of the previous octave's image j = layers.
+        for (int y = first.support.y0; y < first.support.y1; ++y) {
+            float* r = first.row(y);
+            const int py = 2 * y;
+            const bool row_in = py >= source.support.y0 && py < source.support.y1;
+            for (int x = first.support.x0; x < first.support.x1; ++x) {
+                const int px = 2 * x;
+                r[x] = row_in && px >= source.support.x0 && px < source.support.x1 ? source.at(px, py) : 0.f;
+            }
+        }
+    }
+    for (int i = 1; i < count; ++i) {
+        const double a = layer_sigma(st, i - 1), b = layer_sigma(st, i);
+        blur(g[static_cast<size_t>(i - 1)], g[static_cast<size_t>(i)],
+             gaussian_kernel(std::sqrt(b * b - a * a)), ws);
+    }
+}
+
+// The extremum scan's two row kernels, 8 lanes at a time like the blur (comparisons and one
+// subtraction per lane: the same bits and the same candidates on every CPU).
+
+CANONFORM_SIMD_CLONES void dog_row(const float* b, const float* t, float* d, float* mx, float* mn, int w) {
+    int i = 0;
+    for (; i + 8 <= w; i += 8) store8(d + i, load8(t + i) - load8(b + i));
+    for (; i < w; ++i) d[i] = t[i] - b[i];
+    for (i = 1; i + 8 <= w - 1; i += 8) {
+        const v8f l = load8(d + i - 1), c = load8(d + i), r = load8(d + i + 1);
+        store8(mx + i, l > c ? (l > r ? l : r) : (c > r ? c : r));
+        store8(mn + i, l < c ? (l < r ? l : r) : (c < r ? c : r));
+    }
+    for (; i < w - 1; ++i) {
+        mx[i] = std::max(std::max(d[i - 1], d[i]), d[i + 1]);
+        mn[i] = std::min(std::min(d[i - 1], d[i]), d[i + 1]);
+    }
+}
+
+CANONFORM_SIMD_CLONES int row_candidates(const float* d, const float* upmax, const float* upmin,
+                                         const float* downmax, const float* downmin, int w, float pre,
+                                         int* out) {
+    int n = 0;
+    int i = 1;
+    const v8f vpre = splat8(pre), vneg = splat8(-pre), vzero = splat8(0.f);
+    for (; i + 8 <= w - 1; i += 8) {
+        const v8f v = load8(d + i), l = load8(d + i - 1), r = load8(d + i + 1);
+        const v8f um = load8(upmax + i), dm = load8(downmax + i), un = load8(upmin + i),
+                  dn = load8(downmin + i);
+        const v8f hmax = l > r ? l : r, vmax = um > dm ? um : dm, hmin = l < r ? l : r,
+                  vmin = un < dn ? un : dn;
+        const v8f nmax = hmax > vmax ? hmax : vmax, nmin = hmin < vmin ? hmin : vmin;
+        const v8i is = ((v >= vpre) & (v > nmax) & (v != vzero)) | ((v <= vneg) & (v < nmin) & (v != vzero));
+        for (unsigned m = mask8(is); m; m &= m - 1) out[n++] = i + __builtin_ctz(m);
+    }
+    for (; i < w - 1; ++i) {
+        const float v = d[i];
+        const float nmax = std::max(std::max(d[i - 1], d[i + 1]), std::max(upmax[i], downmax[i]));
+        const float nmin = std::min(std::min(d[i - 1], d[i + 1]), std::min(upmin[i], downmin[i]));
+        if (v != 0.f && ((v >= pre && v > nmax) || (v <= -pre && v < nmin))) out[n++] = i;
+    }
+    return n;
+}
+
+}  // namespace sift
+}  // namespace canonform::views

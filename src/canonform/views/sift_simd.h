@@ -1,0 +1,119 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// canonform: the SIFT extractor's vector helpers (private to the views area; sift_features.h says
+// why the results are the same bits on every CPU).
+//
+// 4-float and 8-float vectors of the GCC/Clang vector extension. 4 lanes are SSE2 on x86-64 (in
+// every x86-64 CPU); 8 lanes are one AVX2 instruction in a function cloned for AVX2
+// (CANONFORM_SIMD_CLONES: the clone is picked at run time) and a pair of SSE2 instructions
+// elsewhere. Each lane does exactly what the scalar code of the same loop does, in the same order
+// (no FMA: the views area is compiled with -ffp-contract=off, and AVX2 does not imply FMA), so the
+// choice changes no bit.
+#pragma once
+
+#include "canonform/numerics/portable_math.h"
+
+#include <cmath>
+#include <cstring>
+
+#if defined(__SSE__)
+#include <xmmintrin.h>
+#endif
+
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic ignored "-Wpsabi"  // (the 8-float helpers are inlined: no call passes a v8f)
+#endif
+
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(__SANITIZE_ADDRESS__)
+#define CANONFORM_SIMD_CLONES __attribute__((target_clones("avx2", "default")))
+#else
+#define CANONFORM_SIMD_CLONES
+#endif
+
+namespace canonform::views {
+namespace sift {
+
+typedef float v4f __attribute__((vector_size(16)));
+typedef int v4i __attribute__((vector_size(16)));
+typedef float v8f __attribute__((vector_size(32)));
+typedef int v8i __attribute__((vector_size(32)));
+
+inline v4f load4(const float* p) {
+    v4f v;
+    std::memcpy(&v, p, sizeof v);
+    return v;
+}
+inline void store4(float* p, v4f v) {
+    std::memcpy(p, &v, sizeof v);
+}
+inline v4f splat4(float x) {
+    return v4f{x, x, x, x};
+}
+inline v4i splat4i(int x) {
+    return v4i{x, x, x, x};
+}
+// base[0], base[p], base[2p], base[3p].
+inline v4f load4s(const float* base, int p) {
+    return p == 1 ? load4(base) : v4f{base[0], base[p], base[2 * p], base[3 * p]};
+}
+// Bit q set when lane q of the mask is set.
+inline unsigned mask4(v4i m) {
+#if defined(__SSE__)
+    return static_cast<unsigned>(_mm_movemask_ps(reinterpret_cast<__m128>(m)));
+#else
+    return (m[0] ? 1u : 0u) | (m[1] ? 2u : 0u) | (m[2] ? 4u : 0u) | (m[3] ? 8u : 0u);
+#endif
+}
+
+inline v4f select4(v4i mask, v4f a, v4f b) {
+    return mask ? a : b;
+}
+inline v4f max4(v4f a, v4f b) {
+    return a < b ? b : a;
+}  // std::max's choice, per lane
+inline v4f min4(v4f a, v4f b) {
+    return b < a ? b : a;
+}  // std::min's choice, per lane
+inline v4f sqrt4(v4f x) {
+#if defined(__SSE__)
+    return reinterpret_cast<v4f>(_mm_sqrt_ps(reinterpret_cast<__m128>(x)));  // IEEE sqrt, as std::sqrt
+#else
+    return v4f{std::sqrt(x[0]), std::sqrt(x[1]), std::sqrt(x[2]), std::sqrt(x[3])};
+#endif
+}
+
+inline v8f load8(const float* p) {
+    v8f v;
+    std::memcpy(&v, p, sizeof v);
+    return v;
+}
+inline void store8(float* p, const v8f& v) {
+    std::memcpy(p, &v, sizeof v);
+}
+inline v8f splat8(float x) {
+    return v8f{x, x, x, x, x, x, x, x};
+}
+inline unsigned mask8(v8i m) {
+    v4i lo, hi;
+    std::memcpy(&lo, &m, sizeof lo);
+    std::memcpy(&hi, reinterpret_cast<const char*>(&m) + sizeof lo, sizeof hi);
+    return mask4(lo) | (mask4(hi) << 4);
+}
+
+/// numerics::approximate_angle_0_to_2pi for four lanes whose (x, y) are not both 0: the same
+/// operations per lane, so the same bits.
+inline v4f approximate_angle_0_to_2pi_x4(v4f y, v4f x) {
+    using A = numerics::ApproximateAngle;
+    const v4f zero = splat4(0.f);
+    const v4f ax = select4(x < zero, -x, x), ay = select4(y < zero, -y, y);
+    const v4f big = max4(ax, ay), small = min4(ax, ay);
+    const v4f a = small / big, a2 = a * a;
+    v4f t = a * (splat4(A::c1) +
+                 a2 * (splat4(A::c3) + a2 * (splat4(A::c5) + a2 * (splat4(A::c7) + a2 * splat4(A::c9)))));
+    t = select4(ay > ax, splat4(A::half_pi) - t, t);
+    t = select4(x < zero, splat4(A::pi) - t, t);
+    t = select4(y < zero, splat4(A::two_pi) - t, t);
+    return t;
+}
+
+}  // namespace sift
+}  // namespace canonform::views
