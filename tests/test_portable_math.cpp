@@ -180,7 +180,8 @@ TEST(PortableMath, ApproximateAngleFourLanesEqualTheScalar) {
             if (y[q] == 0.f && x[q] == 0.f) x[q] = 1.f / 255.f;  // (the lanes' precondition)
         }
         namespace s = cf::views::sift;
-        const s::v4f a = s::approximate_angle_0_to_2pi_x4(s::load4(y), s::load4(x));
+        float a[4];
+        s::store4(a, s::approximate_angle_0_to_2pi_x4(s::load4(y), s::load4(x)));
         for (int q = 0; q < 4; ++q) {
             const float b = cf::numerics::approximate_angle_0_to_2pi(y[q], x[q]);
             ASSERT_EQ(std::memcmp(&a[q], &b, sizeof b), 0) << y[q] << " " << x[q];
