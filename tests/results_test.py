@@ -6,9 +6,9 @@ usage: /usr/bin/python3 tests/results_test.py SOURCE_DIR
 - Each file under bench/results/ is referenced by another file of the repository - a docs page,
   the docs generator, a benchmark or experiment script, a test, or another result file's metadata
   (bench/results/manifest.json) - by its path from the repository (bench/results/retrieval/x.json)
-  or from bench/results/ (retrieval/x.json; for a file directly in it, its name: the benchmark
-  scripts write "$out/NAME"). A file nothing names is a leftover: delete it (git keeps it), or say
-  where it is used.
+  or from bench/results/ (retrieval/x.json, or a bare name for a file directly in it), as a word of
+  its own (docs/images/x.png does not name bench/results/x.png). A file nothing names is a
+  leftover: delete it (git keeps it), or say where it is used.
 - No picture is committed twice: no file of bench/results/ has the bytes of one in docs/images/
   (the benchmarks draw their pictures straight into docs/images/, where the pages take them).
 """
@@ -30,15 +30,19 @@ def files_under(top):
             yield os.path.join(d, f)
 
 
-corpus = {}
+# every path-like word of every text file, and the files it occurs in
+WORD = re.compile(r"(?<![\w./-])[\w./-]+")
+words = {}
 for path in files_under(root):
     name = os.path.basename(path)
     if name.endswith(TEXT) or name in ("CMakeLists.txt", "run"):
         try:
             with open(path, encoding="utf-8") as f:
-                corpus[path] = f.read()
+                text = f.read()
         except (UnicodeDecodeError, OSError):
-            pass
+            continue
+        for w in set(WORD.findall(text)):
+            words.setdefault(w.rstrip("./"), set()).add(path)
 
 problems = []
 checked = 0
@@ -46,8 +50,7 @@ for path in sorted(files_under(results)):
     checked += 1
     rel_repo = os.path.relpath(path, root).replace(os.sep, "/")
     rel_results = os.path.relpath(path, results).replace(os.sep, "/")
-    pattern = re.compile(r"(^|[^\w./-])(" + re.escape(rel_repo) + "|" + re.escape(rel_results) + r")\b")
-    if not any(pattern.search(text) for other, text in corpus.items() if other != path):
+    if not (words.get(rel_repo, set()) | words.get(rel_results, set())) - {path}:
         problems.append(f"{rel_repo}: nothing references it (no page, script, test or manifest names it)")
 
 

@@ -13,6 +13,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdlib>
 #include <filesystem>
 
@@ -121,11 +122,27 @@ void write_pr_plot(const std::string& path, const std::vector<PrCurve>& curves, 
     }
     p.setClipping(false);
 
-    int legend_w = 0;  // the legend, bottom left inside the plot (where precision-recall curves seldom go)
+    // The legend, in the corner of the plot that covers the fewest points of the curves (the first
+    // of bottom left, bottom right, top right, top left on a tie).
+    int legend_w = 0;
     for (const PrCurve& c : curves)
         legend_w = std::max(legend_w, fm.horizontalAdvance(QString::fromStdString(c.label)));
     const int row = fm.height() + 4, lw = legend_w + 46, lh = row * static_cast<int>(curves.size()) + 8;
-    const QRectF box(left + 8, top + h - 8 - lh, lw, lh);
+    const QRectF corners[] = {QRectF(left + 8, top + h - 8 - lh, lw, lh),
+                              QRectF(left + w - 8 - lw, top + h - 8 - lh, lw, lh),
+                              QRectF(left + w - 8 - lw, top + 8, lw, lh), QRectF(left + 8, top + 8, lw, lh)};
+    QRectF box = corners[0];
+    size_t fewest = SIZE_MAX;
+    for (const QRectF& corner : corners) {
+        size_t covered = 0;
+        for (const PrCurve& c : curves)
+            for (size_t k = 0; k < c.recall.size(); ++k)
+                covered += corner.contains(at(c.recall[k], c.precision[k]));
+        if (covered < fewest) {
+            fewest = covered;
+            box = corner;
+        }
+    }
     p.setPen(QPen(QColor(200, 200, 200), 1));
     p.setBrush(QColor(255, 255, 255, 230));
     p.drawRoundedRect(box, 3, 3);

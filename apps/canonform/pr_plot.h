@@ -24,7 +24,8 @@ std::vector<PrCurve> read_pr_curves(const std::string& run, const std::string& p
 
 /// Draws the curves into a PNG at `path`, written atomically: recall across and precision up, both
 /// from 0 to 1 with grid lines every 0.2, one colour per curve (markers at the points), a legend
-/// and the title on top. Throws InputError if there is no curve.
+/// in the corner that hides the fewest points, and the title on top. Throws InputError if there is
+/// no curve.
 void write_pr_plot(const std::string& path, const std::vector<PrCurve>& curves, const std::string& title);
 
 }  // namespace canonform::cli
