@@ -1,24 +1,31 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""Builds the canonform wheel: setuptools (Debian's python3-setuptools) driving the CMake build.
+"""Builds the canonform wheel from source: setuptools (Debian's python3-setuptools) driving the
+CMake build.
 
     pip install --no-build-isolation --no-index .        # docs/python.md
 
-The extension and its stubs come from the CMake target canonform_python (python/CMakeLists.txt),
-built in an existing build folder when CANONFORM_PYTHON_BUILD_DIR names one (nothing is compiled
-twice: the tests and CI build the wheel this way) or when the repository's build/ (tools/build.sh)
-makes the module for this Python, else in build/pip/, configured with only the library and the
-module. The rest of the package is python/canonform/. Setuptools'
-own working files go under that build folder too, never into the source tree.
+The package is pure Python over the library's C API (ctypes): the CMake target canonform_python
+(python/CMakeLists.txt) assembles it - the modules, _version.py, the stubs and lib/libcanonform.so -
+in an existing build folder when CANONFORM_PYTHON_BUILD_DIR names one (nothing is compiled twice:
+the tests and CI build the wheel this way) or when the repository's build/ (tools/build.sh) has
+the package, else in build/pip/, configured with only the library and the package. The wheel is
+tagged py3-none-PLATFORM: any Python 3, this platform's library (linked against this system's
+libraries; the portable wheel is tools/package.sh --wheel's). Setuptools' own working files go
+under that build folder too, never into the source tree.
 """
 import os
 import re
 import shutil
 import subprocess
 import sys
-import sysconfig
 
-from setuptools import Extension, setup
-from setuptools.command.build_ext import build_ext
+from setuptools import setup
+from setuptools.command.build_py import build_py
+
+try:  # setuptools 70 and later
+    from setuptools.command.bdist_wheel import bdist_wheel
+except ImportError:  # Debian bookworm: the wheel package's
+    from wheel.bdist_wheel import bdist_wheel
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 
@@ -28,55 +35,54 @@ def version():
         return re.search(r"project\(canonform VERSION ([0-9.]+)", f.read()).group(1)
 
 
-def same_python(build):
-    """True if the CMake build in `build` makes the module for this interpreter (a venv's counts as
-    the interpreter it was made from)."""
+def has_package(build):
+    """True if the CMake build in `build` makes the Python package."""
     try:
         with open(os.path.join(build, "CMakeCache.txt"), encoding="utf-8") as f:
-            cache = dict(re.findall(r"^([A-Za-z_]+):[A-Z]+=(.*)$", f.read(), re.M))
+            return re.search(r"^CANONFORM_PYTHON:BOOL=ON$", f.read(), re.M) is not None
     except OSError:
         return False
-    exe = cache.get("Python_EXECUTABLE") or cache.get("_Python_EXECUTABLE")
-    ours = getattr(sys, "_base_executable", sys.executable)
-    return cache.get("CANONFORM_PYTHON") == "ON" and bool(exe) and os.path.realpath(exe) == os.path.realpath(ours)
 
 
 def cmake_build_dir():
     """CANONFORM_PYTHON_BUILD_DIR; else the repository's build/ (tools/build.sh) when it makes the
-    module for this Python; else build/pip/, a build of the library and the module alone."""
+    package; else build/pip/, a build of the library and the package alone."""
     given = os.environ.get("CANONFORM_PYTHON_BUILD_DIR")
     if given:
         return os.path.abspath(given)
-    if same_python(os.path.join(HERE, "build")):
+    if has_package(os.path.join(HERE, "build")):
         return os.path.join(HERE, "build")
     return os.path.join(HERE, "build", "pip")
 
 
-class CMakeBuild(build_ext):
-    """Builds the CMake target canonform_python and copies the extension and stubs in."""
+class CMakeBuildPy(build_py):
+    """Builds the CMake target canonform_python and copies the package it assembled."""
 
-    def build_extension(self, ext):
+    def run(self):
         build = cmake_build_dir()
-        jobs = str(os.cpu_count() or 1)
         if not os.path.isfile(os.path.join(build, "CMakeCache.txt")):
             if os.environ.get("CANONFORM_PYTHON_BUILD_DIR"):
                 sys.exit(f"CANONFORM_PYTHON_BUILD_DIR={build} is not a configured CMake build")
             subprocess.check_call([
                 "cmake", "-S", HERE, "-B", build, "-DCMAKE_BUILD_TYPE=Release",
                 "-DCANONFORM_BUILD_PLUGINS=OFF", "-DCANONFORM_BUILD_TOOLS=OFF", "-DCANONFORM_BUILD_TESTS=OFF",
-                "-DCANONFORM_BUILD_BENCH=OFF", "-DCANONFORM_PYTHON=ON", f"-DPython_EXECUTABLE={sys.executable}"])
-        subprocess.check_call(["cmake", "--build", build, "--target", "canonform_python", "-j", jobs])
+                "-DCANONFORM_BUILD_BENCH=OFF", "-DCANONFORM_PYTHON=ON"])
+        subprocess.check_call(["cmake", "--build", build, "--target", "canonform_python", "-j", str(os.cpu_count() or 1)])
         package = os.path.join(build, "python", "canonform")
-        suffix = sysconfig.get_config_var("EXT_SUFFIX")
-        built = os.path.join(package, "_canonform" + suffix)
-        if not os.path.isfile(built):
-            found = [f for f in os.listdir(package) if f.startswith("_canonform.")]
-            sys.exit(f"{build} has {found or 'no extension'}, not _canonform{suffix} for {sys.executable}: "
-                     "configure that build with -DPython_EXECUTABLE=" + sys.executable)
-        target = self.get_ext_fullpath(ext.name)
-        os.makedirs(os.path.dirname(target), exist_ok=True)
-        shutil.copyfile(built, target)
-        shutil.copyfile(os.path.join(package, "__init__.pyi"), os.path.join(os.path.dirname(target), "__init__.pyi"))
+        target = os.path.join(self.build_lib, "canonform")
+        shutil.rmtree(target, ignore_errors=True)
+        shutil.copytree(package, target, ignore=shutil.ignore_patterns("__pycache__"))
+
+
+class PlatformWheel(bdist_wheel):
+    """py3-none-PLATFORM: any Python 3 (no extension module), this platform's shared library."""
+
+    def finalize_options(self):
+        super().finalize_options()
+        self.root_is_pure = False
+
+    def get_tag(self):
+        return ("py3", "none", super().get_tag()[2])
 
 
 work = os.path.join(cmake_build_dir(), "setuptools")
@@ -85,9 +91,7 @@ setup(
     version=version(),
     packages=["canonform"],
     package_dir={"": "python"},
-    package_data={"canonform": ["py.typed"]},
-    ext_modules=[Extension("canonform._canonform", sources=[])],
-    cmdclass={"build_ext": CMakeBuild},
+    cmdclass={"build_py": CMakeBuildPy, "bdist_wheel": PlatformWheel},
     zip_safe=False,
     options={"build": {"build_base": work}, "egg_info": {"egg_base": work}},
 )

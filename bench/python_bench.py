@@ -5,18 +5,22 @@ time"): the call overhead of canonform.canonical_form() against the same C++ cal
 
     /usr/bin/python3 bench/python_bench.py BUILD_DIR [--vertices 10000] [--method euclidean-N]
                                            [--repeats 15] [--rounds 3] [--out bench/results/python.jsonl]
+                                           [--package DIR] [--wheel WHEEL]
 
 Overhead, call by call in one process: canonical_form() on the arrays read_mesh() gives (arrays
 converted in and out, validation, the GIL released, the progress function that watches for Ctrl-C;
 wall time around the Python call), and the bare C++ call it makes (_cpp_call_seconds(): the
-registry's run() with validation, timed in C++, GIL held, no progress function), alternating
+registry's run() with validation, timed in C++ by the C API's canonform_time_canonical_form, no
+progress function), alternating
 (which goes first alternates too), --repeats x --rounds pairs, one thread. Reported: the median of
 the per-pair ratios minus 1, and both medians. As a cross-check, canonform_bench_canonical
 (bench/bench_canonical_form.cpp, the same run() in a C++ program) on the same file, median of
 --repeats calls per round. And the overhead in seconds on method "none" (where the call is short,
 so load hardly blurs it), as a fraction of the C++ call's median. Import: wall time of `import canonform`
 in a fresh interpreter (median of 11 processes), alone and after numpy (which the module loads on
-its first array, not at import). The module is BUILD_DIR/python's (the wheel packs the same file).
+its first array, not at import; the library is loaded on the first call). The package is
+BUILD_DIR/python's, or the one under --package DIR (e.g. the portable wheel unpacked there, whose
+size --wheel records too).
 """
 import argparse
 import json
@@ -36,15 +40,18 @@ def main():
     ap.add_argument("--repeats", type=int, default=15)
     ap.add_argument("--rounds", type=int, default=3)
     ap.add_argument("--out", default=None)
+    ap.add_argument("--package", default=None)
+    ap.add_argument("--wheel", default=None)
     a = ap.parse_args()
     build = os.path.abspath(a.build)
-    sys.path.insert(0, os.path.join(build, "python"))
+    package = os.path.abspath(a.package) if a.package else os.path.join(build, "python")
+    sys.path.insert(0, package)
     import canonform
 
     work = os.path.join(build, "bench_python")
     os.makedirs(work, exist_ok=True)
     mesh = os.path.join(work, f"figure_{a.vertices}.ply")
-    subprocess.run([os.path.join(build, "tools", "canonform"), "generate", mesh, "--vertices", str(a.vertices)],
+    subprocess.run([os.path.join(build, "apps", "canonform"), "generate", mesh, "--vertices", str(a.vertices)],
                    check=True)
     V, F = canonform.read_mesh(mesh)
 
@@ -62,7 +69,7 @@ def main():
                     canonform.canonical_form(V, F, a.method, threads=1)
                     py.append(time.perf_counter() - t0)
                 else:
-                    cpp.append(canonform._canonform._cpp_call_seconds(V, F, a.method))
+                    cpp.append(canonform._cpp_call_seconds(V, F, a.method))
             ratios.append(py[-1] / cpp[-1])
 
     # The overhead in seconds, where load noise is small: method "none" (validation and a copy of V)
@@ -72,12 +79,12 @@ def main():
         t0 = time.perf_counter()
         canonform.canonical_form(V, F, "none", threads=1)
         t_py = time.perf_counter() - t0
-        extra.append(t_py - canonform._canonform._cpp_call_seconds(V, F, "none"))
+        extra.append(t_py - canonform._cpp_call_seconds(V, F, "none"))
 
-    def import_seconds(pre):
+    def import_seconds(pre, load=False):
         code = f"import time{'; import numpy' if pre else ''}; t = time.perf_counter(); import canonform; " \
-               "print(time.perf_counter() - t)"
-        env = dict(os.environ, PYTHONPATH=os.path.join(build, "python"))
+               f"{'canonform.sift_backends(); ' if load else ''}print(time.perf_counter() - t)"
+        env = dict(os.environ, PYTHONPATH=package)
         return statistics.median(float(subprocess.run([sys.executable, "-c", code], env=env, check=True,
                                                       capture_output=True, text=True).stdout) for _ in range(11))
 
@@ -89,10 +96,15 @@ def main():
         "cpp_program_round_medians_s": process,
         "overhead_none_s": statistics.median(extra), "overhead_none_fraction": statistics.median(extra) / statistics.median(cpp),
         "import_s": import_seconds(False), "import_after_numpy_s": import_seconds(True),
+        "import_and_library_s": import_seconds(False, True),
+        "package": os.path.dirname(os.path.abspath(canonform.__file__)),
         "python": platform.python_version(), "load": os.getloadavg()[0],
         "commit": subprocess.run(["git", "-C", os.path.dirname(os.path.abspath(__file__)), "rev-parse", "--short",
                                   "HEAD"], capture_output=True, text=True).stdout.strip(),
     }
+    if a.wheel:
+        row["wheel"] = os.path.basename(a.wheel)
+        row["wheel_bytes"] = os.path.getsize(a.wheel)
     line = json.dumps(row)
     print(line)
     if a.out:

@@ -28,7 +28,10 @@ else:  # a collection of our own: 6 figures, 2 classes
         f.write("\n".join(rows) + "\n")
 
 # --- the example of docs/python.md ---
-run = canonform.retrieve(dataset, os.path.join(out, "run"), ["none", "euclidean-N"], words=50, log=print)
+# (the wheel has no FAISS, so no "kmeans" codebooks: "lloyd", our own k-means, is in every build)
+codebook = "kmeans" if "kmeans" in canonform.codebook_methods() else "lloyd"
+run = canonform.retrieve(dataset, os.path.join(out, "run"), ["none", "euclidean-N"], words=50, codebook=codebook,
+                         log=print)
 for method, r in run["methods"].items():
     m = r["measures"]
     print(f"{method:12s} NN {m['nn']:.3f}  1-tier {m['first_tier']:.3f}  DCG {m['dcg']:.3f}")

@@ -9,9 +9,22 @@ view-based 3D shape retrieval, with numpy arrays in and out.
 Every function is documented (help(canonform.canonical_form)); docs/python.md is the guide.
 Errors: InputError (a ValueError) names bad input, NumericalError (a RuntimeError) a failed
 solve, Cancelled a progress callable that returned False; Ctrl-C raises KeyboardInterrupt.
-"""
-from ._canonform import *  # noqa: F401,F403
-from ._canonform import __version__  # noqa: F401
-from . import _canonform as _ext
+canonform.pymeshlab.load() loads the MeshLab filters into the installed pymeshlab.
 
-__all__ = [n for n in dir(_ext) if not n.startswith("_")]
+The functions call the library's C API (libcanonform.so, canonform.dll) through ctypes: no part
+of the package is compiled against CPython, and the GIL is released while the library computes.
+"""
+from ._version import __version__  # noqa: F401
+from ._support import Cancelled, InputError, NumericalError
+from ._meshes import (_cpp_call_seconds, canonical_form, canonical_methods, conformal_factor, feature_points,  # noqa: F401
+                      figure, read_mesh, repair_mesh, simplify, write_mesh)
+from ._views import (clock_distance, codebook_methods, default_sift, distance_matrix, load_codebook, read_descriptor,
+                     save_codebook, sift_backend_available, sift_backends, train_codebook, view_descriptor)
+from ._retrieval import evaluate, read_distance_matrix, read_labels, retrieve
+from . import pymeshlab  # noqa: F401  (canonform.pymeshlab.load())
+
+__all__ = ["Cancelled", "InputError", "NumericalError", "canonical_form", "canonical_methods", "clock_distance",
+           "codebook_methods", "conformal_factor", "default_sift", "distance_matrix", "evaluate", "feature_points",
+           "figure", "load_codebook", "read_descriptor", "read_distance_matrix", "read_labels", "read_mesh",
+           "repair_mesh", "retrieve", "save_codebook", "sift_backend_available", "sift_backends", "simplify",
+           "train_codebook", "view_descriptor", "write_mesh"]

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: GPL-3.0-or-later
-# The Python module as a user meets it (ctest python.module): a wheel built from the repository by
-# pip with Debian's setuptools and no network, reusing this build's extension
+# The Python package as a user meets it (ctest python.module): a wheel built from the repository by
+# pip with Debian's setuptools and no network, reusing this build's package and library
 # (CANONFORM_PYTHON_BUILD_DIR: nothing is compiled again), installed into a fresh venv of Debian's
 # Python (--system-site-packages: its numpy, pytest and matplotlib), then pytest on tests/python/
 # with the venv's Python from outside the source tree. Writes only under WORK_DIR.

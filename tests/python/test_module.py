@@ -33,7 +33,7 @@ def test_stubs_declare_every_function_with_its_docstring():
             continue
         assert name in functions, f"{name} missing from the stubs"
         assert ast.get_docstring(functions[name]), f"{name}: no docstring in the stubs"
-        # the stub's parameters are the runtime signature's (pybind11's first docstring line)
+        # the stub's parameters are the runtime signature's (the docstring's first line)
         params = [a.arg for a in functions[name].args.args + functions[name].args.kwonlyargs]
         signature = obj.__doc__.splitlines()[0]
         for p in params:
@@ -61,18 +61,25 @@ def test_sift_default_is_a_backend():
     assert canonform.__version__.count(".") == 2
 
 
-def test_the_extension_exports_only_its_init_function():
-    """The static libraries' symbols (Eigen, vcglib, OpenCV glue) stay inside the extension: none can
-    bind to another extension's copies in the same process (pymeshlab's), nor theirs to ours."""
+def test_the_library_exports_only_the_c_api():
+    """The shared library under the package (the C API, reached through ctypes) exports its C
+    functions and nothing else: the static libraries' symbols (Eigen, vcglib, OpenCV glue) stay
+    inside, so none can bind to another module's copies in the same process (pymeshlab's), nor
+    theirs to ours; and the package has no CPython extension."""
     import glob
     import shutil
     import subprocess
 
-    so = glob.glob(os.path.join(os.path.dirname(canonform.__file__), "_canonform*.so"))
-    assert len(so) == 1, so
+    from canonform import _library
+
+    here = os.path.dirname(canonform.__file__)
+    lib = os.path.join(here, "lib", _library.library_name())
+    assert os.path.isfile(lib), lib
+    assert not glob.glob(os.path.join(here, "*.so")) and not glob.glob(os.path.join(here, "*.pyd"))
     objdump = shutil.which("objdump")
     assert objdump, "objdump (binutils) is needed"
-    table = subprocess.run([objdump, "-T", so[0]], capture_output=True, text=True, check=True).stdout
+    table = subprocess.run([objdump, "-T", lib], capture_output=True, text=True, check=True).stdout
     defined = [l.split()[-1] for l in table.splitlines()
                if " g " in l and "*UND*" not in l and (" DF " in l or " DO " in l)]
-    assert defined == ["PyInit__canonform"], defined
+    assert len(defined) >= 30 and all(d.startswith("canonform_") for d in defined), defined
+    assert {"canonform_canonical_form", "canonform_version", "canonform_last_error"} <= set(defined)

@@ -115,7 +115,8 @@ DescriptorMatrix lloyd(const DescriptorMatrix& X, int k, int iterations, std::mt
 
 #ifdef CANONFORM_WITHOUT_FAISS
 DescriptorMatrix faiss_kmeans(const DescriptorMatrix&, int, int, std::uint64_t) {
-    throw InputError("Codebook: this build has no FAISS (CANONFORM_WITHOUT_FAISS), so no 'kmeans' method; use 'lloyd'.");
+    throw InputError("Codebook: this build has no FAISS (CANONFORM_WITHOUT_FAISS: the Python wheel and the portable "
+                     "plugins leave it out), so no 'kmeans' method; use 'lloyd' (our own k-means) or 'random'.");
 }
 #else
 DescriptorMatrix faiss_kmeans(const DescriptorMatrix& X, int k, int iterations, std::uint64_t seed) {
