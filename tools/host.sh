@@ -17,6 +17,9 @@
 #   bookworm-new bookworm   a new user's Debian 12 as its installer leaves it (mmdebstrap's variant
 #                           important: debootstrap's, the installer's base system), nothing else: the
 #                           README's commands from bare metal (tools/readme_commands.sh)
+#   RELEASE-python          bullseye, bookworm, trixie, forky: a Python user's system, Debian's
+#                           python3, venv, numpy, matplotlib and pytest, no compiler (the wheel is
+#                           tried there: tests/e2e/wheel_venv_test.sh)
 #
 #   tools/host.sh --make SUITE      makes SUITE's root filesystem (step 1) if it is not cached, and
 #                                   nothing else
@@ -46,7 +49,7 @@
 set -euo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 
-usage() { echo "usage: $0 trixie|forky|forky-bare|bullseye|bookworm-new COMMAND [ARG...] | --make SUITE | --prepare SUITE" >&2; exit 2; }
+usage() { echo "usage: $0 trixie|forky|forky-bare|bullseye|bookworm-new|{bullseye,bookworm,trixie,forky}-python COMMAND [ARG...] | --make SUITE | --prepare SUITE" >&2; exit 2; }
 only=""  # --make: step 1 alone; --prepare: steps 1 to 3, no command
 case "${1:-}" in
   --make|--prepare) only=$1; shift; [ $# -eq 1 ] || usage ;;
@@ -59,6 +62,7 @@ case "$suite" in
   forky-bare) release=forky; prepare=0 ;;
   bullseye) release=bullseye; prepare=0 ;;
   bookworm-new) release=bookworm; prepare=0; variant=important ;;
+  bullseye-python|bookworm-python|trixie-python|forky-python) release=${suite%-python}; prepare=0 ;;
   *) usage ;;
 esac
 log() { printf '[host %s] %s\n' "$suite" "$*" >&2; }
@@ -88,6 +92,7 @@ extra_sources=()
 case "$suite" in
   trixie|forky) mapfile -t packages < <("$here/tools/setup.sh" --packages plugins | sort -u) ;;
   forky-bare) packages=(meshlab xvfb xauth) ;;
+  *-python) packages=(python3 python3-venv python3-numpy python3-matplotlib python3-pytest) ;;
   bullseye)
     packages=(g++ make cmake pkg-config ccache patchelf python3 binutils file xz-utils
               qtbase5-dev libqt5opengl5-dev libglew-dev libtbb-dev libsuitesparse-dev

@@ -26,6 +26,12 @@
 #   meshlab2025     ...-meshlab2025.07-...                                          MeshLab 2025.07 (float: AppImage, Flathub, forky)
 #   all             the four
 #
+# The wheel, for every Python 3 on any x86-64 Linux with glibc 2.31 or later (docs/install.md):
+#   tools/package.sh --wheel [--build-dir DIR]     prints the wheel's path (in DIR/portable)
+# canonform-VERSION-py3-none-manylinux_2_31_x86_64.whl: the Python package, the C API's library,
+# the canonform tool (console script) and the pymeshlab 2022.2, 2023.12 and 2025.7 plugins, from the
+# same bullseye build as the archives (nothing compiled twice; tools/wheel_build.py assembles it).
+#
 # Built in a Debian bullseye root filesystem (tools/host.sh bullseye: glibc 2.31, GCC 10, Qt 5.15.2)
 # by tools/portable_build.sh, one CMake build (DIR/portable/build) for the four; the plugins link the
 # double meshlab-common libraries of the bookworm build in DIR (build/pymeshlab2022/lib,
@@ -42,7 +48,8 @@ while [ $# -gt 0 ]; do
     --build-dir) build=$2; shift 2 ;;
     --dev) dev=1; shift ;;
     --portable) portable=$2; shift 2 ;;
-    *) echo "usage: $0 [--build-dir DIR] [--dev | --portable pymeshlab2022|pymeshlab2023|pymeshlab2025|meshlab2025|all]" >&2; exit 2 ;;
+    --wheel) portable=wheel; shift ;;
+    *) echo "usage: $0 [--build-dir DIR] [--dev | --wheel | --portable pymeshlab2022|pymeshlab2023|pymeshlab2025|meshlab2025|all]" >&2; exit 2 ;;
   esac
 done
 die() { echo "$0: $*" >&2; exit 1; }
@@ -52,10 +59,10 @@ build=$(realpath "$build")
 if [ -n "$portable" ]; then
   case "$portable" in
     all) hosts=(pymeshlab2022 pymeshlab2023 pymeshlab2025 meshlab2025) ;;
-    pymeshlab2022|pymeshlab2023|pymeshlab2025|meshlab2025) hosts=("$portable") ;;
+    pymeshlab2022|pymeshlab2023|pymeshlab2025|meshlab2025|wheel) hosts=("$portable") ;;
     *) die "unknown portable host '$portable' (pymeshlab2022, pymeshlab2023, pymeshlab2025, meshlab2025, all)" ;;
   esac
-  [ "$(id -u)" -eq 0 ] || die "--portable needs root (the bullseye root filesystem: tools/host.sh)"
+  [ "$(id -u)" -eq 0 ] || die "--portable and --wheel need root (the bullseye root filesystem: tools/host.sh)"
   # the double meshlab-common libraries of the bookworm build (2.5 CPU-minutes each when missing)
   for y in 2022 2025; do
     lib=$build/pymeshlab$y/lib/libmeshlab-common.so

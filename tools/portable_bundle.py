@@ -75,48 +75,46 @@ def patchelf(*args):
     subprocess.run(["patchelf", *args], check=True)
 
 
-def main():
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("out")
-    ap.add_argument("plugins", nargs="+")
-    ap.add_argument("--libs", default="canonform.libs")
-    ap.add_argument("--allow", nargs="*", default=DEFAULT_ALLOWED)
-    a = ap.parse_args()
-    allowed = set(a.allow)
+def bundle(binaries, libdir, allowed, libs_name=None, log=print):
+    """Copies each (source, destination) binary and every shared library they need, recursively,
+    into `libdir` (except `allowed`), with unique sonames and RUNPATHs: each binary
+    $ORIGIN/<libdir relative to its folder>, each library $ORIGIN. Binaries are stripped
+    (--strip-unneeded). Returns the copied libraries' paths. `libs_name` names libdir in the log."""
+    allowed = set(allowed)
     known = ldconfig_map()
-    libdir = os.path.join(a.out, a.libs)
+    libs_name = libs_name or os.path.basename(libdir)
     os.makedirs(libdir, exist_ok=True)
 
-    # 1. Walk NEEDED from the plugins, breadth first: soname -> path of the library it names.
-    bundle, queue = {}, []
-    for p in a.plugins:
-        queue += [(n, p) for n in dynamic(p)[1]]
+    # 1. Walk NEEDED from the binaries, breadth first: soname -> path of the library it names.
+    bundled, queue = {}, []
+    for src, _ in binaries:
+        queue += [(n, src) for n in dynamic(src)[1]]
     while queue:
         name, who = queue.pop(0)
-        if name in allowed or name in bundle:
+        if name in allowed or name in bundled:
             continue
         path = known.get(name)
         if path is None:
             raise SystemExit(f"portable_bundle: {who} needs {name}, which the dynamic loader does not find here")
-        bundle[name] = os.path.realpath(path)
+        bundled[name] = os.path.realpath(path)
         queue += [(n, path) for n in dynamic(path)[1]]
 
     # 2. Copy with unique sonames; RUNPATH $ORIGIN; NEEDED rewritten.
-    renamed = {name: unique_name(name, path) for name, path in bundle.items()}
+    renamed = {name: unique_name(name, path) for name, path in bundled.items()}
     if len(set(renamed.values())) != len(renamed):
         raise SystemExit("portable_bundle: two libraries would get the same name")
     copies = []
-    for name, path in sorted(bundle.items()):
+    for name, path in sorted(bundled.items()):
         dest = os.path.join(libdir, renamed[name])
         shutil.copyfile(path, dest)
         os.chmod(dest, 0o755)
         patchelf("--set-soname", renamed[name], dest)
         copies.append(dest)
-        print(f"  {name} ({path}) -> {a.libs}/{renamed[name]} ({os.path.getsize(path) // 1024} KiB)")
+        log(f"  {name} ({path}) -> {libs_name}/{renamed[name]} ({os.path.getsize(path) // 1024} KiB)")
     outs = []
-    for p in a.plugins:
-        dest = os.path.join(a.out, os.path.basename(p))
-        shutil.copyfile(p, dest)
+    for src, dest in binaries:
+        os.makedirs(os.path.dirname(dest), exist_ok=True)
+        shutil.copyfile(src, dest)
         os.chmod(dest, 0o755)
         subprocess.run(["strip", "--strip-unneeded", dest], check=True)
         outs.append(dest)
@@ -127,13 +125,26 @@ def main():
                 patchelf("--replace-needed", n, renamed[n], f)
         if f in outs:
             if any(n in renamed for n in needed):
-                patchelf("--set-rpath", "$ORIGIN/" + a.libs, f)
+                rel = os.path.relpath(libdir, os.path.dirname(f))
+                patchelf("--set-rpath", "$ORIGIN" if rel == "." else "$ORIGIN/" + rel, f)
             else:
                 patchelf("--remove-rpath", f)
         else:
             patchelf("--set-rpath", "$ORIGIN", f)
-    if not copies:
+    if not copies and not os.listdir(libdir):
         os.rmdir(libdir)
+    return copies
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("out")
+    ap.add_argument("plugins", nargs="+")
+    ap.add_argument("--libs", default="canonform.libs")
+    ap.add_argument("--allow", nargs="*", default=DEFAULT_ALLOWED)
+    a = ap.parse_args()
+    bundle([(p, os.path.join(a.out, os.path.basename(p))) for p in a.plugins], os.path.join(a.out, a.libs), a.allow,
+           a.libs)
     return 0
 
 

@@ -8,7 +8,9 @@
 // 1 bad input or failure (a message on stderr names the problem), 2 usage error.
 #include "cli.h"
 
+#ifdef CANONFORM_HAVE_OPENCV_SIFT
 #include "canonform/views/opencv_sift.h"
+#endif
 #include "canonform/common/version.h"
 
 #include <cstring>
@@ -44,7 +46,9 @@ bool known(const char* name) {
 }  // namespace
 
 int main(int argc, char** argv) {
+#ifdef CANONFORM_HAVE_OPENCV_SIFT
     canonform::views::register_opencv_sift();  // `--sift opencv` (the plugins carry only the built-in extractor)
+#endif
     CLI::App app{"canonform: pose-invariant canonical forms of non-rigid triangle meshes (Pickup et al. 2015) "
                  "and view-based shape retrieval.\nMeshes: OFF, PLY, OBJ or STL in; binary PLY out. "
                  "`canonform COMMAND --help` lists a command's options and defaults.",

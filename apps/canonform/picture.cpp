@@ -5,11 +5,13 @@
 #include "render.h"
 
 #include "canonform/common/errors.h"
+#include "canonform/views/view_descriptor.h"
 
 #include <QFont>
 #include <QImage>
 #include <QPainter>
 
+#include <cstdio>
 #include <cstdlib>
 #include <map>
 #include <stdexcept>
@@ -111,6 +113,28 @@ void write_picture(const std::string& path, const PictureInputs& in, int panel) 
     }
     p.end();
     cli::save_png(out, path);
+}
+
+void write_view_images(const std::string& dir, const views::ViewSet& vs) {
+    using namespace cli;
+    const int cols = 11, thumb = 128, label = 16;
+    QImage sheet = white_canvas(cols * thumb, 6 * (thumb + label));
+    QPainter p(&sheet);
+    set_label_font(p, 11);
+    const auto counts = vs.keypoint_counts();
+    for (size_t k = 0; k < vs.images.size(); ++k) {
+        const auto g = vs.images[k].gray();
+        const int n = vs.images[k].size;
+        const QImage img = QImage(g.data(), n, n, n, QImage::Format_Grayscale8).copy();
+        char name[32];
+        std::snprintf(name, sizeof name, "/view_%02zu.png", k);
+        save_png(img, dir + name);
+        const int x = static_cast<int>(k % cols) * thumb, y = static_cast<int>(k / cols) * (thumb + label);
+        p.drawImage(QRect(x, y + label, thumb, thumb), img);
+        p.drawText(QRect(x, y, thumb, label), Qt::AlignCenter, QString("view %1: %2 keypoints").arg(k).arg(counts[k]));
+    }
+    p.end();
+    save_png(sheet, dir + "/contact_sheet.png");
 }
 
 }  // namespace canonform

@@ -8,6 +8,10 @@
 
 #include <string>
 
+namespace canonform::views {
+struct ViewSet;
+}
+
 namespace canonform {
 
 /// What the picture shows; empty members are left out.
@@ -31,5 +35,9 @@ void check_points(const std::string& path, const Eigen::MatrixXd& P);
 /// mesh with the feature points; canonical form with the feature points) into a PNG at `path`,
 /// written atomically. Needs no X server (Qt's offscreen platform is used for the labels).
 void write_picture(const std::string& path, const PictureInputs& in, int panel);
+
+/// The 66 depth views of `views` as PNGs in `dir` (view_00.png ... view_65.png) and a labelled
+/// contact sheet of them (contact_sheet.png): the `views` command's pictures.
+void write_view_images(const std::string& dir, const views::ViewSet& views);
 
 }  // namespace canonform

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // canonform tool: the view-descriptor commands - views, codebook, descriptor, distance.
 #include "cli.h"
-#include "qt_image.h"
+#include "picture.h"  // write_view_images
 
 #include "canonform/io/distance_matrix_file.h"
 #include "canonform/io/files.h"
@@ -10,9 +10,6 @@
 #include "canonform/views/view_descriptor.h"
 #include "canonform/views/view_directions.h"
 #include "canonform/views/view_parameters.h"
-
-#include <QImage>
-#include <QPainter>
 
 #include <cstdio>
 #include <iostream>
@@ -39,11 +36,6 @@ struct ViewArgs {
     }
 };
 
-QImage to_qimage(const views::DepthImage& d) {
-    const auto g = d.gray();
-    return QImage(g.data(), d.size, d.size, d.size, QImage::Format_Grayscale8).copy();
-}
-
 }  // namespace
 
 void add_views(CLI::App& app) {
@@ -57,23 +49,8 @@ void add_views(CLI::App& app) {
     c->callback([a] {
         const views::ViewSet vs = a->views_of(a->in);
         io::make_directories(a->dir);
-        const int cols = 11, thumb = 128, label = 16;
-        QImage sheet = white_canvas(cols * thumb, 6 * (thumb + label));
-        QPainter p(&sheet);
-        set_label_font(p, 11);
+        write_view_images(a->dir, vs);
         const auto counts = vs.keypoint_counts();
-        for (size_t k = 0; k < vs.images.size(); ++k) {
-            const QImage img = to_qimage(vs.images[k]);
-            char name[32];
-            std::snprintf(name, sizeof name, "/view_%02zu.png", k);
-            save_png(img, a->dir + name);
-            const int x = static_cast<int>(k % cols) * thumb, y = static_cast<int>(k / cols) * (thumb + label);
-            p.drawImage(QRect(x, y + label, thumb, thumb), img);
-            p.drawText(QRect(x, y, thumb, label), Qt::AlignCenter,
-                       QString("view %1: %2 keypoints").arg(k).arg(counts[k]));
-        }
-        p.end();
-        save_png(sheet, a->dir + "/contact_sheet.png");
         const int total = std::accumulate(counts.begin(), counts.end(), 0);
         std::cerr << "66 views of " << a->options().image_size << " px in " << a->dir << " (pose by "
                   << (vs.pose.used_rectilinearity ? "rectilinearity" : "PCA") << ", " << total << " SIFT keypoints)\n";

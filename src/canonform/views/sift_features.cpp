@@ -137,7 +137,8 @@ void check_options(const SiftOptions& o) {
             if (sift_backend_available(parse_sift_backend(n))) have += (have.empty() ? "" : ", ") + n;
         throw InputError("SIFT: the backend '" + sift_backend_name(o.backend) +
                          "' is not part of this program (" + have +
-                         " are; opencv is in the canonform tool).");
+                         " are; opencv needs OpenCV: it is in the canonform tool and the Python package built "
+                         "from source, not in the plugins or the portable wheel).");
     }
 }
 
