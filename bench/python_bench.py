@@ -13,7 +13,8 @@ wall time around the Python call), and the bare C++ call it makes (_cpp_call_sec
 registry's run() with validation, timed in C++ by the C API's canonform_time_canonical_form, no
 progress function), alternating
 (which goes first alternates too), --repeats x --rounds pairs, one thread. Reported: the median of
-the per-pair ratios minus 1, and both medians. As a cross-check, canonform_bench_canonical
+the per-pair ratios minus 1, and both medians; the same from the calling thread's CPU time
+(time.thread_time(): steadier than wall time on a loaded machine). As a cross-check, canonform_bench_canonical
 (bench/bench_canonical_form.cpp, the same run() in a C++ program) on the same file, median of
 --repeats calls per round. And the overhead in seconds on method "none" (where the call is short,
 so load hardly blurs it), as a fraction of the C++ call's median. Import: wall time of `import canonform`
@@ -56,6 +57,7 @@ def main():
     V, F = canonform.read_mesh(mesh)
 
     cpp, py, ratios, process = [], [], [], []
+    cpp_cpu, py_cpu, cpu_ratios = [], [], []  # the calling thread's CPU seconds (steadier on a loaded machine)
     canonform.canonical_form(V, F, a.method, threads=1)  # warm: first-touch of the libraries
     for r in range(a.rounds):
         out = subprocess.run([os.path.join(build, "bench", "canonform_bench_canonical"), mesh, "--method", a.method,
@@ -65,12 +67,16 @@ def main():
         for k in range(a.repeats):
             for first in ((True, False) if (k + r) % 2 == 0 else (False, True)):
                 if first:
-                    t0 = time.perf_counter()
+                    c0, t0 = time.thread_time(), time.perf_counter()
                     canonform.canonical_form(V, F, a.method, threads=1)
                     py.append(time.perf_counter() - t0)
+                    py_cpu.append(time.thread_time() - c0)
                 else:
+                    c0 = time.thread_time()
                     cpp.append(canonform._cpp_call_seconds(V, F, a.method))
+                    cpp_cpu.append(time.thread_time() - c0)
             ratios.append(py[-1] / cpp[-1])
+            cpu_ratios.append(py_cpu[-1] / cpp_cpu[-1])
 
     # The overhead in seconds, where load noise is small: method "none" (validation and a copy of V)
     # in Python and in C++, 200 pairs; the same conversion, GIL and wrapper costs as any method's.
@@ -81,9 +87,10 @@ def main():
         t_py = time.perf_counter() - t0
         extra.append(t_py - canonform._cpp_call_seconds(V, F, "none"))
 
-    def import_seconds(pre, load=False):
-        code = f"import time{'; import numpy' if pre else ''}; t = time.perf_counter(); import canonform; " \
-               f"{'canonform.sift_backends(); ' if load else ''}print(time.perf_counter() - t)"
+    def import_seconds(pre, load=False, cpu=False):
+        clock = "process_time" if cpu else "perf_counter"
+        code = f"import time{'; import numpy' if pre else ''}; t = time.{clock}(); import canonform; " \
+               f"{'canonform.sift_backends(); ' if load else ''}print(time.{clock}() - t)"
         env = dict(os.environ, PYTHONPATH=package)
         return statistics.median(float(subprocess.run([sys.executable, "-c", code], env=env, check=True,
                                                       capture_output=True, text=True).stdout) for _ in range(11))
@@ -97,7 +104,11 @@ def main():
         "overhead_none_s": statistics.median(extra), "overhead_none_fraction": statistics.median(extra) / statistics.median(cpp),
         "import_s": import_seconds(False), "import_after_numpy_s": import_seconds(True),
         "import_and_library_s": import_seconds(False, True),
-        "package": os.path.dirname(os.path.abspath(canonform.__file__)),
+        "cpu_overhead": statistics.median(cpu_ratios) - 1,
+        "cpu_overhead_quartiles": [q - 1 for q in statistics.quantiles(cpu_ratios, n=4)],
+        "cpp_cpu_median_s": statistics.median(cpp_cpu), "python_cpu_median_s": statistics.median(py_cpu),
+        "import_cpu_s": import_seconds(False, cpu=True), "import_and_library_cpu_s": import_seconds(False, True, True),
+        "package": "wheel" if a.wheel else "build" if not a.package else "package",
         "python": platform.python_version(), "load": os.getloadavg()[0],
         "commit": subprocess.run(["git", "-C", os.path.dirname(os.path.abspath(__file__)), "rev-parse", "--short",
                                   "HEAD"], capture_output=True, text=True).stdout.strip(),

@@ -92,7 +92,10 @@ extra_sources=()
 case "$suite" in
   trixie|forky) mapfile -t packages < <("$here/tools/setup.sh" --packages plugins | sort -u) ;;
   forky-bare) packages=(meshlab xvfb xauth) ;;
-  *-python) packages=(python3 python3-venv python3-numpy python3-matplotlib python3-pytest) ;;
+  *-python) packages=(python3 python3-venv python3-numpy python3-matplotlib python3-pytest)
+            # bookworm's fonttools (matplotlib) takes scipy for its first alternative, and scipy pythran,
+            # g++ and python3-dev: its other alternative, munkres, keeps the compiler out
+            if [ "$suite" = bookworm-python ]; then packages+=(python3-munkres); fi ;;
   bullseye)
     packages=(g++ make cmake pkg-config ccache patchelf python3 binutils file xz-utils
               qtbase5-dev libqt5opengl5-dev libglew-dev libtbb-dev libsuitesparse-dev
