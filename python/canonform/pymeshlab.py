@@ -27,6 +27,16 @@ def release_of(version):
     return f"{m.group(1)}.{m.group(2)}" if m else None
 
 
+def installed_version(module):
+    """pymeshlab's version string: pymeshlab.__version__, or that of its extension module
+    (pymeshlab.pmeshlab.__version__, which `from .pmeshlab import *` does not re-export); None if
+    neither has one."""
+    version = getattr(module, "__version__", None)
+    if version is None:
+        version = getattr(getattr(module, "pmeshlab", None), "__version__", None)
+    return version
+
+
 def plugin_dir(release):
     """The folder of the plugins for a release series (FLAVOURS' keys)."""
     return os.path.join(os.path.dirname(os.path.abspath(__file__)), "plugins", FLAVOURS[release])
@@ -39,14 +49,14 @@ def supported():
 
 def load(module=None):
     """Loads canonform's two plugins of the flavour that matches the installed pymeshlab
-    (pymeshlab.__version__) into it, with pymeshlab.load_plugin; returns the paths it loaded.
+    (installed_version()) into it, with pymeshlab.load_plugin; returns the paths it loaded.
 
     module: the pymeshlab module (default: import pymeshlab). Raises RuntimeError naming the
     installed version and the supported ones for a pymeshlab release with no flavour (or an
     install without plugins), and pymeshlab's own exception if it refuses a plugin."""
     if module is None:
         import pymeshlab as module
-    version = getattr(module, "__version__", None)
+    version = installed_version(module)
     release = release_of(version) if version is not None else None
     have = supported()
     if release not in FLAVOURS or release not in have:
