@@ -19,6 +19,7 @@ import stat
 import sys
 import zipfile
 
+sys.dont_write_bytecode = True  # no __pycache__ written into the source tree
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from check_report import Report  # noqa: E402
 from readme_pymeshlab_test import Harness, stand_in  # noqa: E402

@@ -32,6 +32,7 @@ import tempfile
 import zipfile
 from pathlib import Path
 
+sys.dont_write_bytecode = True  # no __pycache__ written into the source tree
 sys.path.insert(0, str(Path(__file__).parent))
 from check_report import Report  # noqa: E402
 from portable_elf_test import ALLOWED, dotted, is_elf, objdump  # noqa: E402

@@ -35,6 +35,7 @@ import tempfile
 import time
 import zipfile
 
+sys.dont_write_bytecode = True  # no __pycache__ written into the source tree
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import portable_bundle  # noqa: E402
 
