@@ -37,6 +37,12 @@ namespace cli {
 int write_grid(const std::string&, const GridOptions&) {
     no_pictures();
 }
+std::vector<PrCurve> read_pr_curves(const std::string&, const std::string&) {
+    no_pictures();
+}
+void write_pr_plot(const std::string&, const std::vector<PrCurve>&, const std::string&) {
+    no_pictures();
+}
 }  // namespace cli
 
 }  // namespace canonform
