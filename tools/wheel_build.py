@@ -50,7 +50,7 @@ def record_hash(data):
 def metadata(version):
     description = open(os.path.join(HERE, "docs", "python.md"), encoding="utf-8").read()
     return (f"Metadata-Version: 2.1\nName: canonform\nVersion: {version}\nSummary: {SUMMARY}\n"
-            "License: GPL-3.0-or-later\nRequires-Python: >=3.8\nRequires-Dist: numpy\n"
+            "License: GPL-3.0-or-later\nRequires-Python: >=3.9\nRequires-Dist: numpy\n"
             "Classifier: Programming Language :: Python :: 3\nClassifier: Programming Language :: C++\n"
             "Classifier: Operating System :: POSIX :: Linux\nClassifier: Topic :: Scientific/Engineering\n"
             "Description-Content-Type: text/markdown\n\n" + description)

@@ -1,12 +1,14 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: GPL-3.0-or-later
-# The same wheel file where Python users are: a fresh venv in Debian bullseye (CPython 3.9, glibc
-# 2.31: the oldest system the wheel is for), bookworm (3.11), trixie (3.13) and forky (3.13+), each
-# with its own numpy and no compiler (tools/host.sh RELEASE-python), by tests/e2e/wheel_inside.sh:
-# pip install --no-index, import, the console command, the examples, the smoke tests. Then every
-# output each release wrote (the tool's and the module's forms, SIFT features, histograms, distance
-# matrices, the retrieval example's distances) must equal bookworm's byte for byte. Prints each
-# release's wall and CPU seconds; the releases run side by side. Needs root (the root filesystems).
+# The same wheel file where Python users are: a fresh venv in each RELEASE given - Debian bullseye
+# (CPython 3.9, glibc 2.31: the oldest system the wheel is for), bookworm (3.11), trixie (3.13),
+# forky (3.14); all four when none is given - each with its own numpy and no compiler
+# (tools/host.sh RELEASE-python), by tests/e2e/wheel_inside.sh: pip install --no-index, import, the
+# console command, the examples, the smoke tests. With bookworm among them, every output each other
+# release wrote (the tool's and the module's forms, SIFT features, histograms, distance matrices,
+# the retrieval example's distances) must equal bookworm's byte for byte. Prints each release's wall
+# and CPU seconds; the releases run side by side. Needs root (the root filesystems).
+# ctest: wheel.venv runs bullseye alone, wheel.releases (CANONFORM_WHEEL_RELEASES=ON) the four.
 #   wheel_venv_test.sh SOURCE_DIR WHEEL WORKDIR [RELEASE...]
 set -u
 src=$(realpath "$1"); wheel=$(realpath "$2"); work=$3; shift 3
