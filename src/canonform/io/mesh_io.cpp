@@ -158,12 +158,14 @@ public:
         given_ = 0;
         bad_ = false;
     }
-    /// A vertex index of the polygon (0-based), in [0, vertices) or refused with `why` (dropped with it).
-    void index(long long zero_based, long long vertices, const std::string& why) {
+    /// A vertex index of the polygon (0-based), in [0, vertices) or refused with the message why()
+    /// (dropped with it; the message is made only then).
+    template <class Why>
+    void index(long long zero_based, long long vertices, const Why& why) {
         ++given_;
         if (zero_based < 0 || zero_based >= vertices) {
-            if (!drop_) fail(name_, why);
-            if (!bad_ && first_dropped_.empty()) first_dropped_ = why;
+            if (!drop_) fail(name_, why());
+            if (!bad_ && first_dropped_.empty()) first_dropped_ = why();
             bad_ = true;
             return;
         }
@@ -289,19 +291,21 @@ MeshFile parse_off(const std::string& bytes, const std::string& name, const Read
         if (!content_line(lines, &line))
             fail(name, "truncated: the header claims " + std::to_string(nf) + " faces, the file ends after " +
                            std::to_string(k));
-        const std::string where = lines.where();
+        const auto where = [&lines] { return lines.where(); };  // (made only for a message)
         Tokens t(line);
         long long n = 0;
-        if (!t.next(&token) || !parse_integer(token, &n)) fail(name, "bad face " + where + ": " + quoted(line));
-        if (n < 3) fail(name, "a face of " + std::to_string(n) + " vertices " + where + " (at least 3)");
+        if (!t.next(&token) || !parse_integer(token, &n))
+            fail(name, "bad face " + where() + ": " + quoted(line));
+        if (n < 3) fail(name, "a face of " + std::to_string(n) + " vertices " + where() + " (at least 3)");
         F.start();
         for (long long c = 0; c < n; ++c) {
             long long index = 0;
             if (!t.next(&token))
-                fail(name, "the face " + where + " lists fewer than its " + std::to_string(n) + " vertex indices");
+                fail(name, "the face " + where() + " lists fewer than its " + std::to_string(n) +
+                               " vertex indices");
             if (!parse_integer(token, &index))
-                fail(name, "bad face index " + quoted(token) + " " + where + " (a whole number is needed)");
-            F.index(index, nv, out_of_range(index, nv, where));
+                fail(name, "bad face index " + quoted(token) + " " + where() + " (a whole number is needed)");
+            F.index(index, nv, [&] { return out_of_range(index, nv, where()); });
         }
         F.finish();
     }
@@ -319,11 +323,12 @@ MeshFile parse_obj(const std::string& bytes, const std::string& name, const Read
     std::string_view line, token;
     Tokens t(line);
     while (next_statement(lines, &line, &t, &token)) {
-        const std::string where = lines.where();
+        const auto where = [&lines] { return lines.where(); };  // (made only for a message)
         if (token == "v") {
             double x[3];
             for (double& c : x)
-                if (!t.next(&token) || !parse_double(token, &c)) fail(name, "bad vertex " + where + ": " + quoted(line));
+                if (!t.next(&token) || !parse_double(token, &c))
+                    fail(name, "bad vertex " + where() + ": " + quoted(line));
             V.insert(V.end(), {x[0], x[1], x[2]});
         } else if (token == "f") {
             F.start();
@@ -331,14 +336,16 @@ MeshFile parse_obj(const std::string& bytes, const std::string& name, const Read
             while (t.next(&token)) {
                 long long index = 0;
                 if (!parse_integer(token.substr(0, token.find('/')), &index))
-                    fail(name, "bad face index " + quoted(token) + " " + where);
-                if (index == 0) fail(name, "face index 0 " + where + ": OBJ indices start at 1");
-                F.index(index < 0 ? nv + index : index - 1, nv,
-                        "face index " + std::to_string(index) + " " + where + " is out of range: " + std::to_string(nv) +
-                            " vertices are defined before it");
+                    fail(name, "bad face index " + quoted(token) + " " + where());
+                if (index == 0) fail(name, "face index 0 " + where() + ": OBJ indices start at 1");
+                F.index(index < 0 ? nv + index : index - 1, nv, [&] {
+                    return "face index " + std::to_string(index) + " " + where() +
+                           " is out of range: " + std::to_string(nv) + " vertices are defined before it";
+                });
             }
             if (F.size() < 3)
-                fail(name, "a face of " + std::to_string(F.size()) + " vertices " + where + " (at least 3)");
+                fail(name,
+                     "a face of " + std::to_string(F.size()) + " vertices " + where() + " (at least 3)");
             F.finish();
         }
         if (V.size() / 3 > static_cast<std::size_t>(std::numeric_limits<int>::max()))
@@ -596,7 +603,9 @@ MeshFile parse_ply(const std::string& bytes, const std::string& name, const Read
                     if (!indices) continue;
                     if (v != std::floor(v) || !(std::abs(v) < 9e18))
                         fail(name, "face " + std::to_string(k) + " has a vertex index that is not a whole number");
-                    F.index(static_cast<long long>(v), nv, out_of_range(static_cast<long long>(v), nv, "in face " + std::to_string(k)));
+                    F.index(static_cast<long long>(v), nv, [&] {
+                        return out_of_range(static_cast<long long>(v), nv, "in face " + std::to_string(k));
+                    });
                 }
                 if (indices) F.finish();
             }
@@ -673,31 +682,35 @@ MeshFile parse_stl_ascii(const std::string& bytes, const std::string& name) {
     bool in_loop = false, solid = false;
     Tokens t(line);
     while (next_statement(lines, &line, &t, &token)) {
-        const std::string where = " " + lines.where();
+        const auto where = [&lines] { return " " + lines.where(); };  // (made only for a message)
         if (token == "solid") {
             solid = true;
         } else if (!solid) {
             fail(name, "not an ASCII STL file: the first word is " + quoted(token) + " (expected 'solid')");
         } else if (token == "outer") {
-            if (in_loop) fail(name, "'outer loop' inside a loop" + where);
+            if (in_loop) fail(name, "'outer loop' inside a loop" + where());
             in_loop = true;
             poly.clear();
         } else if (token == "vertex") {
-            if (!in_loop) fail(name, "a vertex outside 'outer loop ... endloop'" + where);
+            if (!in_loop) fail(name, "a vertex outside 'outer loop ... endloop'" + where());
             double p[3];
             for (double& c : p)
-                if (!t.next(&token) || !parse_double(token, &c)) fail(name, "bad vertex" + where + ": " + quoted(line));
+                if (!t.next(&token) || !parse_double(token, &c))
+                    fail(name, "bad vertex" + where() + ": " + quoted(line));
             poly.push_back(merge.add(p));
             if (merge.V.size() / 3 > static_cast<std::size_t>(std::numeric_limits<int>::max()))
                 fail(name, "more vertices than this program handles");
         } else if (token == "endloop") {
-            if (!in_loop) fail(name, "'endloop' without 'outer loop'" + where);
-            if (poly.size() < 3) fail(name, "a facet of " + std::to_string(poly.size()) + " vertices" + where + " (at least 3)");
+            if (!in_loop) fail(name, "'endloop' without 'outer loop'" + where());
+            if (poly.size() < 3)
+                fail(name,
+                     "a facet of " + std::to_string(poly.size()) + " vertices" + where() + " (at least 3)");
             add_polygon(F, poly);
             in_loop = false;
         } else if (token != "facet" && token != "endfacet" && token != "endsolid") {
-            fail(name, "unexpected " + quoted(token) + where + " (an ASCII STL file has solid, facet, outer loop, "
-                                                             "vertex, endloop, endfacet, endsolid)");
+            fail(name, "unexpected " + quoted(token) + where() +
+                           " (an ASCII STL file has solid, facet, outer loop, "
+                           "vertex, endloop, endfacet, endsolid)");
         }
     }
     if (!solid) fail(name, "not an STL file (empty)");
