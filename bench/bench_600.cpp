@@ -78,6 +78,7 @@ int main(int argc, char** argv) {
     long sample = long(kDefaultCodebookSample);
     bool all_too = false;
     ViewDescriptorOptions view_options;
+    view_options.keep_images = false;
     for (int k = 1; k < argc; ++k) {
         const std::string a = argv[k];
         if (a == "--all") {

@@ -4,7 +4,8 @@
 // most 0.15 CPU s; a 600 x 600 clock-matching distance matrix in at most 60 s on 2 cores). CPU
 // seconds of the process (all threads; the machine may be shared), medians over the repeats,
 // the backends interleaved. Prints JSON lines.
-//   canonform_bench_views MESH [--repeats R] [--backends canonform,opencv]
+//   canonform_bench_views MESH [--repeats R] [--backends canonform,opencv] [--distances 0|1]
+// (--distances 0: without the distance matrix)
 // A backend may carry OpenCV options: NAME@CONTRAST[@LAYERS], e.g. opencv-half@0.0005@4.
 #include "canonform/views/bag_of_features.h"
 #include "canonform/views/codebook.h"
@@ -43,13 +44,17 @@ int main(int argc, char** argv) {
     canonform::views::register_opencv_sift();
     using namespace canonform::views;
     if (argc < 2) {
-        std::fprintf(stderr, "usage: canonform_bench_views MESH [--repeats R] [--backends canonform,opencv]\n");
+        std::fprintf(stderr,
+                     "usage: canonform_bench_views MESH [--repeats R] [--backends canonform,opencv] "
+                     "[--distances 0|1]\n");
         return 2;
     }
     int repeats = 5;
+    bool distances = true;
     std::vector<std::string> backends = {"canonform", "opencv"};
     for (int k = 2; k + 1 < argc; k += 2) {
         if (!std::strcmp(argv[k], "--repeats")) repeats = std::max(1, std::atoi(argv[k + 1]));
+        if (!std::strcmp(argv[k], "--distances")) distances = std::atoi(argv[k + 1]) != 0;
         if (!std::strcmp(argv[k], "--backends")) {
             backends.clear();
             std::stringstream ss(argv[k + 1]);
@@ -81,6 +86,7 @@ int main(int argc, char** argv) {
     for (const auto& b : backends) {
         ViewDescriptorOptions o;
         o.sift = sift_options(b);
+        o.keep_images = false;
         const ViewSet vs = compute_views(m.V, m.F, o);
         std::vector<const std::vector<SiftDescriptors>*> sets = {&vs.features};
         const SiftDescriptors all = stack_features(sets);
@@ -127,6 +133,7 @@ int main(int argc, char** argv) {
         for (const auto& b : backends) {  // interleaved: the load hits every backend alike
             ViewDescriptorOptions o;
             o.sift = sift_options(b);
+            o.keep_images = false;
             double c0 = cpu();
             const ViewSet vs = compute_views(m.V, m.F, o);
             const auto h = view_histograms(vs, cbs[b]);
@@ -149,6 +156,7 @@ int main(int argc, char** argv) {
                     b.c_str(), long(m.V.rows()), repeats, median(total[b]), median(sift[b]), keypoints[b],
                     double(keypoints[b]) / 66.0);
     std::fflush(stdout);
+    if (!distances) return 0;
 
     // 600 x 600 distance matrix with the real 24 cube rotations, sparse random histograms of the
     // size real views have (30-100 of 1500 words), 2 threads.

@@ -46,7 +46,8 @@ ActionOutputs depth_view_descriptor(const FilterSpec&, MeshDocument& md, const P
     const std::string cb_path = p.get_string("codebook_file");
     // image_size, seed, sift: the library's definitions (views/view_parameters.h), checked.
     const ParameterSet<views::ViewDescriptorOptions> parameters = views::view_descriptor_parameters({}, views::builtin_sift_backend_names());
-    const views::ViewDescriptorOptions opt = parameters.read(p.texts(parameters.parameters()));
+    views::ViewDescriptorOptions opt = parameters.read(p.texts(parameters.parameters()));
+    opt.keep_images = !p.get_string("views_folder").empty();  // the images only when they are written
     const int size = opt.image_size;
     const views::Codebook* codebook = nullptr;
     views::Codebook cb;

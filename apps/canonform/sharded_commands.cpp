@@ -379,7 +379,11 @@ void add_query(CLI::App& app) {
             canonical::MethodContext context;
             context.threads = a->threads;
             const Eigen::MatrixXd X = on_input(path, [&] { return spec.method().run(m.V, m.F, spec.settings(), context).V; });
-            const views::ViewSet vs = on_input(path, [&] { return views::compute_views(X, m.F); });
+            const views::ViewSet vs = on_input(path, [&] {
+                views::ViewDescriptorOptions vo;
+                vo.keep_images = false;
+                return views::compute_views(X, m.F, vo);
+            });
             const auto hist = views::view_histograms(vs.features, x.codebook());
             const double describe = seconds_since(t0);
             const auto t1 = std::chrono::steady_clock::now();

@@ -30,9 +30,11 @@ struct ViewArgs {
         add_repair_flag(c, repair);
     }
     views::ViewDescriptorOptions options() const { return read_parameters(views::view_descriptor_parameters(), view); }
-    views::ViewSet views_of(const std::string& path) const {
+    views::ViewSet views_of(const std::string& path, bool images = false) const {
         const Mesh m = read_input_mesh(path, repair, true, false);  // compute_views() validates
-        return on_input(path, [&] { return views::compute_views(m.V, m.F, options()); });
+        views::ViewDescriptorOptions o = options();
+        o.keep_images = images;
+        return on_input(path, [&] { return views::compute_views(m.V, m.F, o); });
     }
 };
 
@@ -47,7 +49,7 @@ void add_views(CLI::App& app) {
     add_in_out(c, a->in, a->dir, "output folder", false);
     a->add(c);
     c->callback([a] {
-        const views::ViewSet vs = a->views_of(a->in);
+        const views::ViewSet vs = a->views_of(a->in, true);
         io::make_directories(a->dir);
         write_view_images(a->dir, vs);
         const auto counts = vs.keypoint_counts();

@@ -211,7 +211,9 @@ MeshFeatures Experiment::mesh_features(const canonical::MethodSpec& method, std:
         if (!X.allFinite()) throw NumericalError("the method gave a form with NaN or infinite coordinates");
         io::write_ply(form, X, m.F);
         io::write_file_atomic(cached_form, io::read_file(form));
-        const views::ViewSet vs = views::compute_views(X, m.F, o.views);
+        views::ViewDescriptorOptions vo = o.views;
+        vo.keep_images = false;  // the features are what a run keeps
+        const views::ViewSet vs = views::compute_views(X, m.F, vo);
         views::write_descriptor(cached_descriptor, views::make_descriptor(vs.features, nullptr, model.path));
         r.features = vs.features;
         r.ok = true;

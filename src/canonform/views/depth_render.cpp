@@ -85,9 +85,17 @@ DepthImage blank_image(int size) {
     return img;
 }
 
+// Per-vertex projections of rasterize(), kept per thread from one view to the next.
+struct Projection {
+    std::vector<P2> q;
+    std::vector<double> z;
+    std::vector<int> cx, fx, cy, fy;
+};
+
 // The depth image seen along camera frame C into `front` (size x size, zero-filled); when `back`
-// is given (also zero-filled), also the opposite view's image unmirrored: at each covered pixel the
-// largest 1 - depth, i.e. the farthest surface of this view (see render_depth_pair).
+// is given (also zero-filled), also the opposite view's image: at each covered pixel the largest
+// 1 - depth, i.e. the farthest surface of this view, stored mirrored (column c at size - 1 - c: see
+// render_depth_pair).
 void rasterize(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const Eigen::Matrix3d& C, int size, float* front,
                float* back) {
     // Project: pixel coordinates (col, row as doubles; centres at integers) and depth; per vertex
@@ -97,10 +105,17 @@ void rasterize(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const Eigen::
     // floor(max) of the coordinates).
     const double inv_h = size / 2.0;
     const Eigen::Index nv = V.rows();
-    std::vector<P2> q(static_cast<size_t>(nv));
-    std::vector<double> z(static_cast<size_t>(nv));
-    std::vector<int> cx(static_cast<size_t>(nv)), fx(static_cast<size_t>(nv)), cy(static_cast<size_t>(nv)),
-        fy(static_cast<size_t>(nv));
+    thread_local Projection scratch;
+    const size_t nvs = static_cast<size_t>(nv);
+    scratch.q.resize(nvs);
+    scratch.z.resize(nvs);
+    scratch.cx.resize(nvs);
+    scratch.fx.resize(nvs);
+    scratch.cy.resize(nvs);
+    scratch.fy.resize(nvs);
+    std::vector<P2>& q = scratch.q;
+    std::vector<double>& z = scratch.z;
+    std::vector<int>&cx = scratch.cx, &fx = scratch.fx, &cy = scratch.cy, &fy = scratch.fy;
     const auto clamp_pixel = [size](double v) { return static_cast<int>(std::min(double(size), std::max(-1.0, v))); };
     for (Eigen::Index i = 0; i < nv; ++i) {
         const double x = C(0, 0) * V(i, 0) + C(0, 1) * V(i, 1) + C(0, 2) * V(i, 2);
@@ -140,7 +155,8 @@ void rasterize(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const Eigen::
             const double py = row;
             const double ra = ea.row(py), rb = eb.row(py), rc = ec.row(py);
             float* line = front + static_cast<size_t>(row) * size;
-            float* far_line = back ? back + static_cast<size_t>(row) * size : nullptr;
+            float* far_line =
+                back ? back + static_cast<size_t>(row) * size + (size - 1) : nullptr;  // mirrored
             for (int col = c0; col <= c1; ++col) {
                 const double px = col;
                 const double wa = ea.at(ra, px);
@@ -155,7 +171,7 @@ void rasterize(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const Eigen::
                 if (df > line[col]) line[col] = df;
                 if (far_line) {
                     const float bf = static_cast<float>(1.0 - d);
-                    if (bf > far_line[col]) far_line[col] = bf;
+                    if (bf > far_line[-col]) far_line[-col] = bf;
                 }
             }
         }
@@ -178,17 +194,20 @@ std::array<DepthImage, 2> render_depth_pair(const Eigen::MatrixXd& V, const Eige
     check_render_input(V, F, size);
     const Eigen::Matrix3d C = camera_frame(direction);
     std::array<DepthImage, 2> img = {blank_image(size), blank_image(size)};
-    if (F.rows() == 0) return img;
-    std::vector<float> far(static_cast<size_t>(size) * size, 0.0f);
-    rasterize(V, F, C, size, img[0].depth.data(), far.data());
     // The opposite camera has the same up vector and the opposite right vector (camera_frame):
     // its column c is this view's column size - 1 - c.
-    for (int row = 0; row < size; ++row) {
-        const float* src = far.data() + static_cast<size_t>(row) * size;
-        float* dst = img[1].depth.data() + static_cast<size_t>(row) * size;
-        for (int col = 0; col < size; ++col) dst[col] = src[size - 1 - col];
-    }
+    if (F.rows() > 0) rasterize(V, F, C, size, img[0].depth.data(), img[1].depth.data());
     return img;
+}
+
+void render_depth_pair_into(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
+                            const Eigen::Vector3d& direction, int size, float* front, float* back) {
+    check_render_input(V, F, size);
+    const Eigen::Matrix3d C = camera_frame(direction);
+    const size_t n = static_cast<size_t>(size) * static_cast<size_t>(size);
+    std::fill(front, front + n, 0.0f);
+    std::fill(back, back + n, 0.0f);
+    if (F.rows() > 0) rasterize(V, F, C, size, front, back);
 }
 
 }  // namespace canonform::views

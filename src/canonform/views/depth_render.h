@@ -70,4 +70,9 @@ DepthImage render_depth(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
 std::array<DepthImage, 2> render_depth_pair(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
                                             const Eigen::Vector3d& direction, int size = 256);
 
+/// render_depth_pair into the caller's buffers of size * size floats each (overwritten): the same
+/// two images, without allocating per pair (compute_views() reuses its buffers).
+void render_depth_pair_into(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
+                            const Eigen::Vector3d& direction, int size, float* front, float* back);
+
 }  // namespace canonform::views

@@ -68,10 +68,10 @@ SiftFeatures Extractor::run() {
     // both axes, 0.75 v[i] + 0.25 v[i - 1] (0 outside the view), support one pixel wider.
     const int n = size_ + 1;
     const Rect box{box_.x0, box_.y0, std::min(box_.x1 + 1, n), std::min(box_.y1 + 1, n)};
-    shifted_.assign(static_cast<size_t>(n) * static_cast<size_t>(n), 0.f);
-    std::vector<float> across(static_cast<size_t>(n));
+    ws_.shifted.resize(static_cast<size_t>(n) *
+                       static_cast<size_t>(n));  // (read only over `box`, written below)
     for (int y = box.y0; y < box.y1; ++y) {
-        float* r = shifted_.data() + static_cast<size_t>(y) * static_cast<size_t>(n);
+        float* r = ws_.shifted.data() + static_cast<size_t>(y) * static_cast<size_t>(n);
         const float* v = y < size_ ? image_ + static_cast<size_t>(y) * static_cast<size_t>(size_) : nullptr;
         const float* u = y > 0 ? image_ + static_cast<size_t>(y - 1) * static_cast<size_t>(size_) : nullptr;
         for (int x = box.x0; x < box.x1; ++x) {
@@ -84,7 +84,7 @@ SiftFeatures Extractor::run() {
         }
     }
     Plane grid;
-    grid.data = shifted_.data();
+    grid.data = ws_.shifted.data();
     grid.frame = {0, 0, n, n};
     grid.stride = n;
     grid.support = box;

@@ -71,7 +71,6 @@ private:
     std::vector<SiftKeypoint> keys_;
     std::vector<float> ring_;     // the extremum scan's DoG rows
     std::vector<int> hits_;       // the candidates of a DoG row
-    std::vector<float> shifted_;  // the view on the doubled image's grid
     WindowScratch window_;        // window weights
     std::vector<float> desc_;     // 128 per keypoint
 };

@@ -173,12 +173,25 @@ SiftDescriptors sift_descriptors(const std::vector<std::uint8_t>& gray, int size
 
 SiftFeatures depth_sift_features(const std::vector<float>& depth, int size, const SiftOptions& options) {
     check_size(depth.size(), size, "values");
-    // The 8-bit view, round(255 depth) / 255, for both extractors (step 1).
-    // round(x) for x = 255 clamp(depth) in [0, 255] is the truncation of x + 0.5: x, 255 times a
-    // float, has at most 32 significant bits, so x + 0.5 is exact unless x < 2^-14, where both are
-    // 0 (checked for every float in [0, 1]). A NaN stays NaN (sift_features refuses it).
-    std::vector<float> image(depth.size());
-    for (size_t i = 0; i < depth.size(); ++i) {
+    return depth_sift_features(depth.data(), size, options);
+}
+
+SiftDescriptors depth_sift_descriptors(const std::vector<float>& depth, int size,
+                                       const SiftOptions& options) {
+    return depth_sift_features(depth, size, options).descriptors;
+}
+
+SiftFeatures depth_sift_features(const float* depth, int size, const SiftOptions& options) {
+    check_size(static_cast<size_t>(std::max(size, 0)) * static_cast<size_t>(std::max(size, 0)), size,
+               "values");
+    // The 8-bit view, round(255 depth) / 255, for both extractors (step 1), into a buffer kept per
+    // thread. round(x) for x = 255 clamp(depth) in [0, 255] is the truncation of x + 0.5: x, 255
+    // times a float, has at most 32 significant bits, so x + 0.5 is exact unless x < 2^-14, where
+    // both are 0 (checked for every float in [0, 1]). A NaN stays NaN (sift_features refuses it).
+    const size_t n = static_cast<size_t>(size) * static_cast<size_t>(size);
+    thread_local std::vector<float> image;
+    image.resize(n);
+    for (size_t i = 0; i < n; ++i) {
         const double x = 255.0 * std::clamp(static_cast<double>(depth[i]), 0.0, 1.0);
         image[i] = x == x ? static_cast<float>(static_cast<int>(x + 0.5)) / 255.f
                           : std::numeric_limits<float>::quiet_NaN();
@@ -186,8 +199,7 @@ SiftFeatures depth_sift_features(const std::vector<float>& depth, int size, cons
     return sift_features(image, size, options);
 }
 
-SiftDescriptors depth_sift_descriptors(const std::vector<float>& depth, int size,
-                                       const SiftOptions& options) {
+SiftDescriptors depth_sift_descriptors(const float* depth, int size, const SiftOptions& options) {
     return depth_sift_features(depth, size, options).descriptors;
 }
 

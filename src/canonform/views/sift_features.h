@@ -204,5 +204,9 @@ SiftDescriptors sift_descriptors(const std::vector<std::uint8_t>& gray, int size
 /// by both extractors (step 1).
 SiftFeatures depth_sift_features(const std::vector<float>& depth, int size, const SiftOptions& options = {});
 SiftDescriptors depth_sift_descriptors(const std::vector<float>& depth, int size, const SiftOptions& options = {});
+/// The same for a depth view of size * size floats at `depth` (the caller's buffer, e.g. one kept
+/// from view to view).
+SiftFeatures depth_sift_features(const float* depth, int size, const SiftOptions& options = {});
+SiftDescriptors depth_sift_descriptors(const float* depth, int size, const SiftOptions& options = {});
 
 }  // namespace canonform::views

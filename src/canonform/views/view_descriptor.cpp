@@ -34,9 +34,28 @@ ViewSet compute_views(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const 
     ViewSet s;
     s.pose = normalize_pose(V, F, options.pose);
     const Eigen::MatrixXd X = apply_pose(s.pose, V);
-    s.images = render_views(X, F, options.image_size);
-    for (const DepthImage& img : s.images)
-        s.features.push_back(depth_sift_descriptors(img.depth, options.image_size, options.sift));
+    // Each antipodal pair rendered in one pass (render_views' images) into buffers kept per thread,
+    // and described before the next pair: no 66 images held unless asked for.
+    const std::vector<Eigen::Vector3d> dirs = view_directions();
+    const std::vector<int> opposite = opposite_views();
+    const int size = options.image_size;
+    const size_t pixels = static_cast<size_t>(size) * static_cast<size_t>(size);
+    thread_local std::vector<float> front, back;
+    front.resize(pixels);
+    back.resize(pixels);
+    s.features.resize(dirs.size());
+    if (options.keep_images) s.images.resize(dirs.size());
+    for (size_t i = 0; i < dirs.size(); ++i) {
+        const size_t j = static_cast<size_t>(opposite[i]);
+        if (j < i) continue;
+        render_depth_pair_into(X, F, dirs[i], size, front.data(), back.data());
+        s.features[i] = depth_sift_descriptors(front.data(), size, options.sift);
+        s.features[j] = depth_sift_descriptors(back.data(), size, options.sift);
+        if (options.keep_images) {
+            s.images[i] = {size, std::vector<float>(front.begin(), front.end())};
+            s.images[j] = {size, std::vector<float>(back.begin(), back.end())};
+        }
+    }
     return s;
 }
 

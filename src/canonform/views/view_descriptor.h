@@ -26,15 +26,16 @@ namespace canonform::views {
 
 /// Options of compute_views().
 struct ViewDescriptorOptions {
-    int image_size = 256;   ///< pixels per side of each depth view
-    PoseOptions pose;       ///< rectilinearity restarts and seed
-    SiftOptions sift;       ///< SIFT thresholds
+    int image_size = 256;     ///< pixels per side of each depth view
+    PoseOptions pose;         ///< rectilinearity restarts and seed
+    SiftOptions sift;         ///< SIFT thresholds
+    bool keep_images = true;  ///< ViewSet::images filled (else empty: the features alone, less memory)
 };
 
 /// The 66 views of a mesh: its pose, the depth images and their SIFT descriptors.
 struct ViewSet {
     PoseNormalization pose;
-    std::vector<DepthImage> images;         ///< 66, in the order of view_directions()
+    std::vector<DepthImage> images;  ///< 66, in the order of view_directions() (none without keep_images)
     std::vector<SiftDescriptors> features;  ///< 66, n_i x 128 each (n_i may be 0)
     /// Keypoints per view.
     std::vector<int> keypoint_counts() const;
