@@ -45,7 +45,7 @@ numerics::StressPairs canonical_form_pairs(const Eigen::MatrixXd& V, const Eigen
 namespace {
 /// SMACOF's V and the conformal factor's Laplacian share the mesh's edges; V adds the feature
 /// points' clique. So V's factorisation reuses the Laplacian's fill-reducing ordering (which
-/// saves CHOLMOD's AMD step) with the feature points moved to the end, where their clique is
+/// saves the AMD step) with the feature points moved to the end, where their clique is
 /// one dense trailing block, as AMD itself would place dense rows. Indices are those of the
 /// pinned systems (vertex v > 0 is row v - 1).
 std::vector<int> smacof_ordering(const std::vector<int>& laplacian_ordering, const std::vector<int>& features) {

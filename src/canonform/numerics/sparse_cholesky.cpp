@@ -3,157 +3,168 @@
 
 #include "canonform/common/errors.h"
 
-#ifdef CANONFORM_HAVE_CHOLMOD
-#include <cholmod.h>
-#else
+#include <Eigen/OrderingMethods>
 #include <Eigen/SparseCholesky>
-#endif
+
+#include <algorithm>
+#include <cmath>
 
 namespace canonform::numerics {
 
 namespace {
+
 void check_shapes(const Eigen::SparseMatrix<double>& A, const std::vector<int>& ordering) {
     if (A.rows() != A.cols()) throw InputError("sparse Cholesky: the matrix is not square");
     if (!ordering.empty() && static_cast<Eigen::Index>(ordering.size()) != A.rows())
         throw InputError("sparse Cholesky: the given ordering does not have one entry per row");
 }
+
+using Permutation = Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int>;
+
 }  // namespace
 
-#ifdef CANONFORM_HAVE_CHOLMOD
-// CHOLMOD called directly rather than through Eigen's CholmodSimplicialLDLT, with the settings
-// that wrapper uses (simplicial, factor kept as LDL^T, default orderings), so the factor and the
-// solutions are the same to the bit; two things the wrapper does not offer: a given ordering
-// (cholmod_analyze_p with CHOLMOD_GIVEN, which skips AMD) and solves that keep their workspace
-// (cholmod_solve2) instead of allocating the solution and two work arrays on every call.
 struct SparseCholesky::Impl {
-    cholmod_common c{};
-    cholmod_factor* L = nullptr;
-    cholmod_dense* X = nullptr;  // solve2 workspaces, kept between solves
-    cholmod_dense* Y = nullptr;
-    cholmod_dense* E = nullptr;
-
-    Impl() {
-        cholmod_start(&c);
-        c.final_asis = 1;
-        c.supernodal = CHOLMOD_SIMPLICIAL;
-        c.print = 0;  // no messages on stderr: failures reach the caller through ok()
-    }
-    ~Impl() {
-        free_workspace();
-        if (L) cholmod_free_factor(&L, &c);
-        cholmod_finish(&c);
-    }
-    Impl(const Impl&) = delete;
-    Impl& operator=(const Impl&) = delete;
-    void free_workspace() {
-        if (X) cholmod_free_dense(&X, &c);
-        if (Y) cholmod_free_dense(&Y, &c);
-        if (E) cholmod_free_dense(&E, &c);
-    }
+    // P A P^T = L D L^T: P moves row order[k] of A to row k; the factor of the permuted matrix by
+    // Eigen's up-looking LDL^T without a further ordering.
+    std::vector<int> order;
+    Permutation P;
+    Eigen::SparseMatrix<double> permuted;
+    Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower, Eigen::NaturalOrdering<int>> ldlt;
+    std::vector<double> inverse_d;  // 1 / D
+    std::vector<double> z;          // the right-hand sides in elimination order, interleaved
 };
-
-namespace {
-/// A CHOLMOD view (no copy) of the lower triangle of a compressed column-major matrix.
-cholmod_sparse view_lower(const Eigen::SparseMatrix<double>& A) {
-    cholmod_sparse s{};
-    s.nrow = static_cast<size_t>(A.rows());
-    s.ncol = static_cast<size_t>(A.cols());
-    s.nzmax = static_cast<size_t>(A.nonZeros());
-    s.p = const_cast<int*>(A.outerIndexPtr());
-    s.i = const_cast<int*>(A.innerIndexPtr());
-    s.x = const_cast<double*>(A.valuePtr());
-    s.stype = -1;  // symmetric, lower triangle read
-    s.itype = CHOLMOD_INT;
-    s.xtype = CHOLMOD_REAL;
-    s.dtype = CHOLMOD_DOUBLE;
-    s.sorted = 1;
-    s.packed = 1;
-    return s;
-}
-}  // namespace
 
 bool SparseCholesky::compute(const Eigen::SparseMatrix<double>& A, const std::vector<int>& ordering) {
     ok_ = false;
     check_shapes(A, ordering);
-    Eigen::SparseMatrix<double> compressed;
-    const Eigen::SparseMatrix<double>* M = &A;
-    if (!A.isCompressed()) {
-        compressed = A;
-        compressed.makeCompressed();
-        M = &compressed;
-    }
-    cholmod_common& c = impl_->c;
-    impl_->free_workspace();
-    if (impl_->L) cholmod_free_factor(&impl_->L, &c);
-    cholmod_sparse a = view_lower(*M);
+    Impl& f = *impl_;
+    const int n = static_cast<int>(A.rows());
+    f.order.clear();
     if (ordering.empty()) {
-        c.nmethods = 0;  // CHOLMOD's default: AMD (METIS only if AMD fills badly)
-        impl_->L = cholmod_analyze(&a, &c);
+        // Approximate minimum degree on the symmetric pattern (Eigen's AMDOrdering: the pattern of
+        // A + A^T from the lower triangle, with the diagonal).
+        Eigen::SparseMatrix<double> pattern;
+        pattern = A.selfadjointView<Eigen::Lower>();
+        Permutation inverse;
+        Eigen::AMDOrdering<int>()(pattern, inverse);
+        f.order.assign(inverse.indices().data(), inverse.indices().data() + n);
     } else {
-        c.nmethods = 1;  // only the given ordering (with nmethods 0 AMD would be tried too)
-        c.method[0].ordering = CHOLMOD_GIVEN;
-        impl_->L = cholmod_analyze_p(&a, const_cast<int*>(ordering.data()), nullptr, 0, &c);
-        c.nmethods = 0;
+        std::vector<char> seen(static_cast<size_t>(n), 0);
+        for (const int k : ordering) {
+            if (k < 0 || k >= n || seen[static_cast<size_t>(k)]) return false;  // not a permutation
+            seen[static_cast<size_t>(k)] = 1;
+        }
+        f.order = ordering;
     }
-    if (!impl_->L || c.status < CHOLMOD_OK) return false;  // e.g. the given ordering is no permutation
-    double beta[2] = {0.0, 0.0};
-    cholmod_factorize_p(&a, beta, nullptr, 0, impl_->L, &c);
-    ok_ = c.status >= CHOLMOD_OK && impl_->L->minor == impl_->L->n;
+    f.P.resize(n);
+    for (int k = 0; k < n; ++k) f.P.indices()[f.order[static_cast<size_t>(k)]] = k;
+    f.permuted.resize(n, n);
+    f.permuted.selfadjointView<Eigen::Lower>() = A.selfadjointView<Eigen::Lower>().twistedBy(f.P);
+    f.ldlt.compute(f.permuted);
+    if (f.ldlt.info() != Eigen::Success) return false;
+    const Eigen::VectorXd D = f.ldlt.vectorD();
+    f.inverse_d.resize(static_cast<size_t>(n));
+    for (int k = 0; k < n; ++k) f.inverse_d[static_cast<size_t>(k)] = 1.0 / D(k);
+    ok_ = D.allFinite();
     return ok_;
 }
 
 std::vector<int> SparseCholesky::ordering() const {
-    const cholmod_factor* L = impl_->L;
-    if (!L || !L->Perm) return {};
-    const int* p = static_cast<const int*>(L->Perm);
-    return std::vector<int>(p, p + L->n);
+    return impl_->order;
 }
+
+namespace {
+
+// Solves L D L^T z = z in place for m interleaved columns (z[i * m + c]): a forward sweep over L's
+// columns, the diagonal, a backward sweep - each column of L read once for all m right-hand sides.
+template <int M>
+void ldl_solve(const int* Lp, const int* Li, const double* Lx, const double* inverse_d, int n, int m_runtime,
+               double* z) {
+    const int m = M > 0 ? M : m_runtime;
+    for (int j = 0; j < n; ++j) {
+        const double* zj = z + static_cast<std::ptrdiff_t>(j) * m;
+        if constexpr (M > 0) {
+            // Row j's values in registers: the compiler cannot know that zi (a row below j) is not
+            // zj, so without the copy it reloads zj[c] after every store.
+            double a[M];
+            for (int c = 0; c < M; ++c) a[c] = zj[c];
+            for (int p = Lp[j]; p < Lp[j + 1]; ++p) {
+                double* zi = z + static_cast<std::ptrdiff_t>(Li[p]) * M;
+                const double l = Lx[p];
+                for (int c = 0; c < M; ++c) zi[c] -= l * a[c];
+            }
+            continue;
+        }
+        for (int p = Lp[j]; p < Lp[j + 1]; ++p) {
+            double* zi = z + static_cast<std::ptrdiff_t>(Li[p]) * m;
+            const double l = Lx[p];
+            for (int c = 0; c < m; ++c) zi[c] -= l * zj[c];
+        }
+    }
+    for (int j = 0; j < n; ++j)
+        for (int c = 0; c < m; ++c) z[static_cast<std::ptrdiff_t>(j) * m + c] *= inverse_d[j];
+    for (int j = n - 1; j >= 0; --j) {
+        double* zj = z + static_cast<std::ptrdiff_t>(j) * m;
+        if constexpr (M > 0) {
+            // Row j accumulated in registers, in the same order as below.
+            double a[M];
+            for (int c = 0; c < M; ++c) a[c] = zj[c];
+            for (int p = Lp[j]; p < Lp[j + 1]; ++p) {
+                const double* zi = z + static_cast<std::ptrdiff_t>(Li[p]) * M;
+                const double l = Lx[p];
+                for (int c = 0; c < M; ++c) a[c] -= l * zi[c];
+            }
+            for (int c = 0; c < M; ++c) zj[c] = a[c];
+            continue;
+        }
+        for (int p = Lp[j]; p < Lp[j + 1]; ++p) {
+            const double* zi = z + static_cast<std::ptrdiff_t>(Li[p]) * m;
+            const double l = Lx[p];
+            for (int c = 0; c < m; ++c) zj[c] -= l * zi[c];
+        }
+    }
+}
+
+}  // namespace
 
 Eigen::MatrixXd SparseCholesky::solve(const Eigen::MatrixXd& B) const {
     ok_ = false;
     Eigen::MatrixXd X;
-    if (!impl_->L || static_cast<size_t>(B.rows()) != impl_->L->n) return X;
-    cholmod_dense b{};
-    b.nrow = static_cast<size_t>(B.rows());
-    b.ncol = static_cast<size_t>(B.cols());
-    b.nzmax = b.nrow * b.ncol;
-    b.d = b.nrow;
-    b.x = const_cast<double*>(B.data());
-    b.xtype = CHOLMOD_REAL;
-    b.dtype = CHOLMOD_DOUBLE;
-    if (!cholmod_solve2(CHOLMOD_A, impl_->L, &b, nullptr, &impl_->X, nullptr, &impl_->Y, &impl_->E, &impl_->c))
-        return X;
-    X = Eigen::Map<const Eigen::MatrixXd>(static_cast<const double*>(impl_->X->x), B.rows(), B.cols());
+    Impl& f = *impl_;
+    const Eigen::Index n = static_cast<Eigen::Index>(f.order.size());
+    if (n == 0 || f.inverse_d.empty() || B.rows() != n) return X;
+    const auto& L = f.ldlt.matrixL().nestedExpression();
+    const int m = static_cast<int>(B.cols());
+    X.resize(n, m);
+    f.z.resize(static_cast<size_t>(n) * static_cast<size_t>(m));
+    for (Eigen::Index k = 0; k < n; ++k)
+        for (int c = 0; c < m; ++c)
+            f.z[static_cast<size_t>(k * m + c)] = B(f.order[static_cast<size_t>(k)], c);
+    const int* Lp = L.outerIndexPtr();
+    const int* Li = L.innerIndexPtr();
+    const double* Lx = L.valuePtr();
+    const int nn = static_cast<int>(n);
+    switch (m) {
+        case 1:
+            ldl_solve<1>(Lp, Li, Lx, f.inverse_d.data(), nn, m, f.z.data());
+            break;
+        case 3:
+            ldl_solve<3>(Lp, Li, Lx, f.inverse_d.data(), nn, m, f.z.data());
+            break;
+        default:
+            ldl_solve<0>(Lp, Li, Lx, f.inverse_d.data(), nn, m, f.z.data());
+            break;
+    }
+    for (Eigen::Index k = 0; k < n; ++k)
+        for (int c = 0; c < m; ++c)
+            X(f.order[static_cast<size_t>(k)], c) = f.z[static_cast<size_t>(k * m + c)];
     ok_ = X.allFinite();
     return X;
 }
 
-const char* SparseCholesky::backend() { return "CHOLMOD simplicial LDL^T"; }
-
-#else  // Eigen's SimplicialLDLT
-
-struct SparseCholesky::Impl {
-    Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower> factor;
-};
-
-bool SparseCholesky::compute(const Eigen::SparseMatrix<double>& A, const std::vector<int>& ordering) {
-    check_shapes(A, ordering);
-    impl_->factor.compute(A);  // Eigen's own AMD ordering: a given one is not used here
-    ok_ = impl_->factor.info() == Eigen::Success;
-    return ok_;
+const char* SparseCholesky::backend() {
+    return "simplicial LDL^T (AMD ordering)";
 }
-
-std::vector<int> SparseCholesky::ordering() const { return {}; }
-
-Eigen::MatrixXd SparseCholesky::solve(const Eigen::MatrixXd& B) const {
-    Eigen::MatrixXd X = impl_->factor.solve(B);
-    ok_ = impl_->factor.info() == Eigen::Success && X.allFinite();
-    return X;
-}
-
-const char* SparseCholesky::backend() { return "Eigen SimplicialLDLT"; }
-
-#endif
 
 SparseCholesky::SparseCholesky() : impl_(std::make_unique<Impl>()) {}
 SparseCholesky::~SparseCholesky() = default;

@@ -1,16 +1,29 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // canonform: the sparse LDL^T factorisation used by the core (factor once, solve many times).
 //
-// With CHOLMOD (SuiteSparse, Debian's libsuitesparse-dev) found at configure time, this is
-// CHOLMOD's simplicial LDL^T, whose solves treat all right-hand-side columns in one sweep over
-// the factor: faster than Eigen's SimplicialLDLT for the three coordinates of a SMACOF step
-// (docs/benchmarks.md, "Figures behind design choices"). Without it, Eigen's SimplicialLDLT (AMD ordering).
-// Both report failure through ok(); the caller turns that into a NumericalError.
+// References: T. A. Davis, "Algorithm 849: A concise sparse Cholesky factorization package", ACM
+// TOMS 31(4), 2005 (the up-looking LDL^T with the elimination tree, as Eigen's SimplicialLDLT
+// implements it); P. R. Amestoy, T. A. Davis, I. S. Duff, "An approximate minimum degree ordering
+// algorithm", SIAM J. Matrix Anal. Appl. 17(4), 1996 (Eigen's AMDOrdering).
 //
-// A factorisation can start from a given fill-reducing ordering, e.g. ordering() of an earlier
-// factorisation of a matrix with (nearly) the same sparsity pattern: CHOLMOD then skips its AMD
-// step, the larger part of its symbolic analysis (the Euclidean canonical form factors the
-// cotangent Laplacian and SMACOF's V, both on the mesh's edges: euclidean_canonical_form.cpp).
+// P A P^T = L D L^T with a fill-reducing ordering P: AMD on the pattern of A, or a given one. The
+// factorisation is Eigen's SimplicialLDLT of the permuted matrix (through its public API, with no
+// ordering of its own). The solve is ours: the right-hand-side columns interleaved (row i's m
+// values side by side), so one sweep over L serves all of them - SMACOF solves for three
+// coordinates at once, and Eigen's solve sweeps L once per column. Each column's arithmetic is the
+// same as a one-column solve's, so a column's result does not depend on how many are solved with
+// it. Failure (a zero pivot, a non-finite value) is reported through ok(); the caller turns it into
+// a NumericalError.
+//
+// A factorisation can start from a given ordering, e.g. ordering() of an earlier factorisation of a
+// matrix with (nearly) the same sparsity pattern: the AMD step is then skipped (the Euclidean
+// canonical form factors the cotangent Laplacian and SMACOF's V, both on the mesh's edges:
+// euclidean_canonical_form.cpp).
+//
+// Why not CHOLMOD (used here before, in its simplicial mode): Debian's libcholmod links BLAS and
+// LAPACK, whose OpenBLAS starts a worker thread per core when loaded that spins for about 0.1 s;
+// with the interleaved solve and a reused ordering this factorisation is as fast at 10k vertices
+// (docs/benchmarks.md), and the core needs no library beyond Eigen.
 #pragma once
 
 #include <Eigen/Core>
@@ -29,20 +42,19 @@ public:
     SparseCholesky(SparseCholesky&&) noexcept;
     SparseCholesky& operator=(SparseCholesky&&) noexcept;
 
-    /// Factors A (n x n, lower triangle read). `ordering`: empty = CHOLMOD's own (AMD), else a
-    /// permutation of 0..n-1 (entry k = the row of A eliminated k-th; CHOLMOD may post-order
-    /// it, which keeps its fill). Ignored by the Eigen fallback. Returns ok(); false also for an
-    /// ordering that is no permutation. Throws InputError if A is not square or the ordering
-    /// has the wrong length.
+    /// Factors A (n x n, lower triangle read). `ordering`: empty = AMD, else a permutation of
+    /// 0..n-1 (entry k = the row of A eliminated k-th), used as given. Returns ok(); false also
+    /// for an ordering that is no permutation. Throws InputError if A is not square or the
+    /// ordering has the wrong length.
     bool compute(const Eigen::SparseMatrix<double>& A, const std::vector<int>& ordering = {});
-    /// The ordering the last compute() used (n entries, as `ordering` above); empty with the
-    /// Eigen fallback or before compute().
+    /// The ordering the last compute() used (n entries, as `ordering` above); empty before
+    /// compute().
     std::vector<int> ordering() const;
     /// True if the last compute() or solve() succeeded.
     bool ok() const { return ok_; }
     /// Solves A X = B for all columns of B.
     Eigen::MatrixXd solve(const Eigen::MatrixXd& B) const;
-    /// Name of the back-end ("CHOLMOD simplicial LDL^T" or "Eigen SimplicialLDLT").
+    /// Name of the method ("simplicial LDL^T (AMD ordering)").
     static const char* backend();
 
 private:

@@ -55,7 +55,7 @@ struct ConformalFactorResult {
     double residual = 0;         ///< relative residual of the solve
     /// Fill-reducing ordering of the direct solver's factorisation of the Laplacian with vertex 0
     /// pinned (#V - 1 entries; entry k = vertex ordering[k] + 1 eliminated k-th); empty with the
-    /// multigrid solver or without CHOLMOD. The Euclidean canonical form reuses it for SMACOF's
+    /// multigrid solver. The Euclidean canonical form reuses it for SMACOF's
     /// V, which lives on the same edges.
     std::vector<int> ordering;
 };
