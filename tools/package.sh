@@ -82,8 +82,8 @@ fi
 # --- libcanonform-dev ---------------------------------------------------------------------------
 # The library for other projects (docs/library.md): the headers, the static libraries of the areas
 # the build has and the CMake package (find_package(canonform)), from cmake --install's component
-# `dev`, under /usr. Depends: the -dev packages of what those areas link (Eigen; oneTBB, CHOLMOD
-# where the build used them; OpenCV and FAISS for views (the `opencv` extractor, codebook training); nlohmann-json for retrieval).
+# `dev`, under /usr. Depends: the -dev packages of what those areas link (Eigen; oneTBB
+# where the build used it; OpenCV and FAISS for views (the `opencv` extractor, codebook training); nlohmann-json for retrieval).
 dev_package() {
   local version arch name=libcanonform-dev stage root deb depends cache=$build/CMakeCache.txt
   version=$(sed -n 's/^CMAKE_PROJECT_VERSION:STATIC=//p' "$cache")
@@ -96,8 +96,6 @@ dev_package() {
   cmake --install "$build" --component dev --prefix "$root/usr" >/dev/null
   [ -f "$root/usr/lib/cmake/canonform/canonformConfig.cmake" ] || die "the build installs no CMake package (component dev)"
   depends="libeigen3-dev"
-  on() { grep -q "^$1:BOOL=ON" "$cache"; }
-  grep -q '^CHOLMOD_LIBRARY:FILEPATH=/' "$cache" && ! on CANONFORM_WITHOUT_CHOLMOD && depends+=", libsuitesparse-dev"
   [ -f "$root/usr/lib/libcanonform_views.a" ] && depends+=", libopencv-dev, libfaiss-dev"  # views_opencv, codebook_training
   [ -f "$root/usr/lib/libcanonform_retrieval.a" ] && depends+=", nlohmann-json3-dev"
   grep -q "CANONFORM_HAVE_TBB" "$root/usr/lib/cmake/canonform/canonformTargets.cmake" && depends+=", libtbb-dev"

@@ -40,7 +40,7 @@ here=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 # run headless under Xvfb; the MeshLab source fetched below (dpkg-source, xz: neither is on a Debian
 # as its installer leaves it).
 PLUGINS=(meshlab qtbase5-dev libqt5opengl5-dev libglew-dev libeigen3-dev cmake g++ make pkg-config
-         libsuitesparse-dev libcli11-dev nlohmann-json3-dev libtbb-dev xvfb xauth dpkg-dev xz-utils)
+         libcli11-dev nlohmann-json3-dev libtbb-dev xvfb xauth dpkg-dev xz-utils)
 # The canonform tool and the retrieval runs: FAISS's k-means (on OpenBLAS).
 TOOL=(libfaiss-dev libopenblas0-pthread)
 # The tool's `opencv` SIFT extractor, kept for comparison (tests, benchmarks); not for command 1.

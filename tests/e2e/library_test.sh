@@ -20,7 +20,7 @@ cmake -S "$src" -B core -DCMAKE_BUILD_TYPE=Release -DCANONFORM_PLUGINS=OFF -DCAN
   -DCANONFORM_RETRIEVAL=OFF -DCANONFORM_WITHOUT_TBB=ON -DCANONFORM_MESHLAB2022=OFF -DCANONFORM_MESHLAB2025=OFF \
   -DCANONFORM_HOSTS=OFF -DCMAKE_INSTALL_PREFIX="$work/prefix" > core_configure.log 2>&1
 check "core configures with -DCANONFORM_PLUGINS=OFF -DCANONFORM_VIEWS=OFF -DCANONFORM_RETRIEVAL=OFF" test $? -eq 0
-# Nothing but Eigen (and CHOLMOD where installed) was looked for: no MeshLab tree, OpenCV, FAISS,
+# Nothing but Eigen was looked for: no MeshLab tree, OpenCV, FAISS,
 # VLFeat, OpenMP, oneTBB, nlohmann-json or Qt in the cache.
 check "core's configuration looked for no MeshLab, OpenCV, FAISS, VLFeat, OpenMP, TBB, JSON or Qt" \
   bash -c "! grep -Eiq '^(OpenCV_DIR|faiss_DIR|VLFEAT_|OpenMP_|TBB_DIR|nlohmann_json_DIR|Qt5_DIR|CANONFORM_VCGLIB_DIR|MESHLAB)' core/CMakeCache.txt"

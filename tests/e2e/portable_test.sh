@@ -53,7 +53,7 @@ check "forky-bare's ldconfig -p shows none of the bundled libraries but those Me
 "$cf" generate fig.ply --vertices 2500 --pose 4 > /dev/null
 "$cf" codebook cb.bin fig.ply --words 100 > /dev/null 2>&1
 # wheel HARNESS MESHLAB_COMMON DEST: the harness as pymeshlab's wheel lays itself out, with the
-# libraries forky-bare lacks (bookworm's TBB, GLEW, CHOLMOD and what they need in turn, ... that the
+# libraries forky-bare lacks (bookworm's TBB, GLEW and what they need in turn, ... that the
 # harness itself links) in DEST/lib, each with RUNPATH $ORIGIN as auditwheel gives a wheel's
 # libraries (a RUNPATH does not reach a library's own dependencies, so each needs its own)
 wheel() {
