@@ -6,8 +6,7 @@
 #include <Eigen/OrderingMethods>
 #include <Eigen/SparseCholesky>
 
-#include <algorithm>
-#include <cmath>
+#include <cstddef>
 
 namespace canonform::numerics {
 

@@ -22,8 +22,8 @@
 //
 // Why not CHOLMOD (used here before, in its simplicial mode): Debian's libcholmod links BLAS and
 // LAPACK, whose OpenBLAS starts a worker thread per core when loaded that spins for about 0.1 s;
-// with the interleaved solve and a reused ordering this factorisation is as fast at 10k vertices
-// (docs/benchmarks.md), and the core needs no library beyond Eigen.
+// with the interleaved solve and a reused ordering this factorisation is as fast at 10k and 50k
+// vertices (docs/benchmarks.md, "Sparse LDL^T without CHOLMOD"); the core needs Eigen alone.
 #pragma once
 
 #include <Eigen/Core>
