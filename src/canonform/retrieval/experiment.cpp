@@ -45,7 +45,7 @@ void add_noise(Mesh& m, double sigma, std::uint64_t seed) {
 
 /// Ground-truth correspondences of a model (empty if the collection has none for it).
 std::vector<int> read_vts(const std::string& dataset, const std::string& name) {
-    std::ifstream in(dataset + "/corres/" + name + ".vts");
+    std::ifstream in(io::fs_path(dataset + "/corres/" + name + ".vts"));
     std::vector<int> v;
     for (int x; in >> x;) v.push_back(x - 1);
     return v;
