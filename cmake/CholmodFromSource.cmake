@@ -7,8 +7,8 @@
 # and CHOLMOD). Compiled: CHOLMOD's Core and Cholesky modules (32-bit integer versions) with AMD
 # and COLAMD, without the Supernodal, Partition (METIS), Modify, MatrixOps and Check modules
 # (-DNSUPERNODAL ...), hence without BLAS, LAPACK and METIS.
-#   canonform_cholmod_from_source(SOURCE_DIR) -> static library canonform_cholmod (target), and
-#   CANONFORM_CHOLMOD_INCLUDE_DIR
+#   canonform_cholmod_from_source(SOURCE_DIR) -> static library canonform_cholmod (target); the
+#   C language must be enabled (CMakeLists.txt does for Windows)
 function(canonform_cholmod_from_source src)
   foreach(f SuiteSparse_config/SuiteSparse_config.c AMD/Source/amd_order.c COLAMD/Source/colamd.c
             CHOLMOD/Cholesky/cholmod_analyze.c CHOLMOD/Include/cholmod.h)
@@ -16,7 +16,9 @@ function(canonform_cholmod_from_source src)
       message(FATAL_ERROR "CHOLMOD source: ${src}/${f} missing (tools/setup.sh fetches Debian's suitesparse source)")
     endif()
   endforeach()
-  enable_language(C)
+  if(NOT CMAKE_C_COMPILER_LOADED)
+    message(FATAL_ERROR "CHOLMOD from source needs the C language (enable_language(C) in the top CMakeLists.txt)")
+  endif()
   set(amd aat 1 2 dump postorder defaults post_tree order control info valid preprocess)
   set(core aat add band change_factor common complex copy dense error factor memory sparse transpose triplet version)
   set(cholesky amd analyze colamd etree factorize postorder rcond resymbol rowcolcounts rowfac solve spsolve)
@@ -37,8 +39,8 @@ function(canonform_cholmod_from_source src)
   endforeach()
   target_compile_definitions(canonform_cholmod PRIVATE NSUPERNODAL NPARTITION NCAMD NMODIFY NMATRIXOPS NCHECK NTIMER
                                                        NPRINT)
-  target_include_directories(canonform_cholmod SYSTEM PUBLIC "${src}/CHOLMOD/Include" "${src}/SuiteSparse_config"
+  target_include_directories(canonform_cholmod SYSTEM PUBLIC "$<BUILD_INTERFACE:${src}/CHOLMOD/Include>"
+                                                             "$<BUILD_INTERFACE:${src}/SuiteSparse_config>"
                                                       PRIVATE "${src}/AMD/Include" "${src}/COLAMD/Include")
   target_compile_options(canonform_cholmod PRIVATE -w)  # third-party code: its warnings are not ours
-  set(CANONFORM_CHOLMOD_INCLUDE_DIR "${src}/CHOLMOD/Include" PARENT_SCOPE)
 endfunction()

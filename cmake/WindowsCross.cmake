@@ -10,6 +10,7 @@
 #   "Windows"): OpenCV (the `opencv` SIFT extractor), FAISS (the `kmeans` codebook method), oneTBB
 #   (std::thread instead), Qt (the tool's picture commands). CHOLMOD is cross-built from Debian's
 #   suitesparse source (cmake/CholmodFromSource.cmake) when tools/setup.sh has fetched it.
+enable_language(C)  # CHOLMOD's sources (cmake/CholmodFromSource.cmake)
 set(_deps "${CMAKE_BINARY_DIR}/windows-deps")
 file(MAKE_DIRECTORY "${_deps}/include")
 

@@ -44,8 +44,8 @@ retrieval::ShardedPlan start_run(const PlanArgs& parsed) {
     retrieval::ShardedPlan p = parsed.plan;
     ExperimentArgs absolute = parsed.ex;
     auto& a = absolute.o;
-    const auto absolute_path = [](const std::string& p) {
-        return io::utf8_path(std::filesystem::absolute(io::fs_path(p)).lexically_normal());
+    const auto absolute_path = [](const std::string& given) {
+        return io::utf8_path(std::filesystem::absolute(io::fs_path(given)).lexically_normal());
     };
     a.dataset = absolute_path(a.dataset);
     a.out = absolute_path(a.out);
