@@ -113,4 +113,44 @@ double portable_atan2(double y, double x) {
     return std::signbit(y) ? -r : r;
 }
 
+double portable_log(double x) {
+    if (std::isnan(x) || x < 0) return std::numeric_limits<double>::quiet_NaN();
+    if (x == 0) return -HUGE_VAL;
+    if (std::isinf(x)) return x;
+    int e = 0;
+    double m = std::frexp(x, &e);  // x = m 2^e, m in [0.5, 1): exact, subnormal x too
+    if (m < 0.70710678118654752) {
+        m *= 2;  // exact
+        --e;
+    }
+    const double s = (m - 1) / (m + 1), s2 = s * s;
+    double term = s, sum = 0;
+    for (int k = 1; k < 60; k += 2) {
+        const double next = sum + term / k;
+        if (next == sum) break;
+        sum = next;
+        term *= s2;
+    }
+    constexpr double kLn2Hi = 6.93147180369123816490e-01, kLn2Lo = 1.90821492927058770002e-10;
+    return (e * kLn2Hi + 2 * sum) + e * kLn2Lo;
+}
+
+double StandardNormalDraws::operator()(std::mt19937_64& rng) {
+    if (saved_) {
+        saved_ = false;
+        return next_;
+    }
+    const auto uniform = [&rng] { return 2.0 * (static_cast<double>(rng() >> 11) * 0x1.0p-53) - 1.0; };
+    double u, v, r2;
+    do {
+        u = uniform();
+        v = uniform();
+        r2 = u * u + v * v;
+    } while (r2 > 1.0 || r2 == 0.0);
+    const double f = std::sqrt(-2.0 * portable_log(r2) / r2);
+    next_ = u * f;
+    saved_ = true;
+    return v * f;
+}
+
 }  // namespace canonform::numerics
