@@ -26,7 +26,7 @@ mkdir -p in
 "$lin" generate in/S.ply --vertices 600 --pose 5 > /dev/null &&
 "$lin" generate in/A_lf.off --vertices 1000 --pose 4 > /dev/null &&
 "$lin" generate in/A_lf.obj --vertices 1000 --pose 4 > /dev/null &&
-"$lin" generate --collection in/coll --poses 3 --classes standard,stocky > /dev/null || { fail "the inputs"; finish; exit; }
+"$lin" generate --collection in/coll --poses 3 --classes standard,stocky --vertices 2000 > /dev/null || { fail "the inputs"; finish; exit; }
 crlf in/A_lf.off in/A_crlf.off; crlf in/A_lf.obj in/A_crlf.obj
 check "the CRLF copies have CR before every line end" bash -c "grep -c \$'\\r\$' in/A_crlf.off | grep -q \$(wc -l < in/A_lf.off)"
 # The Windows run's copy of the inputs: in a folder, and under names, with spaces and non-ASCII
@@ -70,10 +70,18 @@ check "canonform.exe's outputs under Wine (in '$wout')" \
 t2=$(date +%s.%N)
 echo "  (Linux $(echo "$t1 - $t0" | bc) s, Windows under Wine $(echo "$t2 - $t1" | bc) s)"
 
+# A descriptor file names its mesh's path in its header (CFVD, version, length, name): the rest,
+# every number, must be the same bits.
+cfvd_body() { /usr/bin/python3 -c "import struct,sys; d=open(sys.argv[1],'rb').read(); n=struct.unpack_from('<I', d, 8)[0]; sys.stdout.buffer.write(d[12 + n:])" "$1"; }
 same() {  # same NAME: linux/NAME and the Windows run's NAME, bit for bit
   local name=$1
   if [ ! -e "$wout/$name" ]; then fail "$name: not written by canonform.exe"; return; fi
   if cmp -s "linux/$name" "$wout/$name"; then pass "$name: the same bits"; return; fi
+  case "$name" in
+    *.cfvd) if cmp -s <(cfvd_body "linux/$name") <(cfvd_body "$wout/$name"); then
+              pass "$name: the same bits but the mesh path in the header ('$(head -c 200 "$wout/$name" | tail -c +13 | head -c 40 | tr -d '\0')...')"
+              return; fi ;;
+  esac
   case "$name" in
     *.ply) fail "$name differs: $("$plycheck" "$wout/$name" "linux/$name" | python3 -c 'import json,sys; j=json.load(sys.stdin); print("max coordinate difference", j.get("max_position_diff"), "quality", j.get("max_quality_diff"))')" ;;
     *) fail "$name differs ($(cmp "linux/$name" "$wout/$name" 2>&1 | head -1))" ;;
@@ -84,9 +92,16 @@ check "the CRLF OFF and OBJ give the canonical form of the PLY (Linux)" cmp -s l
 check "  ... and under Wine" cmp -s "$wout/canonical_off.ply" linux/canonical_euclidean-N.ply
 check "  ... the OBJ under Wine" cmp -s "$wout/canonical_obj.ply" linux/canonical_euclidean-N.ply
 for m in none euclidean-N; do
-  for f in distances.bin metrics.json pr.csv; do same "run/$m/$f"; done
+  for f in distances.bin metrics.json pr.csv models.csv codebook.bin; do same "run/$m/$f"; done
 done
-same run/collection.csv
-check "the run's report names the non-ASCII collection's models" grep -q "stocky" "$wout/run/report.md"
+# The run's list of models: the same names and classes, the paths in the non-ASCII folder.
+check "run/collection.csv: the same models and classes, the paths under '$wdir/collection é/'" bash -c "
+  diff <(cut -d, -f1,2 linux/run/collection.csv) <(cut -d, -f1,2 '$wout/run/collection.csv') &&
+  [ \$(grep -c ',$wdir/collection é/meshes/' '$wout/run/collection.csv') -eq 6 ]"
+# The report: the same measures per method (its time columns aside), the collection named.
+measures() { grep -E '^\| (none|euclidean-N) \|' "$1" | cut -d'|' -f2-10; }
+check "run/report.md: the same measures for none and euclidean-N" \
+  bash -c "[ -n \"\$(measures linux/run/report.md)\" ] && diff <(measures linux/run/report.md) <(measures '$wout/run/report.md')"
+check "run/report.md names the non-ASCII collection" grep -q "6 meshes from \`$wdir/collection é\`" "$wout/run/report.md"
 check "no temporary file left behind" bash -c "! find '$wout' -name '.*tmp*' | grep -q ."
 finish
