@@ -19,16 +19,17 @@ for b in "$@"; do builds+=("${b%%=*}|$here/tools/wine.sh $(realpath "${b#*=}")")
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 out=$here/bench/results/wine.jsonl
-"$lin" generate "$work/fig.ply" --vertices 10000 --pose 1 > /dev/null
+cd "$work"  # relative paths: canonform.exe (CLI11 on Windows) reads a leading '/' as an option's
+"$lin" generate fig.ply --vertices 10000 --pose 1 > /dev/null
 for b in "${builds[@]}"; do ${b#*|} --version > /dev/null; done  # Wine's prefix made before timing
 median() { sort -g | awk '{a[NR]=$1} END {print (NR % 2) ? a[(NR+1)/2] : (a[NR/2] + a[NR/2+1]) / 2}'; }
 load0=$(cut -d' ' -f1 /proc/loadavg)
 for r in $(seq "$runs"); do
   for b in "${builds[@]}"; do
     name=${b%%|*}; cmd=${b#*|}
-    /usr/bin/time -f "%e %U %S" -o "$work/t" $cmd canonical "$work/fig.ply" "$work/c_$name.ply" --threads 1 --quiet
+    /usr/bin/time -f "%e %U %S" -o "$work/t" $cmd canonical fig.ply "c_$name.ply" --threads 1 --quiet
     echo "$(cat "$work/t")" >> "$work/canonical_$name"
-    /usr/bin/time -f "%e %U %S" -o "$work/t" $cmd descriptor "$work/fig.ply" "$work/d_$name.cfvd" > /dev/null
+    /usr/bin/time -f "%e %U %S" -o "$work/t" $cmd descriptor fig.ply "d_$name.cfvd" > /dev/null
     echo "$(cat "$work/t")" >> "$work/descriptor_$name"
   done
 done
