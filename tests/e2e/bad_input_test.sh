@@ -61,7 +61,9 @@ awk 'function q(x) { return (x >= 0 ? int(x * 1024 + 0.5) : -int(-x * 1024 + 0.5
   fig.off > slivers.off
 
 # --- the issue's reproductions, through every command that reads a mesh ---------------------------
-for cmd in conformal features canonical simplify descriptor views; do
+mesh_commands="conformal features canonical simplify descriptor views"
+[ "${CANONFORM_PICTURES:-1}" = 0 ] && mesh_commands="conformal features canonical simplify descriptor"  # views refuses first
+for cmd in $mesh_commands; do
   extra=""; [ $cmd = simplify ] && extra="--vertices 500"
   out=out.ply; [ $cmd = descriptor ] && out=out.cfvd; [ $cmd = views ] && out=out_views
   expect 1 "face index 100000000 on line 15 is out of range: the file has 12 vertices" "$cmd: face index 100000000 (was a segfault)" -- "$cf" $cmd index_huge.off $out $extra
