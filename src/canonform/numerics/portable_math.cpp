@@ -123,16 +123,18 @@ double portable_log(double x) {
         m *= 2;  // exact
         --e;
     }
-    const double s = (m - 1) / (m + 1), s2 = s * s;
-    double term = s, sum = 0;
-    for (int k = 1; k < 60; k += 2) {
-        const double next = sum + term / k;
-        if (next == sum) break;
-        sum = next;
-        term *= s2;
+    // ln m = ln(1 + f) = f - (f^2/2 - s (f^2/2 + R)), s = f / (2 + f), R = 2 s^2/3 + 2 s^4/5 + ...:
+    // f is exact (Sterbenz), so the rounding errors fall on the small correction only.
+    const double f = m - 1, s = f / (2 + f), z = s * s, hfsq = 0.5 * f * f;
+    double term = z, r = 0;
+    for (int k = 3; k < 80; k += 2) {
+        const double next = r + 2 * term / k;
+        if (next == r) break;
+        r = next;
+        term *= z;
     }
     constexpr double kLn2Hi = 6.93147180369123816490e-01, kLn2Lo = 1.90821492927058770002e-10;
-    return (e * kLn2Hi + 2 * sum) + e * kLn2Lo;
+    return e * kLn2Hi - ((hfsq - (s * (hfsq + r) + e * kLn2Lo)) - f);
 }
 
 double StandardNormalDraws::operator()(std::mt19937_64& rng) {
