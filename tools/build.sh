@@ -13,8 +13,9 @@
 #   tools/build.sh --plugins   what tools/package.sh packages: the plugins (and canonform-meshlab)
 #                              alone (the `plugins` target), configured without OpenCV or FAISS,
 #                              the tool or the tests (also CANONFORM_PLUGINS_ONLY=1)
-#   tools/build.sh --windows   the Windows build (docs/windows.md): the library's DLL, canonform.exe
-#                              and the Windows tests' program cross-built with MinGW-w64
+#   tools/build.sh --windows   the Windows build (docs/windows.md): canonform.dll (the C API),
+#                              canonform.exe, the release zip and the Windows tests' programs
+#                              cross-built with MinGW-w64
 #                              (cmake/mingw-w64-x86_64.cmake) in build/windows (or
 #                              $CANONFORM_WINDOWS_BUILD_DIR; more CMake arguments in
 #                              $CANONFORM_WINDOWS_CMAKE_ARGS); tools/wine.sh runs them
@@ -27,7 +28,8 @@
 # (tests/CMakeLists.txt: portable.*; CANONFORM_CMAKE_ARGS=-DCANONFORM_PORTABLE_TESTS=OFF skips them);
 # and CANONFORM_DOCS_TESTS, the documentation's tests (MkDocs site, Chromium, examples). Elsewhere
 # these are off unless set to 1. CANONFORM_PYTHON=0 leaves out the Python module (python/).
-# CANONFORM_WINDOWS=0 leaves out the Windows build's tests (ctest -L windows; on bookworm).
+# CANONFORM_WINDOWS=1 adds the Windows build's tests (ctest -L windows: a MinGW-w64 cross build and
+# Wine; on bookworm). They are not in the default run (CI's time: docs/testing.md, "Windows").
 set -euo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 build=${CANONFORM_BUILD_DIR:-$here/build}
@@ -63,7 +65,7 @@ case "$mode" in
           -DCANONFORM_MESHLAB2025="$(onoff "${CANONFORM_MESHLAB2025:-$def}")"
           -DCANONFORM_HOSTS="$(onoff "${CANONFORM_HOSTS:-$root}")"
           -DCANONFORM_DOCS_TESTS="$(onoff "${CANONFORM_DOCS_TESTS:-$def}")"
-          -DCANONFORM_WINDOWS_TESTS="$(onoff "${CANONFORM_WINDOWS:-$def}")") ;;
+          -DCANONFORM_WINDOWS_TESTS="$(onoff "${CANONFORM_WINDOWS:-0}")") ;;
   example)
     # what the example needs on; the rest off in a new build folder, else as configured
     # (OpenCV, whose SIFT extractor is only for comparison, is left out of a new build folder.)
@@ -81,7 +83,7 @@ case "$mode" in
   windows)
     # (cmake/mingw-w64-x86_64.cmake sets what Windows leaves out: OpenCV, FAISS, Qt, the plugins)
     opts=(--toolchain "$here/cmake/mingw-w64-x86_64.cmake" ${CANONFORM_WINDOWS_CMAKE_ARGS:-})
-    targets=(canonform canonform_tests) ;;
+    targets=(canonform canonform_tests canonform_c canonform_c_api_test windows_zip) ;;
 esac
 echo "[build] configuring$([ "$configure_only" = 1 ] || echo " and building${targets[*]:+ ${targets[*]}}") in $build (log: $log)"
 step() {

@@ -23,8 +23,8 @@
 #   all       (default) every build and test, README command 2: example's packages, the tests'
 #             (GoogleTest, ImageMagick, ...) and the Python module's; on bookworm also the test
 #             tools (mmdebstrap, qemu-user, Slurm, clang, MkDocs, Chromium), the pymeshlab
-#             builds' MeshLab sources and the Windows build's packages and source (CANONFORM_WINDOWS=0
-#             leaves them out)
+#             builds' MeshLab sources; with CANONFORM_WINDOWS=1 also the Windows build's packages
+#             and source (its tests are not in the default run: docs/testing.md, "Windows")
 #   windows   the Windows cross build alone (tools/build.sh --windows): MinGW-w64, Wine, the
 #             header-only libraries, googletest's and suitesparse's sources; no MeshLab
 #
@@ -110,7 +110,7 @@ if [ "$purpose" = all ]; then
   fi
   # The Windows build's tests (tests/windows/, ctest -L windows) run on bookworm; not needed in the
   # host root filesystems.
-  if [ "$codename" = bookworm ] && [ "${CANONFORM_WINDOWS:-1}" != 0 ]; then
+  if [ "$codename" = bookworm ] && [ "${CANONFORM_WINDOWS:-0}" = 1 ]; then
     PACKAGES+=("${WINDOWS[@]}")
   fi
 
@@ -166,7 +166,7 @@ fi
 windows=0  # the Windows build's suitesparse source (below)
 case "$purpose" in
   windows) windows=1 ;;
-  all) [ "$codename" = bookworm ] && [ "${CANONFORM_WINDOWS:-1}" != 0 ] && windows=1 ;;
+  all) [ "$codename" = bookworm ] && [ "${CANONFORM_WINDOWS:-0}" = 1 ] && windows=1 ;;
 esac
 host_meshlab=none
 [ "$purpose" = windows ] || host_meshlab=$(installed_meshlab) || die "Debian's meshlab package did not install"
