@@ -1,12 +1,14 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// numerics/portable_math.h: accuracy against glibc's libm, special values, and the SIFT's 4-lane
-// angle (views/sift_simd.h) equal to the scalar one.
+// numerics/portable_math.h: accuracy against glibc's libm, special values, the law of the normal
+// draws, and the SIFT's 4-lane angle (views/sift_simd.h) equal to the scalar one.
 #include "canonform/numerics/portable_math.h"
 #include "canonform/views/sift_simd.h"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <limits>
 #include <random>
@@ -15,6 +17,7 @@ namespace cf = canonform;
 using cf::numerics::portable_atan2;
 using cf::numerics::portable_exp;
 using cf::numerics::portable_exp2;
+using cf::numerics::portable_log;
 using cf::numerics::portable_sincos;
 
 namespace {
@@ -187,4 +190,56 @@ TEST(PortableMath, ApproximateAngleFourLanesEqualTheScalar) {
             ASSERT_EQ(std::memcmp(&a[q], &b, sizeof b), 0) << y[q] << " " << x[q];
         }
     }
+}
+
+TEST(PortableMath, LogWithinAUnitInTheLastPlaceOfLibm) {
+    std::mt19937_64 g(20);
+    int worst = 0;
+    for (int i = 0; i < 200000; ++i) {
+        // mantissas in [1, 2) over 600 binary orders of magnitude (ldexp is exact), and values near 1
+        const double m = 1.0 + static_cast<double>(g() >> 11) * 0x1.0p-53;
+        const double x = i % 4 == 0 ? 1.0 + (m - 1.5) * 1e-6 : std::ldexp(m, static_cast<int>(g() % 600) - 300);
+        const double a = portable_log(x), b = std::log(x);
+        const double ulp = std::nextafter(std::abs(b), kInf) - std::abs(b);
+        const int units = static_cast<int>(std::round(std::abs(a - b) / ulp));
+        worst = std::max(worst, units);
+        ASSERT_LE(units, 1) << x;
+    }
+    std::printf("[portable_log] at most %d units in the last place from std::log\n", worst);
+}
+
+TEST(PortableMath, LogSpecialValues) {
+    EXPECT_EQ(portable_log(1.0), 0.0);
+    EXPECT_DOUBLE_EQ(portable_log(std::ldexp(1.0, 10)), 10 * std::log(2.0));
+    EXPECT_EQ(portable_log(0.0), -kInf);
+    EXPECT_EQ(portable_log(-0.0), -kInf);
+    EXPECT_TRUE(std::isnan(portable_log(-1.0)));
+    EXPECT_TRUE(std::isnan(portable_log(-kInf)));
+    EXPECT_TRUE(std::isnan(portable_log(std::numeric_limits<double>::quiet_NaN())));
+    EXPECT_EQ(portable_log(kInf), kInf);
+    EXPECT_NEAR(portable_log(std::numeric_limits<double>::denorm_min()), -744.44007192138127, 1e-12);
+}
+
+TEST(PortableMath, StandardNormalDrawsSeededAndOfTheRightLaw) {
+    std::mt19937_64 a(3), b(3), c(4);
+    cf::numerics::StandardNormalDraws na, nb, nc;
+    const int n = 400000;
+    double sum = 0, sum2 = 0, sum4 = 0;
+    int within1 = 0, same_as_other_seed = 0;
+    for (int i = 0; i < n; ++i) {
+        const double x = na(a);
+        ASSERT_EQ(x, nb(b));  // a seed gives the same numbers
+        ASSERT_TRUE(std::isfinite(x));
+        same_as_other_seed += x == nc(c);
+        sum += x;
+        sum2 += x * x;
+        sum4 += x * x * x * x;
+        within1 += std::abs(x) < 1;
+    }
+    EXPECT_EQ(same_as_other_seed, 0);  // another seed, other numbers
+    // Mean 0, variance 1, kurtosis 3, P(|x| < 1) = 0.6827: each within about 5 standard errors.
+    EXPECT_NEAR(sum / n, 0.0, 5 / std::sqrt(double(n)));
+    EXPECT_NEAR(sum2 / n, 1.0, 5 * std::sqrt(2.0 / n));
+    EXPECT_NEAR(sum4 / n, 3.0, 5 * std::sqrt(96.0 / n));
+    EXPECT_NEAR(double(within1) / n, 0.682689, 5 * std::sqrt(0.2166 / n));
 }

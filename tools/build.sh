@@ -13,6 +13,12 @@
 #   tools/build.sh --plugins   what tools/package.sh packages: the plugins (and canonform-meshlab)
 #                              alone (the `plugins` target), configured without OpenCV or FAISS,
 #                              the tool or the tests (also CANONFORM_PLUGINS_ONLY=1)
+#   tools/build.sh --windows   the Windows build (docs/windows.md): canonform.dll (the C API),
+#                              canonform.exe, the release zip and the Windows tests' programs
+#                              cross-built with MinGW-w64
+#                              (cmake/mingw-w64-x86_64.cmake) in build/windows (or
+#                              $CANONFORM_WINDOWS_BUILD_DIR; more CMake arguments in
+#                              $CANONFORM_WINDOWS_CMAKE_ARGS); tools/wine.sh runs them
 #   --configure-only           (with any of them) the set-up and CMake's configuration, no build
 #
 # Everything, on bookworm, also has, unless set to 0: CANONFORM_MESHLAB2022 and CANONFORM_MESHLAB2025,
@@ -22,6 +28,8 @@
 # (tests/CMakeLists.txt: portable.*; CANONFORM_CMAKE_ARGS=-DCANONFORM_PORTABLE_TESTS=OFF skips them);
 # and CANONFORM_DOCS_TESTS, the documentation's tests (MkDocs site, Chromium, examples). Elsewhere
 # these are off unless set to 1. CANONFORM_PYTHON=0 leaves out the Python module (python/).
+# CANONFORM_WINDOWS=1 adds the Windows build's tests (ctest -L windows: a MinGW-w64 cross build and
+# Wine; on bookworm). They are not in the default run (CI's time: docs/testing.md, "Windows").
 set -euo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 build=${CANONFORM_BUILD_DIR:-$here/build}
@@ -32,15 +40,20 @@ for a in "$@"; do
   case "$a" in
     --example) mode=example ;;
     --plugins) mode=plugins ;;
+    --windows) mode=windows ;;
     --configure-only) configure_only=1 ;;
-    *) echo "usage: $0 [--example | --plugins] [--configure-only]" >&2; exit 2 ;;
+    *) echo "usage: $0 [--example | --plugins | --windows] [--configure-only]" >&2; exit 2 ;;
   esac
 done
 "$here/tools/setup.sh" "$mode"
+if [ "$mode" = windows ]; then
+  build=${CANONFORM_WINDOWS_BUILD_DIR:-$build/windows}
+fi
 mkdir -p "$build"
 log="$build/build.log"
 onoff() { if [ "$1" = 1 ]; then echo ON; else echo OFF; fi; }
-if [ "$("$here/tools/setup.sh" --meshlab)" = 2020.09 ]; then def=1; else def=0; fi
+def=0
+[ "$mode" != windows ] && [ "$("$here/tools/setup.sh" --meshlab)" = 2020.09 ] && def=1
 if [ "$(id -u)" -eq 0 ]; then root=$def; else root=0; fi
 targets=()  # empty: all
 case "$mode" in
@@ -51,7 +64,8 @@ case "$mode" in
           -DCANONFORM_MESHLAB2022="$(onoff "${CANONFORM_MESHLAB2022:-$def}")"
           -DCANONFORM_MESHLAB2025="$(onoff "${CANONFORM_MESHLAB2025:-$def}")"
           -DCANONFORM_HOSTS="$(onoff "${CANONFORM_HOSTS:-$root}")"
-          -DCANONFORM_DOCS_TESTS="$(onoff "${CANONFORM_DOCS_TESTS:-$def}")") ;;
+          -DCANONFORM_DOCS_TESTS="$(onoff "${CANONFORM_DOCS_TESTS:-$def}")"
+          -DCANONFORM_WINDOWS_TESTS="$(onoff "${CANONFORM_WINDOWS:-0}")") ;;
   example)
     # what the example needs on; the rest off in a new build folder, else as configured
     # (OpenCV, whose SIFT extractor is only for comparison, is left out of a new build folder.)
@@ -66,6 +80,10 @@ case "$mode" in
           -DCANONFORM_WITHOUT_FAISS=ON -DCANONFORM_WITHOUT_OPENCV=ON -DCANONFORM_MESHLAB2022=OFF
           -DCANONFORM_MESHLAB2025=OFF -DCANONFORM_HOSTS=OFF -DCANONFORM_DOCS_TESTS=OFF)
     targets=(plugins) ;;
+  windows)
+    # (cmake/mingw-w64-x86_64.cmake sets what Windows leaves out: OpenCV, FAISS, Qt, the plugins)
+    opts=(--toolchain "$here/cmake/mingw-w64-x86_64.cmake" ${CANONFORM_WINDOWS_CMAKE_ARGS:-})
+    targets=(canonform canonform_tests canonform_c canonform_c_api_test windows_zip) ;;
 esac
 echo "[build] configuring$([ "$configure_only" = 1 ] || echo " and building${targets[*]:+ ${targets[*]}}") in $build (log: $log)"
 step() {

@@ -22,8 +22,11 @@
 #             (FAISS; not OpenCV, whose SIFT is only for comparison); the installed MeshLab's source only
 #   all       (default) every build and test, README command 2: example's packages, the tests'
 #             (GoogleTest, ImageMagick, ...) and the Python module's; on bookworm also the test
-#             tools (mmdebstrap, qemu-user, Slurm, clang, MkDocs, Chromium) and the pymeshlab
-#             builds' MeshLab sources
+#             tools (mmdebstrap, qemu-user, Slurm, clang, MkDocs, Chromium), the pymeshlab
+#             builds' MeshLab sources; with CANONFORM_WINDOWS=1 also the Windows build's packages
+#             (its tests are not in the default run: docs/testing.md, "Windows")
+#   windows   the Windows cross build alone (tools/build.sh --windows): MinGW-w64, Wine, the
+#             header-only libraries and googletest's source; no MeshLab
 #
 #   tools/setup.sh [PURPOSE]       # as root (or with sudo available)
 #   tools/setup.sh --packages [PURPOSE]   # print the apt packages PURPOSE needs on every system, one
@@ -47,6 +50,11 @@ TOOL=(libfaiss-dev libopenblas0-pthread)
 OPENCV=(libopencv-dev)
 # The tests and the scripts of tools/: GoogleTest, X utilities, ImageMagick, numpy and matplotlib, bc.
 TESTS=(libgtest-dev googletest x11-utils xdotool imagemagick python3-matplotlib python3-numpy bc)
+# The Windows build (tools/build.sh --windows, docs/windows.md): MinGW-w64's GCC 12 with POSIX
+# threads, Wine 8 to run its programs (the 64-bit loader alone runs console programs headless: no X
+# server, no 32-bit Wine), the host's header-only libraries and googletest's source.
+WINDOWS=(g++-mingw-w64-x86-64-posix wine64 cmake make libeigen3-dev libcli11-dev nlohmann-json3-dev googletest
+         python3)
 
 codename=$(. /etc/os-release && echo "${VERSION_CODENAME:-bookworm}")
 
@@ -58,7 +66,7 @@ installed_meshlab() {
   echo "${v%%[+~-]*}"
 }
 
-usage() { echo "usage: $0 [plugins|example|all] | --packages [plugins|example|all] | --meshlab" >&2; exit 2; }
+usage() { echo "usage: $0 [plugins|example|all|windows] | --packages [plugins|example|all|windows] | --meshlab" >&2; exit 2; }
 list_only=0
 case "${1:-}" in
   --packages) list_only=1; shift ;;
@@ -71,6 +79,7 @@ case "$purpose" in
   plugins) PACKAGES=("${PLUGINS[@]}") ;;
   example) PACKAGES=("${PLUGINS[@]}" "${TOOL[@]}") ;;
   all) PACKAGES=("${PLUGINS[@]}" "${TOOL[@]}" "${OPENCV[@]}" "${TESTS[@]}") ;;
+  windows) PACKAGES=("${WINDOWS[@]}") ;;
   *) usage ;;
 esac
 [ $# -le 1 ] || usage
@@ -97,6 +106,11 @@ if [ "$purpose" = all ]; then
   # UBSan and libFuzzer runtimes (libclang-rt-dev, the default clang's), llvm-symbolizer for reports.
   if [ "$codename" = bookworm ] && [ "${CANONFORM_SANITIZER_TESTS:-1}" != 0 ]; then
     PACKAGES+=(clang libclang-rt-dev llvm)
+  fi
+  # The Windows build's tests (tests/windows/, ctest -L windows) run on bookworm; not needed in the
+  # host root filesystems.
+  if [ "$codename" = bookworm ] && [ "${CANONFORM_WINDOWS:-0}" = 1 ]; then
+    PACKAGES+=("${WINDOWS[@]}")
   fi
 
   # The documentation's tests (tests/docs_test.py) run on bookworm: MkDocs with mkdocs-material builds
@@ -148,8 +162,10 @@ else
   log "all packages present"
 fi
 
-host_meshlab=$(installed_meshlab) || die "Debian's meshlab package did not install"
+host_meshlab=none
+[ "$purpose" = windows ] || host_meshlab=$(installed_meshlab) || die "Debian's meshlab package did not install"
 case "$host_meshlab" in
+  none) ;;
   2020.09|2022.02|2025.07) log "MeshLab $host_meshlab (Debian $codename) found: building its plugins" ;;
   *) die "MeshLab $host_meshlab (Debian's meshlab package): no plugin API of this project matches it (2020.09, 2022.02 or 2025.07)" ;;
 esac
@@ -304,3 +320,4 @@ if [ "$want2025" = 1 ]; then
   fetch_source 2025.07~dfsg forky "$here/external/meshlab-2025.07" \
     src/common/plugins/interfaces/filter_plugin.h src/vcglib/vcg/complex/complex.h
 fi
+

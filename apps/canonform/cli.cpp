@@ -5,7 +5,12 @@
 #include "canonform/surface/mesh_repair.h"
 #include "canonform/surface/mesh_topology.h"
 
+#ifdef _WIN32
+#include <io.h>
+#define isatty _isatty
+#else
 #include <unistd.h>
+#endif
 
 #include <cmath>
 #include <cstdio>

@@ -80,8 +80,11 @@ void add_experiment_options(CLI::App* c, ExperimentArgs& a) {
                                          "query, symmetrised (fused-median:A+B: the previous rule, each matrix divided "
                                          "by its median off-diagonal distance; members are added if not listed)");
     c->add_option("--words", a.o.words, "codebook size")->check(CLI::Range(1, 1000000));
-    c->add_option("--codebook", a.o.codebook, "how the codebook is made per method: kmeans (FAISS k-means, "
-                                              "default), lloyd (our k-means++ and Lloyd), random (random training "
+    const bool faiss = views::CodebookOptions::kDefaultMethod == views::CodebookOptions::Method::KMeans;
+    c->add_option("--codebook", a.o.codebook, std::string("how the codebook is made per method: kmeans (FAISS k-means, ") +
+                                              (faiss ? "default" : "not in this build") +
+                                              "), lloyd (our k-means++ and Lloyd" + (faiss ? "" : ", default") +
+                                              "), random (random training "
                                               "descriptors as words), or a codebook FILE used for every method");
     c->add_option("--codebook-sample", a.o.codebook_training.sample,
                   "train the codebook on this many descriptors drawn from the method's features (0: all)")

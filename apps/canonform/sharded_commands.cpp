@@ -44,14 +44,18 @@ retrieval::ShardedPlan start_run(const PlanArgs& parsed) {
     retrieval::ShardedPlan p = parsed.plan;
     ExperimentArgs absolute = parsed.ex;
     auto& a = absolute.o;
-    a.dataset = std::filesystem::absolute(a.dataset).lexically_normal().string();
-    a.out = std::filesystem::absolute(a.out).lexically_normal().string();
-    while (a.out.size() > 1 && a.out.back() == '/') a.out.pop_back();
-    while (a.dataset.size() > 1 && a.dataset.back() == '/') a.dataset.pop_back();
-    if (!a.labels.empty()) a.labels = std::filesystem::absolute(a.labels).lexically_normal().string();
+    const auto absolute_path = [](const std::string& given) {
+        return io::utf8_path(std::filesystem::absolute(io::fs_path(given)).lexically_normal());
+    };
+    a.dataset = absolute_path(a.dataset);
+    a.out = absolute_path(a.out);
+    const auto separator = [](char c) { return c == '/' || c == std::filesystem::path::preferred_separator; };
+    while (a.out.size() > 1 && separator(a.out.back())) a.out.pop_back();
+    while (a.dataset.size() > 1 && separator(a.dataset.back())) a.dataset.pop_back();
+    if (!a.labels.empty()) a.labels = absolute_path(a.labels);
     p.experiment = finish_experiment_options(absolute, false);
     auto& o = p.experiment;
-    if (!o.codebook.empty()) o.codebook = std::filesystem::absolute(o.codebook).lexically_normal().string();
+    if (!o.codebook.empty()) o.codebook = absolute_path(o.codebook);
     o.log = [](const std::string& line) { std::cerr << line << "\n"; };
     retrieval::init_sharded_run(p);
     return p;
@@ -212,6 +216,9 @@ std::string sbatch_script(const retrieval::ShardedRun& run, retrieval::Stage sta
 
 /// Runs `command`, returns its standard output (UsageError-free: an Error naming it on failure).
 std::string run_command(const std::string& command) {
+#ifdef _WIN32
+    throw std::runtime_error("cannot run '" + command + "': Slurm's commands are Linux programs (use the Linux build)");
+#else
     FILE* p = popen(command.c_str(), "r");
     if (!p) throw std::runtime_error("cannot run: " + command);
     std::string out;
@@ -220,6 +227,7 @@ std::string run_command(const std::string& command) {
     const int rc = pclose(p);
     if (rc != 0) throw std::runtime_error("'" + command + "' failed (exit status " + std::to_string(rc) + "): " + out);
     return out;
+#endif
 }
 
 }  // namespace
@@ -248,7 +256,11 @@ void add_slurm(CLI::App& app) {
         const std::string& dir = p.experiment.out;
         const retrieval::ShardedRun run(dir);
         std::string exe = a->s.canonform;
+#ifdef _WIN32
+        if (exe.empty()) throw UsageError("slurm: a Slurm cluster runs the Linux build: name its canonform with --canonform");
+#else
         if (exe.empty()) exe = std::filesystem::read_symlink("/proc/self/exe").string();
+#endif
         io::make_directories(dir + "/slurm/logs");
         const retrieval::Stage stages[] = {retrieval::Stage::Features, retrieval::Stage::Codebook,
                                            retrieval::Stage::Histograms, retrieval::Stage::Distances,
@@ -359,8 +371,8 @@ void add_query(CLI::App& app) {
         std::string folder = a->method;
         if (folder.empty()) {
             std::vector<std::string> found;
-            for (const auto& e : std::filesystem::directory_iterator(a->run))
-                if (io::is_file(e.path().string() + "/index.cfci")) found.push_back(e.path().filename().string());
+            for (const auto& e : std::filesystem::directory_iterator(io::fs_path(a->run)))
+                if (io::is_file(io::utf8_path(e.path()) + "/index.cfci")) found.push_back(io::utf8_path(e.path().filename()));
             if (found.size() != 1)
                 throw InputError("'" + a->run + "': " + std::to_string(found.size()) +
                                  " method folders have an index.cfci: name one with --method (run `canonform index` first)");

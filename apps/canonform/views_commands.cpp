@@ -65,7 +65,7 @@ void add_codebook(CLI::App& app) {
         std::vector<std::string> meshes;
         int words = 1500;
         bool random = false;
-        std::string method = "kmeans";
+        std::string method = views::codebook_method_name(views::CodebookOptions::kDefaultMethod);
         std::int64_t sample = views::kDefaultCodebookSample;
     };
     auto a = std::make_shared<Args>();

@@ -16,12 +16,28 @@ namespace fs = std::filesystem;
 
 namespace canonform::io {
 
+fs::path fs_path(const std::string& utf8) {
+#ifdef _WIN32
+    return fs::u8path(utf8);
+#else
+    return fs::path(utf8);
+#endif
+}
+
+std::string utf8_path(const fs::path& p) {
+#ifdef _WIN32
+    return p.u8string();
+#else
+    return p.string();
+#endif
+}
+
 std::string read_file(const std::string& path) {
     std::error_code ec;
-    const fs::file_status st = fs::status(path, ec);
+    const fs::file_status st = fs::status(io::fs_path(path), ec);
     if (!fs::exists(st)) throw InputError("cannot read '" + path + "': no such file");
     if (fs::is_directory(st)) throw InputError("cannot read '" + path + "': it is a folder, not a file");
-    std::ifstream in(path, std::ios::binary);
+    std::ifstream in(io::fs_path(path), std::ios::binary);
     if (!in) throw InputError("cannot read '" + path + "': permission denied or unreadable");
     std::ostringstream ss;
     ss << in.rdbuf();
@@ -30,29 +46,29 @@ std::string read_file(const std::string& path) {
 }
 
 std::string lower_extension(const std::string& path) {
-    std::string ext = fs::path(path).filename().extension().string();
+    std::string ext = utf8_path(io::fs_path(path).filename().extension());
     if (!ext.empty()) ext.erase(0, 1);
     std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
     return ext;
 }
 
-std::string stem(const std::string& path) { return fs::path(path).stem().string(); }
+std::string stem(const std::string& path) { return utf8_path(io::fs_path(path).stem()); }
 
 std::string temporary_path_for(const std::string& path) {
     std::random_device rd;
     char buf[32];
     std::snprintf(buf, sizeof buf, ".tmp%08x", static_cast<unsigned>(rd()));
-    const fs::path p(path);
+    const fs::path p = io::fs_path(path);
     const std::string ext = lower_extension(path);
-    const fs::path tmp = p.parent_path() / ("." + p.filename().string() + buf + (ext.empty() ? "" : "." + ext));
-    return tmp.string();
+    const fs::path tmp = p.parent_path() / io::fs_path("." + utf8_path(p.filename()) + buf + (ext.empty() ? "" : "." + ext));
+    return utf8_path(tmp);
 }
 
 void commit_file(const std::string& tmp, const std::string& path) {
     std::error_code ec;
-    fs::rename(tmp, path, ec);
+    fs::rename(io::fs_path(tmp), io::fs_path(path), ec);
     if (ec) {
-        fs::remove(tmp, ec);
+        fs::remove(io::fs_path(tmp), ec);
         throw std::runtime_error("cannot write '" + path + "'");
     }
 }
@@ -60,11 +76,12 @@ void commit_file(const std::string& tmp, const std::string& path) {
 void write_file_atomic(const std::string& path, const std::string& bytes) {
     const std::string tmp = temporary_path_for(path);
     {
-        std::ofstream out(tmp, std::ios::binary);
+        std::ofstream out(io::fs_path(tmp), std::ios::binary);
         out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
         out.close();
         if (!out) {
-            std::remove(tmp.c_str());
+            std::error_code ec;
+            fs::remove(io::fs_path(tmp), ec);
             throw std::runtime_error("cannot write '" + path + "'");
         }
     }
@@ -73,13 +90,13 @@ void write_file_atomic(const std::string& path, const std::string& bytes) {
 
 void make_directories(const std::string& dir) {
     std::error_code ec;
-    fs::create_directories(dir, ec);
-    if (!fs::is_directory(dir)) throw std::runtime_error("cannot create the folder '" + dir + "'");
+    fs::create_directories(io::fs_path(dir), ec);
+    if (!fs::is_directory(io::fs_path(dir), ec)) throw std::runtime_error("cannot create the folder '" + dir + "'");
 }
 
 bool is_file(const std::string& path) {
     std::error_code ec;
-    return fs::is_regular_file(path, ec);
+    return fs::is_regular_file(io::fs_path(path), ec);
 }
 
 std::uint64_t fnv1a(const std::string& bytes, std::uint64_t h) {

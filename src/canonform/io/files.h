@@ -4,12 +4,24 @@
 // Every output of the project is written atomically: to a temporary file in the same folder,
 // renamed over the target only when complete, so that a failure never leaves a half-written
 // file. Every read names the file and the real cause (missing, a folder, unreadable).
+//
+// Paths are UTF-8 strings everywhere in the library. On Windows every file is opened through its
+// UTF-16 name (fs_path() below), so that any name works whatever the process's code page is (a
+// program of its own, or the Python interpreter that loaded the library's DLL).
 #pragma once
 
 #include <cstdint>
+#include <filesystem>
 #include <string>
 
 namespace canonform::io {
+
+/// The file-system path of a UTF-8 path string. On Windows through UTF-16 (libstdc++ would read a
+/// narrow string in the C library's code page there); elsewhere the bytes as they are.
+std::filesystem::path fs_path(const std::string& utf8);
+
+/// A file-system path as a UTF-8 string (the inverse of fs_path()).
+std::string utf8_path(const std::filesystem::path& p);
 
 /// The whole file as bytes. InputError naming `path` if it is missing, a folder or unreadable.
 std::string read_file(const std::string& path);

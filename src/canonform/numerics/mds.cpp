@@ -6,6 +6,7 @@
 #include "canonform/numerics/mds.h"
 
 #include "canonform/common/parallel.h"
+#include "canonform/numerics/portable_math.h"
 
 #include "canonform/numerics/smacof.h"
 
@@ -284,7 +285,7 @@ EigenPairs top_eigenpairs(Index n, int k, const std::function<MatrixXd(const Mat
     if (n < 1 || k < 1 || k > n) throw InputError("top_eigenpairs: need 1 <= k <= n");
     const Index p = std::min<Index>(n, k + 4);
     std::mt19937_64 rng(seed ^ 0x9e3779b97f4a7c15ULL);
-    std::normal_distribution<double> normal;
+    StandardNormalDraws normal;  // not std::normal_distribution: its std::log differs between C libraries
     MatrixXd Q(n, p);
     for (Index c = 0; c < p; ++c)
         for (Index i = 0; i < n; ++i) Q(i, c) = normal(rng);

@@ -113,4 +113,46 @@ double portable_atan2(double y, double x) {
     return std::signbit(y) ? -r : r;
 }
 
+double portable_log(double x) {
+    if (std::isnan(x) || x < 0) return std::numeric_limits<double>::quiet_NaN();
+    if (x == 0) return -HUGE_VAL;
+    if (std::isinf(x)) return x;
+    int e = 0;
+    double m = std::frexp(x, &e);  // x = m 2^e, m in [0.5, 1): exact, subnormal x too
+    if (m < 0.70710678118654752) {
+        m *= 2;  // exact
+        --e;
+    }
+    // ln m = ln(1 + f) = f - (f^2/2 - s (f^2/2 + R)), s = f / (2 + f), R = 2 s^2/3 + 2 s^4/5 + ...:
+    // f is exact (Sterbenz), so the rounding errors fall on the small correction only.
+    const double f = m - 1, s = f / (2 + f), z = s * s, hfsq = 0.5 * f * f;
+    double term = z, r = 0;
+    for (int k = 3; k < 80; k += 2) {
+        const double next = r + 2 * term / k;
+        if (next == r) break;
+        r = next;
+        term *= z;
+    }
+    constexpr double kLn2Hi = 6.93147180369123816490e-01, kLn2Lo = 1.90821492927058770002e-10;
+    return e * kLn2Hi - ((hfsq - (s * (hfsq + r) + e * kLn2Lo)) - f);
+}
+
+double StandardNormalDraws::operator()(std::mt19937_64& rng) {
+    if (saved_) {
+        saved_ = false;
+        return next_;
+    }
+    const auto uniform = [&rng] { return 2.0 * (static_cast<double>(rng() >> 11) * 0x1.0p-53) - 1.0; };
+    double u, v, r2;
+    do {
+        u = uniform();
+        v = uniform();
+        r2 = u * u + v * v;
+    } while (r2 > 1.0 || r2 == 0.0);
+    const double f = std::sqrt(-2.0 * portable_log(r2) / r2);
+    next_ = u * f;
+    saved_ = true;
+    return v * f;
+}
+
 }  // namespace canonform::numerics

@@ -5,8 +5,8 @@
 // time; on CPUs with FMA and AVX2 its FMA variants differ from the SSE2 ones in the last bit for
 // about 1 argument in 3000 (measured on glibc 2.36, Debian bookworm). One such bit in a vertex's
 // angle sum changed the canonical form of a 5,000-vertex TOSCA mesh by 5e-10 through SMACOF, and
-// one in a Gaussian tap changes a SIFT descriptor. The functions here use only +, -, *, /,
-// comparisons, floor and the exact scaling by a power of two, which IEEE 754 rounds identically on
+// one in a Gaussian tap changes a SIFT descriptor. The functions here use only +, -, *, /, sqrt,
+// comparisons, floor and exact scalings by powers of two, which IEEE 754 rounds identically on
 // every x86-64 CPU, in an order fixed at compile time (this file's source is compiled without FMA
 // contraction: src/CMakeLists.txt).
 //
@@ -35,6 +35,22 @@
 //   the sign of y. Accuracy: within 4.5e-16 absolute and 1.2e-15 relative (5 units in the last
 //   place) of libm's atan2; special values as in C: atan2(+-0, x) is +-0 for x >= +0 and +-pi for
 //   x <= -0, infinities give the octant's angle, a NaN argument gives NaN.
+// - portable_log(x): x = m 2^e with m in [sqrt(1/2), sqrt(2)) (frexp, exact), ln x = e ln 2 + ln m
+//   with ln 2 in two parts (the first exact times e). With f = m - 1 (exact) and s = f / (2 + f),
+//   ln m = 2 atanh s = 2s + s R, R = 2 s^2/3 + 2 s^4/5 + ... (|s| <= 0.1716: the terms shrink by
+//   s^2 <= 0.0295), and 2s = f - s f, so ln m = f - (f^2/2 - s (f^2/2 + R)): the leading term f is
+//   exact and the roundings fall on the correction (the arrangement of fdlibm's e_log.c, written
+//   here from the identity). Accuracy: within 1 unit in the last place of libm's log (the test
+//   draws 200,000 arguments); log 0 = -inf, log of a negative number or NaN is NaN, log inf = inf.
+// - StandardNormalDraws: standard normal random numbers from a std::mt19937_64, by the polar method
+//   of G. Marsaglia and T. A. Bray, "A convenient method for generating normal variables", SIAM
+//   Review 6(3), 1964: (u, v) uniform in the unit disc (by rejection), r2 = u^2 + v^2, then
+//   u sqrt(-2 ln r2 / r2) and v sqrt(-2 ln r2 / r2) are two independent draws (the second is kept
+//   for the next call, as std::normal_distribution does); ln by portable_log, the square root
+//   correctly rounded by IEEE 754. Departure from std::normal_distribution (libstdc++ uses the same
+//   method): its std::log differs between C libraries (glibc, MinGW's on Windows) and glibc's CPU
+//   variants, and its uniform numbers come from std::generate_canonical; here u and v are the top
+//   53 bits of one output each. So the numbers differ from std::normal_distribution's, not their law.
 // - approximate_angle_0_to_2pi(y, x): a float angle for the SIFT's gradient directions, where a
 //   hundred-thousandth of a radian is far below the histogram bins' width (10 degrees): atan a for
 //   a = min / max of |x|, |y| in [0, 1] by an odd polynomial of degree 9 fitted by us (least squares
@@ -43,6 +59,8 @@
 //   gives 0. A 4-lane form for the SIFT windows is in views/sift_simd.h (the same operations per
 //   lane, so the same bits).
 #pragma once
+
+#include <random>
 
 namespace canonform::numerics {
 
@@ -57,6 +75,23 @@ void portable_sincos(double a, double& sin_a, double& cos_a);
 
 /// The angle of the point (x, y) in (-pi, pi], like std::atan2, but the same bits on every CPU.
 double portable_atan2(double y, double x);
+
+/// The natural logarithm of x, within 1 unit in the last place of std::log, the same bits on every
+/// CPU and with every C library (see above for the special values).
+double portable_log(double x);
+
+/// Standard normal random numbers (mean 0, variance 1) from a std::mt19937_64, the same for a seed
+/// on every CPU and with every C library (the polar method, see above): a replacement for
+/// std::normal_distribution<double> in results.
+class StandardNormalDraws {
+public:
+    /// The next draw.
+    double operator()(std::mt19937_64& rng);
+
+private:
+    bool saved_ = false;  ///< the second draw of the last pair is waiting in next_
+    double next_ = 0;
+};
 
 /// The coefficients of approximate_angle_0_to_2pi's polynomial a (c1 + a^2 (c3 + a^2 (c5 + ...)))
 /// and its float constants, shared with its vector form.

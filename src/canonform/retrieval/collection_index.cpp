@@ -66,7 +66,12 @@ static_assert(kLanes == 5 * 16, "five registers of lanes");
 
 /// Accumulates, for model view j, the intersections with every query view (lanes) - the hot loop:
 /// per entry (word w, count c) acc += min(query counts of w, c), in registers.
-__attribute__((target_clones("avx2", "default"))) void accumulate(const std::uint16_t* entries, std::uint64_t begin,
+#if defined(_WIN32)  // no ifunc for target_clones, and no 32-byte stack alignment for AVX (codebook.cpp)
+#define CANONFORM_INDEX_CLONES
+#else
+#define CANONFORM_INDEX_CLONES __attribute__((target_clones("avx2", "default")))
+#endif
+CANONFORM_INDEX_CLONES void accumulate(const std::uint16_t* entries, std::uint64_t begin,
                                                                    std::uint64_t end, const std::uint16_t* qt,
                                                                    std::uint16_t* acc, double* sum) {
     Lanes a0 = {}, a1 = {}, a2 = {}, a3 = {}, a4 = {};

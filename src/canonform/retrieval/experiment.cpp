@@ -6,6 +6,7 @@
 #include "canonform/io/distance_matrix_file.h"
 #include "canonform/io/files.h"
 #include "canonform/io/mesh_io.h"
+#include "canonform/numerics/portable_math.h"
 #include "canonform/numerics/rigid_alignment.h"
 #include "canonform/surface/mesh_repair.h"
 #include "canonform/surface/mesh_topology.h"
@@ -38,14 +39,14 @@ void add_noise(Mesh& m, double sigma, std::uint64_t seed) {
     for (Eigen::Index e = 0; e < E.rows(); ++e) mean += (m.V.row(E(e, 0)) - m.V.row(E(e, 1))).norm();
     mean /= static_cast<double>(std::max<Eigen::Index>(1, E.rows()));
     std::mt19937_64 rng(seed);
-    std::normal_distribution<double> g(0.0, sigma * mean);
+    numerics::StandardNormalDraws g;  // the same noise with every C library (portable_math.h)
     for (Eigen::Index i = 0; i < m.V.rows(); ++i)
-        for (int c = 0; c < 3; ++c) m.V(i, c) += g(rng);
+        for (int c = 0; c < 3; ++c) m.V(i, c) += sigma * mean * g(rng);
 }
 
 /// Ground-truth correspondences of a model (empty if the collection has none for it).
 std::vector<int> read_vts(const std::string& dataset, const std::string& name) {
-    std::ifstream in(dataset + "/corres/" + name + ".vts");
+    std::ifstream in(io::fs_path(dataset + "/corres/" + name + ".vts"));
     std::vector<int> v;
     for (int x; in >> x;) v.push_back(x - 1);
     return v;

@@ -264,7 +264,7 @@ bool ShardedRun::run(Stage s, int index) const {
         throw;
     }
     std::error_code ec;
-    std::filesystem::remove(failed, ec);
+    std::filesystem::remove(io::fs_path(failed), ec);
     if (log_) {
         char line[200];
         std::snprintf(line, sizeof line, "[%s %d/%d] done in %.1f s", stage_name(s), index, parts(s),

@@ -70,7 +70,16 @@ inline constexpr std::int64_t kDefaultCodebookSample = 100000;
 struct CodebookOptions {
     int words = 1500;          ///< codebook size N_W (> 0)
     std::uint64_t seed = 0;    ///< seed of the random stream (sample, initial words, random choice)
-    enum class Method { KMeans, Lloyd, Random } method = Method::KMeans;
+    enum class Method { KMeans, Lloyd, Random };
+    /// The default method: KMeans (FAISS) in a build with FAISS; Lloyd (ours) in one without it
+    /// (CMake's CANONFORM_WITHOUT_FAISS, which every user of the views library sees: the Windows
+    /// build), where KMeans is refused.
+#ifdef CANONFORM_WITHOUT_FAISS
+    static constexpr Method kDefaultMethod = Method::Lloyd;
+#else
+    static constexpr Method kDefaultMethod = Method::KMeans;
+#endif
+    Method method = kDefaultMethod;
     int kmeans_iterations = 10;  ///< Lloyd iterations after seeding (>= 0)
     /// Training descriptors drawn (seeded, distinct) from the input before training; 0 = all.
     std::int64_t sample = kDefaultCodebookSample;
