@@ -3,7 +3,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <numeric>
+#include <random>
 
 using namespace canonform;
 using namespace canonform::retrieval;
@@ -96,4 +99,71 @@ TEST(RetrievalMeasures, RejectsBadInput) {
     D(0, 1) = std::nan("");
     EXPECT_THROW(evaluate(D, {"a", "a", "a"}), InputError);
     EXPECT_THROW(evaluate(Eigen::MatrixXd::Zero(3, 3), {"a", "b", "c"}), InputError);  // nothing to evaluate
+}
+
+TEST(RetrievalMeasures, NeighbourListsGiveTheMatrixMeasuresAndABoundedTruncatedDcg) {
+    // 95 models in classes of 5 to 19 (K = 38) and two too small, distances with many ties.
+    std::mt19937_64 g(3);
+    std::vector<std::string> labels;
+    for (int c = 0; c < 8; ++c)
+        for (int k = 0; k < 5 + (c * 7) % 16; ++k) labels.push_back("c" + std::to_string(c));
+    labels.push_back("single");
+    labels.push_back("pair");
+    labels.push_back("pair");
+    const int n = static_cast<int>(labels.size());
+    Eigen::MatrixXd D(n, n);
+    for (int i = 0; i < n; ++i)
+        for (int j = i; j < n; ++j) {
+            const double same = labels[static_cast<size_t>(i)] == labels[static_cast<size_t>(j)] ? 0.0 : 3.0;
+            D(i, j) = D(j, i) = i == j ? 0.0 : same + static_cast<double>(g() % 20);  // few values: ties
+        }
+    const Evaluation full = evaluate(D, labels);
+    const int k = neighbours_needed(labels);
+    int largest = 0;
+    for (const auto& l : labels) largest = std::max<int>(largest, static_cast<int>(std::count(labels.begin(), labels.end(), l)));
+    EXPECT_EQ(k, std::max(2 * largest, 32));
+    // Each model's first K others in ranking order (ties by index), as the index gives them.
+    std::vector<std::vector<std::uint32_t>> lists(static_cast<size_t>(n));
+    for (int q = 0; q < n; ++q) {
+        std::vector<std::uint32_t> order;
+        for (int j = 0; j < n; ++j)
+            if (j != q) order.push_back(static_cast<std::uint32_t>(j));
+        std::stable_sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return D(q, a) < D(q, b); });
+        order.resize(static_cast<size_t>(k));
+        lists[static_cast<size_t>(q)] = order;
+    }
+    const NeighbourEvaluation e = evaluate_neighbours(lists, labels, k);
+    for (const auto& [got, want] : {std::pair{e.evaluation.micro, full.micro}, std::pair{e.evaluation.macro, full.macro}}) {
+        EXPECT_EQ(got.nn, want.nn);
+        EXPECT_EQ(got.first_tier, want.first_tier);
+        EXPECT_EQ(got.second_tier, want.second_tier);
+        EXPECT_EQ(got.e_measure, want.e_measure);
+        EXPECT_EQ(got.queries, want.queries);
+        EXPECT_LE(got.dcg, want.dcg);
+    }
+    EXPECT_LE(full.micro.dcg, e.evaluation.micro.dcg + e.dcg_bound.dcg + 1e-12);
+    EXPECT_LE(full.macro.dcg, e.evaluation.macro.dcg + e.dcg_bound_macro + 1e-12);
+    EXPECT_GT(e.dcg_bound.dcg, 0.0);  // truncation is real here: some relevant models lie beyond K
+    EXPECT_EQ(e.evaluation.classes, full.classes);
+    EXPECT_EQ(e.evaluation.skipped_classes, full.skipped_classes);
+    EXPECT_TRUE(e.evaluation.precision.empty());
+    // Lists of every other model give the matrix's DCG too.
+    std::vector<std::vector<std::uint32_t>> whole(static_cast<size_t>(n));
+    for (int q = 0; q < n; ++q) {
+        for (int j = 0; j < n; ++j)
+            if (j != q) whole[static_cast<size_t>(q)].push_back(static_cast<std::uint32_t>(j));
+        std::stable_sort(whole[static_cast<size_t>(q)].begin(), whole[static_cast<size_t>(q)].end(),
+                         [&](std::uint32_t a, std::uint32_t b) { return D(q, a) < D(q, b); });
+    }
+    EXPECT_EQ(evaluate_neighbours(whole, labels, n - 1).evaluation.micro.dcg, full.micro.dcg);
+    // Too short, the query itself, out of range.
+    EXPECT_THROW(evaluate_neighbours(lists, labels, 2 * (largest - 1) - 1), InputError);
+    auto bad = lists;
+    bad[4][0] = 4;
+    EXPECT_THROW(evaluate_neighbours(bad, labels, k), InputError);
+    bad[4][0] = static_cast<std::uint32_t>(n);
+    EXPECT_THROW(evaluate_neighbours(bad, labels, k), InputError);
+    bad = lists;
+    bad[7].pop_back();
+    EXPECT_THROW(evaluate_neighbours(bad, labels, k), InputError);
 }

@@ -2,6 +2,7 @@
 // The sharded retrieval run: the same bytes as the one-machine Experiment, resumable stages that
 // redo only what is missing, the order of stages, and the codebook's training sample.
 #include "canonform/common/errors.h"
+#include "canonform/io/distance_matrix_file.h"
 #include "canonform/io/files.h"
 #include "canonform/io/mesh_io.h"
 #include "canonform/procedural/procedural_meshes.h"
@@ -12,6 +13,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cstring>
 #include <filesystem>
 #include <set>
 
@@ -200,4 +202,66 @@ TEST(ShardedRun, AFailedStageLeavesItsMessageUntilItSucceeds) {
     EXPECT_TRUE(r.run(Stage::Codebook));
     EXPECT_TRUE(r.status()[1].failed.empty());
     EXPECT_FALSE(io::is_file(run + "/stages/codebook_0.failed"));
+}
+
+TEST(ShardedRun, NeighbourEvaluationGivesTheMatrixMeasuresWithoutTheMatrix) {
+    const std::string data = make_collection("neighbours");
+    const std::string one = temp("canonform_test_sharded_nb_one"), run = temp("canonform_test_sharded_nb_run");
+    fs::remove_all(one);
+    fs::remove_all(run);
+    Experiment(options(data, one, 0)).run();
+    ShardedPlan p;
+    p.experiment = options(data, run, 0);
+    p.shards = 2;
+    p.blocks = 3;
+    p.evaluation = "neighbours";
+    init_sharded_run(p);
+    fs::copy(one + "/cache", run + "/cache", fs::copy_options::recursive);  // the features, computed once
+    const ShardedRun r(run, 2);
+    EXPECT_EQ(r.parts(Stage::Index), 1);
+    EXPECT_THROW(r.run(Stage::Index), InputError);  // needs the histograms first
+    r.run_all();
+    EXPECT_FALSE(io::is_file(run + "/none/distances.bin"));
+    EXPECT_FALSE(io::is_file(run + "/none/pr.csv"));
+    EXPECT_TRUE(io::is_file(run + "/none/index.cfci"));
+    EXPECT_EQ(io::read_file(run + "/none/models.csv"), io::read_file(one + "/none/models.csv"));
+    const auto got = nlohmann::json::parse(io::read_file(run + "/none/metrics.json"));
+    const auto want = nlohmann::json::parse(io::read_file(one + "/none/metrics.json"));
+    EXPECT_EQ(got["evaluation"], "neighbours");
+    EXPECT_EQ(got["neighbours"], 6);  // max(2 x 4, 32) models, at most the 6 others
+    EXPECT_EQ(got["search"], "exhaustive");
+    for (const char* avg : {"micro", "macro"})
+        for (const char* key : {"nn", "first_tier", "second_tier", "e_measure", "dcg", "queries"})
+            EXPECT_EQ(got[avg][key], want[avg][key]) << avg << " " << key;  // every other model listed: DCG too
+    // neighbours.bin: each model's row of the matrix in ranking order, itself left out.
+    const Eigen::MatrixXd D = io::read_distance_matrix(one + "/none/distances.bin");
+    const std::string nb = io::read_file(run + "/none/neighbours.bin");
+    ASSERT_EQ(nb.size(), 7u * 6 * 8);
+    for (int q = 0; q < 7; ++q) {
+        std::vector<int> order;
+        for (int j = 0; j < 7; ++j)
+            if (j != q) order.push_back(j);
+        std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return D(q, a) < D(q, b); });
+        for (int i = 0; i < 6; ++i) {
+            std::uint32_t m;
+            float d;
+            std::memcpy(&m, nb.data() + (q * 6 + i) * 8, 4);
+            std::memcpy(&d, nb.data() + (q * 6 + i) * 8 + 4, 4);
+            EXPECT_EQ(m, static_cast<std::uint32_t>(order[static_cast<std::size_t>(i)])) << q << " " << i;
+            EXPECT_EQ(d, static_cast<float>(D(q, order[static_cast<std::size_t>(i)]))) << q << " " << i;
+        }
+    }
+    // A matrix run has no index stage.
+    ShardedPlan q = p;
+    q.evaluation = "matrix";
+    q.experiment.out = run + "_matrix";
+    fs::remove_all(q.experiment.out);
+    init_sharded_run(q);
+    const ShardedRun m(q.experiment.out);
+    EXPECT_EQ(m.parts(Stage::Index), 0);
+    EXPECT_THROW(m.run(Stage::Index), InputError);
+    for (const auto& s : m.status()) EXPECT_NE(s.stage, Stage::Index);
+    q.evaluation = "other";
+    q.experiment.out = run + "_other";
+    EXPECT_THROW(init_sharded_run(q), InputError);
 }

@@ -2,170 +2,410 @@
 #include "canonform/retrieval/collection_index.h"
 
 #include "canonform/common/parallel.h"
-#include "canonform/io/csv.h"
-#include "canonform/io/files.h"
-#include "canonform/views/descriptor_file.h"
+#include "canonform/retrieval/collection_index_detail.h"
 #include "canonform/views/view_directions.h"
 
 #include <algorithm>
 #include <cstring>
 #include <limits>
+#include <map>
 #include <numeric>
 
 namespace canonform::retrieval {
 
+namespace detail {
+
+void put_leb128(std::vector<std::uint8_t>& out, std::uint32_t v) {
+    while (v >= 0x80) {
+        out.push_back(static_cast<std::uint8_t>(v | 0x80));
+        v >>= 7;
+    }
+    out.push_back(static_cast<std::uint8_t>(v));
+}
+
+void encode_view(const views::Histogram& h, int words, std::vector<std::uint8_t>& out, const std::string& model) {
+    put_leb128(out, static_cast<std::uint32_t>(h.size()));
+    int prev = -1;
+    double total = 0;
+    for (const auto& [w, c] : h) {
+        if (w <= prev || w >= words || !(c >= 1) || c != static_cast<float>(static_cast<int>(c)))
+            throw InputError("Collection index: model '" + model +
+                             "': a histogram that is not sorted by word, has a word outside the codebook or "
+                             "a count that is not a positive integer");
+        total += c;
+        if (total > 65535)  // checked before the 16-bit casts below
+            throw InputError("Collection index: model '" + model + "' has a view of more than 65535 "
+                             "keypoints (16-bit sums: at most 65535)");
+        const int gap = w - prev, count = static_cast<int>(c);
+        if (count == 1 && gap <= 240) {
+            out.push_back(static_cast<std::uint8_t>(gap - 1));
+        } else if (count >= 2 && count <= 16 && gap <= 256) {
+            out.push_back(static_cast<std::uint8_t>(238 + count));
+            out.push_back(static_cast<std::uint8_t>(gap - 1));
+        } else {
+            out.push_back(255);
+            out.push_back(static_cast<std::uint8_t>(gap & 0xFF));
+            out.push_back(static_cast<std::uint8_t>(gap >> 8));
+            out.push_back(static_cast<std::uint8_t>(count & 0xFF));
+            out.push_back(static_cast<std::uint8_t>(count >> 8));
+        }
+        prev = w;
+    }
+}
+
+bool check_model(const std::uint8_t* p, const std::uint8_t* end, int views, int words) {
+    for (int v = 0; v < views; ++v) {
+        std::uint32_t n = 0;
+        int shift = 0;
+        for (;;) {
+            if (p >= end || shift > 28) return false;
+            const std::uint8_t b = *p++;
+            n |= static_cast<std::uint32_t>(b & 0x7F) << shift;
+            shift += 7;
+            if (!(b & 0x80)) break;
+        }
+        long w = -1, total = 0;
+        for (std::uint32_t e = 0; e < n; ++e) {
+            if (p >= end) return false;
+            const std::uint8_t b = *p++;
+            long gap = 0, count = 0;
+            if (b < 240) {
+                gap = b + 1;
+                count = 1;
+            } else if (b < 255) {
+                if (p >= end) return false;
+                count = b - 238;
+                gap = *p++ + 1;
+            } else {
+                if (end - p < 4) return false;
+                gap = p[0] | (p[1] << 8);
+                count = p[2] | (p[3] << 8);
+                p += 4;
+                if (gap < 1 || count < 1) return false;
+            }
+            w += gap;
+            total += count;
+            if (w >= words || total > 65535) return false;
+        }
+    }
+    return p == end;
+}
+
+void unpack(const std::uint8_t* p, int views, std::vector<views::Histogram>& out) {
+    out.resize(static_cast<std::size_t>(views));
+    for (int v = 0; v < views; ++v) {
+        std::uint32_t n = 0;
+        int shift = 0;
+        for (;;) {
+            const std::uint8_t b = *p++;
+            n |= static_cast<std::uint32_t>(b & 0x7F) << shift;
+            shift += 7;
+            if (!(b & 0x80)) break;
+        }
+        views::Histogram& h = out[static_cast<std::size_t>(v)];
+        h.clear();
+        int w = -1;
+        for (std::uint32_t e = 0; e < n; ++e) {
+            const std::uint8_t b = *p++;
+            int count;
+            if (b < 240) {
+                w += b + 1;
+                count = 1;
+            } else if (b < 255) {
+                count = b - 238;
+                w += *p++ + 1;
+            } else {
+                w += p[0] | (p[1] << 8);
+                count = p[2] | (p[3] << 8);
+                p += 4;
+            }
+            h.emplace_back(w, static_cast<float>(count));
+        }
+    }
+}
+
+}  // namespace detail
+
 namespace {
 
-constexpr int kLanes = 80;  // query views per word, padded to a multiple of 16 (>= 66 views)
-
-/// The distinct (query view i, model view j) pairs the rotations use, in the order of
-/// bag_of_features.cpp's plan (i ascending, j ascending), and per view i and rotation r the pair's index.
+/// Where clock matching's view pairs are. The rotations move a view only within its orbit
+/// (summary_search.h: four orbits of 6, 12, 24 and 24 views), so the pairs any rotation uses are
+/// the orbit-by-orbit blocks of the 66 x 66 pairs: 1332. Each orbit owns a block of lanes that
+/// starts at a multiple of 16 (16, 16, 32 and 32 lanes: `width` 96); a view's lane is its
+/// block's start plus its rank in the orbit. The query's counts sit in its views' lanes; a model
+/// view's intersections are accumulated over its own block's lanes only (one or two registers of
+/// 16, not all 66 views) into the row of its lane; each block's pair distances are computed side
+/// by side. pair_of[v * R + r]: the pair of (query view v, model view maps[r][v]) - the query's
+/// views in order; pair_of_model[v * R + r]: the pair of (query view maps[r][v], model view v) -
+/// the model's views in order.
 struct Plan {
-    std::vector<int> pi, pj;
-    std::vector<int> pair_of;  // V x R: pair_of[i * R + r]
+    struct Block {
+        int start = 0, size = 0, base = 0;  // lanes [start, start + size), distances at base
+    };
+    int width = 0;          // lanes
+    std::vector<int> lane;  // per view
+    std::vector<int> registers;  // per view: its block's registers of 16 lanes
+    std::vector<Block> blocks;
+    int pairs = 0;
+    std::vector<int> pair_of, pair_of_model;
     int rotations = 0;
 };
 
 Plan make_plan(const std::vector<std::vector<int>>& maps, int views) {
     Plan p;
-    p.rotations = static_cast<int>(maps.size());
-    p.pair_of.resize(static_cast<std::size_t>(views) * maps.size());
-    for (int i = 0; i < views; ++i) {
-        std::vector<int> partners;
-        for (const auto& m : maps) partners.push_back(m[static_cast<std::size_t>(i)]);
-        std::sort(partners.begin(), partners.end());
-        partners.erase(std::unique(partners.begin(), partners.end()), partners.end());
-        const int base = static_cast<int>(p.pi.size());
-        for (int j : partners) {
-            p.pi.push_back(i);
-            p.pj.push_back(j);
-        }
-        for (std::size_t r = 0; r < maps.size(); ++r)
-            p.pair_of[static_cast<std::size_t>(i) * maps.size() + r] =
-                base + static_cast<int>(std::lower_bound(partners.begin(), partners.end(), maps[r][static_cast<std::size_t>(i)]) -
-                                        partners.begin());
+    const auto R = maps.size();
+    p.rotations = static_cast<int>(R);
+    int count = 0;
+    const std::vector<int> orbit = view_orbits(maps, views, &count);
+    p.lane.resize(static_cast<std::size_t>(views));
+    p.registers.resize(static_cast<std::size_t>(views));
+    for (int o = 0; o < count; ++o) {
+        Plan::Block b;
+        b.start = p.width;
+        b.base = p.pairs;
+        for (int v = 0; v < views; ++v)
+            if (orbit[static_cast<std::size_t>(v)] == o) p.lane[static_cast<std::size_t>(v)] = b.start + b.size++;
+        const int regs = (b.size + 15) / 16;
+        for (int v = 0; v < views; ++v)
+            if (orbit[static_cast<std::size_t>(v)] == o) p.registers[static_cast<std::size_t>(v)] = regs;
+        p.width += 16 * regs;
+        p.pairs += b.size * b.size;
+        p.blocks.push_back(b);
     }
+    auto pair = [&](int query_view, int model_view) {
+        const Plan::Block& b = p.blocks[static_cast<std::size_t>(orbit[static_cast<std::size_t>(query_view)])];
+        return b.base + (p.lane[static_cast<std::size_t>(model_view)] - b.start) * b.size +
+               (p.lane[static_cast<std::size_t>(query_view)] - b.start);
+    };
+    p.pair_of.resize(static_cast<std::size_t>(views) * R);
+    p.pair_of_model.resize(static_cast<std::size_t>(views) * R);
+    for (int v = 0; v < views; ++v)
+        for (std::size_t r = 0; r < R; ++r) {
+            const int image = maps[r][static_cast<std::size_t>(v)];
+            p.pair_of[static_cast<std::size_t>(v) * R + r] = pair(v, image);
+            p.pair_of_model[static_cast<std::size_t>(v) * R + r] = pair(image, v);
+        }
     return p;
 }
 
-/// bag_of_features.cpp's view distance from the intersection and the two sums.
-inline double distance_from(double inter, double sa, double sb) {
-    if (sa <= 0 && sb <= 0) return 0.0;
-    const double m = std::max(sa, sb);
-    return std::clamp(1.0 - inter / m, 0.0, 1.0);
-}
-
 struct Scratch {
-    std::vector<std::uint16_t> acc;  // V x kLanes
-    std::vector<double> msum, pair, rot;
+    std::vector<std::uint16_t> acc;  // width x width: a row per lane
+    std::vector<std::uint32_t> msum;  // per lane
+    std::vector<double> pair, rot;
 };
 
 /// 16 lanes of 16-bit counts (one AVX2 register; two SSE2 ones in the default build).
 typedef std::uint16_t Lanes __attribute__((vector_size(32)));
-static_assert(kLanes == 5 * 16, "five registers of lanes");
 
-/// Accumulates, for model view j, the intersections with every query view (lanes) - the hot loop:
-/// per entry (word w, count c) acc += min(query counts of w, c), in registers.
+/// One view's entries, decoded, accumulated over R registers of lanes from `q0` on: per entry
+/// (word w, count c) acc += min(query counts of w, c) - the hot loop. Returns the bytes after it.
+template <int R>
+inline const std::uint8_t* accumulate_view(const std::uint8_t* p, std::uint32_t n, const std::uint16_t* qt, int width,
+                                           std::uint16_t* out, std::uint32_t* sum) {
+    Lanes a[R] = {};
+    std::uint32_t s = 0;
+    int w = -1;
+    for (std::uint32_t e = 0; e < n; ++e) {
+        const std::uint32_t b = *p++;
+        std::uint16_t c = 1;
+        if (b < 240) {
+            w += static_cast<int>(b) + 1;
+        } else if (b < 255) {
+            c = static_cast<std::uint16_t>(b - 238);
+            w += *p++ + 1;
+        } else {
+            w += p[0] | (p[1] << 8);
+            c = static_cast<std::uint16_t>(p[2] | (p[3] << 8));
+            p += 4;
+        }
+        const std::uint16_t* q = qt + static_cast<std::size_t>(w) * static_cast<std::size_t>(width);
+        s += c;
+        const Lanes cv = Lanes{} + c;
+        for (int k = 0; k < R; ++k) {
+            Lanes qk;
+            std::memcpy(&qk, q + 16 * k, 32);
+            a[k] += qk < cv ? qk : cv;
+        }
+    }
+    for (int k = 0; k < R; ++k) std::memcpy(out + 16 * k, &a[k], 32);
+    *sum = s;
+    return p;
+}
+
 #if defined(_WIN32)  // no ifunc for target_clones, and no 32-byte stack alignment for AVX (codebook.cpp)
 #define CANONFORM_INDEX_CLONES
 #else
 #define CANONFORM_INDEX_CLONES __attribute__((target_clones("avx2", "default")))
 #endif
-CANONFORM_INDEX_CLONES void accumulate(const std::uint16_t* entries, std::uint64_t begin,
-                                                                   std::uint64_t end, const std::uint16_t* qt,
-                                                                   std::uint16_t* acc, double* sum) {
-    Lanes a0 = {}, a1 = {}, a2 = {}, a3 = {}, a4 = {};
-    std::uint32_t s = 0;
-    for (std::uint64_t e = begin; e < end; ++e) {
-        const std::uint16_t c = entries[2 * e + 1];
-        const std::uint16_t* q = qt + static_cast<std::size_t>(entries[2 * e]) * kLanes;
-        s += c;
-        const Lanes cv = Lanes{} + c;
-        Lanes q0, q1, q2, q3, q4;
-        std::memcpy(&q0, q, 32);
-        std::memcpy(&q1, q + 16, 32);
-        std::memcpy(&q2, q + 32, 32);
-        std::memcpy(&q3, q + 48, 32);
-        std::memcpy(&q4, q + 64, 32);
-        a0 += q0 < cv ? q0 : cv;
-        a1 += q1 < cv ? q1 : cv;
-        a2 += q2 < cv ? q2 : cv;
-        a3 += q3 < cv ? q3 : cv;
-        a4 += q4 < cv ? q4 : cv;
+/// Decodes the model's V views and accumulates each over its block's lanes (qt: the query's
+/// counts from the block's first lane on) into the row of its lane; msum[lane] = its keypoints.
+CANONFORM_INDEX_CLONES void accumulate_model(const std::uint8_t* p, int views,
+                                                                         const int* lane, const int* registers,
+                                                                         const int* block_start, int width,
+                                                                         const std::uint16_t* qt, std::uint16_t* acc,
+                                                                         std::uint32_t* msum) {
+    for (int j = 0; j < views; ++j) {
+        std::uint32_t n = 0;
+        int shift = 0;
+        for (;;) {
+            const std::uint8_t b = *p++;
+            n |= static_cast<std::uint32_t>(b & 0x7F) << shift;
+            shift += 7;
+            if (!(b & 0x80)) break;
+        }
+        const int l = lane[j], start = block_start[j];
+        std::uint16_t* out = acc + static_cast<std::size_t>(l) * static_cast<std::size_t>(width) + start;
+        const std::uint16_t* q = qt + start;
+        switch (registers[j]) {
+        case 1: p = accumulate_view<1>(p, n, q, width, out, &msum[l]); break;
+        case 2: p = accumulate_view<2>(p, n, q, width, out, &msum[l]); break;
+        case 3: p = accumulate_view<3>(p, n, q, width, out, &msum[l]); break;
+        case 4: p = accumulate_view<4>(p, n, q, width, out, &msum[l]); break;
+        default: p = accumulate_view<5>(p, n, q, width, out, &msum[l]); break;
+        }
     }
-    std::memcpy(acc, &a0, 32);
-    std::memcpy(acc + 16, &a1, 32);
-    std::memcpy(acc + 32, &a2, 32);
-    std::memcpy(acc + 48, &a3, 32);
-    std::memcpy(acc + 64, &a4, 32);
-    *sum = s;
 }
 
-void score(const std::vector<std::uint64_t>& offsets, const std::vector<std::uint16_t>& entries, int V,
-           const std::vector<std::uint16_t>& qt, const std::vector<double>& qsum, const Plan& plan, std::size_t m,
-           Scratch& s, float* out) {
-    s.acc.resize(static_cast<std::size_t>(V) * kLanes);
-    s.msum.resize(static_cast<std::size_t>(V));
-    s.pair.resize(plan.pi.size());
-    s.rot.resize(static_cast<std::size_t>(plan.rotations));
-    const std::size_t base = m * static_cast<std::size_t>(V);
-    for (int j = 0; j < V; ++j)
-        accumulate(entries.data(), offsets[base + static_cast<std::size_t>(j)], offsets[base + static_cast<std::size_t>(j) + 1],
-                   qt.data(), s.acc.data() + static_cast<std::size_t>(j) * kLanes, &s.msum[static_cast<std::size_t>(j)]);
-    for (std::size_t k = 0; k < plan.pi.size(); ++k) {
-        const int i = plan.pi[k], j = plan.pj[k];
-        const std::uint16_t inter = s.acc[static_cast<std::size_t>(j) * kLanes + static_cast<std::size_t>(i)];
-        const double qs = qsum[static_cast<std::size_t>(i)], ms = s.msum[static_cast<std::size_t>(j)];
-        // No common word: distance_from() is exactly 1 (0 if both views are empty), no division.
-        s.pair[k] = inter == 0 ? (qs <= 0 && ms <= 0 ? 0.0 : 1.0) : distance_from(inter, qs, ms);
+/// bag_of_features.cpp's view distance of every pair of each orbit block, side by side:
+/// 1 - inter / max(sums), clamped to [0, 1], 0 if both views are empty - divisions and min/max,
+/// rounded the same in every lane width.
+CANONFORM_INDEX_CLONES void pair_distances(const std::uint16_t* acc, int width,
+                                                                       const double* qsum, const std::uint32_t* msum,
+                                                                       const Plan::Block* blocks, int count,
+                                                                       double* out) {
+    for (int b = 0; b < count; ++b) {
+        const int start = blocks[b].start, size = blocks[b].size;
+        for (int a = start; a < start + size; ++a) {
+            const double ms = msum[a];
+            const std::uint16_t* row = acc + static_cast<std::size_t>(a) * static_cast<std::size_t>(width) + start;
+            const double* qs = qsum + start;
+            double* d = out + blocks[b].base + (a - start) * size;
+            for (int l = 0; l < size; ++l) {
+                const double m = qs[l] > ms ? qs[l] : ms;
+                const double x = 1.0 - static_cast<double>(row[l]) / (m > 0 ? m : 1.0);
+                d[l] = m > 0 ? (x < 0 ? 0.0 : (x > 1 ? 1.0 : x)) : 0.0;
+            }
+        }
     }
+}
+
+/// The query transposed: per word, the count in each query view (its lane), and per lane its sum.
+struct Query {
+    std::vector<std::uint16_t> storage;
+    std::uint16_t* qt = nullptr;  // words x width in `storage`, from a 64-byte boundary (a block's lanes in one cache line)
+    std::vector<double> qsum;     // width
+};
+
+/// Clock-matching distance of the query to model `m` (bytes at `p`); `model_order`: the
+/// rotation sums over the model's views (the matrix's order when the model comes first).
+float score(const std::uint8_t* p, int V, const Query& q, const Plan& plan, const std::vector<int>& block_start,
+            bool model_order, Scratch& s) {
+    const auto width = static_cast<std::size_t>(plan.width);
+    s.acc.resize(width * width);
+    s.msum.resize(width);
+    s.pair.resize(static_cast<std::size_t>(plan.pairs));
+    s.rot.resize(static_cast<std::size_t>(plan.rotations));
+    accumulate_model(p, V, plan.lane.data(), plan.registers.data(), block_start.data(), plan.width, q.qt,
+                     s.acc.data(), s.msum.data());
+    pair_distances(s.acc.data(), plan.width, q.qsum.data(), s.msum.data(), plan.blocks.data(),
+                   static_cast<int>(plan.blocks.size()), s.pair.data());
     // Per rotation the sum over views in view order (as distance_matrix()), rotations side by side.
     std::fill(s.rot.begin(), s.rot.end(), 0.0);
     const auto R = static_cast<std::size_t>(plan.rotations);
-    for (int i = 0; i < V; ++i) {
-        const int* po = plan.pair_of.data() + static_cast<std::size_t>(i) * R;
+    const std::vector<int>& pair_of = model_order ? plan.pair_of_model : plan.pair_of;
+    for (int v = 0; v < V; ++v) {
+        const int* po = pair_of.data() + static_cast<std::size_t>(v) * R;
         for (std::size_t r = 0; r < R; ++r) s.rot[r] += s.pair[static_cast<std::size_t>(po[r])];
     }
     double best = std::numeric_limits<double>::infinity();
     for (double v : s.rot) best = std::min(best, v);
-    *out = static_cast<float>(best);
+    return static_cast<float>(best);
 }
-
-// Little-endian reading and writing.
-template <class T>
-void put(std::string& b, T v) {
-    b.append(reinterpret_cast<const char*>(&v), sizeof v);
-}
-void put_string(std::string& b, const std::string& s) {
-    put(b, static_cast<std::uint32_t>(s.size()));
-    b += s;
-}
-
-struct Reader {
-    const std::string& bytes;
-    std::string where;
-    std::size_t at = 0;
-    void need(std::size_t n) {
-        if (bytes.size() - at < n) throw InputError(where + ": truncated at byte " + std::to_string(at));
-    }
-    template <class T>
-    T get() {
-        need(sizeof(T));
-        T v;
-        std::memcpy(&v, bytes.data() + at, sizeof v);
-        at += sizeof v;
-        return v;
-    }
-    std::string get_string() {
-        const auto n = get<std::uint32_t>();
-        need(n);
-        std::string s = bytes.substr(at, n);
-        at += n;
-        return s;
-    }
-};
 
 }  // namespace
+
+struct CollectionIndex::Builder::Parts {
+    CollectionIndex x;
+};
+
+CollectionIndex::Builder::Builder(views::Codebook codebook, std::string method, int simplify, int views)
+    : parts_(std::make_shared<Parts>()) {
+    if (codebook.size() > 65535)
+        throw InputError("Collection index: a codebook of " + std::to_string(codebook.size()) +
+                         " words; the index stores words in 16 bits (at most 65535)");
+    if (views < 1 || views > detail::kMaxViews)
+        throw InputError("Collection index: " + std::to_string(views) + " views per model (1 to " +
+                         std::to_string(detail::kMaxViews) + ")");
+    CollectionIndex& x = parts_->x;
+    x.views_ = views;
+    x.codebook_ = std::move(codebook);
+    x.method_ = std::move(method);
+    x.simplify_ = simplify;
+    x.offsets_.push_back(0);
+}
+
+void CollectionIndex::Builder::add(const std::string& name, const std::string& cls,
+                                   const std::vector<views::Histogram>& views) {
+    CollectionIndex& x = parts_->x;
+    if (views.size() != static_cast<std::size_t>(x.views_))
+        throw InputError("Collection index: model '" + name + "' has " + std::to_string(views.size()) +
+                         " views, the index " + std::to_string(x.views_));
+    if (x.names_.size() >= std::numeric_limits<std::uint32_t>::max())
+        throw InputError("Collection index: more than 2^32 - 1 models");
+    const std::size_t before = x.data_.size();
+    try {
+        for (const auto& h : views) detail::encode_view(h, x.codebook_.size(), x.data_, name);
+    } catch (...) {
+        x.data_.resize(before);
+        throw;
+    }
+    x.offsets_.push_back(x.data_.size());
+    x.names_.push_back(name);
+    x.classes_.push_back(cls);
+}
+
+std::size_t CollectionIndex::Builder::size() const { return parts_->x.names_.size(); }
+
+CollectionIndex CollectionIndex::Builder::finish(const SummaryOptions* summary, int threads) {
+    CollectionIndex x = std::move(parts_->x);
+    parts_ = std::make_shared<Parts>();
+    if (x.names_.empty()) throw InputError("Collection index: no models");
+    x.data_.shrink_to_fit();
+    if (summary) x.train_first_pass(*summary, threads);
+    return x;
+}
+
+void CollectionIndex::train_first_pass(const SummaryOptions& options, int threads) {
+    const auto maps = views::rotation_view_maps();
+    if (maps.empty() || maps[0].size() != static_cast<std::size_t>(views_)) return;  // exact queries only
+    orbit_of_view_ = view_orbits(maps, views_, &orbit_count_);
+    const std::uint32_t dims =
+        static_cast<std::uint32_t>(options.orbits ? orbit_count_ : 1) * static_cast<std::uint32_t>(codebook_.size());
+    const std::size_t n = size();
+    const std::size_t s = std::min<std::size_t>(n, static_cast<std::size_t>(std::max(1, options.sample)));
+    std::vector<Summary> sample(s);
+    ParallelOptions par;
+    par.threads = threads;
+    par.grain = 16;
+    const int workers = parallel_workers(static_cast<std::ptrdiff_t>(std::max(s, n)), par);
+    std::vector<std::vector<views::Histogram>> scratch(static_cast<std::size_t>(workers));
+    parallel_for(static_cast<std::ptrdiff_t>(s), [&](std::ptrdiff_t k, int w) {
+        const std::size_t m = static_cast<std::size_t>(k) * n / s;
+        auto& h = scratch[static_cast<std::size_t>(w)];
+        detail::unpack(model_bytes(m), views_, h);
+        sample[static_cast<std::size_t>(k)] = SummarySearch::summarise(h, orbit_of_view_, orbit_count_, codebook_.size(), options);
+    }, par);
+    first_ = SummarySearch::train(sample, dims, options, threads);
+    sample.clear();
+    std::vector<std::int8_t> codes(n * static_cast<std::size_t>(first_.dims()));
+    parallel_for(static_cast<std::ptrdiff_t>(n), [&](std::ptrdiff_t k, int w) {
+        auto& h = scratch[static_cast<std::size_t>(w)];
+        detail::unpack(model_bytes(static_cast<std::size_t>(k)), views_, h);
+        first_.encode(SummarySearch::summarise(h, orbit_of_view_, orbit_count_, codebook_.size(), options),
+                      codes.data() + static_cast<std::size_t>(k) * static_cast<std::size_t>(first_.dims()));
+    }, par);
+    first_.set_codes(std::move(codes));
+}
 
 CollectionIndex CollectionIndex::build(const std::vector<std::string>& names, const std::vector<std::string>& classes,
                                        const std::vector<std::vector<views::Histogram>>& models, views::Codebook codebook,
@@ -174,169 +414,160 @@ CollectionIndex CollectionIndex::build(const std::vector<std::string>& names, co
         throw InputError("Collection index: " + std::to_string(models.size()) + " models, " + std::to_string(names.size()) +
                          " names and " + std::to_string(classes.size()) + " classes");
     if (models.empty()) throw InputError("Collection index: no models");
-    if (codebook.size() > 65535)
-        throw InputError("Collection index: a codebook of " + std::to_string(codebook.size()) +
-                         " words; the index stores words in 16 bits (at most 65535)");
-    CollectionIndex x;
-    x.views_ = static_cast<int>(models[0].size());
-    if (x.views_ < 1 || x.views_ > kLanes)
-        throw InputError("Collection index: " + std::to_string(x.views_) + " views per model (1 to " +
-                         std::to_string(kLanes) + ")");
-    x.names_ = names;
-    x.classes_ = classes;
-    x.codebook_ = std::move(codebook);
-    x.method_ = method;
-    x.simplify_ = simplify;
-    std::size_t nnz = 0;
-    for (const auto& m : models)
-        for (const auto& h : m) nnz += h.size();
-    x.offsets_.reserve(models.size() * static_cast<std::size_t>(x.views_) + 1);
-    x.entries_.reserve(2 * nnz);
-    x.offsets_.push_back(0);
-    for (std::size_t k = 0; k < models.size(); ++k) {
-        if (models[k].size() != static_cast<std::size_t>(x.views_))
-            throw InputError("Collection index: model '" + names[k] + "' has " + std::to_string(models[k].size()) +
-                             " views, the first has " + std::to_string(x.views_));
-        for (const auto& h : models[k]) {
-            double total = 0;
-            int last = -1;
-            for (const auto& [w, c] : h) {
-                if (w <= last || w >= x.codebook_.size() || !(c >= 1) || c != static_cast<float>(static_cast<int>(c)))
-                    throw InputError("Collection index: model '" + names[k] +
-                                     "': a histogram that is not sorted by word, has a word outside the codebook or "
-                                     "a count that is not a positive integer");
-                last = w;
-                total += c;
-                if (total > 65535)  // checked before the 16-bit casts below
-                    throw InputError("Collection index: model '" + names[k] + "' has a view of more than 65535 "
-                                     "keypoints (16-bit sums: at most 65535)");
-                x.entries_.push_back(static_cast<std::uint16_t>(w));
-                x.entries_.push_back(static_cast<std::uint16_t>(c));
-            }
-            x.offsets_.push_back(x.entries_.size() / 2);
-        }
-    }
-    return x;
+    Builder b(std::move(codebook), method, simplify, static_cast<int>(models[0].size()));
+    for (std::size_t k = 0; k < models.size(); ++k) b.add(names[k], classes[k], models[k]);
+    const SummaryOptions defaults;
+    return b.finish(&defaults);
 }
 
-void CollectionIndex::save(const std::string& path) const {
-    std::string b = "CFCI";
-    put(b, std::uint32_t{1});
-    put(b, static_cast<std::uint32_t>(size()));
-    put(b, static_cast<std::uint32_t>(views_));
-    put(b, static_cast<std::uint32_t>(codebook_.size()));
-    put_string(b, method_);
-    put(b, static_cast<std::int32_t>(simplify_));
-    for (std::size_t k = 0; k < size(); ++k) {
-        put_string(b, names_[k]);
-        put_string(b, classes_[k]);
+const std::uint8_t* CollectionIndex::model_bytes(std::size_t m) const {
+    if (!mapped_) return data_.data() + offsets_[m];
+    const std::uint8_t* p = mapped_.get() + offsets_[m];
+    std::atomic<std::uint8_t>& checked = checked_[m];
+    if (!checked.load(std::memory_order_relaxed)) {
+        if (!detail::check_model(p, mapped_.get() + offsets_[m + 1], views_, codebook_.size()))
+            throw InputError("Collection index: model " + std::to_string(m) + " ('" + names_[m] +
+                             "') is not well-formed: the index file is damaged (run `canonform index` again)");
+        checked.store(1, std::memory_order_relaxed);
     }
-    b.append(reinterpret_cast<const char*>(codebook_.words().data()),
-             static_cast<std::size_t>(codebook_.words().size()) * sizeof(float));
-    b.append(reinterpret_cast<const char*>(offsets_.data()), offsets_.size() * sizeof(std::uint64_t));
-    b.append(reinterpret_cast<const char*>(entries_.data()), entries_.size() * sizeof(std::uint16_t));
-    io::write_file_atomic(path, b);
+    return p;
 }
 
-CollectionIndex CollectionIndex::load(const std::string& path) {
-    const std::string bytes = io::read_file(path);
-    Reader r{bytes, "'" + path + "'"};
-    r.need(4);
-    if (bytes.compare(0, 4, "CFCI") != 0) throw InputError(r.where + ": not a canonform collection index");
-    r.at = 4;
-    if (r.get<std::uint32_t>() != 1) throw InputError(r.where + ": unsupported version");
-    const auto n = r.get<std::uint32_t>(), v = r.get<std::uint32_t>(), w = r.get<std::uint32_t>();
-    if (n == 0 || v == 0 || v > static_cast<std::uint32_t>(kLanes) || w == 0 || w > 65535)
-        throw InputError(r.where + ": bad header (models, views or words out of range)");
-    CollectionIndex x;
-    x.views_ = static_cast<int>(v);
-    x.method_ = r.get_string();
-    x.simplify_ = r.get<std::int32_t>();
-    for (std::uint32_t k = 0; k < n; ++k) {
-        x.names_.push_back(r.get_string());
-        x.classes_.push_back(r.get_string());
-    }
-    views::DescriptorMatrix words(static_cast<Eigen::Index>(w), 128);
-    r.need(static_cast<std::size_t>(w) * 128 * sizeof(float));
-    std::memcpy(words.data(), bytes.data() + r.at, static_cast<std::size_t>(w) * 128 * sizeof(float));
-    r.at += static_cast<std::size_t>(w) * 128 * sizeof(float);
-    x.codebook_ = views::Codebook::from_words(std::move(words));
-    const std::size_t slots = static_cast<std::size_t>(n) * v + 1;
-    r.need(slots * sizeof(std::uint64_t));
-    x.offsets_.resize(slots);
-    std::memcpy(x.offsets_.data(), bytes.data() + r.at, slots * sizeof(std::uint64_t));
-    r.at += slots * sizeof(std::uint64_t);
-    for (std::size_t k = 0; k + 1 < slots; ++k)
-        if (x.offsets_[k + 1] < x.offsets_[k]) throw InputError(r.where + ": offsets not increasing");
-    if (x.offsets_[0] != 0 || (bytes.size() - r.at) != x.offsets_.back() * 2 * sizeof(std::uint16_t))
-        throw InputError(r.where + ": the entries do not match the offsets (truncated or trailing bytes)");
-    x.entries_.resize(static_cast<std::size_t>(x.offsets_.back()) * 2);
-    std::memcpy(x.entries_.data(), bytes.data() + r.at, x.entries_.size() * sizeof(std::uint16_t));
-    for (std::size_t e = 0; e < x.entries_.size(); e += 2)
-        if (x.entries_[e] >= w || x.entries_[e + 1] == 0) throw InputError(r.where + ": an entry out of range");
-    return x;
+std::vector<views::Histogram> CollectionIndex::histograms(std::size_t m) const {
+    if (m >= size()) throw InputError("Collection index: model " + std::to_string(m) + " of " + std::to_string(size()));
+    std::vector<views::Histogram> h;
+    detail::unpack(model_bytes(m), views_, h);
+    return h;
 }
 
-std::vector<float> CollectionIndex::distances(const std::vector<views::Histogram>& query, int threads) const {
-    if (query.size() != static_cast<std::size_t>(views_))
+namespace {
+
+Query transpose_query(const std::vector<views::Histogram>& query, int views, int words, const Plan& plan) {
+    if (query.size() != static_cast<std::size_t>(views))
         throw InputError("Collection index: the query has " + std::to_string(query.size()) + " views, the index " +
-                         std::to_string(views_));
-    const auto maps = views::rotation_view_maps();
-    if (maps.empty() || maps[0].size() != static_cast<std::size_t>(views_))
-        throw InputError("Collection index: the rotation maps are for " + std::to_string(maps.empty() ? 0 : maps[0].size()) +
-                         " views, the index has " + std::to_string(views_));
-    const Plan plan = make_plan(maps, views_);
-    // The query transposed: per word, the count in each query view (lanes), and per view its sum.
-    std::vector<std::uint16_t> qt(static_cast<std::size_t>(codebook_.size()) * kLanes, 0);
-    std::vector<double> qsum(static_cast<std::size_t>(views_), 0.0);
-    for (int i = 0; i < views_; ++i)
+                         std::to_string(views));
+    Query q;
+    const auto width = static_cast<std::size_t>(plan.width);
+    q.storage.assign(static_cast<std::size_t>(words) * width + 32, 0);
+    const auto misalign = reinterpret_cast<std::uintptr_t>(q.storage.data()) % 64;
+    q.qt = q.storage.data() + (misalign ? (64 - misalign) / 2 : 0);
+    q.qsum.assign(width, 0.0);
+    for (int i = 0; i < views; ++i)
         for (const auto& [w, c] : query[static_cast<std::size_t>(i)]) {
-            if (w < 0 || w >= codebook_.size() || !(c >= 0) || c > 65535)
-                throw InputError("Collection index: a query word outside the codebook or a count beyond 16 bits");
-            qt[static_cast<std::size_t>(w) * kLanes + static_cast<std::size_t>(i)] = static_cast<std::uint16_t>(c);
-            qsum[static_cast<std::size_t>(i)] += c;
+            if (w < 0 || w >= words || !(c >= 0) || c > 65535 || c != static_cast<float>(static_cast<int>(c)))
+                throw InputError("Collection index: a query word outside the codebook or a count that is not an "
+                                 "integer of 16 bits");
+            const auto l = static_cast<std::size_t>(plan.lane[static_cast<std::size_t>(i)]);
+            q.qt[static_cast<std::size_t>(w) * width + l] = static_cast<std::uint16_t>(c);
+            q.qsum[l] += c;
         }
-    std::vector<float> out(size());
+    return q;
+}
+
+Plan plan_for(int views) {
+    const auto maps = views::rotation_view_maps();
+    if (maps.empty() || maps[0].size() != static_cast<std::size_t>(views))
+        throw InputError("Collection index: the rotation maps are for " + std::to_string(maps.empty() ? 0 : maps[0].size()) +
+                         " views, the index has " + std::to_string(views));
+    return make_plan(maps, views);
+}
+
+}  // namespace
+
+std::vector<float> CollectionIndex::distances(const std::vector<views::Histogram>& query, int threads,
+                                              std::ptrdiff_t self) const {
+    std::vector<std::uint32_t> all(size());
+    std::iota(all.begin(), all.end(), 0u);
+    return distances(query, all, threads, self);
+}
+
+std::vector<float> CollectionIndex::distances(const std::vector<views::Histogram>& query,
+                                              const std::vector<std::uint32_t>& models, int threads,
+                                              std::ptrdiff_t self) const {
+    const Plan plan = plan_for(views_);
+    const Query q = transpose_query(query, views_, codebook_.size(), plan);
+    std::vector<int> block_start(static_cast<std::size_t>(views_));  // per view: its block's first lane
+    for (const Plan::Block& b : plan.blocks)
+        for (int v = 0; v < views_; ++v)
+            if (plan.lane[static_cast<std::size_t>(v)] >= b.start && plan.lane[static_cast<std::size_t>(v)] < b.start + b.size)
+                block_start[static_cast<std::size_t>(v)] = b.start;
+    for (std::uint32_t m : models)
+        if (m >= size()) throw InputError("Collection index: model " + std::to_string(m) + " of " + std::to_string(size()));
+    std::vector<float> out(models.size());
     ParallelOptions par;
     par.threads = threads;
     par.grain = 256;
-    const int workers = parallel_workers(static_cast<std::ptrdiff_t>(size()), par);
+    const int workers = parallel_workers(static_cast<std::ptrdiff_t>(models.size()), par);
     std::vector<Scratch> scratch(static_cast<std::size_t>(workers));
-    parallel_for(static_cast<std::ptrdiff_t>(size()), [&](std::ptrdiff_t m, int worker) {
-        score(offsets_, entries_, views_, qt, qsum, plan, static_cast<std::size_t>(m), scratch[static_cast<std::size_t>(worker)],
-              &out[static_cast<std::size_t>(m)]);
+    parallel_for(static_cast<std::ptrdiff_t>(models.size()), [&](std::ptrdiff_t k, int worker) {
+        const std::uint32_t m = models[static_cast<std::size_t>(k)];
+        out[static_cast<std::size_t>(k)] = score(model_bytes(m), views_, q, plan, block_start,
+                                                 self >= 0 && static_cast<std::ptrdiff_t>(m) < self,
+                                                 scratch[static_cast<std::size_t>(worker)]);
     }, par);
     return out;
 }
 
-std::vector<IndexMatch> CollectionIndex::top(const std::vector<views::Histogram>& query, std::size_t k, int threads) const {
-    const std::vector<float> d = distances(query, threads);
+namespace {
+
+/// The k smallest (distance, model) of `d` over `models`, as matches.
+std::vector<IndexMatch> smallest(const std::vector<float>& d, const std::vector<std::uint32_t>& models, std::size_t k,
+                                 const std::vector<std::string>& names, const std::vector<std::string>& classes) {
     std::vector<std::size_t> order(d.size());
     std::iota(order.begin(), order.end(), std::size_t{0});
     k = std::min(k, order.size());
     std::partial_sort(order.begin(), order.begin() + static_cast<std::ptrdiff_t>(k), order.end(),
-                      [&](std::size_t a, std::size_t b) { return d[a] < d[b] || (d[a] == d[b] && a < b); });
+                      [&](std::size_t a, std::size_t b) {
+                          return d[a] < d[b] || (d[a] == d[b] && models[a] < models[b]);
+                      });
     std::vector<IndexMatch> out;
-    for (std::size_t r = 0; r < k; ++r) out.push_back({order[r], names_[order[r]], classes_[order[r]], d[order[r]]});
+    for (std::size_t r = 0; r < k; ++r) {
+        const std::size_t m = models[order[r]];
+        out.push_back({m, names[m], classes[m], d[order[r]]});
+    }
     return out;
 }
 
-CollectionIndex index_method_folder(const std::string& folder, const std::string& method, int simplify) {
-    const auto rows = io::read_csv(folder + "/models.csv");
-    std::vector<std::string> names, classes;
-    for (std::size_t r = 1; r < rows.size(); ++r) {
-        if (rows[r].size() < 2) throw InputError("'" + folder + "/models.csv': row " + std::to_string(r + 1) + " is not name,class");
-        names.push_back(rows[r][0]);
-        classes.push_back(rows[r][1]);
+}  // namespace
+
+std::vector<IndexMatch> CollectionIndex::top(const std::vector<views::Histogram>& query, std::size_t k, int threads) const {
+    SearchOptions o;
+    o.exact = true;
+    o.threads = threads;
+    return search(query, k, o);
+}
+
+bool CollectionIndex::two_stage(const SearchOptions& o) const {
+    return !o.exact && first_.trained() && (size() > kTwoStageAbove || o.candidates > 0);
+}
+
+std::size_t CollectionIndex::default_candidates(std::size_t k) const {
+    return std::min(size(), std::max<std::size_t>(2000, 40 * k));
+}
+
+std::vector<std::int8_t> CollectionIndex::code(const std::vector<views::Histogram>& query) const {
+    if (!first_.trained()) throw InputError("Collection index: no first pass (an index of version 1: run `canonform index` again)");
+    if (query.size() != static_cast<std::size_t>(views_))
+        throw InputError("Collection index: the query has " + std::to_string(query.size()) + " views, the index " +
+                         std::to_string(views_));
+    std::vector<std::int8_t> c(static_cast<std::size_t>(first_.dims()));
+    first_.encode(SummarySearch::summarise(query, orbit_of_view_, orbit_count_, codebook_.size(), first_.options()), c.data());
+    return c;
+}
+
+std::vector<IndexMatch> CollectionIndex::search(const std::vector<views::Histogram>& query, std::size_t k,
+                                                const SearchOptions& o) const {
+    std::vector<std::uint32_t> models;
+    if (two_stage(o)) {
+        const std::size_t c = std::max(k, o.candidates > 0 ? o.candidates : default_candidates(k));
+        const auto qc = code(query);
+        models = first_.nearest(qc.data(), c, o.threads);
+    } else {
+        models.resize(size());
+        std::iota(models.begin(), models.end(), 0u);
     }
-    std::vector<std::vector<views::Histogram>> models(names.size());
-    parallel_for(static_cast<std::ptrdiff_t>(names.size()), [&](std::ptrdiff_t k, int) {
-        views::ModelDescriptor d = views::read_descriptor(folder + "/descriptors/" + names[static_cast<std::size_t>(k)] + ".cfvd");
-        if (d.codebook_words == 0)
-            throw InputError("'" + folder + "/descriptors/" + names[static_cast<std::size_t>(k)] + ".cfvd' has no histograms");
-        models[static_cast<std::size_t>(k)] = std::move(d.histograms);
-    });
-    return CollectionIndex::build(names, classes, models, views::Codebook::load(folder + "/codebook.bin"), method, simplify);
+    const std::vector<float> d = distances(query, models, o.threads, o.self);
+    return smallest(d, models, k, names_, classes_);
 }
 
 }  // namespace canonform::retrieval

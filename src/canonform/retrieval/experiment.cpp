@@ -73,11 +73,13 @@ void write_measures(const ExperimentOptions& o, const std::string& dir, const st
     }
     for (const auto& [key, value] : pose.items()) js[key] = value;
     io::write_file_atomic(dir + "/metrics.json", js.dump(-1, ' ', false, nlohmann::ordered_json::error_handler_t::replace) + "\n");
-    std::ostringstream pr;
-    pr << "recall,precision\n";
-    for (size_t k = 0; k < out.evaluation.recall.size(); ++k)
-        pr << out.evaluation.recall[k] << "," << out.evaluation.precision[k] << "\n";
-    io::write_file_atomic(dir + "/pr.csv", pr.str());
+    if (!out.no_measures.empty() || !out.evaluation.recall.empty()) {  // measures without a matrix: no curve
+        std::ostringstream pr;
+        pr << "recall,precision\n";
+        for (size_t k = 0; k < out.evaluation.recall.size(); ++k)
+            pr << out.evaluation.recall[k] << "," << out.evaluation.precision[k] << "\n";
+        io::write_file_atomic(dir + "/pr.csv", pr.str());
+    }
     const Measures& e = out.evaluation.micro;
     char line[300];
     std::snprintf(line, sizeof line, "[%s] NN %.3f, 1-tier %.3f, 2-tier %.3f, E %.3f, DCG %.3f", label.c_str(), e.nn,
@@ -326,19 +328,10 @@ MethodOutcome Experiment::run_method(const canonical::MethodSpec& spec) const {
 }
 
 void Experiment::finish_method(MethodOutcome& out, const std::vector<size_t>& good, const Eigen::MatrixXf& D) const {
-    const ExperimentOptions& o = options_;
     const auto t0 = Clock::now();
-    const canonical::MethodSpec& spec = out.spec;
-    const std::string method = spec.folder();
-    const std::string& dir = out.folder;
     std::vector<std::string> labels;
-    std::ostringstream order;
-    for (size_t k : good) {
-        labels.push_back(models_[k].label);
-        order << models_[k].name << "," << models_[k].label << "\n";
-    }
-    io::write_distance_matrix(D, dir + "/distances.bin", dir + "/distances.csv");
-    io::write_file_atomic(dir + "/models.csv", "name,class\n" + order.str());
+    for (size_t k : good) labels.push_back(models_[k].label);
+    io::write_distance_matrix(D, out.folder + "/distances.bin", out.folder + "/distances.csv");
     std::map<std::string, int> class_sizes;
     for (const std::string& l : labels) ++class_sizes[l];
     bool measurable = false;
@@ -348,6 +341,26 @@ void Experiment::finish_method(MethodOutcome& out, const std::vector<size_t>& go
     else
         out.no_measures = "no class has more than two models among the " + std::to_string(good.size()) +
                           " meshes that succeeded: the measures need three; the distances are in distances.bin";
+    out.distances_seconds += since(t0);
+    finish_measures(out, good, nlohmann::ordered_json::object());
+}
+
+void Experiment::finish_method(MethodOutcome& out, const std::vector<size_t>& good, const Evaluation& evaluation,
+                               const nlohmann::ordered_json& extra) const {
+    out.evaluation = evaluation;
+    finish_measures(out, good, extra);
+}
+
+void Experiment::finish_measures(MethodOutcome& out, const std::vector<size_t>& good,
+                                 const nlohmann::ordered_json& extra) const {
+    const ExperimentOptions& o = options_;
+    const auto t0 = Clock::now();
+    const canonical::MethodSpec& spec = out.spec;
+    const std::string method = spec.folder();
+    const std::string& dir = out.folder;
+    std::ostringstream order;
+    for (size_t k : good) order << models_[k].name << "," << models_[k].label << "\n";
+    io::write_file_atomic(dir + "/models.csv", "name,class\n" + order.str());
     // Pose consistency against ground-truth correspondences (where the collection has them), on
     // the forms this run wrote; the correspondences name vertices of the original meshes, so not
     // on simplified ones.
@@ -362,9 +375,10 @@ void Experiment::finish_method(MethodOutcome& out, const std::vector<size_t>& go
     js["method"] = method;
     js["base"] = spec.name;
     js["beta"] = spec.method().parameter("beta") ? settings.number("beta") : 0.0;
-    write_measures(o, dir, method, js,
-                   {{"pose_consistency", out.pose_consistency}, {"pose_consistency_pairs", out.pose_consistency_pairs}},
-                   out);
+    nlohmann::ordered_json more = {{"pose_consistency", out.pose_consistency},
+                                   {"pose_consistency_pairs", out.pose_consistency_pairs}};
+    for (const auto& [key, value] : extra.items()) more[key] = value;
+    write_measures(o, dir, method, js, more, out);
     out.distances_seconds += since(t0);
     // The timings apart from the measures, so that metrics.json is equal for equal inputs.
     const nlohmann::ordered_json timings = {{"method", method},

@@ -125,6 +125,10 @@ public:
     /// this stage's), pr.csv; fills out.evaluation / no_measures and the pose consistency. `out`
     /// carries spec, folder, meshes, failed and the seconds of the earlier stages.
     void finish_method(MethodOutcome& out, const std::vector<std::size_t>& good, const Eigen::MatrixXf& D) const;
+    /// The same from measures computed without the matrix (each model's nearest neighbours,
+    /// retrieval_measures.h): no distances.bin or pr.csv; `extra` is added to metrics.json.
+    void finish_method(MethodOutcome& out, const std::vector<std::size_t>& good, const Evaluation& evaluation,
+                       const nlohmann::ordered_json& extra) const;
     /// Every stage of one method; writes its folder.
     MethodOutcome run_method(const canonical::MethodSpec& method) const;
     /// A fused method from its members' distance matrices (RUN/MEMBER/distances.bin, written by
@@ -134,6 +138,8 @@ public:
     std::vector<MethodOutcome> run() const;
 
 private:
+    /// models.csv, pose consistency, metrics.json (with `extra`), timings.json of a method.
+    void finish_measures(MethodOutcome& out, const std::vector<std::size_t>& good, const nlohmann::ordered_json& extra) const;
     ExperimentOptions options_;
     std::vector<Model> models_;
 };

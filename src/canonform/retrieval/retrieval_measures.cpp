@@ -80,10 +80,7 @@ nlohmann::ordered_json to_json(const Measures& m) {
             {"e_measure", m.e_measure}, {"dcg", m.dcg},       {"queries", m.queries}};
 }
 
-Measures query_measures(const Eigen::VectorXd& d, const std::vector<std::string>& labels, int q) {
-    const std::vector<char> rel = ranked_relevance(d, labels, q);
-    const int n = static_cast<int>(labels.size());
-    const int c1 = static_cast<int>(std::count(labels.begin(), labels.end(), labels[static_cast<size_t>(q)])) - 1;
+Measures ranked_measures(const std::vector<char>& rel, int c1, int n) {
     Measures m;
     m.queries = 1;
     if (c1 <= 0) return m;
@@ -100,13 +97,18 @@ Measures query_measures(const Eigen::VectorXd& d, const std::vector<std::string>
         m.e_measure = 2.0 / (1.0 / P + 1.0 / R);
     }
     double dcg = 0, ideal = 0;
-    for (size_t i = 0; i < rel.size(); ++i) {
+    for (size_t i = 0; i < std::max(rel.size(), static_cast<size_t>(c1)); ++i) {
         const double w = i == 0 ? 1.0 : 1.0 / std::log2(static_cast<double>(i + 1));
-        dcg += rel[i] * w;
+        if (i < rel.size()) dcg += rel[i] * w;
         if (static_cast<int>(i) < c1) ideal += w;
     }
     m.dcg = dcg / ideal;
     return m;
+}
+
+Measures query_measures(const Eigen::VectorXd& d, const std::vector<std::string>& labels, int q) {
+    const int c1 = static_cast<int>(std::count(labels.begin(), labels.end(), labels[static_cast<size_t>(q)])) - 1;
+    return ranked_measures(ranked_relevance(d, labels, q), c1, static_cast<int>(labels.size()));
 }
 
 Evaluation evaluate(const Eigen::MatrixXd& D, const std::vector<std::string>& labels) {
@@ -147,6 +149,80 @@ Evaluation evaluate(const Eigen::MatrixXd& D, const std::vector<std::string>& la
     e.macro = mean_of(macro);
     e.macro.queries = micro.queries;
     return e;
+}
+
+int neighbours_needed(const std::vector<std::string>& labels) {
+    std::map<std::string, int> size;
+    for (const auto& l : labels) ++size[l];
+    int largest = 0;
+    for (const auto& [cls, count] : size) largest = std::max(largest, count);
+    const int n = static_cast<int>(labels.size());
+    return std::max(0, std::min(std::max(2 * largest, 32), n - 1));
+}
+
+NeighbourEvaluation evaluate_neighbours(const std::vector<std::vector<std::uint32_t>>& neighbours,
+                                        const std::vector<std::string>& labels, int k) {
+    const int n = static_cast<int>(labels.size());
+    if (static_cast<int>(neighbours.size()) != n)
+        throw InputError(std::to_string(neighbours.size()) + " neighbour lists but " + std::to_string(n) + " labels");
+    if (n < 2) throw InputError("at least two models are needed");
+    std::map<std::string, int> size;
+    int largest = 0;
+    for (const auto& l : labels) largest = std::max(largest, ++size[l]);
+    const int need = std::min(std::max(2 * (largest - 1), std::min(32, n - 1)), n - 1);
+    if (k < need || k > n - 1)
+        throw InputError("neighbour lists of " + std::to_string(k) + " models: the measures need " + std::to_string(need) +
+                         " (twice the largest class less one, at least 32) and there are " + std::to_string(n - 1));
+    NeighbourEvaluation out;
+    out.k = k;
+    Evaluation& e = out.evaluation;
+    std::map<std::string, Measures> sums, bounds;
+    Measures micro, bound;
+    for (int q = 0; q < n; ++q) {
+        const std::string& cls = labels[static_cast<size_t>(q)];
+        const auto& list = neighbours[static_cast<size_t>(q)];
+        if (static_cast<int>(list.size()) < k)
+            throw InputError("the neighbour list of model " + std::to_string(q) + " has " + std::to_string(list.size()) +
+                             " models, fewer than " + std::to_string(k));
+        std::vector<char> rel;
+        for (int i = 0; i < k; ++i) {
+            const std::uint32_t m = list[static_cast<size_t>(i)];
+            if (m >= static_cast<std::uint32_t>(n) || static_cast<int>(m) == q)
+                throw InputError("the neighbour list of model " + std::to_string(q) + " names model " + std::to_string(m) +
+                                 " (itself or out of range)");
+            rel.push_back(labels[m] == cls);
+        }
+        if (size[cls] <= 2) continue;
+        const int c1 = size[cls] - 1;
+        const Measures m = ranked_measures(rel, c1, n);
+        accumulate(micro, m);
+        accumulate(sums[cls], m);
+        // The relevant models beyond the K, each at rank K + 1 or later.
+        double ideal = 0;
+        for (int i = 0; i < c1; ++i) ideal += i == 0 ? 1.0 : 1.0 / std::log2(static_cast<double>(i + 1));
+        const double missing = c1 - static_cast<double>(std::count(rel.begin(), rel.end(), 1));
+        Measures b;
+        b.dcg = missing / std::log2(static_cast<double>(k + 1)) / ideal;
+        accumulate(bound, b);
+        accumulate(bounds[cls], b);
+    }
+    for (const auto& [cls, count] : size)
+        if (count <= 2) e.skipped_classes.push_back(cls);
+    if (micro.queries == 0) throw InputError("no class has more than two models: nothing to evaluate");
+    e.micro = mean_of(micro);
+    out.dcg_bound = mean_of(bound);
+    Measures macro;
+    double macro_bound = 0;
+    for (const auto& [cls, sum] : sums) {
+        e.classes.push_back(cls);
+        e.per_class.push_back(mean_of(sum));
+        accumulate(macro, e.per_class.back());
+        macro_bound += mean_of(bounds[cls]).dcg;
+    }
+    e.macro = mean_of(macro);
+    e.macro.queries = micro.queries;
+    out.dcg_bound_macro = macro_bound / static_cast<double>(sums.size());
+    return out;
 }
 
 }  // namespace canonform::retrieval

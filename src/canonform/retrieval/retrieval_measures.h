@@ -25,6 +25,7 @@
 #include <Eigen/Core>
 #include <nlohmann/json.hpp>
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -57,5 +58,31 @@ Measures query_measures(const Eigen::VectorXd& distances, const std::vector<std:
 /// Evaluates the N x N distance matrix D against labels (N). InputError on a non-square matrix,
 /// a label count that differs, or non-finite distances.
 Evaluation evaluate(const Eigen::MatrixXd& D, const std::vector<std::string>& labels);
+
+/// Measures of one query from the head of its ranking: rel[i] says whether result i + 1 is of the
+/// query's class, c1 = its class size - 1, n = the collection's size. NN, the tiers and the
+/// E-measure are those of the whole ranking when rel holds at least max(2 c1, min(32, n - 1))
+/// results; DCG counts the results given (truncated when rel is shorter than n - 1).
+Measures ranked_measures(const std::vector<char>& rel, int c1, int n);
+
+/// The evaluation from each model's K nearest other models instead of the N x N matrix (the
+/// measures above; no precision-recall curve): neighbours[q] = the first results of query q in
+/// ranking order (ties by model index, q itself left out), at least min(K, N - 1) each with
+/// K >= max(2 (C - 1), 32) for the largest class C. NN, first and second tier and E-measure are
+/// then exactly the matrix's; DCG is truncated at K: the full DCG lies in [dcg, dcg + bound],
+/// bound (micro and macro in `dcg_bound`) from the relevant models missing from the K (each at a
+/// rank above K, weight at most 1 / log2(K + 1)). InputError on lists too short, an index out of
+/// range or a label count that differs.
+struct NeighbourEvaluation {
+    Evaluation evaluation;
+    int k = 0;                          ///< results per query used
+    Measures dcg_bound;                 ///< only dcg (micro in `evaluation`'s order) is set
+    double dcg_bound_macro = 0;
+};
+NeighbourEvaluation evaluate_neighbours(const std::vector<std::vector<std::uint32_t>>& neighbours,
+                                        const std::vector<std::string>& labels, int k);
+
+/// K for evaluate_neighbours(): max(2 x the largest class, 32), at most N - 1.
+int neighbours_needed(const std::vector<std::string>& labels);
 
 }  // namespace canonform::retrieval

@@ -2,6 +2,7 @@
 #include "canonform/retrieval/sharded_run.h"
 
 #include "canonform/common/parallel.h"
+#include "canonform/retrieval/collection_index.h"
 #include "canonform/io/files.h"
 #include "canonform/views/view_directions.h"
 
@@ -20,7 +21,7 @@ using Json = nlohmann::ordered_json;
 using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
-const Stage kStages[] = {Stage::Features, Stage::Codebook, Stage::Histograms, Stage::Distances, Stage::Merge};
+const Stage kStages[] = {Stage::Features, Stage::Codebook, Stage::Histograms, Stage::Index, Stage::Distances, Stage::Merge};
 
 Json read_json(const std::string& path) {
     const std::string bytes = io::read_file(path);
@@ -39,7 +40,7 @@ Json plan_json(const ShardedPlan& p) {
     const ExperimentOptions& o = p.experiment;
     Json methods = Json::array();
     for (const canonical::MethodSpec& m : o.methods) methods.push_back(m.to_string());
-    return {{"format", "canonform sharded run 1"},
+    Json j = {{"format", "canonform sharded run 1"},
             {"dataset", o.dataset},
             {"labels", o.labels},
             {"methods", methods},
@@ -56,6 +57,12 @@ Json plan_json(const ShardedPlan& p) {
             {"repair", o.repair},
             {"shards", p.shards},
             {"blocks", p.blocks > 0 ? p.blocks : p.shards}};
+    if (p.evaluation != "matrix") {  // absent for a matrix run: the plans of earlier runs stay equal
+        j["evaluation"] = p.evaluation;
+        j["neighbours"] = p.neighbours;
+        j["exact"] = p.exact;
+    }
+    return j;
 }
 
 ShardedPlan plan_from_json(const Json& j, const std::string& run) {
@@ -78,6 +85,11 @@ ShardedPlan plan_from_json(const Json& j, const std::string& run) {
     o.repair = j.at("repair").get<bool>();
     p.shards = j.at("shards").get<int>();
     p.blocks = j.at("blocks").get<int>();
+    if (j.contains("evaluation")) {
+        p.evaluation = j.at("evaluation").get<std::string>();
+        p.neighbours = j.at("neighbours").get<int>();
+        p.exact = j.at("exact").get<bool>();
+    }
     return p;
 }
 
@@ -136,6 +148,7 @@ const char* stage_name(Stage s) {
     case Stage::Features: return "features";
     case Stage::Codebook: return "codebook";
     case Stage::Histograms: return "histograms";
+    case Stage::Index: return "index";
     case Stage::Distances: return "distances";
     case Stage::Merge: return "merge";
     }
@@ -145,13 +158,16 @@ const char* stage_name(Stage s) {
 Stage parse_stage(const std::string& name) {
     for (Stage s : kStages)
         if (name == stage_name(s)) return s;
-    throw InputError("unknown stage '" + name + "' (features, codebook, histograms, distances, merge)");
+    throw InputError("unknown stage '" + name + "' (features, codebook, histograms, index, distances, merge)");
 }
 
 void init_sharded_run(const ShardedPlan& plan) {
     const ExperimentOptions& o = plan.experiment;
     if (plan.shards < 1) throw InputError("--shards must be at least 1");
     if (plan.blocks < 0) throw InputError("--blocks must be at least 0");
+    if (plan.evaluation != "matrix" && plan.evaluation != "neighbours")
+        throw InputError("--evaluation " + plan.evaluation + ": matrix or neighbours");
+    if (plan.neighbours < 0) throw InputError("--neighbours must be at least 0");
     io::make_directories(o.out + "/stages");
     const Json wanted = plan_json(plan);
     const std::string path = o.out + "/sharded.json";
@@ -184,6 +200,7 @@ ShardedRun::ShardedRun(const std::string& run, int threads, std::function<void(c
 int ShardedRun::parts(Stage s) const {
     if (s == Stage::Features || s == Stage::Histograms) return plan_.shards;
     if (s == Stage::Distances) return plan_.blocks > 0 ? plan_.blocks : plan_.shards;
+    if (s == Stage::Index) return by_neighbours() ? 1 : 0;
     return 1;
 }
 
@@ -228,13 +245,17 @@ std::pair<std::size_t, std::size_t> ShardedRun::block_rows(int block, std::size_
 }
 
 bool ShardedRun::run(Stage s, int index) const {
+    if (parts(s) == 0)
+        throw InputError(std::string("stage ") + stage_name(s) + " is part of a run with --evaluation neighbours only");
     if (index < 0 || index >= parts(s))
         throw InputError(std::string("stage ") + stage_name(s) + " has parts 0 to " + std::to_string(parts(s) - 1) +
                          ", not " + std::to_string(index));
     if (done(s, index)) return false;
-    // What the stage needs first: every part of the stage before it.
+    // What the stage needs first: every part of the stage before it (that the run has).
+    int at = static_cast<int>(s) - 1;
+    while (at > 0 && parts(kStages[at]) == 0) --at;
     if (s != Stage::Features) {
-        const Stage before = kStages[static_cast<int>(s) - 1];
+        const Stage before = kStages[at];
         std::vector<int> missing;
         for (int i = 0; i < parts(before); ++i)
             if (!done(before, i)) missing.push_back(i);
@@ -254,7 +275,8 @@ bool ShardedRun::run(Stage s, int index) const {
         case Stage::Features: features(index, m); break;
         case Stage::Codebook: codebook(m); break;
         case Stage::Histograms: histograms(index, m); break;
-        case Stage::Distances: distances(index, m); break;
+        case Stage::Index: this->index(m); break;
+        case Stage::Distances: by_neighbours() ? neighbours(index, m) : distances(index, m); break;
         case Stage::Merge: merge(m); break;
         }
         m["seconds"] = since(t0);
@@ -282,6 +304,7 @@ void ShardedRun::run_all() const {
 std::vector<StageStatus> ShardedRun::status() const {
     std::vector<StageStatus> out;
     for (Stage s : kStages) {
+        if (parts(s) == 0) continue;
         StageStatus st;
         st.stage = s;
         st.parts = parts(s);
@@ -470,6 +493,23 @@ void ShardedRun::merge(Json& m) const {
         for (const std::string& note : c.notes)
             if (log_) log_(note);
         const std::size_t n = c.good.size();
+        io::write_file_atomic(dir + "/failures.txt", c.failures);
+        MethodOutcome out;
+        out.spec = spec;
+        out.folder = dir;
+        out.meshes = n;
+        out.failed = experiment_.models().size() - n;
+        out.cached = c.cached;
+        out.forms_seconds = c.seconds;
+        out.codebook_seconds = read_json(marker(Stage::Codebook, 0) + ".json").at("seconds").get<double>();
+        if (by_neighbours()) {
+            for (Stage st : {Stage::Histograms, Stage::Index, Stage::Distances})
+                for (int s = 0; s < parts(st); ++s)
+                    out.distances_seconds += read_json(marker(st, s) + ".json").at("seconds").get<double>();
+            merge_neighbours(spec, out, m);
+            outcomes.push_back(out);
+            continue;
+        }
         Eigen::MatrixXf D = Eigen::MatrixXf::Zero(static_cast<Eigen::Index>(n), static_cast<Eigen::Index>(n));
         double distance_seconds = 0;
         for (int b = 0; b < parts(Stage::Distances); ++b) {
@@ -490,15 +530,6 @@ void ShardedRun::merge(Json& m) const {
                 }
             distance_seconds += read_json(marker(Stage::Distances, b) + ".json").at("seconds").get<double>();
         }
-        io::write_file_atomic(dir + "/failures.txt", c.failures);
-        MethodOutcome out;
-        out.spec = spec;
-        out.folder = dir;
-        out.meshes = n;
-        out.failed = experiment_.models().size() - n;
-        out.cached = c.cached;
-        out.forms_seconds = c.seconds;
-        out.codebook_seconds = read_json(marker(Stage::Codebook, 0) + ".json").at("seconds").get<double>();
         for (int s = 0; s < parts(Stage::Histograms); ++s)
             distance_seconds += read_json(marker(Stage::Histograms, s) + ".json").at("seconds").get<double>();
         out.distances_seconds = distance_seconds;

@@ -6,9 +6,16 @@
 //   features  shard I/N  per mesh of shard I: [simplify, noise,] canonical form, 66 views, SIFT
 //   codebook             trained as Experiment::codebook() does (a seeded sample, views/codebook.h)
 //   histograms shard I/N one bag-of-features histogram per view, per mesh of shard I
+//   index                (evaluation "neighbours" only) each method's collection index with its
+//                        first pass (collection_index.h), METHOD/index.cfci
 //   distances block B/NB rows of the upper triangle of the N x N clock-matching matrix, the row
-//                        blocks balanced by pair count (views::distance_rows())
-//   merge                the matrix, measures, pose consistency, report (Experiment::finish_method())
+//                        blocks balanced by pair count (views::distance_rows()); with evaluation
+//                        "neighbours", instead each row's K nearest other models through the index
+//                        (equal row blocks; METHOD/stages/neighbours_B.bin)
+//   merge                the matrix, measures, pose consistency, report (Experiment::finish_method());
+//                        with "neighbours", the measures from the lists (retrieval_measures.h:
+//                        NN, tiers and E-measure exactly the matrix's, DCG truncated at K) and
+//                        METHOD/neighbours.bin instead of the matrix
 //
 // Every stage runs every method of the plan. All state lives in the run folder: a finished stage
 // writes its marker RUN/stages/STAGE_I.json last (atomically, like every output: temporary file +
@@ -35,11 +42,19 @@ struct ShardedPlan {
     ExperimentOptions experiment;  ///< dataset, labels, out (the run folder), methods, words, ...
     int shards = 1;                ///< mesh shards (features, histograms)
     int blocks = 0;                ///< row blocks of the distance matrix (0 = as many as shards)
+    /// "matrix" (the N x N matrix) or "neighbours" (each model's K nearest through the index,
+    /// for collections too large for the matrix).
+    std::string evaluation = "matrix";
+    int neighbours = 0;      ///< K of "neighbours" (0 = max(2 x largest class, 32), at most N - 1)
+    bool exact = false;      ///< "neighbours" by exhaustive clock matching even above the two-stage size
 };
 
+/// neighbours.bin of a "neighbours" run: per model (models.csv order) K x (u32 model, f32 distance),
+/// little endian, nearest first, the model itself left out.
+
 /// The stages, in order.
-enum class Stage { Features, Codebook, Histograms, Distances, Merge };
-/// "features", "codebook", "histograms", "distances", "merge".
+enum class Stage { Features, Codebook, Histograms, Index, Distances, Merge };
+/// "features", "codebook", "histograms", "index", "distances", "merge".
 const char* stage_name(Stage s);
 /// The stage named `name` (InputError listing the names if none).
 Stage parse_stage(const std::string& name);
@@ -68,7 +83,7 @@ public:
 
     const ShardedPlan& plan() const { return plan_; }
     const Experiment& experiment() const { return experiment_; }
-    /// Parts of a stage: shards, blocks or 1.
+    /// Parts of a stage: shards, blocks or 1 (0: the index stage of a "matrix" run, which it skips).
     int parts(Stage s) const;
 
     /// Runs part `index` of stage `s` unless it is done; returns false if it was. InputError if an
@@ -79,7 +94,7 @@ public:
     void run_all() const;
     /// True if part `index` of `s` is done (marker present and every output it lists present).
     bool done(Stage s, int index = 0) const;
-    /// Every stage's parts: done, failed, pending.
+    /// Every stage's parts: done, failed, pending (stages of no parts left out).
     std::vector<StageStatus> status() const;
 
     /// The meshes [begin, end) of shard `shard` (contiguous, sizes differing by at most one).
@@ -92,8 +107,12 @@ private:
     void features(int shard, nlohmann::ordered_json& m) const;
     void codebook(nlohmann::ordered_json& m) const;
     void histograms(int shard, nlohmann::ordered_json& m) const;
+    void index(nlohmann::ordered_json& m) const;
     void distances(int block, nlohmann::ordered_json& m) const;
+    void neighbours(int block, nlohmann::ordered_json& m) const;
     void merge(nlohmann::ordered_json& m) const;
+    void merge_neighbours(const canonical::MethodSpec& spec, MethodOutcome& out, nlohmann::ordered_json& m) const;
+    bool by_neighbours() const { return plan_.evaluation == "neighbours"; }
     /// Per method folder, the meshes that succeeded (in collection order) and the failures, from
     /// the features markers.
     struct Collected {
