@@ -37,6 +37,14 @@ void add_plan_options(CLI::App* c, PlanArgs& a) {
     c->add_option("--shards", a.plan.shards, "mesh shards")->check(CLI::Range(1, 1000000));
     c->add_option("--blocks", a.plan.blocks, "row blocks of the distance matrix (0: as many as shards)")
         ->check(CLI::Range(0, 1000000));
+    c->add_option("--evaluation", a.plan.evaluation,
+                  "matrix (the N x N distance matrix) or neighbours (each model's K nearest through the collection "
+                  "index: no matrix, for collections too large for one; NN, tiers and E-measure exact, DCG truncated at K)")
+        ->check(CLI::IsMember({"matrix", "neighbours"}));
+    c->add_option("--neighbours", a.plan.neighbours, "K of --evaluation neighbours (0: max(2 x largest class, 32))")
+        ->check(CLI::Range(0, 1000000));
+    c->add_flag("--exact-neighbours", a.plan.exact,
+                "--evaluation neighbours by exhaustive clock matching even above the two-stage size");
 }
 
 /// init_sharded_run() of the parsed plan (absolute run folder and dataset: jobs run elsewhere).
@@ -71,7 +79,7 @@ void add_stage(CLI::App& app) {
     auto a = std::make_shared<Args>();
     auto* c = app.add_subcommand(
         "stage", "one stage of a sharded retrieval run (state in the run folder, every stage resumable): init, "
-                 "features, codebook, histograms, distances, merge, or all");
+                 "features, codebook, histograms, index (--evaluation neighbours), distances, merge, or all");
     c->require_subcommand(1);
 
     auto* init = c->add_subcommand("init", "start a sharded run: the plan and the collection, read once");
@@ -81,7 +89,7 @@ void add_stage(CLI::App& app) {
         std::cerr << "stage init: " << p.experiment.out << " (" << p.shards << " shards)\n";
     });
 
-    for (const char* name : {"features", "codebook", "histograms", "distances", "merge", "all"}) {
+    for (const char* name : {"features", "codebook", "histograms", "index", "distances", "merge", "all"}) {
         const std::string n = name;
         const bool sharded = n == "features" || n == "histograms" || n == "distances";
         auto* s = c->add_subcommand(n, n == "all" ? "every stage of the run, here, skipping what is done"
@@ -263,13 +271,17 @@ void add_slurm(CLI::App& app) {
 #endif
         io::make_directories(dir + "/slurm/logs");
         const retrieval::Stage stages[] = {retrieval::Stage::Features, retrieval::Stage::Codebook,
-                                           retrieval::Stage::Histograms, retrieval::Stage::Distances,
-                                           retrieval::Stage::Merge};
-        for (const auto st : stages)
-            io::write_file_atomic(dir + "/slurm/" + retrieval::stage_name(st) + ".sbatch", sbatch_script(run, st, a->s, exe));
+                                           retrieval::Stage::Histograms, retrieval::Stage::Index,
+                                           retrieval::Stage::Distances, retrieval::Stage::Merge};
+        std::string scripts;
+        for (const auto st : stages) {
+            if (run.parts(st) == 0) continue;  // the index stage of a matrix run
+            const std::string name = std::string(retrieval::stage_name(st)) + ".sbatch";
+            io::write_file_atomic(dir + "/slurm/" + name, sbatch_script(run, st, a->s, exe));
+            scripts += " " + name;
+        }
         if (!a->s.submit) {
-            std::cout << dir << "/slurm/: features.sbatch codebook.sbatch histograms.sbatch distances.sbatch "
-                         "merge.sbatch (submit with --submit)\n";
+            std::cout << dir << "/slurm/:" << scripts << " (submit with --submit)\n";
             return;
         }
         // Only what is not done: a stage whose parts are all done is left out, a job array covers
@@ -342,8 +354,10 @@ void add_index(CLI::App& app) {
             const retrieval::CollectionIndex x = retrieval::index_method_folder(folder, m.to_string(), simplify);
             x.save(folder + "/index.cfci");
             char line[300];
-            std::snprintf(line, sizeof line, "index: %s/index.cfci: %zu models, %.1f MiB of histograms, %.2f s\n",
-                          folder.c_str(), x.size(), static_cast<double>(x.bytes()) / (1 << 20), seconds_since(t0));
+            std::snprintf(line, sizeof line,
+                          "index: %s/index.cfci: %zu models, %.1f MiB of histograms, %.1f MiB of first-pass codes, %.2f s\n",
+                          folder.c_str(), x.size(), static_cast<double>(x.bytes()) / (1 << 20),
+                          static_cast<double>(x.first_pass().bytes()) / (1 << 20), seconds_since(t0));
             std::cerr << line;
         }
     });
@@ -353,19 +367,27 @@ void add_query(CLI::App& app) {
     struct Args {
         std::string run, method;
         std::vector<std::string> meshes;
-        std::size_t top = 10;
+        std::size_t top = 10, candidates = 0;
         int threads = 0;
-        bool json = false, repair = false;
+        bool json = false, repair = false, exact = false;
     };
     auto a = std::make_shared<Args>();
     auto* c = app.add_subcommand("query", "the K nearest models of an indexed run (`canonform index`) to each mesh: "
-                                          "only the query's form and descriptor are computed");
+                                          "only the query's form and descriptor are computed; above " +
+                                              std::to_string(retrieval::CollectionIndex::kTwoStageAbove) +
+                                              " models in two stages (a first pass proposes candidates, clock "
+                                              "matching ranks them: exact distances, recall in docs/scale.md)");
     c->add_option("RUN", a->run, "an indexed run folder")->required();
     c->add_option("MESH", a->meshes, "query meshes")->required();
     c->add_option("--top", a->top, "K: models per query")->check(CLI::Range(1, 100000000));
     c->add_option("--method", a->method, "the method folder to search (default: the run's only index)");
     c->add_option("--threads", a->threads, "models scored in parallel (0: every core)")->check(CLI::Range(0, 1024));
     c->add_flag("--json", a->json, "print the answers as JSON");
+    c->add_flag("--exact", a->exact, "exhaustive clock matching over every model (no first pass)");
+    c->add_option("--candidates", a->candidates,
+                  "first-pass candidates that clock matching ranks (0: automatic, max(2000, 40 K); a number "
+                  "uses the first pass at any size)")
+        ->check(CLI::Range(0, 100000000));
     add_repair_flag(c, a->repair);
     c->callback([a] {
         std::string folder = a->method;
@@ -378,8 +400,12 @@ void add_query(CLI::App& app) {
                                  " method folders have an index.cfci: name one with --method (run `canonform index` first)");
             folder = found[0];
         }
-        const retrieval::CollectionIndex x = retrieval::CollectionIndex::load(a->run + "/" + folder + "/index.cfci");
+        // Mapped: a query reads only the models it scores.
+        const retrieval::CollectionIndex x = retrieval::CollectionIndex::load(a->run + "/" + folder + "/index.cfci", true);
         const canonical::MethodSpec spec = canonical::parse_method_spec(x.method());
+        if (!x.first_pass().trained() && !a->exact && (a->candidates > 0 || x.size() > retrieval::CollectionIndex::kTwoStageAbove))
+            std::cerr << "canonform query: the index has no first pass (written by an older canonform): exhaustive "
+                         "search; run `canonform index` again for two-stage queries\n";
         if (a->top > x.size())  // said, not silent: fewer answers than asked for
             std::cerr << "canonform query: --top " << a->top << " is more than the " << x.size()
                       << " models of the index: all " << x.size() << " are listed\n";
@@ -399,15 +425,24 @@ void add_query(CLI::App& app) {
             const auto hist = views::view_histograms(vs.features, x.codebook());
             const double describe = seconds_since(t0);
             const auto t1 = std::chrono::steady_clock::now();
-            const auto matches = x.top(hist, a->top, a->threads);
+            retrieval::SearchOptions so;
+            so.exact = a->exact;
+            so.candidates = a->candidates;
+            so.threads = a->threads;
+            const auto matches = x.search(hist, a->top, so);
             const double search = seconds_since(t1);
+            const bool two = x.two_stage(so);
             nlohmann::ordered_json list = nlohmann::ordered_json::array();
             for (const auto& mt : matches)
                 list.push_back({{"name", mt.name}, {"class", mt.cls}, {"distance", mt.distance}});
-            all.push_back({{"query", path}, {"method", folder}, {"models", x.size()}, {"matches", list},
+            const std::size_t candidates = two ? std::max(a->top, a->candidates > 0 ? a->candidates : x.default_candidates(a->top)) : x.size();
+            all.push_back({{"query", path}, {"method", folder}, {"models", x.size()},
+                           {"search", two ? "two-stage" : "exhaustive"}, {"candidates", candidates}, {"matches", list},
                            {"describe_seconds", describe}, {"search_seconds", search}});
             if (!a->json) {
-                std::cout << path << " (" << folder << ", " << x.size() << " models):\n";
+                std::cout << path << " (" << folder << ", " << x.size() << " models, "
+                          << (two ? "two-stage: " + std::to_string(candidates) + " candidates" : std::string("exhaustive"))
+                          << "):\n";
                 int rank = 1;
                 for (const auto& mt : matches) {
                     char line[400];

@@ -64,6 +64,26 @@ k = names.index('$name'); row = sorted(range(n), key=lambda c: (d[k * n + c], c)
 sys.exit(0 if [names[c] for c in row[:4]] == [x['name'] for x in q['matches']] else 1)"
 "$cf" query run "$m" --top 2 > q.txt
 check "query: a text answer" grep -q "^   1  $name " q.txt
+check "query: a small index is searched exhaustively" json q.json "j['search'] == 'exhaustive' and j['candidates'] == 6"
+"$cf" query run "$m" --top 4 --candidates 3 --json > q2.json 2> q2.err
+check "query --candidates: two stages, exact distances of the candidates" json q2.json "j['search'] == 'two-stage' and j['candidates'] == 4 and len(j['matches']) == 4 and j['matches'][0]['name'] == '$name' and j['matches'][0]['distance'] == 0"
+"$cf" query run "$m" --top 4 --candidates 3 --exact --json > q3.json 2> q3.err
+check "query --exact: every model, the answer of the default query" /usr/bin/python3 -c "
+import json, sys
+a = json.load(open('q.json')); b = json.load(open('q3.json'))
+sys.exit(0 if b['search'] == 'exhaustive' and a['matches'] == b['matches'] else 1)"
+
+# Evaluation without the matrix: each model's nearest through the index; the measures equal retrieve's.
+check "stage init --evaluation neighbours" "$cf" stage init --dataset coll --out nb --shards 2 --blocks 2 --evaluation neighbours "${opts[@]}"
+"$cf" stage all nb 2> nb.err
+check "neighbours: an index stage, no distance matrix" bash -c "test -s nb/none/index.cfci && test -s nb/none/neighbours.bin && ! test -e nb/none/distances.bin"
+check "neighbours: NN, tiers, E-measure and (no truncation at 5 of 5) DCG equal retrieve's" /usr/bin/python3 -c "
+import json, sys
+a = json.load(open('nb/none/metrics.json')); b = json.load(open('one/none/metrics.json'))
+keys = ['nn', 'first_tier', 'second_tier', 'e_measure', 'dcg', 'queries']
+sys.exit(0 if a['evaluation'] == 'neighbours' and all(a[m][k] == b[m][k] for m in ('micro', 'macro') for k in keys) else 1)"
+"$cf" status nb > nbst.txt
+check "status: the index stage of a neighbours run" grep -q "| index | 1 | 1 | - | - |" nbst.txt
 
 # canonform slurm without --submit: the scripts only (the cluster run is tests/e2e/slurm_test.sh).
 "$cf" slurm --dataset coll --out sl --shards 4 --blocks 2 --method none --partition short --time 00:05:00 \
