@@ -4,7 +4,8 @@
 // exact top 10, latency on one core, index memory and build time. Prints one JSON line per stage.
 //
 //   canonform_bench_query synthetic REAL [--models 100000] [--queries 1000] [--candidates 250,500,...]
-//       [--latency-queries 20] [--threads 2] [--truth FILE] [--save DIR] [--noise 0.1,0.5]
+//       [--latency-queries 20] [--threads 2] [--truth FILE] [--truth-budget S] [--save DIR]
+//       [--noise 0.1,0.5]
 //       [--dims 64] [--no-orbits] [--no-sqrt] [--seed 1]
 //   canonform_bench_query collection METHOD_FOLDER... [--candidates 10,20,...] [--dims 64] [--no-orbits] [--no-sqrt]
 //   canonform_bench_query noise REAL [--candidates 30,50,70 (noise levels in %)]
@@ -20,7 +21,8 @@
 // are --queries further such models (not in the index). Their exact top 10 (exhaustive, --threads
 // threads; cached in --truth) is the reference for the recall of the two-stage query at each
 // candidate count. Latency: --latency-queries of them on one thread, exhaustive and two-stage
-// alternating, medians of wall and thread CPU seconds. With --save the index is written there,
+// alternating, medians of wall and thread CPU seconds. --truth keeps the exact answers for later
+// runs; --truth-budget bounds the seconds spent computing them (the recall then says over how many). With --save the index is written there,
 // freed, and read back: the memory of the loaded index is measured on its own.
 // collection: the index of each real method folder; every member is a query; recall@10 against
 // the exhaustive top 10 at each candidate count (the first pass forced on by the count).
@@ -177,6 +179,13 @@ struct Synthetic {
     }
 };
 
+/// A method folder named by its run and method (RUN/METHOD), not by where it is.
+std::string short_name(const std::string& folder) {
+    const std::filesystem::path p = std::filesystem::path(folder).lexically_normal();
+    const std::filesystem::path f = p.has_filename() ? p : p.parent_path();
+    return (f.parent_path().filename() / f.filename()).string();
+}
+
 double recall_at(const std::vector<retrieval::IndexMatch>& got, const std::vector<retrieval::IndexMatch>& truth) {
     std::set<std::size_t> t;
     for (const auto& m : truth) t.insert(m.model);
@@ -189,6 +198,7 @@ struct Args {
     std::string mode;
     std::vector<std::string> inputs;
     long models = 100000, queries = 1000, latency_queries = 20;
+    double truth_budget = 0;
     int threads = 2;
     std::string truth, save, candidates;
     double lo = 0.1, hi = 0.5;
@@ -218,7 +228,7 @@ int collection(const Args& a) {
             }
             std::printf("{\"stage\": \"recall\", \"collection\": \"%s\", \"models\": %zu, \"queries\": %zu, \"candidates\": %zu, "
                         "\"dims\": %d, \"orbits\": %d, \"sqrt\": %d, \"recall_at_10\": %.4f, \"worst_query\": %.2f}\n",
-                        folder.c_str(), x.size(), r.models.size(), c, a.summary.dims, int(a.summary.orbits),
+                        short_name(folder).c_str(), x.size(), r.models.size(), c, a.summary.dims, int(a.summary.orbits),
                         int(a.summary.sqrt_counts), sum / double(r.models.size()), worst);
             std::fflush(stdout);
         }
@@ -275,7 +285,7 @@ int synthetic(const Args& a) {
     const Real real = read_real(a.inputs.at(0));
     const Synthetic syn(real, a.lo, a.hi, a.seed);
     const std::size_t N = static_cast<std::size_t>(a.models);
-    std::printf("{\"stage\": \"real\", \"folder\": \"%s\", \"models\": %zu, \"words\": %d}\n", a.inputs[0].c_str(),
+    std::printf("{\"stage\": \"real\", \"folder\": \"%s\", \"models\": %zu, \"words\": %d}\n", short_name(a.inputs[0]).c_str(),
                 real.models.size(), real.codebook.size());
     std::fflush(stdout);
 
@@ -338,47 +348,70 @@ int synthetic(const Args& a) {
     std::vector<std::vector<Histogram>> queries(Q);
     std::vector<std::size_t> bases(Q);
     for (std::size_t q = 0; q < Q; ++q) queries[q] = syn.model(N + 1000000000ULL + q, &bases[q]);
+    // Their exact top 10, cached in --truth: the file holds the answers of the first queries, in
+    // order (a header: models, queries held, seed, noise); a run computes the missing ones in
+    // chunks and rewrites the file after each, so an interrupted or budgeted run goes on later.
+    // With --truth-budget S no chunk starts after S seconds: the recall is over the queries
+    // whose exact answers are known, and says how many.
     std::vector<std::vector<retrieval::IndexMatch>> truth(Q);
-    bool cached = false;
+    const std::uint64_t noise_key = std::uint64_t(a.lo * 1e6) * 1000003ULL + std::uint64_t(a.hi * 1e6);
+    std::size_t known = 0;
     if (!a.truth.empty() && io::is_file(a.truth)) {
         std::ifstream in(a.truth, std::ios::binary);
         std::uint64_t head[4];
         in.read(reinterpret_cast<char*>(head), sizeof head);
-        if (in && head[0] == N && head[1] == Q && head[2] == a.seed &&
-            head[3] == std::uint64_t(a.lo * 1e6) * 1000003ULL + std::uint64_t(a.hi * 1e6)) {
-            for (auto& t : truth)
+        if (in && head[0] == N && head[2] == a.seed && head[3] == noise_key) {
+            const std::size_t held = std::min<std::size_t>(Q, head[1]);
+            for (std::size_t q = 0; q < held; ++q) {
                 for (int r = 0; r < 10; ++r) {
                     std::uint32_t m;
                     float d;
                     in.read(reinterpret_cast<char*>(&m), 4);
                     in.read(reinterpret_cast<char*>(&d), 4);
-                    t.push_back({m, x.names()[m], x.classes()[m], d});
+                    if (!in || m >= N) break;
+                    truth[q].push_back({m, x.names()[m], x.classes()[m], d});
                 }
-            cached = bool(in);
+                if (truth[q].size() != 10) {
+                    truth[q].clear();
+                    break;
+                }
+                known = q + 1;
+            }
         }
     }
-    if (!cached) {
+    {
+        const std::size_t from = known;
         const auto t0 = Clock::now();
-        for (std::size_t q = 0; q < Q; ++q) truth[q] = x.top(queries[q], 10, a.threads);
-        std::printf("{\"stage\": \"truth\", \"queries\": %zu, \"threads\": %d, \"wall_s\": %.1f}\n", Q, a.threads, since(t0));
-        if (!a.truth.empty()) {
-            std::string b;
-            const std::uint64_t head[4] = {N, Q, a.seed, std::uint64_t(a.lo * 1e6) * 1000003ULL + std::uint64_t(a.hi * 1e6)};
-            b.append(reinterpret_cast<const char*>(head), sizeof head);
-            for (const auto& t : truth)
-                for (const auto& m : t) {
-                    const auto mm = static_cast<std::uint32_t>(m.model);
-                    b.append(reinterpret_cast<const char*>(&mm), 4);
-                    b.append(reinterpret_cast<const char*>(&m.distance), 4);
-                }
-            io::write_file_atomic(a.truth, b);
+        const double c0 = process_cpu();
+        const std::size_t chunk = 10;
+        while (known < Q && (a.truth_budget <= 0 || since(t0) < a.truth_budget)) {
+            const std::size_t end = std::min(Q, known + chunk);
+            for (std::size_t q = known; q < end; ++q) truth[q] = x.top(queries[q], 10, a.threads);
+            known = end;
+            if (!a.truth.empty()) {
+                std::string b;
+                const std::uint64_t head[4] = {N, known, a.seed, noise_key};
+                b.append(reinterpret_cast<const char*>(head), sizeof head);
+                for (std::size_t q = 0; q < known; ++q)
+                    for (const auto& m : truth[q]) {
+                        const auto mm = static_cast<std::uint32_t>(m.model);
+                        b.append(reinterpret_cast<const char*>(&mm), 4);
+                        b.append(reinterpret_cast<const char*>(&m.distance), 4);
+                    }
+                io::write_file_atomic(a.truth, b);
+            }
         }
+        std::printf("{\"stage\": \"truth\", \"queries\": %zu, \"cached\": %zu, \"computed\": %zu, \"threads\": %d, "
+                    "\"wall_s\": %.1f, \"cpu_s\": %.1f}\n",
+                    known, from, known - from, a.threads, since(t0), process_cpu() - c0);
+        std::fflush(stdout);
+        if (known == 0) return 1;
     }
     // How hard the queries are: the exact distances of ranks 1, 10 and 11, the margin between
     // ranks 10 and 11, and how many of the top 10 share the query's base.
     {
         std::vector<double> d1, d10, margin, same;
-        for (std::size_t q = 0; q < std::min<std::size_t>(Q, 50); ++q) {
+        for (std::size_t q = 0; q < std::min<std::size_t>(known, 20); ++q) {
             const auto t11 = x.top(queries[q], 11, a.threads);
             d1.push_back(t11[0].distance);
             d10.push_back(t11[9].distance);
@@ -401,7 +434,7 @@ int synthetic(const Args& a) {
     for (std::size_t c : cands) {
         double sum = 0, worst = 1;
         std::size_t perfect = 0;
-        for (std::size_t q = 0; q < Q; ++q) {
+        for (std::size_t q = 0; q < known; ++q) {
             retrieval::SearchOptions o;
             o.candidates = c;
             o.threads = a.threads;
@@ -412,7 +445,7 @@ int synthetic(const Args& a) {
         }
         std::printf("{\"stage\": \"recall\", \"models\": %zu, \"queries\": %zu, \"candidates\": %zu, \"recall_at_10\": %.4f, "
                     "\"queries_all_10\": %.4f, \"worst_query\": %.2f}\n",
-                    N, Q, c, sum / double(Q), double(perfect) / double(Q), worst);
+                    N, known, c, sum / double(known), double(perfect) / double(known), worst);
         std::fflush(stdout);
     }
     // Latency on one thread: exhaustive and two-stage (default candidates) alternating.
@@ -497,6 +530,7 @@ int main(int argc, char** argv) {
         else if (o == "--latency-queries") a.latency_queries = std::stol(value());
         else if (o == "--threads") a.threads = std::stoi(value());
         else if (o == "--truth") a.truth = value();
+        else if (o == "--truth-budget") a.truth_budget = std::stod(value());
         else if (o == "--save") a.save = value();
         else if (o == "--candidates") a.candidates = value();
         else if (o == "--seed") a.seed = std::stoull(value());
