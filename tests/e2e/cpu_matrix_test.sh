@@ -60,7 +60,7 @@ if [ "$mode" = prepare ]; then
   check "generate the inputs" "$cf" generate in/A.ply --vertices 1000 --pose 4
   check "generate the geodesic input" "$cf" generate in/S.ply --vertices 600 --pose 5
   check "train the codebook" "$cf" codebook in/cb.bin in/A.ply in/S.ply --words 50
-  check "generate a small collection" "$cf" generate --collection in/coll --vertices 400 --poses 2 --classes standard,long-arms,short-legs
+  check "generate a small collection" "$cf" generate --collection in/coll --vertices 500 --poses 2 --classes standard,long-arms,short-legs
   check "a retrieval run of it (method none)" bash -c "\"$cf\" retrieve --dataset in/coll --out in/run --method none --words 30 --threads 2 > /dev/null 2>&1"
   check "native outputs" run_all native
   finish
