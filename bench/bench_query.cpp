@@ -4,7 +4,7 @@
 // exact top 10, latency on one core, index memory and build time. Prints one JSON line per stage.
 //
 //   canonform_bench_query synthetic REAL [--models 100000] [--queries 1000] [--candidates 250,500,...]
-//       [--latency-queries 20] [--threads 2] [--truth FILE] [--truth-budget S] [--save DIR]
+//       [--latency-queries 20] [--threads 2] [--truth FILE] [--truth-budget S] [--first-query F] [--save DIR]
 //       [--noise 0.1,0.5]
 //       [--dims 64] [--no-orbits] [--no-sqrt] [--seed 1]
 //   canonform_bench_query collection METHOD_FOLDER... [--candidates 10,20,...] [--dims 64] [--no-orbits] [--no-sqrt]
@@ -18,7 +18,7 @@
 // space) or is replaced by a keypoint drawn from the donor's same view (half and half); then the
 // views are permuted by a random one of the 24 cube rotations. Models fill the space between the
 // real ones instead of clustering around them (`noise` mode: the distances this gives). The queries
-// are --queries further such models (not in the index). Their exact top 10 (exhaustive, --threads
+// are --queries further such models (not in the index; --first-query F skips the first F). Their exact top 10 (exhaustive, --threads
 // threads; cached in --truth) is the reference for the recall of the two-stage query at each
 // candidate count. Latency: --latency-queries of them on one thread, exhaustive and two-stage
 // alternating, medians of wall and thread CPU seconds. --truth keeps the exact answers for later
@@ -120,6 +120,9 @@ Real read_real(const std::string& folder) {
     return r;
 }
 
+/// Changed whenever Synthetic::model() gives other models: the key of the cached exact answers.
+constexpr std::uint64_t kGeneratorVersion = 2;
+
 /// The synthetic collection of the header.
 struct Synthetic {
     const Real& real;
@@ -199,6 +202,7 @@ struct Args {
     std::vector<std::string> inputs;
     long models = 100000, queries = 1000, latency_queries = 20;
     double truth_budget = 0;
+    long first_query = 0;
     int threads = 2;
     std::string truth, save, candidates;
     double lo = 0.1, hi = 0.5;
@@ -347,14 +351,18 @@ int synthetic(const Args& a) {
     const std::size_t Q = static_cast<std::size_t>(a.queries);
     std::vector<std::vector<Histogram>> queries(Q);
     std::vector<std::size_t> bases(Q);
-    for (std::size_t q = 0; q < Q; ++q) queries[q] = syn.model(N + 1000000000ULL + q, &bases[q]);
+    const std::size_t F = static_cast<std::size_t>(a.first_query);
+    for (std::size_t q = 0; q < Q; ++q) queries[q] = syn.model(N + 1000000000ULL + F + q, &bases[q]);
     // Their exact top 10, cached in --truth: the file holds the answers of the first queries, in
     // order (a header: models, queries held, seed, noise); a run computes the missing ones in
     // chunks and rewrites the file after each, so an interrupted or budgeted run goes on later.
     // With --truth-budget S no chunk starts after S seconds: the recall is over the queries
     // whose exact answers are known, and says how many.
     std::vector<std::vector<retrieval::IndexMatch>> truth(Q);
-    const std::uint64_t noise_key = std::uint64_t(a.lo * 1e6) * 1000003ULL + std::uint64_t(a.hi * 1e6);
+    // The key: noise range, the generator's version and the first query (answers computed for
+    // another generator or other queries are not taken).
+    const std::uint64_t noise_key = (std::uint64_t(a.lo * 1e6) * 1000003ULL + std::uint64_t(a.hi * 1e6)) * 31ULL +
+                                    kGeneratorVersion + 1000ULL * F;
     std::size_t known = 0;
     if (!a.truth.empty() && io::is_file(a.truth)) {
         std::ifstream in(a.truth, std::ios::binary);
@@ -531,6 +539,7 @@ int main(int argc, char** argv) {
         else if (o == "--threads") a.threads = std::stoi(value());
         else if (o == "--truth") a.truth = value();
         else if (o == "--truth-budget") a.truth_budget = std::stod(value());
+        else if (o == "--first-query") a.first_query = std::stol(value());
         else if (o == "--save") a.save = value();
         else if (o == "--candidates") a.candidates = value();
         else if (o == "--seed") a.seed = std::stoull(value());
