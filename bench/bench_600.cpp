@@ -12,14 +12,14 @@
 //   canonform_bench_600 MESH... [--models 600] [--words 1500] [--sample 100000] [--threads 2] [--all]
 //       [--sift canonform|opencv]
 // (--all: also FAISS k-means on every descriptor, no sample)
+#include "bench_util.h"
+#include "canonform/canonical/euclidean_canonical_form.h"
+#include "canonform/io/mesh_io.h"
 #include "canonform/views/bag_of_features.h"
 #include "canonform/views/codebook.h"
-#include "canonform/canonical/euclidean_canonical_form.h"
-#include "canonform/views/view_descriptor.h"
 #include "canonform/views/opencv_sift.h"
+#include "canonform/views/view_descriptor.h"
 #include "canonform/views/view_directions.h"
-#include "bench_util.h"
-#include "canonform/io/mesh_io.h"
 
 #include <algorithm>
 #include <chrono>
@@ -87,17 +87,26 @@ int main(int argc, char** argv) {
             view_options.sift.backend = parse_sift_backend(argv[++k]);
         } else if (a.rfind("--", 0) == 0 && k + 1 < argc) {
             const long v = std::atol(argv[++k]);
-            if (a == "--models") models = int(v);
-            else if (a == "--words") words = int(v);
-            else if (a == "--sample") sample = v;
-            else if (a == "--threads") threads = int(v);
-            else { std::fprintf(stderr, "unknown option %s\n", a.c_str()); return 2; }
+            if (a == "--models")
+                models = int(v);
+            else if (a == "--words")
+                words = int(v);
+            else if (a == "--sample")
+                sample = v;
+            else if (a == "--threads")
+                threads = int(v);
+            else {
+                std::fprintf(stderr, "unknown option %s\n", a.c_str());
+                return 2;
+            }
         } else {
             meshes.push_back(a);
         }
     }
     if (meshes.empty() || models < 2 || words < 1 || sample < words || threads < 1) {
-        std::fprintf(stderr, "usage: canonform_bench_600 MESH... [--models 600] [--words 1500] [--sample 100000] [--threads 2] [--all]\n");
+        std::fprintf(stderr,
+                     "usage: canonform_bench_600 MESH... [--models 600] [--words 1500] [--sample 100000] "
+                     "[--threads 2] [--all]\n");
         return 2;
     }
     std::vector<double> n_wall, n_cpu, a_wall, a_cpu, v_wall, v_cpu, kp;
@@ -124,11 +133,16 @@ int main(int argc, char** argv) {
         for (const auto& f : sets.back().features) n += f.rows();
         kp.push_back(double(n));
     }
-    std::printf("{\"stage\": \"canonical_form_N\", \"meshes\": %zu, \"mean_vertices\": %ld, \"median_wall_s\": %.3f, \"median_cpu_s\": %.3f}\n",
-                meshes.size(), vertices / long(meshes.size()), median(n_wall), median(n_cpu));
-    std::printf("{\"stage\": \"canonical_form_A\", \"median_wall_s\": %.3f, \"median_cpu_s\": %.3f}\n", median(a_wall), median(a_cpu));
-    std::printf("{\"stage\": \"views_and_sift\", \"sift\": \"%s\", \"median_wall_s\": %.3f, \"median_cpu_s\": %.3f, \"median_keypoints\": %.0f}\n",
-                sift_backend_name(view_options.sift.backend).c_str(), median(v_wall), median(v_cpu), median(kp));
+    std::printf(
+        "{\"stage\": \"canonical_form_N\", \"meshes\": %zu, \"mean_vertices\": %ld, \"median_wall_s\": %.3f, "
+        "\"median_cpu_s\": %.3f}\n",
+        meshes.size(), vertices / long(meshes.size()), median(n_wall), median(n_cpu));
+    std::printf("{\"stage\": \"canonical_form_A\", \"median_wall_s\": %.3f, \"median_cpu_s\": %.3f}\n",
+                median(a_wall), median(a_cpu));
+    std::printf(
+        "{\"stage\": \"views_and_sift\", \"sift\": \"%s\", \"median_wall_s\": %.3f, \"median_cpu_s\": %.3f, "
+        "\"median_keypoints\": %.0f}\n",
+        sift_backend_name(view_options.sift.backend).c_str(), median(v_wall), median(v_cpu), median(kp));
     std::fflush(stdout);
 
     // The 600-model descriptor pool: the real descriptors, repeated.
@@ -156,9 +170,11 @@ int main(int argc, char** argv) {
         if (std::string(method) == "kmeans-all" && !all_too) continue;
         Stopwatch s;
         Codebook c = Codebook::train(all, co);
-        std::printf("{\"stage\": \"codebook\", \"method\": \"%s\", \"descriptors\": %ld, \"sample\": %ld, "
-                    "\"words\": %d, \"iterations\": %d, \"wall_s\": %.2f, \"cpu_s\": %.2f, \"blas\": \"%s\"}\n",
-                    method, rows, long(co.sample), words, co.kmeans_iterations, s.wall(), s.cpu_s(), loaded_blas().c_str());
+        std::printf(
+            "{\"stage\": \"codebook\", \"method\": \"%s\", \"descriptors\": %ld, \"sample\": %ld, "
+            "\"words\": %d, \"iterations\": %d, \"wall_s\": %.2f, \"cpu_s\": %.2f, \"blas\": \"%s\"}\n",
+            method, rows, long(co.sample), words, co.kmeans_iterations, s.wall(), s.cpu_s(),
+            loaded_blas().c_str());
         std::fflush(stdout);
         if (std::string(method) == "kmeans") cb = c;
     }
@@ -170,15 +186,19 @@ int main(int argc, char** argv) {
         for (const auto& f : sets[k].features) hist[k].push_back(histogram(cb.assign(f)));
     const double per_pass_wall = s.wall(), per_pass_cpu = s.cpu_s();
     const double reps = double(models) / double(sets.size());
-    std::printf("{\"stage\": \"histograms\", \"models\": %d, \"wall_s\": %.2f, \"cpu_s\": %.2f, \"measured_on_models\": %zu}\n",
-                models, per_pass_wall * reps, per_pass_cpu * reps, sets.size());
+    std::printf(
+        "{\"stage\": \"histograms\", \"models\": %d, \"wall_s\": %.2f, \"cpu_s\": %.2f, "
+        "\"measured_on_models\": %zu}\n",
+        models, per_pass_wall * reps, per_pass_cpu * reps, sets.size());
     std::fflush(stdout);
 
     std::vector<std::vector<Histogram>> hm(static_cast<size_t>(models));
     for (int k = 0; k < models; ++k) hm[size_t(k)] = hist[size_t(k) % hist.size()];
     s = Stopwatch();
     const Eigen::MatrixXf D = distance_matrix(hm, rotation_view_maps(), threads);
-    std::printf("{\"stage\": \"distance_matrix\", \"models\": %ld, \"threads\": %d, \"wall_s\": %.2f, \"cpu_s\": %.2f}\n",
-                long(D.rows()), threads, s.wall(), s.cpu_s());
+    std::printf(
+        "{\"stage\": \"distance_matrix\", \"models\": %ld, \"threads\": %d, \"wall_s\": %.2f, \"cpu_s\": "
+        "%.2f}\n",
+        long(D.rows()), threads, s.wall(), s.cpu_s());
     return 0;
 }

@@ -126,7 +126,8 @@ int main(int argc, char** argv) {
             return 2;
         }
     }
-    if (std::find(methods.begin(), methods.end(), "none") == methods.end()) methods.insert(methods.begin(), "none");
+    if (std::find(methods.begin(), methods.end(), "none") == methods.end())
+        methods.insert(methods.begin(), "none");
     try {
         EuclideanCanonicalFormOptions base;
         base.variant = variant == "A" ? CanonicalVariant::A : CanonicalVariant::N;
@@ -145,7 +146,8 @@ int main(int argc, char** argv) {
                     for (const auto& name : methods) {
                         EuclideanCanonicalFormOptions o = base;
                         o.smacof.acceleration = parse_smacof_acceleration(name);
-                        EuclideanCanonicalFormResult e = euclidean_canonical_form(meshes[m].V, meshes[m].F, o);
+                        EuclideanCanonicalFormResult e =
+                            euclidean_canonical_form(meshes[m].V, meshes[m].F, o);
                         secs[name].push_back(e.seconds);
                         smacof_secs[name].push_back(e.smacof_seconds);
                         cf_secs[name].push_back(e.conformal_factor_seconds);
@@ -180,7 +182,8 @@ int main(int argc, char** argv) {
                             sum += aligned_distance(forms[name][a], forms[name][b]);
                     t.pose_consistency = pairs ? sum / pairs : -1;
                 } else {  // the collection's correspondences, as `retrieve` measures them
-                    const std::string dir = "/tmp/canonform_bench_acceleration/" + set + "/" + name + "/forms";
+                    const std::string dir =
+                        "/tmp/canonform_bench_acceleration/" + set + "/" + name + "/forms";
                     std::filesystem::create_directories(dir);
                     std::vector<retrieval::Model> models;
                     std::vector<size_t> good;
@@ -215,7 +218,8 @@ int main(int argc, char** argv) {
         }
         for (size_t d = 0; d < datasets.size(); ++d) {
             std::vector<Mesh1> meshes;
-            for (const auto& md : retrieval::read_collection(datasets[d], d < labels.size() ? labels[d] : "")) {
+            for (const auto& md :
+                 retrieval::read_collection(datasets[d], d < labels.size() ? labels[d] : "")) {
                 const Mesh m = io::read_mesh(md.path);
                 meshes.push_back({md.name, md.label, m.V, m.F});
             }
@@ -236,7 +240,8 @@ int main(int argc, char** argv) {
                     mo.smacof.acceleration = parse_smacof_acceleration(name);
                     const auto t0 = std::chrono::steady_clock::now();
                     MdsResult m = mds(D, MdsMethod::LeastSquares, mo);
-                    secs[name].push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+                    secs[name].push_back(
+                        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
                     if (r == 0) results[name] = std::move(m);
                 }
             for (const auto& name : methods) {
@@ -259,14 +264,16 @@ int main(int argc, char** argv) {
         }
 
         // Report: per set, each method against none (totals over the set's meshes).
-        std::printf("| set | vertices | meshes | acceleration | Guttman steps (median, total) | steps x | SMACOF s "
-                    "(total) | whole s (total) | time x | final stress / none (mean, max) | RMS to none | pose "
-                    "consistency | extrapolations accepted / rejected |\n|---|---|---|---|---|---|---|---|---|---|---"
-                    "|---|---|\n");
+        std::printf(
+            "| set | vertices | meshes | acceleration | Guttman steps (median, total) | steps x | SMACOF s "
+            "(total) | whole s (total) | time x | final stress / none (mean, max) | RMS to none | pose "
+            "consistency | extrapolations accepted / rejected |\n|---|---|---|---|---|---|---|---|---|---|---"
+            "|---|---|\n");
         std::ofstream out;
         if (!csv.empty()) {
             out.open(csv);
-            out << "set,vertices,meshes,variant,depth,acceleration,median_steps,total_steps,smacof_seconds,seconds,"
+            out << "set,vertices,meshes,variant,depth,acceleration,median_steps,total_steps,smacof_seconds,"
+                   "seconds,"
                    "conformal_seconds,setup_seconds,mean_stress_ratio,max_stress_ratio,max_rms_to_none,"
                    "pose_consistency,extrapolations,rejections,unconverged\n";
         }
@@ -283,18 +290,21 @@ int main(int argc, char** argv) {
             double mean_ratio = sum(r.t.stress_ratio) / static_cast<double>(r.t.stress_ratio.size());
             const double max_ratio = *std::max_element(r.t.stress_ratio.begin(), r.t.stress_ratio.end());
             const double max_rms = *std::max_element(r.t.to_plain.begin(), r.t.to_plain.end());
-            std::printf("| %s | %d | %d | %s | %.0f, %.0f | %.2f | %.3f | %.3f | %.2f | %.5f, %.5f | %.4f | %s | %d / %d%s |\n",
-                        r.set.c_str(), r.vertices, r.meshes, r.method.c_str(), median(r.t.iterations), steps,
-                        sum(none->t.iterations) / steps, sm, secs, sum(none->t.seconds) / secs, mean_ratio, max_ratio,
-                        max_rms, r.t.pose_consistency < 0 ? "-" : std::to_string(r.t.pose_consistency).substr(0, 6).c_str(),
-                        r.t.extrapolations, r.t.rejections,
-                        r.t.unconverged ? (" (" + std::to_string(r.t.unconverged) + " at the cap)").c_str() : "");
+            std::printf(
+                "| %s | %d | %d | %s | %.0f, %.0f | %.2f | %.3f | %.3f | %.2f | %.5f, %.5f | %.4f | %s | %d "
+                "/ %d%s |\n",
+                r.set.c_str(), r.vertices, r.meshes, r.method.c_str(), median(r.t.iterations), steps,
+                sum(none->t.iterations) / steps, sm, secs, sum(none->t.seconds) / secs, mean_ratio, max_ratio,
+                max_rms,
+                r.t.pose_consistency < 0 ? "-" : std::to_string(r.t.pose_consistency).substr(0, 6).c_str(),
+                r.t.extrapolations, r.t.rejections,
+                r.t.unconverged ? (" (" + std::to_string(r.t.unconverged) + " at the cap)").c_str() : "");
             if (out)
-                out << r.set << "," << r.vertices << "," << r.meshes << "," << variant << "," << depth << "," << r.method
-                    << "," << median(r.t.iterations) << "," << steps << "," << sm << "," << secs << ","
-                    << sum(r.t.cf_s) << "," << sum(r.t.setup_s) << "," << mean_ratio << "," << max_ratio << ","
-                    << max_rms << "," << r.t.pose_consistency << "," << r.t.extrapolations << "," << r.t.rejections
-                    << "," << r.t.unconverged << "\n";
+                out << r.set << "," << r.vertices << "," << r.meshes << "," << variant << "," << depth << ","
+                    << r.method << "," << median(r.t.iterations) << "," << steps << "," << sm << "," << secs
+                    << "," << sum(r.t.cf_s) << "," << sum(r.t.setup_s) << "," << mean_ratio << ","
+                    << max_ratio << "," << max_rms << "," << r.t.pose_consistency << "," << r.t.extrapolations
+                    << "," << r.t.rejections << "," << r.t.unconverged << "\n";
         }
         std::fflush(stdout);
     } catch (const std::exception& e) {

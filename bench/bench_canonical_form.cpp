@@ -7,8 +7,8 @@
 // The Euclidean method is single-threaded; the geodesic ones use --threads (default 1).
 // bench/run_bench.sh and bench/run_table1.sh run it over meshes of several sizes.
 #include "canonform/canonical/method_registry.h"
-#include "canonform/numerics/sparse_cholesky.h"
 #include "canonform/io/mesh_io.h"
+#include "canonform/numerics/sparse_cholesky.h"
 
 #include <algorithm>
 #include <chrono>
@@ -51,8 +51,9 @@ std::string summary_text(const canonform::canonical::CanonicalForm& r, const std
 
 int main(int argc, char** argv) {
     if (argc < 2) {
-        std::fprintf(stderr, "usage: canonform_bench_canonical MESH [--method NAME[:KEY=VALUE...]] [--variant A|N] "
-                             "[--solver auto|direct|multigrid] [--repeats R] [--threads T]\n");
+        std::fprintf(stderr,
+                     "usage: canonform_bench_canonical MESH [--method NAME[:KEY=VALUE...]] [--variant A|N] "
+                     "[--solver auto|direct|multigrid] [--repeats R] [--threads T]\n");
         return 2;
     }
     std::string method = "euclidean", variant = "N", requested_solver = "auto";
@@ -72,7 +73,8 @@ int main(int argc, char** argv) {
     try {
         // "euclidean" + --variant is the registry's euclidean-A or euclidean-N; --solver sets the
         // Euclidean methods' solver; the geodesic ones get limits no bench mesh reaches.
-        canonform::canonical::MethodSpec spec = canonform::canonical::parse_method_spec(method == "euclidean" ? "euclidean-" + variant : method);
+        canonform::canonical::MethodSpec spec =
+            canonform::canonical::parse_method_spec(method == "euclidean" ? "euclidean-" + variant : method);
         const canonform::canonical::CanonicalMethod& m = spec.method();
         if (m.parameter("solver")) spec.given.emplace_back("solver", requested_solver);
         if (m.parameter("max_memory_gib")) spec.given.emplace_back("max_memory_gib", "20");
@@ -90,18 +92,21 @@ int main(int argc, char** argv) {
             t.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
         }
         const std::string used = summary_text(r, "solver");
-        const std::string solver = used == "multigrid" ? "AMG V-cycle" : canonform::numerics::SparseCholesky::backend();
+        const std::string solver =
+            used == "multigrid" ? "AMG V-cycle" : canonform::numerics::SparseCholesky::backend();
         std::sort(t.begin(), t.end());
-        std::printf("{\"vertices\": %ld, \"method\": \"%s\", \"variant\": \"%c\", \"repeats\": %d, "
-                    "\"median_s\": %.6f, \"min_s\": %.6f, \"max_s\": %.6f, \"iterations\": %d, "
-                    "\"feature_points\": %zu, \"geodesic_s\": %.6f, \"estimated_s\": %.3f, \"estimated_mib\": %.1f, "
-                    "\"rss_loaded_mib\": %.1f, \"peak_mib\": %.1f, \"solver\": \"%s\", \"requested_solver\": \"%s\", "
-                    "\"threads\": %d}\n",
-                    long(mesh.V.rows()), m.name.c_str(), m.name == "euclidean-A" ? 'A' : 'N', repeats,
-                    t[t.size() / 2], t.front(), t.back(), int(summary_number(r, "iterations")), r.features.size(),
-                    summary_number(r, "geodesic_seconds"), summary_number(r, "estimated_seconds"),
-                    summary_number(r, "estimated_bytes") / (1024.0 * 1024.0), rss_loaded, status_mib("VmHWM:"),
-                    solver.c_str(), requested_solver.c_str(), m.family == canonform::canonical::MethodFamily::Geodesic ? threads : 1);
+        std::printf(
+            "{\"vertices\": %ld, \"method\": \"%s\", \"variant\": \"%c\", \"repeats\": %d, "
+            "\"median_s\": %.6f, \"min_s\": %.6f, \"max_s\": %.6f, \"iterations\": %d, "
+            "\"feature_points\": %zu, \"geodesic_s\": %.6f, \"estimated_s\": %.3f, \"estimated_mib\": %.1f, "
+            "\"rss_loaded_mib\": %.1f, \"peak_mib\": %.1f, \"solver\": \"%s\", \"requested_solver\": \"%s\", "
+            "\"threads\": %d}\n",
+            long(mesh.V.rows()), m.name.c_str(), m.name == "euclidean-A" ? 'A' : 'N', repeats,
+            t[t.size() / 2], t.front(), t.back(), int(summary_number(r, "iterations")), r.features.size(),
+            summary_number(r, "geodesic_seconds"), summary_number(r, "estimated_seconds"),
+            summary_number(r, "estimated_bytes") / (1024.0 * 1024.0), rss_loaded, status_mib("VmHWM:"),
+            solver.c_str(), requested_solver.c_str(),
+            m.family == canonform::canonical::MethodFamily::Geodesic ? threads : 1);
     } catch (const std::exception& e) {
         std::fprintf(stderr, "canonform_bench_canonical: %s\n", e.what());
         return 1;

@@ -7,8 +7,8 @@
 //       [--latency-queries 20] [--threads 2] [--truth FILE] [--truth-budget S] [--first-query F] [--save DIR]
 //       [--noise 0.1,0.5]
 //       [--dims 64] [--no-orbits] [--no-sqrt] [--seed 1]
-//   canonform_bench_query collection METHOD_FOLDER... [--candidates 10,20,...] [--dims 64] [--no-orbits] [--no-sqrt]
-//   canonform_bench_query noise REAL [--candidates 30,50,70 (noise levels in %)]
+//   canonform_bench_query collection METHOD_FOLDER... [--candidates 10,20,...] [--dims 64] [--no-orbits]
+//   [--no-sqrt] canonform_bench_query noise REAL [--candidates 30,50,70 (noise levels in %)]
 //
 // synthetic: an index of --models models made from the real histograms of REAL (a method folder
 // of a retrieval run: models.csv, descriptors/, codebook.bin) with noise, so that no model is a
@@ -18,14 +18,14 @@
 // space) or is replaced by a keypoint drawn from the donor's same view (half and half); then the
 // views are permuted by a random one of the 24 cube rotations. Models fill the space between the
 // real ones instead of clustering around them (`noise` mode: the distances this gives). The queries
-// are --queries further such models (not in the index; --first-query F skips the first F). Their exact top 10 (exhaustive, --threads
-// threads; cached in --truth) is the reference for the recall of the two-stage query at each
-// candidate count. Latency: --latency-queries of them on one thread, exhaustive and two-stage
+// are --queries further such models (not in the index; --first-query F skips the first F). Their exact top 10
+// (exhaustive, --threads threads; cached in --truth) is the reference for the recall of the two-stage query
+// at each candidate count. Latency: --latency-queries of them on one thread, exhaustive and two-stage
 // alternating, medians of wall and thread CPU seconds. --truth keeps the exact answers for later
-// runs; --truth-budget bounds the seconds spent computing them (the recall then says over how many). With --save the index is written there,
-// freed, and read back: the memory of the loaded index is measured on its own.
-// collection: the index of each real method folder; every member is a query; recall@10 against
-// the exhaustive top 10 at each candidate count (the first pass forced on by the count).
+// runs; --truth-budget bounds the seconds spent computing them (the recall then says over how many). With
+// --save the index is written there, freed, and read back: the memory of the loaded index is measured on its
+// own. collection: the index of each real method folder; every member is a query; recall@10 against the
+// exhaustive top 10 at each candidate count (the first pass forced on by the count).
 #include "bench_util.h"
 #include "canonform/common/parallel.h"
 #include "canonform/io/csv.h"
@@ -37,14 +37,14 @@
 
 #include <fcntl.h>
 #include <malloc.h>
-#include <unistd.h>
 #include <sys/resource.h>
+#include <unistd.h>
 
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
-#include <filesystem>
 #include <ctime>
+#include <filesystem>
 #include <fstream>
 #include <random>
 #include <set>
@@ -114,7 +114,8 @@ Real read_real(const std::string& folder) {
     for (std::size_t k = 1; k < rows.size(); ++k) {
         r.names.push_back(rows[k][0]);
         r.classes.push_back(rows[k][1]);
-        r.models.push_back(views::read_descriptor(folder + "/descriptors/" + rows[k][0] + ".cfvd").histograms);
+        r.models.push_back(
+            views::read_descriptor(folder + "/descriptors/" + rows[k][0] + ".cfvd").histograms);
     }
     r.codebook = views::Codebook::load(folder + "/codebook.bin");
     return r;
@@ -141,7 +142,8 @@ struct Synthetic {
             for (int b = 0; b < n; ++b)
                 if (b != a) d.emplace_back((W.row(a) - W.row(b)).squaredNorm(), b);
             std::partial_sort(d.begin(), d.begin() + 8, d.end());
-            for (int k = 0; k < 8; ++k) near[static_cast<std::size_t>(a)].push_back(d[static_cast<std::size_t>(k)].second);
+            for (int k = 0; k < 8; ++k)
+                near[static_cast<std::size_t>(a)].push_back(d[static_cast<std::size_t>(k)].second);
         }
     }
 
@@ -189,7 +191,8 @@ std::string short_name(const std::string& folder) {
     return (f.parent_path().filename() / f.filename()).string();
 }
 
-double recall_at(const std::vector<retrieval::IndexMatch>& got, const std::vector<retrieval::IndexMatch>& truth) {
+double recall_at(const std::vector<retrieval::IndexMatch>& got,
+                 const std::vector<retrieval::IndexMatch>& truth) {
     std::set<std::size_t> t;
     for (const auto& m : truth) t.insert(m.model);
     std::size_t hit = 0;
@@ -211,10 +214,12 @@ struct Args {
 };
 
 int collection(const Args& a) {
-    const std::vector<std::size_t> cands = parse_list(a.candidates.empty() ? "10,15,20,30,50,100" : a.candidates);
+    const std::vector<std::size_t> cands =
+        parse_list(a.candidates.empty() ? "10,15,20,30,50,100" : a.candidates);
     for (const std::string& folder : a.inputs) {
         const Real r = read_real(folder);
-        retrieval::CollectionIndex::Builder b(r.codebook, "euclidean-N", 0, static_cast<int>(r.models[0].size()));
+        retrieval::CollectionIndex::Builder b(r.codebook, "euclidean-N", 0,
+                                              static_cast<int>(r.models[0].size()));
         for (std::size_t k = 0; k < r.models.size(); ++k) b.add(r.names[k], r.classes[k], r.models[k]);
         const retrieval::CollectionIndex x = b.finish(&a.summary, a.threads);
         std::vector<std::vector<retrieval::IndexMatch>> truth;
@@ -230,10 +235,13 @@ int collection(const Args& a) {
                 sum += rc;
                 worst = std::min(worst, rc);
             }
-            std::printf("{\"stage\": \"recall\", \"collection\": \"%s\", \"models\": %zu, \"queries\": %zu, \"candidates\": %zu, "
-                        "\"dims\": %d, \"orbits\": %d, \"sqrt\": %d, \"recall_at_10\": %.4f, \"worst_query\": %.2f}\n",
-                        short_name(folder).c_str(), x.size(), r.models.size(), c, a.summary.dims, int(a.summary.orbits),
-                        int(a.summary.sqrt_counts), sum / double(r.models.size()), worst);
+            std::printf(
+                "{\"stage\": \"recall\", \"collection\": \"%s\", \"models\": %zu, \"queries\": %zu, "
+                "\"candidates\": %zu, "
+                "\"dims\": %d, \"orbits\": %d, \"sqrt\": %d, \"recall_at_10\": %.4f, \"worst_query\": "
+                "%.2f}\n",
+                short_name(folder).c_str(), x.size(), r.models.size(), c, a.summary.dims,
+                int(a.summary.orbits), int(a.summary.sqrt_counts), sum / double(r.models.size()), worst);
             std::fflush(stdout);
         }
     }
@@ -258,8 +266,10 @@ int noise(const Args& a) {
                 }
             nn.push_back(best);
         }
-        std::printf("{\"stage\": \"noise\", \"real_models\": %zu, \"median_real_nn\": %.2f, \"median_real_same_class\": %.2f}\n",
-                    real.models.size(), median(nn), median(same));
+        std::printf(
+            "{\"stage\": \"noise\", \"real_models\": %zu, \"median_real_nn\": %.2f, "
+            "\"median_real_same_class\": %.2f}\n",
+            real.models.size(), median(nn), median(same));
     }
     for (std::size_t level : parse_list(a.candidates.empty() ? "10,30,50,60,70,80" : a.candidates)) {
         const double p = double(level) / 100.0;
@@ -278,8 +288,10 @@ int noise(const Args& a) {
             }
             base.push_back(views::clock_matching_distance(m1, real.models[b1], maps));
         }
-        std::printf("{\"stage\": \"noise\", \"p\": %.2f, \"median_sibling_distance\": %.2f, \"median_distance_to_base\": %.2f}\n",
-                    p, median(sib), median(base));
+        std::printf(
+            "{\"stage\": \"noise\", \"p\": %.2f, \"median_sibling_distance\": %.2f, "
+            "\"median_distance_to_base\": %.2f}\n",
+            p, median(sib), median(base));
         std::fflush(stdout);
     }
     return 0;
@@ -289,8 +301,8 @@ int synthetic(const Args& a) {
     const Real real = read_real(a.inputs.at(0));
     const Synthetic syn(real, a.lo, a.hi, a.seed);
     const std::size_t N = static_cast<std::size_t>(a.models);
-    std::printf("{\"stage\": \"real\", \"folder\": \"%s\", \"models\": %zu, \"words\": %d}\n", short_name(a.inputs[0]).c_str(),
-                real.models.size(), real.codebook.size());
+    std::printf("{\"stage\": \"real\", \"folder\": \"%s\", \"models\": %zu, \"words\": %d}\n",
+                short_name(a.inputs[0]).c_str(), real.models.size(), real.codebook.size());
     std::fflush(stdout);
 
     // The index: models generated in parallel chunks, added in order.
@@ -305,8 +317,12 @@ int synthetic(const Args& a) {
             const auto t0 = Clock::now();
             ParallelOptions par;
             par.threads = a.threads;
-            parallel_for(static_cast<std::ptrdiff_t>(end - begin),
-                         [&](std::ptrdiff_t k, int) { buf[static_cast<std::size_t>(k)] = syn.model(begin + static_cast<std::size_t>(k)); }, par);
+            parallel_for(
+                static_cast<std::ptrdiff_t>(end - begin),
+                [&](std::ptrdiff_t k, int) {
+                    buf[static_cast<std::size_t>(k)] = syn.model(begin + static_cast<std::size_t>(k));
+                },
+                par);
             generate_s += since(t0);
             const auto t1 = Clock::now();
             for (std::size_t k = begin; k < end; ++k)
@@ -319,12 +335,15 @@ int synthetic(const Args& a) {
     const double c_fin = process_cpu();
     retrieval::CollectionIndex x = builder.finish(&a.summary, a.threads);
     const double finish_s = since(t_fin), finish_cpu = process_cpu() - c_fin;
-    std::printf("{\"stage\": \"index_build\", \"models\": %zu, \"threads\": %d, \"generate_s\": %.1f, \"encode_s\": %.1f, "
-                "\"first_pass_s\": %.1f, \"first_pass_cpu_s\": %.1f, \"histogram_mib\": %.1f, \"codes_mib\": %.1f, "
-                "\"dims\": %d, \"orbits\": %d, \"sqrt\": %d, \"rss_before_mib\": %.0f, \"rss_encoded_mib\": %.0f, \"rss_after_mib\": %.0f}\n",
-                N, a.threads, generate_s, add_s, finish_s, finish_cpu, double(x.bytes()) / (1 << 20),
-                double(x.first_pass().bytes()) / (1 << 20), a.summary.dims, int(a.summary.orbits), int(a.summary.sqrt_counts),
-                rss0, rss_encoded, rss_mib());
+    std::printf(
+        "{\"stage\": \"index_build\", \"models\": %zu, \"threads\": %d, \"generate_s\": %.1f, \"encode_s\": "
+        "%.1f, "
+        "\"first_pass_s\": %.1f, \"first_pass_cpu_s\": %.1f, \"histogram_mib\": %.1f, \"codes_mib\": %.1f, "
+        "\"dims\": %d, \"orbits\": %d, \"sqrt\": %d, \"rss_before_mib\": %.0f, \"rss_encoded_mib\": %.0f, "
+        "\"rss_after_mib\": %.0f}\n",
+        N, a.threads, generate_s, add_s, finish_s, finish_cpu, double(x.bytes()) / (1 << 20),
+        double(x.first_pass().bytes()) / (1 << 20), a.summary.dims, int(a.summary.orbits),
+        int(a.summary.sqrt_counts), rss0, rss_encoded, rss_mib());
     std::fflush(stdout);
     if (!a.save.empty()) {
         io::make_directories(a.save);
@@ -339,11 +358,13 @@ int synthetic(const Args& a) {
         const auto t1 = Clock::now();
         x = retrieval::CollectionIndex::load(path, true);
         const double load_s = since(t1);
-        std::printf("{\"stage\": \"index_file\", \"models\": %zu, \"file_mib\": %.1f, \"save_s\": %.1f, \"mapped_load_s\": %.1f, "
-                    "\"rss_before_load_mib\": %.0f, \"rss_after_load_mib\": %.0f, \"private_index_mib\": %.0f, "
-                    "\"mapped_file_pages_mib\": %.0f}\n",
-                    N, double(std::filesystem::file_size(path)) / (1 << 20), save_s, load_s, before, rss_mib(),
-                    rss_mib("RssAnon:") - anon0, rss_mib("RssFile:"));
+        std::printf(
+            "{\"stage\": \"index_file\", \"models\": %zu, \"file_mib\": %.1f, \"save_s\": %.1f, "
+            "\"mapped_load_s\": %.1f, "
+            "\"rss_before_load_mib\": %.0f, \"rss_after_load_mib\": %.0f, \"private_index_mib\": %.0f, "
+            "\"mapped_file_pages_mib\": %.0f}\n",
+            N, double(std::filesystem::file_size(path)) / (1 << 20), save_s, load_s, before, rss_mib(),
+            rss_mib("RssAnon:") - anon0, rss_mib("RssFile:"));
         std::fflush(stdout);
     }
 
@@ -361,8 +382,9 @@ int synthetic(const Args& a) {
     std::vector<std::vector<retrieval::IndexMatch>> truth(Q);
     // The key: noise range, the generator's version and the first query (answers computed for
     // another generator or other queries are not taken).
-    const std::uint64_t noise_key = (std::uint64_t(a.lo * 1e6) * 1000003ULL + std::uint64_t(a.hi * 1e6)) * 31ULL +
-                                    kGeneratorVersion + 1000ULL * F;
+    const std::uint64_t noise_key =
+        (std::uint64_t(a.lo * 1e6) * 1000003ULL + std::uint64_t(a.hi * 1e6)) * 31ULL + kGeneratorVersion +
+        1000ULL * F;
     std::size_t known = 0;
     if (!a.truth.empty() && io::is_file(a.truth)) {
         std::ifstream in(a.truth, std::ios::binary);
@@ -409,9 +431,10 @@ int synthetic(const Args& a) {
                 io::write_file_atomic(a.truth, b);
             }
         }
-        std::printf("{\"stage\": \"truth\", \"queries\": %zu, \"cached\": %zu, \"computed\": %zu, \"threads\": %d, "
-                    "\"wall_s\": %.1f, \"cpu_s\": %.1f}\n",
-                    known, from, known - from, a.threads, since(t0), process_cpu() - c0);
+        std::printf(
+            "{\"stage\": \"truth\", \"queries\": %zu, \"cached\": %zu, \"computed\": %zu, \"threads\": %d, "
+            "\"wall_s\": %.1f, \"cpu_s\": %.1f}\n",
+            known, from, known - from, a.threads, since(t0), process_cpu() - c0);
         std::fflush(stdout);
         if (known == 0) return 1;
     }
@@ -432,13 +455,15 @@ int synthetic(const Args& a) {
             }
             same.push_back(double(s));
         }
-        std::printf("{\"stage\": \"difficulty\", \"queries\": %zu, \"median_d1\": %.3f, \"median_d10\": %.3f, "
-                    "\"median_margin_10_11\": %.4f, \"median_top10_same_base\": %.1f}\n",
-                    d1.size(), median(d1), median(d10), median(margin), median(same));
+        std::printf(
+            "{\"stage\": \"difficulty\", \"queries\": %zu, \"median_d1\": %.3f, \"median_d10\": %.3f, "
+            "\"median_margin_10_11\": %.4f, \"median_top10_same_base\": %.1f}\n",
+            d1.size(), median(d1), median(d10), median(margin), median(same));
         std::fflush(stdout);
     }
     // Recall against the candidate count.
-    const std::vector<std::size_t> cands = parse_list(a.candidates.empty() ? "250,500,1000,2000,4000" : a.candidates);
+    const std::vector<std::size_t> cands =
+        parse_list(a.candidates.empty() ? "250,500,1000,2000,4000" : a.candidates);
     for (std::size_t c : cands) {
         double sum = 0, worst = 1;
         std::size_t perfect = 0;
@@ -451,9 +476,11 @@ int synthetic(const Args& a) {
             worst = std::min(worst, r);
             perfect += r == 1.0;
         }
-        std::printf("{\"stage\": \"recall\", \"models\": %zu, \"queries\": %zu, \"candidates\": %zu, \"recall_at_10\": %.4f, "
-                    "\"queries_all_10\": %.4f, \"worst_query\": %.2f}\n",
-                    N, known, c, sum / double(known), double(perfect) / double(known), worst);
+        std::printf(
+            "{\"stage\": \"recall\", \"models\": %zu, \"queries\": %zu, \"candidates\": %zu, "
+            "\"recall_at_10\": %.4f, "
+            "\"queries_all_10\": %.4f, \"worst_query\": %.2f}\n",
+            N, known, c, sum / double(known), double(perfect) / double(known), worst);
         std::fflush(stdout);
     }
     // Latency on one thread: exhaustive and two-stage (default candidates) alternating.
@@ -483,12 +510,15 @@ int synthetic(const Args& a) {
             const auto c = x.first_pass().nearest(code.data(), two.candidates, 1);
             fw.push_back(since(t0));
         }
-        std::printf("{\"stage\": \"latency\", \"models\": %zu, \"threads\": 1, \"queries\": %zu, \"candidates\": %zu, "
-                    "\"mapped\": %d, \"rss_mib\": %.0f, \"private_mib\": %.0f, \"mapped_file_pages_mib\": %.0f, "
-                    "\"exact_median_s\": %.4f, \"exact_median_cpu_s\": %.4f, \"two_stage_median_s\": %.4f, "
-                    "\"two_stage_median_cpu_s\": %.4f, \"first_pass_median_s\": %.4f, \"speedup_cpu\": %.1f}\n",
-                    N, L, two.candidates, int(x.mapped()), rss_mib(), rss_mib("RssAnon:"), rss_mib("RssFile:"), median(ew),
-                    median(ec), median(tw), median(tc), median(fw), median(ec) / std::max(1e-9, median(tc)));
+        std::printf(
+            "{\"stage\": \"latency\", \"models\": %zu, \"threads\": 1, \"queries\": %zu, \"candidates\": "
+            "%zu, "
+            "\"mapped\": %d, \"rss_mib\": %.0f, \"private_mib\": %.0f, \"mapped_file_pages_mib\": %.0f, "
+            "\"exact_median_s\": %.4f, \"exact_median_cpu_s\": %.4f, \"two_stage_median_s\": %.4f, "
+            "\"two_stage_median_cpu_s\": %.4f, \"first_pass_median_s\": %.4f, \"speedup_cpu\": %.1f}\n",
+            N, L, two.candidates, int(x.mapped()), rss_mib(), rss_mib("RssAnon:"), rss_mib("RssFile:"),
+            median(ew), median(ec), median(tw), median(tc), median(fw),
+            median(ec) / std::max(1e-9, median(tc)));
         std::fflush(stdout);
     }
     // Two-stage latency with the histograms' pages out of the page cache (a mapped index just
@@ -510,9 +540,11 @@ int synthetic(const Args& a) {
             w.push_back(since(t0));
             c.push_back(thread_cpu() - c0);
         }
-        std::printf("{\"stage\": \"latency_cold\", \"models\": %zu, \"threads\": 1, \"queries\": %zu, \"candidates\": %zu, "
-                    "\"two_stage_median_s\": %.4f, \"two_stage_median_cpu_s\": %.4f}\n",
-                    N, L, x.default_candidates(10), median(w), median(c));
+        std::printf(
+            "{\"stage\": \"latency_cold\", \"models\": %zu, \"threads\": 1, \"queries\": %zu, "
+            "\"candidates\": %zu, "
+            "\"two_stage_median_s\": %.4f, \"two_stage_median_cpu_s\": %.4f}\n",
+            N, L, x.default_candidates(10), median(w), median(c));
         std::fflush(stdout);
     }
     return 0;
@@ -523,7 +555,9 @@ int synthetic(const Args& a) {
 int main(int argc, char** argv) {
     Args a;
     if (argc < 3) {
-        std::fprintf(stderr, "usage: canonform_bench_query synthetic REAL_METHOD_FOLDER [options] | collection FOLDER... [options]\n");
+        std::fprintf(stderr,
+                     "usage: canonform_bench_query synthetic REAL_METHOD_FOLDER [options] | collection "
+                     "FOLDER... [options]\n");
         return 2;
     }
     a.mode = argv[1];
@@ -533,20 +567,34 @@ int main(int argc, char** argv) {
             if (k + 1 >= argc) throw std::runtime_error("missing value of " + o);
             return argv[++k];
         };
-        if (o == "--models") a.models = std::stol(value());
-        else if (o == "--queries") a.queries = std::stol(value());
-        else if (o == "--latency-queries") a.latency_queries = std::stol(value());
-        else if (o == "--threads") a.threads = std::stoi(value());
-        else if (o == "--truth") a.truth = value();
-        else if (o == "--truth-budget") a.truth_budget = std::stod(value());
-        else if (o == "--first-query") a.first_query = std::stol(value());
-        else if (o == "--save") a.save = value();
-        else if (o == "--candidates") a.candidates = value();
-        else if (o == "--seed") a.seed = std::stoull(value());
-        else if (o == "--dims") a.summary.dims = std::stoi(value());
-        else if (o == "--sample") a.summary.sample = std::stoi(value());
-        else if (o == "--no-orbits") a.summary.orbits = false;
-        else if (o == "--no-sqrt") a.summary.sqrt_counts = false;
+        if (o == "--models")
+            a.models = std::stol(value());
+        else if (o == "--queries")
+            a.queries = std::stol(value());
+        else if (o == "--latency-queries")
+            a.latency_queries = std::stol(value());
+        else if (o == "--threads")
+            a.threads = std::stoi(value());
+        else if (o == "--truth")
+            a.truth = value();
+        else if (o == "--truth-budget")
+            a.truth_budget = std::stod(value());
+        else if (o == "--first-query")
+            a.first_query = std::stol(value());
+        else if (o == "--save")
+            a.save = value();
+        else if (o == "--candidates")
+            a.candidates = value();
+        else if (o == "--seed")
+            a.seed = std::stoull(value());
+        else if (o == "--dims")
+            a.summary.dims = std::stoi(value());
+        else if (o == "--sample")
+            a.summary.sample = std::stoi(value());
+        else if (o == "--no-orbits")
+            a.summary.orbits = false;
+        else if (o == "--no-sqrt")
+            a.summary.sqrt_counts = false;
         else if (o == "--noise") {
             const std::string v = value();
             a.lo = std::stod(v.substr(0, v.find(',')));

@@ -11,7 +11,9 @@ namespace canonform::bench {
 using Clock = std::chrono::steady_clock;
 
 /// Seconds since t0.
-inline double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+inline double since(Clock::time_point t0) {
+    return std::chrono::duration<double>(Clock::now() - t0).count();
+}
 
 /// Median of v (the upper one of an even count; 0 if empty).
 inline double median(std::vector<double> v) {

@@ -7,13 +7,13 @@
 //   canonform_bench_views MESH [--repeats R] [--backends canonform,opencv] [--distances 0|1]
 // (--distances 0: without the distance matrix)
 // A backend may carry OpenCV options: NAME@CONTRAST[@LAYERS], e.g. opencv-half@0.0005@4.
-#include "canonform/views/bag_of_features.h"
-#include "canonform/views/codebook.h"
-#include "canonform/views/view_descriptor.h"
-#include "canonform/views/opencv_sift.h"
-#include "canonform/views/view_directions.h"
 #include "bench_util.h"
 #include "canonform/io/mesh_io.h"
+#include "canonform/views/bag_of_features.h"
+#include "canonform/views/codebook.h"
+#include "canonform/views/opencv_sift.h"
+#include "canonform/views/view_descriptor.h"
+#include "canonform/views/view_directions.h"
 
 #include <algorithm>
 #include <chrono>
@@ -124,10 +124,11 @@ int main(int argc, char** argv) {
         images = render_views(X, m.F, 256);
         render_pairs_cpu.push_back(cpu() - c0);
     }
-    std::printf("{\"bench\": \"pose_and_renders\", \"vertices\": %ld, \"repeats\": %d, \"pose_cpu_s\": %.4f, "
-                "\"pose_every_face_cpu_s\": %.4f, \"renders_cpu_s\": %.4f, \"renders_in_pairs_cpu_s\": %.4f}\n",
-                long(m.V.rows()), repeats, median(pose_cpu), median(pose_exact_cpu), median(render_cpu),
-                median(render_pairs_cpu));
+    std::printf(
+        "{\"bench\": \"pose_and_renders\", \"vertices\": %ld, \"repeats\": %d, \"pose_cpu_s\": %.4f, "
+        "\"pose_every_face_cpu_s\": %.4f, \"renders_cpu_s\": %.4f, \"renders_in_pairs_cpu_s\": %.4f}\n",
+        long(m.V.rows()), repeats, median(pose_cpu), median(pose_exact_cpu), median(render_cpu),
+        median(render_pairs_cpu));
 
     for (int r = 0; r < repeats; ++r)
         for (const auto& b : backends) {  // interleaved: the load hits every backend alike
@@ -145,16 +146,19 @@ int main(int argc, char** argv) {
     for (const auto& b : backends) {  // keypoints per octave of the view (-1: opencv's doubled image)
         std::map<int, long> per_octave;
         for (const auto& img : images)
-            for (const SiftKeypoint& k : depth_sift_features(img.depth, img.size, sift_options(b)).keypoints) ++per_octave[k.octave];
+            for (const SiftKeypoint& k : depth_sift_features(img.depth, img.size, sift_options(b)).keypoints)
+                ++per_octave[k.octave];
         std::printf("{\"bench\": \"keypoints_per_octave\", \"sift\": \"%s\"", b.c_str());
         for (const auto& [octave, n] : per_octave) std::printf(", \"%d\": %ld", octave, n);
         std::printf("}\n");
     }
     for (const auto& b : backends)
-        std::printf("{\"bench\": \"descriptor\", \"sift\": \"%s\", \"vertices\": %ld, \"repeats\": %d, "
-                    "\"median_cpu_s\": %.4f, \"sift_cpu_s\": %.4f, \"keypoints\": %ld, \"keypoints_per_view\": %.1f}\n",
-                    b.c_str(), long(m.V.rows()), repeats, median(total[b]), median(sift[b]), keypoints[b],
-                    double(keypoints[b]) / 66.0);
+        std::printf(
+            "{\"bench\": \"descriptor\", \"sift\": \"%s\", \"vertices\": %ld, \"repeats\": %d, "
+            "\"median_cpu_s\": %.4f, \"sift_cpu_s\": %.4f, \"keypoints\": %ld, \"keypoints_per_view\": "
+            "%.1f}\n",
+            b.c_str(), long(m.V.rows()), repeats, median(total[b]), median(sift[b]), keypoints[b],
+            double(keypoints[b]) / 66.0);
     std::fflush(stdout);
     if (!distances) return 0;
 
@@ -173,7 +177,7 @@ int main(int argc, char** argv) {
     }
     const auto t0 = Clock::now();
     const Eigen::MatrixXf D = distance_matrix(models, maps, 2);
-    std::printf("{\"bench\": \"distance_matrix\", \"models\": %ld, \"threads\": 2, \"seconds\": %.2f}\n", long(D.rows()),
-                since(t0));
+    std::printf("{\"bench\": \"distance_matrix\", \"models\": %ld, \"threads\": 2, \"seconds\": %.2f}\n",
+                long(D.rows()), since(t0));
     return 0;
 }

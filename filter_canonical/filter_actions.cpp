@@ -1,10 +1,10 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "filter_actions.h"
 
-#include "canonform/surface/conformal_factor.h"
 #include "canonform/canonical/method_registry.h"
 #include "canonform/meshlab/meshlab_document.h"
 #include "canonform/meshlab/vcg_bridge.h"
+#include "canonform/surface/conformal_factor.h"
 #include "canonform/surface/feature_points.h"
 #include "canonform/surface/mesh_repair.h"
 #include "canonform/surface/mesh_topology.h"
@@ -13,8 +13,8 @@
 #include <vcg/complex/algorithms/update/color.h>
 #include <vcg/complex/algorithms/update/normal.h>
 #include <vcg/complex/algorithms/update/selection.h>
-#include <vcg/complex/append.h>
 #include <vcg/complex/algorithms/update/topology.h>
+#include <vcg/complex/append.h>
 
 #include <QFileInfo>
 
@@ -37,13 +37,14 @@ MeshModel& current_mesh(MeshDocument& md) {
 /// repaired copy (surface/mesh_repair.h; the summary is logged). The document itself is repaired
 /// by commit_repair() only once the computation has succeeded, so a failure leaves it unchanged.
 struct FilterInput {
-    BridgedMesh<CMeshO> b;              ///< what to compute on (repaired if asked)
-    std::optional<surface::MeshRepair> repair;   ///< the repair, if it changed something
+    BridgedMesh<CMeshO> b;                      ///< what to compute on (repaired if asked)
+    std::optional<surface::MeshRepair> repair;  ///< the repair, if it changed something
 };
 
 FilterInput filter_input(MeshModel& mm, const ParamValues& p, const ActionContext& ctx) {
     FilterInput in{to_eigen(mm.cm), {}};
-    if (p.values.count("repair") && p.get_bool("repair")) {  // scripts written before it have no "repair": off
+    if (p.values.count("repair") &&
+        p.get_bool("repair")) {  // scripts written before it have no "repair": off
         surface::MeshRepair r = surface::repair_mesh(in.b.V, in.b.F);
         ctx.log("'" + mm.label().toStdString() + "': " + r.summary());
         if (r.changed()) in.repair = std::move(r);
@@ -70,7 +71,8 @@ BridgedMesh<CMeshO> commit_repair(MeshModel& mm, FilterInput& in) {
         CMeshO::FacePointer f = faces[static_cast<size_t>(r.face_source[k])];
         keep_face[static_cast<size_t>(r.face_source[k])] = 1;
         for (int c = 0; c < 3; ++c)
-            f->V(c) = in.b.vertices[static_cast<size_t>(r.vertex_source[static_cast<size_t>(r.mesh.F(static_cast<Eigen::Index>(k), c))])];
+            f->V(c) = in.b.vertices[static_cast<size_t>(
+                r.vertex_source[static_cast<size_t>(r.mesh.F(static_cast<Eigen::Index>(k), c))])];
     }
     for (int v : r.vertex_source) keep_vertex[static_cast<size_t>(v)] = 1;
     for (size_t f = 0; f < faces.size(); ++f)
@@ -95,7 +97,8 @@ void validate_and_note(const Bridged& b, const ActionContext& ctx) {
     const surface::MeshReport r = surface::validate_mesh(b.V, b.F);
     if (r.boundary_edges > 0) {
         std::ostringstream m;
-        m << "note: the mesh is open (" << r.boundary_edges << " boundary edges, " << r.boundary_loops_vertices
+        m << "note: the mesh is open (" << r.boundary_edges << " boundary edges, "
+          << r.boundary_loops_vertices
           << " boundary vertices); their curvature uses pi instead of 2 pi (eq. 8)";
         ctx.log(m.str());
     }
@@ -138,11 +141,14 @@ ActionOutputs conformal_factor_action(const FilterSpec&, MeshDocument& md, const
         vcg::tri::UpdateColor<CMeshO>::PerVertexQualityRamp(mm.cm);
     }
     std::ostringstream log;
-    log << "Conformal factor of '" << mm.label().toStdString() << "' (" << b.V.rows() << " vertices): raw range ["
-        << cf.raw.minCoeff() << ", " << cf.raw.maxCoeff() << "], relative residual " << cf.residual << "; stored "
+    log << "Conformal factor of '" << mm.label().toStdString() << "' (" << b.V.rows()
+        << " vertices): raw range [" << cf.raw.minCoeff() << ", " << cf.raw.maxCoeff()
+        << "], relative residual " << cf.residual << "; stored "
         << (normalized ? "normalised to [0, 1]" : "raw") << " in the vertex quality";
     ctx.log(log.str());
-    return {{"vertices", int(b.V.rows())}, {"min", cf.raw.minCoeff()}, {"max", cf.raw.maxCoeff()},
+    return {{"vertices", int(b.V.rows())},
+            {"min", cf.raw.minCoeff()},
+            {"max", cf.raw.maxCoeff()},
             {"residual", cf.residual}};
 }
 
@@ -175,10 +181,12 @@ ActionOutputs feature_points_action(const FilterSpec&, MeshDocument& md, const P
     std::ostringstream log;
     log << "Feature points of '" << mm.label().toStdString() << "': " << fp.indices.size() << " selected ("
         << fp.num_maxima << " local maxima over the " << ring << "-ring of " << fp.total_maxima << " found, "
-        << fp.num_random << " random; target ceil(sqrt(" << b.V.rows() << ")) = " << surface::sqrt_count(int(b.V.rows()))
-        << ")";
+        << fp.num_random << " random; target ceil(sqrt(" << b.V.rows()
+        << ")) = " << surface::sqrt_count(int(b.V.rows())) << ")";
     ctx.log(log.str());
-    return {{"selected", int(fp.indices.size())}, {"maxima", int(fp.num_maxima)}, {"random", int(fp.num_random)},
+    return {{"selected", int(fp.indices.size())},
+            {"maxima", int(fp.num_maxima)},
+            {"random", int(fp.num_random)},
             {"target", int(surface::sqrt_count(int(b.V.rows())))}};
 }
 
@@ -245,9 +253,11 @@ ActionOutputs canonical_form_action(const FilterSpec& spec, MeshDocument& md, co
     ActionOutputs out;
     for (const auto& [key, value] : r.summary)
         if (!std::holds_alternative<std::string>(value))
-            std::visit([&out, k = key](const auto& v) {
-                if constexpr (!std::is_same_v<std::decay_t<decltype(v)>, std::string>) out[k] = v;
-            }, value);
+            std::visit(
+                [&out, k = key](const auto& v) {
+                    if constexpr (!std::is_same_v<std::decay_t<decltype(v)>, std::string>) out[k] = v;
+                },
+                value);
     return out;
 }
 

@@ -9,7 +9,6 @@
 #include "canonform/common/errors.h"
 #include "canonical_filter_table.h"
 
-
 class MeshDocument;
 
 namespace canonform::meshlab {

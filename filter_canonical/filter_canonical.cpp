@@ -4,6 +4,7 @@
 #include "filter_actions.h"
 
 FilterCanonicalPlugin::FilterCanonicalPlugin()
-    : TableFilterPlugin("FilterCanonical", canonform::meshlab::filter_table(), &canonform::meshlab::apply_filter_action) {}
+    : TableFilterPlugin("FilterCanonical", canonform::meshlab::filter_table(),
+                        &canonform::meshlab::apply_filter_action) {}
 
 MESHLAB_PLUGIN_NAME_EXPORTER(FilterCanonicalPlugin)

@@ -8,7 +8,5 @@
 #include "canonform/meshlab/meshlab_adapter.h"
 
 class FilterCanonicalPlugin : public TableFilterPlugin {
-    Q_OBJECT CANONFORM_PLUGIN_INTERFACES
-public:
-    FilterCanonicalPlugin();
+    Q_OBJECT CANONFORM_PLUGIN_INTERFACES public : FilterCanonicalPlugin();
 };

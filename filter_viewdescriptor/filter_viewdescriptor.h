@@ -7,7 +7,5 @@
 #include "canonform/meshlab/meshlab_adapter.h"
 
 class FilterViewDescriptorPlugin : public TableFilterPlugin {
-    Q_OBJECT CANONFORM_PLUGIN_INTERFACES
-public:
-    FilterViewDescriptorPlugin();
+    Q_OBJECT CANONFORM_PLUGIN_INTERFACES public : FilterViewDescriptorPlugin();
 };

@@ -11,6 +11,7 @@ namespace canonform::meshlab {
 
 /// Applies filter `id` of view_filter_table() to the current mesh (throws on failure; the
 /// document is never changed, files are written atomically).
-ActionOutputs apply_view_action(int id, MeshDocument& md, const ParamValues& params, const ActionContext& context);
+ActionOutputs apply_view_action(int id, MeshDocument& md, const ParamValues& params,
+                                const ActionContext& context);
 
 }  // namespace canonform::meshlab

@@ -12,8 +12,10 @@ Parameter output_file_parameter() {
     return Parameter::text("output_file")
         .default_value("descriptor.cfvd")
         .label("Descriptor file")
-        .help("where to write the descriptor (canonform's versioned .cfvd format); empty: write no file (pymeshlab "
-              "returns the descriptor as a vector either way)");
+        .help(
+            "where to write the descriptor (canonform's versioned .cfvd format); empty: write no file "
+            "(pymeshlab "
+            "returns the descriptor as a vector either way)");
 }
 Parameter codebook_file_parameter() {
     return Parameter::text("codebook_file")
@@ -30,11 +32,13 @@ Parameter views_folder_parameter() {
 
 const std::vector<FilterSpec>& view_filter_table() {
     static const std::vector<FilterSpec> table = [] {
-        const std::vector<Parameter> views = views::view_descriptor_parameters({}, views::builtin_sift_backend_names()).parameters();
+        const std::vector<Parameter> views =
+            views::view_descriptor_parameters({}, views::builtin_sift_backend_names()).parameters();
         const auto view = [&views](const char* name) { return *find_parameter(views, name); };
         std::vector<FilterSpec> t;
         t.push_back(FilterSpec("Depth view descriptor", "compute_depth_view_descriptor", FilterKind::Measure)
-                        .with_info(prose(R"(Computes the view-based shape descriptor of Lian et al. (CM-BOF) that Pickup et
+                        .with_info(prose(
+                            R"(Computes the view-based shape descriptor of Lian et al. (CM-BOF) that Pickup et
                      al. 2015 plug their canonical forms into: the mesh is pose-normalised (PCA and
                      rectilinearity), rendered as 66 orthographic depth images from the vertices of a
                      twice-subdivided octahedron, and SIFT features are extracted from each view. With a

@@ -3,8 +3,8 @@
 //   canonform_plycheck FILE [REFERENCE]
 // vertices, faces, quality range, and with REFERENCE: the largest quality and position
 // differences, vertex by vertex, and the RMS position difference after the best rigid alignment.
-#include "canonform/numerics/rigid_alignment.h"
 #include "canonform/io/mesh_io.h"
+#include "canonform/numerics/rigid_alignment.h"
 
 #include <nlohmann/json.hpp>
 
@@ -19,7 +19,8 @@ int main(int argc, char** argv) {
     try {
         const auto m = canonform::io::read_mesh(argv[1]);
         const Eigen::VectorXd q = canonform::io::read_ply_quality(argv[1]);
-        nlohmann::ordered_json j = {{"vertices", m.V.rows()}, {"faces", m.F.rows()}, {"has_quality", q.size() ? 1 : 0}};
+        nlohmann::ordered_json j = {
+            {"vertices", m.V.rows()}, {"faces", m.F.rows()}, {"has_quality", q.size() ? 1 : 0}};
         if (q.size()) {
             j["quality_min"] = q.minCoeff();
             j["quality_max"] = q.maxCoeff();

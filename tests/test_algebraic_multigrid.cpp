@@ -1,11 +1,11 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-#include "canonform/numerics/algebraic_multigrid.h"
-#include "canonform/surface/conformal_factor.h"
 #include "canonform/canonical/euclidean_canonical_form.h"
+#include "canonform/numerics/algebraic_multigrid.h"
+#include "canonform/numerics/sparse_cholesky.h"
+#include "canonform/procedural/procedural_meshes.h"
+#include "canonform/surface/conformal_factor.h"
 #include "canonform/surface/feature_points.h"
 #include "canonform/surface/mesh_topology.h"
-#include "canonform/procedural/procedural_meshes.h"
-#include "canonform/numerics/sparse_cholesky.h"
 
 #include <gtest/gtest.h>
 
@@ -25,7 +25,8 @@ Eigen::SparseMatrix<double> figure_v(int vertices) {
     const Eigen::MatrixXd V = normalize_scale(fig.mesh.V);
     const ConformalFactorResult cf = conformal_factor(V, fig.mesh.F);
     const Eigen::MatrixXi E = unique_edges(fig.mesh.F);
-    const FeaturePoints fp = feature_points(vertex_adjacency(static_cast<int>(V.rows()), E), cf.normalized, {});
+    const FeaturePoints fp =
+        feature_points(vertex_adjacency(static_cast<int>(V.rows()), E), cf.normalized, {});
     const StressPairs p = canonical_form_pairs(V, E, cf.normalized, fp.indices, {});
     const int n = static_cast<int>(V.rows());
     std::vector<Eigen::Triplet<double>> t;
@@ -141,7 +142,8 @@ TEST(AlgebraicMultigrid, AWorkspaceKeptBetweenCyclesGivesTheSameBits) {
         amg.cycle(B, fresh, 2);
         amg.cycle(B, reused, 2, work);
         ASSERT_EQ(fresh.rows(), reused.rows());
-        for (Eigen::Index i = 0; i < fresh.size(); ++i) ASSERT_EQ(fresh.data()[i], reused.data()[i]) << "round " << round;
+        for (Eigen::Index i = 0; i < fresh.size(); ++i)
+            ASSERT_EQ(fresh.data()[i], reused.data()[i]) << "round " << round;
     }
 }
 

@@ -32,7 +32,9 @@ using namespace canonform::views;
 namespace {
 
 std::string temp_path(const std::string& name) {
-    return (std::filesystem::temp_directory_path() / ("canonform_bof_" + std::to_string(::getpid()) + "_" + name)).string();
+    return (std::filesystem::temp_directory_path() /
+            ("canonform_bof_" + std::to_string(::getpid()) + "_" + name))
+        .string();
 }
 
 // 24 permutations of `views` views closed under inversion: identity, 11 random permutations, their
@@ -189,12 +191,12 @@ TEST(BagOfFeatures, ClockMatchingRejectsBadInput) {
     std::mt19937_64 rng(1);
     const auto A = random_model(rng, 4, 10, 1, 3), B = random_model(rng, 5, 10, 1, 3);
     const auto maps = synthetic_maps(4);
-    EXPECT_THROW(clock_matching_distance(A, B, maps), InputError);                 // view counts differ
-    EXPECT_THROW(clock_matching_distance(A, A, {}), InputError);                   // no maps
-    EXPECT_THROW(clock_matching_distance(A, A, {{0, 1, 2}}), InputError);          // short map
-    EXPECT_THROW(clock_matching_distance(A, A, {{0, 1, 2, 4}}), InputError);       // index out of range
+    EXPECT_THROW(clock_matching_distance(A, B, maps), InputError);            // view counts differ
+    EXPECT_THROW(clock_matching_distance(A, A, {}), InputError);              // no maps
+    EXPECT_THROW(clock_matching_distance(A, A, {{0, 1, 2}}), InputError);     // short map
+    EXPECT_THROW(clock_matching_distance(A, A, {{0, 1, 2, 4}}), InputError);  // index out of range
     auto bad = A;
-    bad[2] = {{3, 1.f}, {1, 1.f}};                                                 // unsorted
+    bad[2] = {{3, 1.f}, {1, 1.f}};  // unsorted
     EXPECT_THROW(clock_matching_distance(bad, A, maps), InputError);
 }
 
@@ -204,7 +206,7 @@ TEST(BagOfFeatures, DistanceMatrixMatchesPairwiseAndThreads) {
     std::mt19937_64 rng(21);
     std::vector<std::vector<Histogram>> models;
     for (int m = 0; m < N; ++m) models.push_back(random_model(rng, V, 300, 0, 40));  // includes empty views
-    models[3] = std::vector<Histogram>(V);                                          // a blank model
+    models[3] = std::vector<Histogram>(V);                                           // a blank model
     const Eigen::MatrixXf D1 = distance_matrix(models, maps, 1), D2 = distance_matrix(models, maps, 2);
     EXPECT_EQ(D1, D2);
     for (int i = 0; i < N; ++i) {
@@ -218,7 +220,6 @@ TEST(BagOfFeatures, DistanceMatrixMatchesPairwiseAndThreads) {
     }
     EXPECT_NEAR(D1(3, 0), clock_matching_distance(models[3], models[0], maps), 1e-4);
 }
-
 
 // ---- codebook -----------------------------------------------------------------------------------------
 
@@ -234,7 +235,10 @@ TEST(Codebook, AssignIsNearestWord) {
         int arg = -1;
         for (Eigen::Index j = 0; j < C.rows(); ++j) {
             const double d = (X.row(i).cast<double>() - C.row(j).cast<double>()).squaredNorm();
-            if (d < best) { best = d; arg = static_cast<int>(j); }
+            if (d < best) {
+                best = d;
+                arg = static_cast<int>(j);
+            }
         }
         const double chosen = (X.row(i).cast<double>() - C.row(a[i]).cast<double>()).squaredNorm();
         EXPECT_LE(chosen, best * (1 + 1e-5) + 1e-3) << "descriptor " << i;
@@ -275,7 +279,8 @@ TEST(Codebook, EveryMethodDeterministicAndKMeansBeatsRandom) {
 #ifdef CANONFORM_WITHOUT_FAISS  // the Windows build: kmeans is refused, naming the way out
         if (o.method == CodebookOptions::Method::KMeans) {
             EXPECT_EQ(CodebookOptions::kDefaultMethod, CodebookOptions::Method::Lloyd);
-            EXPECT_NE(test::message_of([&] { Codebook::train(X, o); }).find("use 'lloyd'"), std::string::npos);
+            EXPECT_NE(test::message_of([&] { Codebook::train(X, o); }).find("use 'lloyd'"),
+                      std::string::npos);
             continue;
         }
 #endif
@@ -317,7 +322,8 @@ TEST(Codebook, TrainingOnTheNamedRowsAloneGivesTheSameWords) {
     // What a sharded run's codebook stage does: it holds only the rows training_rows() names.
     std::mt19937_64 rng(21);
     const DescriptorMatrix X = random_descriptors(rng, 3000, 30);
-    for (const auto method : {CodebookOptions::Method::Random, CodebookOptions::Method::Lloyd, CodebookOptions::kDefaultMethod})
+    for (const auto method :
+         {CodebookOptions::Method::Random, CodebookOptions::Method::Lloyd, CodebookOptions::kDefaultMethod})
         for (const std::int64_t sample : {std::int64_t(0), std::int64_t(700), std::int64_t(5000)}) {
             CodebookOptions o;
             o.words = 30;
@@ -327,7 +333,8 @@ TEST(Codebook, TrainingOnTheNamedRowsAloneGivesTheSameWords) {
             const std::vector<int> rows = Codebook::training_rows(X.rows(), o);
             EXPECT_EQ(rows.size(), sample == 700 ? 700u : 3000u);
             DescriptorMatrix S(static_cast<Eigen::Index>(rows.size()), 128);
-            for (std::size_t i = 0; i < rows.size(); ++i) S.row(static_cast<Eigen::Index>(i)) = X.row(rows[i]);
+            for (std::size_t i = 0; i < rows.size(); ++i)
+                S.row(static_cast<Eigen::Index>(i)) = X.row(rows[i]);
             EXPECT_TRUE(Codebook::train_on_rows(S, X.rows(), o).words() == Codebook::train(X, o).words())
                 << codebook_method_name(method) << " sample " << sample;
             EXPECT_THROW(Codebook::train_on_rows(S.topRows(S.rows() - 1), X.rows(), o), InputError);
@@ -370,8 +377,9 @@ TEST(Codebook, SaveLoadBitExactAndRejectsBadFiles) {
     const std::string good = read_bytes(path);
     EXPECT_EQ(good.size(), 16u + 50u * 128u * 4u);
     canonform::test::fuzz_seed("codebook", "50_words.cfcb", good);
-    canonform::test::fuzz_seed("codebook", "3_words.cfcb", good.substr(0, 8) + std::string("\x03\0\0\0", 4) +
-                                                          good.substr(12, 4 + 3 * 128 * 4));
+    canonform::test::fuzz_seed(
+        "codebook", "3_words.cfcb",
+        good.substr(0, 8) + std::string("\x03\0\0\0", 4) + good.substr(12, 4 + 3 * 128 * 4));
     canonform::test::fuzz_seed("codebook", "truncated.cfcb", good.substr(0, 100));
     const std::string bad = temp_path("bad.cfcb");
     write_bytes(bad, good.substr(0, good.size() - 3));  // truncated data
@@ -397,7 +405,6 @@ TEST(Codebook, SaveLoadBitExactAndRejectsBadFiles) {
     std::filesystem::remove(path);
     std::filesystem::remove(bad);
 }
-
 
 // ---- descriptor file ----------------------------------------------------------------------------------
 
@@ -470,7 +477,8 @@ TEST(DescriptorFile, HistogramRoundTrip) {
     } catch (const InputError& e) {
         EXPECT_NE(std::string(e.what()).find("inconsistent"), std::string::npos) << e.what();
     }
-    for (std::size_t cut : {std::size_t(0), std::size_t(3), std::size_t(11), std::size_t(30), good.size() / 2}) {
+    for (std::size_t cut :
+         {std::size_t(0), std::size_t(3), std::size_t(11), std::size_t(30), good.size() / 2}) {
         write_bytes(badpath, good.substr(0, cut));
         EXPECT_THROW(read_descriptor(badpath), InputError) << "cut at " << cut;
     }
@@ -510,7 +518,10 @@ TEST(DescriptorFile, AFolderGivenAsADescriptorOrCodebookIsNamedAsOne) {
     const std::string dir = canonform::test::scratch_dir("folder_descriptor");
     std::filesystem::create_directories(dir + "/d.cfvd");
     std::filesystem::create_directories(dir + "/c.cfcb");
-    EXPECT_NE(canonform::test::message_of([&] { read_descriptor(dir + "/d.cfvd"); }).find("is a folder"), std::string::npos);
-    EXPECT_NE(canonform::test::message_of([&] { Codebook::load(dir + "/c.cfcb"); }).find("is a folder"), std::string::npos);
-    EXPECT_NE(canonform::test::message_of([&] { read_descriptor(dir + "/none.cfvd"); }).find("no such file"), std::string::npos);
+    EXPECT_NE(canonform::test::message_of([&] { read_descriptor(dir + "/d.cfvd"); }).find("is a folder"),
+              std::string::npos);
+    EXPECT_NE(canonform::test::message_of([&] { Codebook::load(dir + "/c.cfcb"); }).find("is a folder"),
+              std::string::npos);
+    EXPECT_NE(canonform::test::message_of([&] { read_descriptor(dir + "/none.cfvd"); }).find("no such file"),
+              std::string::npos);
 }

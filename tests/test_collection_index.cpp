@@ -32,7 +32,8 @@ namespace {
 /// A finished `retrieve` run of seven figures (method none), made once per process.
 const std::string& run_folder() {
     static const std::string run = [] {
-        const std::string d = (fs::temp_directory_path() / ("canonform_test_index_" + std::to_string(getpid()))).string();
+        const std::string d =
+            (fs::temp_directory_path() / ("canonform_test_index_" + std::to_string(getpid()))).string();
         fs::remove_all(d);
         io::make_directories(d + "/data/meshes");
         std::string labels = "path,class\n";
@@ -77,11 +78,14 @@ TEST(CollectionIndex, QueriesGiveTheDistanceMatrixRowsMemberFirst) {
         // A query that names its place gets the matrix's values, bit for bit.
         const std::vector<float> own = x.distances(hist, 2, static_cast<std::ptrdiff_t>(q));
         for (std::size_t m = 0; m < x.size(); ++m) {
-            const float matrix = static_cast<float>(D(static_cast<Eigen::Index>(q), static_cast<Eigen::Index>(m)));
+            const float matrix =
+                static_cast<float>(D(static_cast<Eigen::Index>(q), static_cast<Eigen::Index>(m)));
             // The matrix computes D(A, B) with the earlier model as A: exactly the query's value then,
             // the same up to the last bit of the double sum otherwise.
-            if (m >= q) EXPECT_EQ(d[m], matrix) << q << " " << m;
-            else EXPECT_NEAR(d[m], matrix, 1e-6) << q << " " << m;
+            if (m >= q)
+                EXPECT_EQ(d[m], matrix) << q << " " << m;
+            else
+                EXPECT_NEAR(d[m], matrix, 1e-6) << q << " " << m;
             EXPECT_EQ(own[m], matrix) << q << " " << m;
         }
         const auto top = x.top(hist, x.size(), 1);
@@ -92,9 +96,11 @@ TEST(CollectionIndex, QueriesGiveTheDistanceMatrixRowsMemberFirst) {
         std::vector<std::size_t> order(x.size());
         std::iota(order.begin(), order.end(), std::size_t{0});
         std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
-            return D(static_cast<Eigen::Index>(q), static_cast<Eigen::Index>(a)) < D(static_cast<Eigen::Index>(q), static_cast<Eigen::Index>(b));
+            return D(static_cast<Eigen::Index>(q), static_cast<Eigen::Index>(a)) <
+                   D(static_cast<Eigen::Index>(q), static_cast<Eigen::Index>(b));
         });
-        for (std::size_t r = 0; r < order.size(); ++r) EXPECT_EQ(top[r].model, order[r]) << "query " << q << " rank " << r;
+        for (std::size_t r = 0; r < order.size(); ++r)
+            EXPECT_EQ(top[r].model, order[r]) << "query " << q << " rank " << r;
         EXPECT_EQ(x.top(hist, 3, 2).size(), 3u);
     }
     // Threads do not change the answers.
@@ -132,7 +138,8 @@ TEST(CollectionIndex, FileRoundTripAndRefusals) {
     EXPECT_EQ(y.first_pass().codes(), x.first_pass().codes());
     EXPECT_EQ(y.first_pass().axes(), x.first_pass().axes());
     EXPECT_EQ(y.code(hist), x.code(hist));
-    for (std::size_t m = 0; m < x.size(); ++m) EXPECT_EQ(y.histograms(m), histograms_of(folder, x.names()[m]));
+    for (std::size_t m = 0; m < x.size(); ++m)
+        EXPECT_EQ(y.histograms(m), histograms_of(folder, x.names()[m]));
     // Truncated, trailing bytes, not an index.
     const std::string bytes = io::read_file(path);
     io::write_file_atomic(path, bytes.substr(0, bytes.size() - 2));
@@ -172,7 +179,8 @@ std::vector<std::vector<views::Histogram>> random_models(std::size_t n, int word
     std::vector<std::vector<std::vector<int>>> protos(12, std::vector<std::vector<int>>(66));
     for (auto& p : protos)
         for (auto& v : p)
-            for (int k = 0; k < 12; ++k) v.push_back(static_cast<int>(pg() % static_cast<std::uint64_t>(words)));
+            for (int k = 0; k < 12; ++k)
+                v.push_back(static_cast<int>(pg() % static_cast<std::uint64_t>(words)));
     std::vector<std::vector<views::Histogram>> out;
     for (std::size_t m = 0; m < n; ++m) {
         const auto& p = protos[g() % protos.size()];
@@ -183,7 +191,9 @@ std::vector<std::vector<views::Histogram>> random_models(std::size_t n, int word
         for (int i = 0; i < 66; ++i) {
             std::vector<int> w;
             for (int word : p[static_cast<std::size_t>(i)])
-                w.push_back(static_cast<double>(g() % 1000) / 1000.0 < noise ? static_cast<int>(g() % static_cast<std::uint64_t>(words)) : word);
+                w.push_back(static_cast<double>(g() % 1000) / 1000.0 < noise
+                                ? static_cast<int>(g() % static_cast<std::uint64_t>(words))
+                                : word);
             model[static_cast<std::size_t>(maps[r][static_cast<std::size_t>(i)])] = views::histogram(w);
         }
         out.push_back(model);
@@ -202,26 +212,32 @@ std::vector<std::string> numbered(std::size_t n, const std::string& prefix) {
 TEST(CollectionIndex, PackedHistogramsRoundTripWithTheirEscapesAndGiveTheMatrix) {
     // Counts 1, 2..16 and beyond, word gaps up to 240, 256 and beyond, empty views.
     std::vector<std::vector<views::Histogram>> models = random_models(5, 1500, 3);
-    models[0][0] = {{0, 1.f}, {240, 1.f}, {481, 1.f}, {482, 2.f}, {738, 16.f}, {995, 17.f}, {996, 300.f}, {1499, 1.f}};
+    models[0][0] = {{0, 1.f},    {240, 1.f},  {481, 1.f},   {482, 2.f},
+                    {738, 16.f}, {995, 17.f}, {996, 300.f}, {1499, 1.f}};
     models[0][1] = {};
     models[1][5] = {{1499, 65000.f}};
     models[2][7] = {{0, 2.f}, {256, 2.f}, {513, 3.f}};
-    const CollectionIndex x = CollectionIndex::build(numbered(5, "m"), numbered(5, "c"), models, random_codebook(1500, 1), "none");
+    const CollectionIndex x =
+        CollectionIndex::build(numbered(5, "m"), numbered(5, "c"), models, random_codebook(1500, 1), "none");
     for (std::size_t m = 0; m < 5; ++m) EXPECT_EQ(x.histograms(m), models[m]) << m;
     const Eigen::MatrixXf D = views::distance_matrix(models, views::rotation_view_maps(), 1);
     for (std::size_t q = 0; q < 5; ++q) {
         const auto d = x.distances(models[q], 1, static_cast<std::ptrdiff_t>(q));
-        for (std::size_t m = 0; m < 5; ++m) EXPECT_EQ(d[m], D(static_cast<Eigen::Index>(q), static_cast<Eigen::Index>(m))) << q << " " << m;
+        for (std::size_t m = 0; m < 5; ++m)
+            EXPECT_EQ(d[m], D(static_cast<Eigen::Index>(q), static_cast<Eigen::Index>(m))) << q << " " << m;
     }
     // Beyond 16 bits in a view's sum.
     models[3][0] = {{1, 40000.f}, {2, 30000.f}};
-    EXPECT_THROW(CollectionIndex::build(numbered(5, "m"), numbered(5, "c"), models, random_codebook(1500, 1), "none"), InputError);
+    EXPECT_THROW(
+        CollectionIndex::build(numbered(5, "m"), numbered(5, "c"), models, random_codebook(1500, 1), "none"),
+        InputError);
 }
 
 TEST(CollectionIndex, TwoStageQueriesReturnExactDistancesAndFindTheExactTopTen) {
     std::vector<std::size_t> rotation;
     const auto models = random_models(600, 200, 11, &rotation);
-    const CollectionIndex x = CollectionIndex::build(numbered(600, "m"), numbered(600, "c"), models, random_codebook(200, 2), "none");
+    const CollectionIndex x = CollectionIndex::build(numbered(600, "m"), numbered(600, "c"), models,
+                                                     random_codebook(200, 2), "none");
     ASSERT_TRUE(x.first_pass().trained());
     EXPECT_EQ(x.first_pass().size(), 600u);
     // Small collections are searched exhaustively unless candidates are given.
@@ -265,11 +281,13 @@ TEST(CollectionIndex, TwoStageQueriesReturnExactDistancesAndFindTheExactTopTen) 
     for (std::size_t m = 0; m < 20; ++m) {
         std::vector<views::Histogram> back(66);
         for (int i = 0; i < 66; ++i)
-            back[static_cast<std::size_t>(i)] = models[m][static_cast<std::size_t>(maps[rotation[m]][static_cast<std::size_t>(i)])];
+            back[static_cast<std::size_t>(i)] =
+                models[m][static_cast<std::size_t>(maps[rotation[m]][static_cast<std::size_t>(i)])];
         EXPECT_EQ(x.code(back), x.code(models[m])) << m;
         EXPECT_EQ(x.code(models[m]),
-                  std::vector<std::int8_t>(x.first_pass().codes().begin() + static_cast<std::ptrdiff_t>(m * 64),
-                                           x.first_pass().codes().begin() + static_cast<std::ptrdiff_t>(m * 64 + 64)));
+                  std::vector<std::int8_t>(
+                      x.first_pass().codes().begin() + static_cast<std::ptrdiff_t>(m * 64),
+                      x.first_pass().codes().begin() + static_cast<std::ptrdiff_t>(m * 64 + 64)));
     }
 }
 
@@ -308,7 +326,8 @@ TEST(SummarySearch, TheFirstAxisFollowsAPlantedDirectionAndTiesGoToTheLowerModel
     }
     SummaryOptions o;
     o.dims = 16;
-    const SummarySearch a = SummarySearch::train(sample, 300, o, 1), b = SummarySearch::train(sample, 300, o, 2);
+    const SummarySearch a = SummarySearch::train(sample, 300, o, 1),
+                        b = SummarySearch::train(sample, 300, o, 2);
     EXPECT_EQ(a.axes(), b.axes());  // the same bits for any thread count
     double cosine = 0, length = 0;
     for (std::size_t j = 0; j < 300; ++j) {
@@ -363,7 +382,8 @@ TEST(CollectionIndex, ReadsVersionOneFilesAndAnswersExhaustively) {
         }
     b.append(reinterpret_cast<const char*>(offsets.data()), offsets.size() * 8);
     b.append(reinterpret_cast<const char*>(entries.data()), entries.size() * 2);
-    const std::string path = (fs::temp_directory_path() / ("canonform_test_v1_" + std::to_string(getpid()) + ".cfci")).string();
+    const std::string path =
+        (fs::temp_directory_path() / ("canonform_test_v1_" + std::to_string(getpid()) + ".cfci")).string();
     io::write_file_atomic(path, b);
     const CollectionIndex x = CollectionIndex::load(path);
     fs::remove(path);
@@ -372,7 +392,8 @@ TEST(CollectionIndex, ReadsVersionOneFilesAndAnswersExhaustively) {
     SearchOptions o;
     o.candidates = 5;
     EXPECT_FALSE(x.two_stage(o));
-    const CollectionIndex y = CollectionIndex::build(numbered(30, "m"), std::vector<std::string>(30, "c"), models, cb, "none");
+    const CollectionIndex y =
+        CollectionIndex::build(numbered(30, "m"), std::vector<std::string>(30, "c"), models, cb, "none");
     for (std::size_t m = 0; m < 30; ++m) EXPECT_EQ(x.histograms(m), models[m]);
     EXPECT_EQ(x.distances(models[3], 1), y.distances(models[3], 1));
     EXPECT_THROW(x.code(models[3]), InputError);

@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
+#include "canonform/procedural/procedural_meshes.h"
 #include "canonform/surface/conformal_factor.h"
 #include "canonform/surface/cotan_laplacian.h"
 #include "canonform/surface/gaussian_curvature.h"
-#include "canonform/procedural/procedural_meshes.h"
 #include "test_util.h"
 
 #include <gtest/gtest.h>
@@ -21,7 +21,8 @@ TEST(ConformalFactor, SolvesEquationSevenWithTheDocumentedSign) {
     const Eigen::SparseMatrix<double> L = cotan_laplacian(f.mesh.V, f.mesh.F);
     // (D - W) phi = K0 - KT, i.e. eq. (7) with L = W - D.
     const Eigen::VectorXd r = L * cf.raw - (cf.curvature - cf.target);
-    EXPECT_LT(r.lpNorm<Eigen::Infinity>(), 1e-8 * (cf.curvature - cf.target).lpNorm<Eigen::Infinity>() + 1e-12);
+    EXPECT_LT(r.lpNorm<Eigen::Infinity>(),
+              1e-8 * (cf.curvature - cf.target).lpNorm<Eigen::Infinity>() + 1e-12);
     EXPECT_NEAR(cf.curvature.sum(), cf.target.sum(), 1e-9);
     EXPECT_LT(cf.residual, 1e-8);
     EXPECT_NEAR(cf.normalized.minCoeff(), 0.0, 1e-12);
@@ -58,8 +59,8 @@ TEST(ConformalFactor, LargestAtTheLimbTips) {
 TEST(ConformalFactor, InvariantToRigidMotionScaleAndPose) {
     const Figure f = make_figure(2000, figure_pose(0));
     const ConformalFactorResult a = conformal_factor(f.mesh.V, f.mesh.F);
-    const Eigen::MatrixXd V2 = ((3.7 * f.mesh.V * test::random_rotation(5).transpose()).rowwise() +
-                                Eigen::RowVector3d(10, -4, 2));
+    const Eigen::MatrixXd V2 =
+        ((3.7 * f.mesh.V * test::random_rotation(5).transpose()).rowwise() + Eigen::RowVector3d(10, -4, 2));
     const ConformalFactorResult b = conformal_factor(V2, f.mesh.F);
     EXPECT_LT((a.raw - b.raw).lpNorm<Eigen::Infinity>(), 1e-8);
     // Another pose: nearly isometric, so nearly the same conformal factor.

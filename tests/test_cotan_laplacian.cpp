@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-#include "canonform/surface/cotan_laplacian.h"
 #include "canonform/procedural/procedural_meshes.h"
+#include "canonform/surface/cotan_laplacian.h"
 
 #include <gtest/gtest.h>
 

@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "canonform/canonical/euclidean_canonical_form.h"
+#include "canonform/numerics/rigid_alignment.h"
+#include "canonform/procedural/procedural_meshes.h"
 #include "canonform/surface/feature_points.h"
 #include "canonform/surface/mesh_topology.h"
-#include "canonform/procedural/procedural_meshes.h"
-#include "canonform/numerics/rigid_alignment.h"
 #include "test_util.h"
 
 #include <gtest/gtest.h>
@@ -110,7 +110,8 @@ TEST_P(BothVariants, PosesGiveNearlyTheSameCanonicalForm) {
         const auto c = euclidean_canonical_form(p.mesh.V, p.mesh.F, options(GetParam()));
         const double canonical = test::aligned_rms(c.V, c0.V);
         const double ratio = canonical / original;
-        std::printf("      pose 0-%d: original %.3f, canonical %.3f, ratio %.2f\n", pose, original, canonical, ratio);
+        std::printf("      pose 0-%d: original %.3f, canonical %.3f, ratio %.2f\n", pose, original, canonical,
+                    ratio);
         if (GetParam() == CanonicalVariant::N) {
             EXPECT_LT(ratio, 0.45) << "pose " << pose;
         }
@@ -122,7 +123,9 @@ TEST_P(BothVariants, PosesGiveNearlyTheSameCanonicalForm) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Variants, BothVariants, ::testing::Values(CanonicalVariant::A, CanonicalVariant::N),
-                         [](const auto& param_info) { return param_info.param == CanonicalVariant::A ? "A" : "N"; });
+                         [](const auto& param_info) {
+                             return param_info.param == CanonicalVariant::A ? "A" : "N";
+                         });
 
 TEST(EuclideanCanonicalForm, PairsFollowThePaper) {
     // Edge weights beta / delta^2 (A) or beta / (|E| delta^2) (N); feature pairs delta = alpha with

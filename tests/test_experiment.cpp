@@ -14,8 +14,8 @@
 
 #include <algorithm>
 #include <atomic>
-#include <limits>
 #include <filesystem>
+#include <limits>
 #include <map>
 
 #include <unistd.h>
@@ -35,7 +35,8 @@ std::string make_collection(const std::string& tag = "data") {
     if (made.count(tag)) return made[tag];
     const std::string dir = [&] {
         const std::string d = (fs::temp_directory_path() /
-                               ("canonform_test_experiment_" + tag + "_" + std::to_string(::getpid()))).string();
+                               ("canonform_test_experiment_" + tag + "_" + std::to_string(::getpid())))
+                                  .string();
         fs::remove_all(d);
         io::make_directories(d + "/meshes");
         std::string labels = "path,class\n";
@@ -98,7 +99,9 @@ TEST(Experiment, WritesEveryOutputAndReusesItsCache) {
     EXPECT_EQ(second[1].cached, 6);
     EXPECT_EQ(io::read_file(dir + "/distances.bin"), bytes);
     EXPECT_NE(std::find_if(log.begin(), log.end(),
-                           [](const std::string& l) { return l.find("(6 from the cache, 0 failed)") != std::string::npos; }),
+                           [](const std::string& l) {
+                               return l.find("(6 from the cache, 0 failed)") != std::string::npos;
+                           }),
               log.end());
     const std::string report = retrieval::report_markdown(o, 6, second, "");
     EXPECT_NE(report.find("| euclidean-N_beta65 |"), std::string::npos);
@@ -118,7 +121,8 @@ TEST(Experiment, ASeedSharesTheViewsAndNoiseDoesNot) {
     EXPECT_EQ(e1.run()[0].cached, 6);
     const auto codebooks = [&] {
         std::size_t n = 0;
-        for (const auto& f : fs::directory_iterator(o.out + "/cache")) n += f.path().filename().string().rfind("codebook_", 0) == 0;
+        for (const auto& f : fs::directory_iterator(o.out + "/cache"))
+            n += f.path().filename().string().rfind("codebook_", 0) == 0;
         return n;
     };
     EXPECT_EQ(codebooks(), 2u);
@@ -133,7 +137,8 @@ TEST(Experiment, ASeedSharesTheViewsAndNoiseDoesNot) {
     EXPECT_EQ(codebooks(), 4u);
     auto n0 = o, n1 = o1;
     n0.noise = n1.noise = 0.1;
-    EXPECT_NE(retrieval::Experiment(n0).cache_entry(o.methods[0], 0), retrieval::Experiment(n1).cache_entry(o.methods[0], 0));
+    EXPECT_NE(retrieval::Experiment(n0).cache_entry(o.methods[0], 0),
+              retrieval::Experiment(n1).cache_entry(o.methods[0], 0));
     EXPECT_NE(retrieval::Experiment(n0).cache_entry(o.methods[0], 0), e0.cache_entry(o.methods[0], 0));
 }
 
@@ -145,7 +150,8 @@ TEST(Experiment, FailuresAreListedAndBadCollectionsRefused) {
     io::write_file_atomic(o.labels, "meshes/standard_0.ply,a\nmeshes/standard_1.ply,a\n");
     EXPECT_THROW(retrieval::Experiment{o}, InputError);  // fewer than three meshes
     o.methods.push_back(parse_method_spec("none"));
-    io::write_file_atomic(o.labels, "meshes/standard_0.ply,a\nmeshes/standard_1.ply,a\nmeshes/standard_2.ply,b\n");
+    io::write_file_atomic(o.labels,
+                          "meshes/standard_0.ply,a\nmeshes/standard_1.ply,a\nmeshes/standard_2.ply,b\n");
     EXPECT_THROW(retrieval::Experiment{o}, InputError);  // a method named twice
 }
 
@@ -156,7 +162,8 @@ TEST(Experiment, AMethodAddedToTheRegistryRunsLikeTheOthers) {
     toy.name = "toy-scaled";
     toy.label = "toy";
     toy.parameters = {Parameter::number("scale", 0.1, 10).default_value("2").help("scale factor")};
-    toy.run = [](const Eigen::MatrixXd& V, const Eigen::MatrixXi&, const MethodSettings& s, const MethodContext&) {
+    toy.run = [](const Eigen::MatrixXd& V, const Eigen::MatrixXi&, const MethodSettings& s,
+                 const MethodContext&) {
         CanonicalForm r;
         r.V = V * s.number("scale");
         return r;
@@ -196,11 +203,14 @@ TEST(Experiment, BrokenCollectionsFailPerMeshNotAsAWhole) {
     EXPECT_EQ(second[0].meshes, 6u);
     EXPECT_EQ(second[0].cached, 0);
     EXPECT_EQ(std::count_if(log.begin(), log.end(),
-                            [](const std::string& l) { return l.find("corrupt cache entry recomputed") != std::string::npos; }),
+                            [](const std::string& l) {
+                                return l.find("corrupt cache entry recomputed") != std::string::npos;
+                            }),
               6);
     // Two models per class: said before any work; distances written; no measures, and why.
-    io::write_file_atomic(labels, "path,class\nmeshes/standard_0.ply,a\nmeshes/standard_1.ply,a\n"
-                                  "meshes/long-arms_0.ply,b\nmeshes/long-arms_1.ply,b\n");
+    io::write_file_atomic(labels,
+                          "path,class\nmeshes/standard_0.ply,a\nmeshes/standard_1.ply,a\n"
+                          "meshes/long-arms_0.ply,b\nmeshes/long-arms_1.ply,b\n");
     log.clear();
     const auto pairs = retrieval::Experiment(o).run();
     ASSERT_FALSE(log.empty());
@@ -214,7 +224,8 @@ TEST(Experiment, BrokenCollectionsFailPerMeshNotAsAWhole) {
     fs::remove_all(o.out);
     io::write_file_atomic(labels, "path,class\nmeshes/standard_0.ply,a\nmeshes/standard_1.ply,\n");
     EXPECT_THROW(retrieval::Experiment{o}, InputError);
-    io::write_file_atomic(labels, "path,class\nmeshes/standard_0.ply,a\nother/standard_0.ply,b\nmeshes/standard_1.ply,b\n");
+    io::write_file_atomic(
+        labels, "path,class\nmeshes/standard_0.ply,a\nother/standard_0.ply,b\nmeshes/standard_1.ply,b\n");
     EXPECT_THROW(retrieval::Experiment{o}, InputError);
     EXPECT_FALSE(fs::exists(o.out));  // nothing was started
 }
@@ -227,7 +238,8 @@ TEST(Experiment, AFormWithNanCoordinatesIsAFailureNotAResult) {
     CanonicalMethod broken;
     broken.name = "toy-nan";
     broken.label = "toy nan";
-    broken.run = [](const Eigen::MatrixXd& V, const Eigen::MatrixXi&, const MethodSettings&, const MethodContext&) {
+    broken.run = [](const Eigen::MatrixXd& V, const Eigen::MatrixXi&, const MethodSettings&,
+                    const MethodContext&) {
         CanonicalForm r;
         r.V = V;
         if (calls++ < 2) r.V(0, 0) = std::numeric_limits<double>::quiet_NaN();
@@ -269,13 +281,16 @@ TEST(Experiment, FusedMethodSumsItsMembersNormalisedDistances) {
     for (const char* f : {"/distances.bin", "/models.csv", "/metrics.json", "/pr.csv"})
         EXPECT_TRUE(io::is_file(dir + f)) << f;
     const Eigen::MatrixXf A = io::read_distance_matrix(o.out + "/none/distances.bin").cast<float>();
-    const Eigen::MatrixXf B = io::read_distance_matrix(o.out + "/euclidean-N_beta65/distances.bin").cast<float>();
+    const Eigen::MatrixXf B =
+        io::read_distance_matrix(o.out + "/euclidean-N_beta65/distances.bin").cast<float>();
     const Eigen::MatrixXf F = io::read_distance_matrix(dir + "/distances.bin").cast<float>();
     EXPECT_TRUE(F.isApprox(retrieval::fuse_distances({A, B}, {0.4, 0.6}), 1e-5f));
     // The previous rule, by its own name and folder.
     EXPECT_EQ(out[3].label, "fused-median_none0.4+euclidean-N_beta650.6");
-    const Eigen::MatrixXf M = io::read_distance_matrix(o.out + "/" + out[3].label + "/distances.bin").cast<float>();
-    EXPECT_TRUE(M.isApprox(retrieval::fuse_distances({A, B}, {0.4, 0.6}, retrieval::FusionRule::GlobalMedian), 1e-5f));
+    const Eigen::MatrixXf M =
+        io::read_distance_matrix(o.out + "/" + out[3].label + "/distances.bin").cast<float>();
+    EXPECT_TRUE(M.isApprox(retrieval::fuse_distances({A, B}, {0.4, 0.6}, retrieval::FusionRule::GlobalMedian),
+                           1e-5f));
     EXPECT_FALSE(M.isApprox(F, 1e-2f));
     EXPECT_EQ(out[2].meshes, 6u);
     EXPECT_EQ(out[2].evaluation.micro.queries, 6);
@@ -284,7 +299,8 @@ TEST(Experiment, FusedMethodSumsItsMembersNormalisedDistances) {
 }
 
 namespace {
-retrieval::MethodOutcome measured(const std::string& method, double nn, double ft, double st, double e, double dcg) {
+retrieval::MethodOutcome measured(const std::string& method, double nn, double ft, double st, double e,
+                                  double dcg) {
     retrieval::MethodOutcome m;
     m.spec = parse_method_spec(method);
     m.evaluation.micro = {nn, ft, st, e, dcg, 10};
@@ -307,11 +323,13 @@ TEST(Experiment, SummaryNamesTheBestPerMeasureAndAFusedMethodThatDoesNotBeatItsM
     EXPECT_NE(s.find("2-Tier euclidean-N, fused_none+euclidean-N (0.850)"), std::string::npos) << s;
     EXPECT_NE(s.find("fused_none+euclidean-N does not beat its best member on this collection: "
                      "1-Tier 0.650 against none's 0.700; 2-Tier 0.850 ties euclidean-N's 0.850."),
-              std::string::npos) << s;
+              std::string::npos)
+        << s;
     // Better on all five: said so, and nothing about falling behind.
     out[2].evaluation.micro = {0.96, 0.75, 0.90, 0.60, 0.90, 10};
     const std::string t = retrieval::summary_markdown(out);
-    EXPECT_NE(t.find("fused_none+euclidean-N beats every member on all five measures."), std::string::npos) << t;
+    EXPECT_NE(t.find("fused_none+euclidean-N beats every member on all five measures."), std::string::npos)
+        << t;
     EXPECT_EQ(t.find("does not beat"), std::string::npos) << t;
     // One measured method: nothing to compare; a member without measures: no verdict on the fusion.
     EXPECT_EQ(retrieval::summary_markdown({out[0]}), "");

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
+#include "canonform/procedural/procedural_meshes.h"
 #include "canonform/surface/conformal_factor.h"
 #include "canonform/surface/feature_points.h"
-#include "canonform/procedural/procedural_meshes.h"
 #include "test_util.h"
 
 #include <gtest/gtest.h>
@@ -59,7 +59,7 @@ TEST(FeaturePoints, KeepsTheLargestAndFillsRandomlyToExactlySqrtN) {
     FeaturePoints fp = feature_points(g, phi, opt);
     EXPECT_EQ(fp.indices, (std::vector<int>{17, 13, 9}));
     EXPECT_EQ(fp.total_maxima, 6);  // 1, 5, 9, 13, 17 and the end vertex 19
-    opt.count = 21;  // more than the 20 vertices: refused, not silently cut to 20
+    opt.count = 21;                 // more than the 20 vertices: refused, not silently cut to 20
     EXPECT_THROW(feature_points(g, phi, opt), InputError);
     opt.count = 20;
     EXPECT_EQ(feature_points(g, phi, opt).indices.size(), 6u);  // all maxima (no fill asked for)
@@ -92,7 +92,8 @@ TEST(FeaturePoints, EveryLimbTipOfAFigureIsAFeaturePoint) {
         EXPECT_LE(static_cast<int>(fp.indices.size()), sqrt_count(static_cast<int>(f.mesh.V.rows())));
         for (size_t t = 0; t < f.limb_tips.size(); ++t) {
             double best = 1e30;
-            for (int v : fp.indices) best = std::min(best, (f.mesh.V.row(v) - f.limb_tips[t].transpose()).norm());
+            for (int v : fp.indices)
+                best = std::min(best, (f.mesh.V.row(v) - f.limb_tips[t].transpose()).norm());
             EXPECT_LT(best, 1.5 * f.limb_radius[t]) << "pose " << pose << ": " << f.limb_names[t];
         }
     }

@@ -94,9 +94,11 @@ TEST(DistanceMatrixFile, BinaryAndCsvRoundTripAndRefusals) {
     EXPECT_TRUE(io::read_distance_matrix(d + "/D.bin").isApprox(D.cast<double>()));
     EXPECT_TRUE(io::read_distance_matrix(d + "/D.csv").isApprox(D.cast<double>()));
     io::write_file_atomic(d + "/bad.bin", std::string(20, '\0'));
-    EXPECT_NE(message_of([&] { io::read_distance_matrix(d + "/bad.bin"); }).find("not a square"), std::string::npos);
+    EXPECT_NE(message_of([&] { io::read_distance_matrix(d + "/bad.bin"); }).find("not a square"),
+              std::string::npos);
     io::write_file_atomic(d + "/bad.csv", "0,1\n1\n");
-    EXPECT_NE(message_of([&] { io::read_distance_matrix(d + "/bad.csv"); }).find("not a square"), std::string::npos);
+    EXPECT_NE(message_of([&] { io::read_distance_matrix(d + "/bad.csv"); }).find("not a square"),
+              std::string::npos);
 }
 
 TEST(Files, EveryReaderSaysAFolderIsAFolder) {
@@ -112,24 +114,33 @@ TEST(Files, EveryReaderSaysAFolderIsAFolder) {
 }
 
 TEST(Csv, LabelsRefuseRowsWithoutAClassAndEmptyFiles) {
-    EXPECT_NE(message_of([] { io::parse_labels("path,class\na.off,\n", "l.csv"); }).find("row 2 has no class"),
+    EXPECT_NE(
+        message_of([] { io::parse_labels("path,class\na.off,\n", "l.csv"); }).find("row 2 has no class"),
+        std::string::npos);
+    EXPECT_NE(message_of([] { io::parse_labels("path,class\n", "l.csv"); }).find("no labels"),
               std::string::npos);
-    EXPECT_NE(message_of([] { io::parse_labels("path,class\n", "l.csv"); }).find("no labels"), std::string::npos);
-    EXPECT_EQ(io::parse_labels("a.off,\"q\\\"x\n", "l.csv")[0].label, "\"q\\\"x");  // any bytes are a class name
-    test::fuzz_seed("labels", "header_and_rows.csv", "path,class\noff/a,b.off,cat\nonly_class\nx.off,dog\r\n");
+    EXPECT_EQ(io::parse_labels("a.off,\"q\\\"x\n", "l.csv")[0].label,
+              "\"q\\\"x");  // any bytes are a class name
+    test::fuzz_seed("labels", "header_and_rows.csv",
+                    "path,class\noff/a,b.off,cat\nonly_class\nx.off,dog\r\n");
     test::fuzz_seed("labels", "no_class.csv", "path,class\na.off,\n");
 }
 
 TEST(DistanceMatrixFile, RefusesNonNumbersAndNonFiniteEntries) {
-    EXPECT_NE(message_of([] { io::parse_distance_matrix("0,1x\n1,0\n", true, "D.csv"); }).find("not a number: '1x'"),
+    EXPECT_NE(message_of([] {
+                  io::parse_distance_matrix("0,1x\n1,0\n", true, "D.csv");
+              }).find("not a number: '1x'"),
               std::string::npos);
-    EXPECT_NE(message_of([] { io::parse_distance_matrix("0,nan\n1,0\n", true, "D.csv"); }).find("not a finite"),
+    EXPECT_NE(
+        message_of([] { io::parse_distance_matrix("0,nan\n1,0\n", true, "D.csv"); }).find("not a finite"),
+        std::string::npos);
+    EXPECT_NE(message_of([] { io::parse_distance_matrix("", true, "D.csv"); }).find("no rows"),
               std::string::npos);
-    EXPECT_NE(message_of([] { io::parse_distance_matrix("", true, "D.csv"); }).find("no rows"), std::string::npos);
     const float bad[4] = {0, std::numeric_limits<float>::infinity(), 1, 0};
     const std::string bytes(reinterpret_cast<const char*>(bad), sizeof bad);
-    EXPECT_NE(message_of([&] { io::parse_distance_matrix(bytes, false, "D.bin"); }).find("(1, 2) is not a finite"),
-              std::string::npos);
+    EXPECT_NE(
+        message_of([&] { io::parse_distance_matrix(bytes, false, "D.bin"); }).find("(1, 2) is not a finite"),
+        std::string::npos);
     const float good[9] = {0, 1, 2, 1, 0, 3, 2, 3, 0};
     test::fuzz_seed("matrix_bin", "3x3.bin", std::string(reinterpret_cast<const char*>(good), sizeof good));
     test::fuzz_seed("matrix_bin", "inf.bin", bytes);

@@ -105,7 +105,8 @@ TEST(FilterTable, EveryMethodParameterIsAParameterOfItsFilter) {
             EXPECT_EQ(q->choices(), p.choices()) << p.name();
             EXPECT_EQ(q->label(), p.label()) << p.name();
             // The filter's default is the method's, or 0 = "the method's default".
-            EXPECT_TRUE(q->default_value() == p.default_value() || (p.zero_means_default() && q->default_value() == "0"))
+            EXPECT_TRUE(q->default_value() == p.default_value() ||
+                        (p.zero_means_default() && q->default_value() == "0"))
                 << p.name();
             ++checked;
         }
@@ -131,7 +132,8 @@ TEST(FilterTable, OtherParametersAreTheLibrarysDefinitions) {
     // The SIFT default is written by name, and every extractor is described.
     EXPECT_EQ(find_parameter(dv.params, "sift")->default_value(),
               views::sift_backend_name(views::ViewDescriptorOptions().sift.backend));
-    for (const std::string& name : views::sift_backend_names()) EXPECT_FALSE(views::sift_backend_help(name).empty()) << name;
+    for (const std::string& name : views::sift_backend_names())
+        EXPECT_FALSE(views::sift_backend_help(name).empty()) << name;
     for (const FilterSpec* f : all_filters()) {
         if (const Parameter* r = find_parameter(f->params, "repair")) {
             EXPECT_EQ(r->help(), repair_parameter().help());
@@ -148,7 +150,8 @@ TEST(FilterTable, ShippedScriptsListEveryParameterAtItsDefault) {
             ASSERT_TRUE(in) << path;
             std::stringstream ss;
             ss << in.rdbuf();
-            EXPECT_EQ(ss.str(), default_script(f)) << path << " is out of date: regenerate it with canonform_mlx";
+            EXPECT_EQ(ss.str(), default_script(f))
+                << path << " is out of date: regenerate it with canonform_mlx";
             for (const auto& p : f.params)
                 EXPECT_NE(ss.str().find("name=\"" + p.name() + "\""), std::string::npos) << p.name();
         }
@@ -162,16 +165,19 @@ TEST(FilterTable, NamesScriptsUseStay) {
         {"compute_feature_points", {"Feature points", {"ring", "fill", "seed", "add_layer", "repair"}}},
         {"generate_euclidean_canonical_form",
          {"Euclidean canonical form",
-          {"variant", "alpha", "beta", "ring", "seed", "tolerance", "max_iterations", "acceleration", "new_layer",
-           "repair"}}},
+          {"variant", "alpha", "beta", "ring", "seed", "tolerance", "max_iterations", "acceleration",
+           "new_layer", "repair"}}},
         {"generate_geodesic_canonical_form",
          {"Geodesic canonical form",
-          {"method", "tolerance", "max_iterations", "acceleration", "max_memory_gib", "max_seconds", "new_layer",
-           "repair"}}},
+          {"method", "tolerance", "max_iterations", "acceleration", "max_memory_gib", "max_seconds",
+           "new_layer", "repair"}}},
         {"compute_depth_view_descriptor",
-         {"Depth view descriptor", {"output_file", "codebook_file", "image_size", "views_folder", "seed", "sift"}}}};
+         {"Depth view descriptor",
+          {"output_file", "codebook_file", "image_size", "views_folder", "seed", "sift"}}}};
     const std::map<std::string, std::vector<std::string>> released_choices = {
-        {"variant", {"A", "N"}}, {"method", {"least squares", "classical", "fast"}}, {"fill", {"none", "random"}},
+        {"variant", {"A", "N"}},
+        {"method", {"least squares", "classical", "fast"}},
+        {"fill", {"none", "random"}},
         {"acceleration", {"none", "relaxed", "rre", "mpe", "anderson"}}};
     for (const auto& [python, menu_and_keywords] : released) {
         SCOPED_TRACE(python);
@@ -187,7 +193,8 @@ TEST(FilterTable, NamesScriptsUseStay) {
             if (c != released_choices.end() && p->type() == ParameterType::Choice)
                 for (size_t i = 0; i < c->second.size(); ++i) {
                     ASSERT_LT(i, p->choices().size()) << k;
-                    EXPECT_EQ(p->choices()[i], c->second[i]) << k << ": an enum index scripts use changed meaning";
+                    EXPECT_EQ(p->choices()[i], c->second[i])
+                        << k << ": an enum index scripts use changed meaning";
                 }
         }
     }
@@ -200,7 +207,8 @@ TEST(FilterTable, PythonNamesForPymeshlab) {
     std::set<std::string> all;
     for (const FilterSpec* f : all_filters()) {
         std::string old = f->name;
-        for (char& c : old) c = c == ' ' ? '_' : static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+        for (char& c : old)
+            c = c == ' ' ? '_' : static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
         EXPECT_TRUE(all.insert(f->python_name).second) << f->python_name;
         EXPECT_TRUE(all.insert(old).second) << old;
     }
@@ -226,7 +234,8 @@ TEST(FilterTable, ValuesFromMeshLabBecomeTheParametersTexts) {
     const std::map<std::string, std::string> m(texts.begin(), texts.end());
     EXPECT_EQ(m.at("variant"), "A");
     EXPECT_EQ(m.at("alpha"), "8");
-    EXPECT_EQ(m.at("tolerance"), "9.9999997473787516e-06");  // MeshLab 2020.09's float, as it reaches the method
+    EXPECT_EQ(m.at("tolerance"),
+              "9.9999997473787516e-06");  // MeshLab 2020.09's float, as it reaches the method
     EXPECT_EQ(m.at("new_layer"), "true");
     EXPECT_EQ(m.count("beta"), 0u);  // not given: the method's default
     v.values["acceleration"] = 9;

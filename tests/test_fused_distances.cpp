@@ -35,7 +35,8 @@ TEST(FusedDistances, ParsesMembersAndWeights) {
     EXPECT_DOUBLE_EQ(b.weights[0], 0.3);
     EXPECT_DOUBLE_EQ(b.weights[2], 2.0);
     EXPECT_EQ(b.to_string(), "fused:none*0.3+euclidean-N:beta=65*0.7+euclidean-A*2");
-    EXPECT_EQ(b.folder({"none", "euclidean-N_beta65", "euclidean-A"}), "fused_none0.3+euclidean-N_beta650.7+euclidean-A2");
+    EXPECT_EQ(b.folder({"none", "euclidean-N_beta65", "euclidean-A"}),
+              "fused_none0.3+euclidean-N_beta650.7+euclidean-A2");
     EXPECT_EQ(a.rule, FusionRule::RowZScore);
     const FusedSpec m = parse_fused_spec("fused-median:none+euclidean-N");  // the previous rule and default
     EXPECT_EQ(m.rule, FusionRule::GlobalMedian);
@@ -49,10 +50,10 @@ TEST(FusedDistances, ParsesMembersAndWeights) {
     EXPECT_TRUE(is_fused_spec("fused-median:a+b"));
     EXPECT_FALSE(is_fused_spec("fused-mean:a+b"));
     EXPECT_FALSE(is_fused_spec("euclidean-N"));
-    for (const char* bad : {"fused:none", "fused:", "fused:none+", "fused:none+none", "fused:none*0.5+euclidean-N",
-                            "fused:none*0+euclidean-N*1", "fused:none*-1+euclidean-N*1", "fused:none*x+euclidean-N*1",
-                            "fused:none*inf+euclidean-N*1", "none+euclidean-N", "fused-median:none",
-                            "fused-median:none+none"})
+    for (const char* bad :
+         {"fused:none", "fused:", "fused:none+", "fused:none+none", "fused:none*0.5+euclidean-N",
+          "fused:none*0+euclidean-N*1", "fused:none*-1+euclidean-N*1", "fused:none*x+euclidean-N*1",
+          "fused:none*inf+euclidean-N*1", "none+euclidean-N", "fused-median:none", "fused-median:none+none"})
         EXPECT_THROW(parse_fused_spec(bad), InputError) << bad;
 }
 
@@ -69,8 +70,8 @@ TEST(FusedDistances, OffDiagonalMedian) {
 
 TEST(FusedDistances, WeightedSumOfMedianNormalisedMatrices) {
     Eigen::MatrixXf A(3, 3), B(3, 3);
-    A << 0, 1, 2, 1, 0, 3, 2, 3, 0;           // median 2
-    B << 0, 10, 40, 10, 0, 30, 40, 30, 0;     // median 30
+    A << 0, 1, 2, 1, 0, 3, 2, 3, 0;        // median 2
+    B << 0, 10, 40, 10, 0, 30, 40, 30, 0;  // median 30
     const Eigen::MatrixXf F = fuse_distances({A, B}, {0.25, 0.75}, FusionRule::GlobalMedian);
     for (int i = 0; i < 3; ++i)
         for (int j = 0; j < 3; ++j) EXPECT_NEAR(F(i, j), 0.25 * A(i, j) / 2 + 0.75 * B(i, j) / 30, 1e-6);
@@ -192,7 +193,8 @@ TEST(FusedDistances, NoiseMemberAtDefaultWeightCostsTheInformativeMemberLittle) 
         EXPECT_GT(fused, alone - 0.1) << seed;
         EXPECT_GT(fused, chance + 0.4) << seed;
         // A larger weight on the informative member loses less: the rule is monotone in the weight.
-        EXPECT_GE(first_tier(fuse_distances({noise.D, good.D}, {0.1, 0.9}), good.labels), fused - 0.01) << seed;
+        EXPECT_GE(first_tier(fuse_distances({noise.D, good.D}, {0.1, 0.9}), good.labels), fused - 0.01)
+            << seed;
         loss += alone - fused;
     }
     std::printf("mean first-tier loss to a pure-noise member at the default weight: %.3f\n", loss / 10);

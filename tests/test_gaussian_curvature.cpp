@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-#include "canonform/surface/gaussian_curvature.h"
 #include "canonform/common/errors.h"
-#include "canonform/surface/mesh_topology.h"
 #include "canonform/procedural/procedural_meshes.h"
+#include "canonform/surface/gaussian_curvature.h"
+#include "canonform/surface/mesh_topology.h"
 #include "canonform/surface/vertex_areas.h"
 
 #include <gtest/gtest.h>
@@ -59,6 +59,7 @@ TEST(GaussianCurvature, KnownBoundaryFlagsGiveTheSameCurvature) {
     const MeshReport report = validate_mesh(d.V, d.F);
     EXPECT_TRUE(gaussian_curvature(d.V, d.F, report.boundary) == gaussian_curvature(d.V, d.F));
     const Mesh s = make_icosphere(2);
-    EXPECT_TRUE(gaussian_curvature(s.V, s.F, validate_mesh(s.V, s.F).boundary) == gaussian_curvature(s.V, s.F));
+    EXPECT_TRUE(gaussian_curvature(s.V, s.F, validate_mesh(s.V, s.F).boundary) ==
+                gaussian_curvature(s.V, s.F));
     EXPECT_THROW(gaussian_curvature(d.V, d.F, std::vector<bool>(3, false)), InputError);
 }

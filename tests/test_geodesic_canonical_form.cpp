@@ -15,7 +15,9 @@ using namespace canonform::procedural;
 namespace {
 
 const char* mds_method_name(MdsMethod m) {
-    return m == MdsMethod::LeastSquares ? "least squares" : m == MdsMethod::Classical ? "classical" : "landmark";
+    return m == MdsMethod::LeastSquares ? "least squares"
+           : m == MdsMethod::Classical  ? "classical"
+                                        : "landmark";
 }
 
 class EachMds : public ::testing::TestWithParam<MdsMethod> {};
@@ -35,7 +37,8 @@ TEST_P(EachMds, RemovesMostOfThePose) {
     for (int pose : {1, 3}) {
         const Figure p = make_figure(600, figure_pose(pose));
         const auto c = geodesic_canonical_form(p.mesh.V, p.mesh.F, o);
-        const double ratio = test::aligned_rms_or_mirrored(c.V, c0.V) / test::aligned_rms(p.mesh.V, p0.mesh.V);
+        const double ratio =
+            test::aligned_rms_or_mirrored(c.V, c0.V) / test::aligned_rms(p.mesh.V, p0.mesh.V);
         std::printf("      %s pose 0-%d: ratio %.2f (%d iterations, %.2f s)\n", mds_method_name(GetParam()),
                     pose, ratio, c.iterations, c.seconds);
         mean_ratio += ratio / 2;
@@ -52,11 +55,12 @@ TEST(GeodesicCanonicalForm, LeastSquaresLowersTheStress) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Methods, EachMds,
-                         ::testing::Values(MdsMethod::LeastSquares, MdsMethod::Classical, MdsMethod::Landmark),
+                         ::testing::Values(MdsMethod::LeastSquares, MdsMethod::Classical,
+                                           MdsMethod::Landmark),
                          [](const auto& param_info) {
                              return std::string(param_info.param == MdsMethod::LeastSquares ? "LS"
                                                 : param_info.param == MdsMethod::Classical  ? "C"
-                                                                                               : "F");
+                                                                                            : "F");
                          });
 
 TEST(GeodesicCanonicalForm, EstimatesGrowQuadratically) {

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
+#include "canonform/procedural/procedural_meshes.h"
 #include "canonform/surface/geodesic_distances.h"
 #include "canonform/surface/mesh_topology.h"
-#include "canonform/procedural/procedural_meshes.h"
 
 #include <gtest/gtest.h>
 
@@ -150,8 +150,8 @@ TEST(GeodesicDistances, EuclideanDistancesOnAFlatDisc) {
 TEST(GeodesicDistances, MoreAccurateThanEdgeDijkstra) {
     const Mesh disc = make_disc(5000);
     const FastMarching fm(disc.V, disc.F);
-    for (const Eigen::RowVector3d& p : {Eigen::RowVector3d(0, 0, 0), Eigen::RowVector3d(0.4, 0.25, 0),
-                                        Eigen::RowVector3d(-0.7, 0.1, 0)}) {
+    for (const Eigen::RowVector3d& p :
+         {Eigen::RowVector3d(0, 0, 0), Eigen::RowVector3d(0.4, 0.25, 0), Eigen::RowVector3d(-0.7, 0.1, 0)}) {
         const int source = nearest_vertex(disc.V, p);
         const double fmm = plane_error(disc, source, fm.distances_from(source));
         const Eigen::VectorXd dij = edge_dijkstra(disc.V, disc.F, source);
@@ -176,10 +176,11 @@ TEST(GeodesicDistances, UnfoldingHandlesObtuseTriangles) {
     const double e_unfold = plane_error(m, source, unfolded.distances_from(source));
     const double e_plain = plane_error(m, source, plain.distances_from(source));
     const double e_dijkstra = plane_error(m, source, edge_dijkstra(m.V, m.F, source));
-    std::printf("obtuse lattice: unfolded %.4f%%, without unfolding %.4f%%, edge Dijkstra %.4f%% "
-                "(%d of %d obtuse corners split)\n",
-                100 * e_unfold, 100 * e_plain, 100 * e_dijkstra, unfolded.stats().unfolded_corners,
-                unfolded.stats().obtuse_corners);
+    std::printf(
+        "obtuse lattice: unfolded %.4f%%, without unfolding %.4f%%, edge Dijkstra %.4f%% "
+        "(%d of %d obtuse corners split)\n",
+        100 * e_unfold, 100 * e_plain, 100 * e_dijkstra, unfolded.stats().unfolded_corners,
+        unfolded.stats().obtuse_corners);
     EXPECT_LT(e_unfold, 0.02);
     EXPECT_LT(e_unfold, 0.5 * e_plain);
 }
@@ -293,8 +294,7 @@ TEST(GeodesicDistances, PrintAllPairsTimings) {
         const Eigen::MatrixXd D = all_pairs_geodesic_distances(f.mesh.V, f.mesh.F, o);
         const double sec = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         std::printf("all pairs, figure with %ld vertices, %d thread(s): %.3f s (1-core estimate %.3f s)\n",
-                    static_cast<long>(D.rows()), threads, sec,
-                    all_pairs_geodesic_seconds_estimate(D.rows()));
+                    static_cast<long>(D.rows()), threads, sec, all_pairs_geodesic_seconds_estimate(D.rows()));
         EXPECT_TRUE(D.allFinite());
     }
 }

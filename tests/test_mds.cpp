@@ -188,8 +188,8 @@ TEST(Mds, LeastSquaresWithEveryAccelerationNeverRaisesTheStressAndReachesThePlai
     MdsOptions opt;
     opt.smacof.acceleration = SmacofAcceleration::None;
     const MdsResult plain = least_squares_mds(D, opt);
-    for (SmacofAcceleration a : {SmacofAcceleration::Relaxed, SmacofAcceleration::Rre, SmacofAcceleration::Mpe,
-                                 SmacofAcceleration::Anderson}) {
+    for (SmacofAcceleration a : {SmacofAcceleration::Relaxed, SmacofAcceleration::Rre,
+                                 SmacofAcceleration::Mpe, SmacofAcceleration::Anderson}) {
         SCOPED_TRACE(to_string(a));
         opt.smacof.acceleration = a;
         opt.smacof.record_history = true;
@@ -314,7 +314,8 @@ TEST(Mds, EigensolverFindsPositiveEigenvaluesBehindLargeNegativeOnes) {
     EXPECT_NEAR(e.values(2), 2, 1e-8);
     EXPECT_LT((B * e.vectors - e.vectors * e.values.asDiagonal()).norm(), 1e-7);
     // Too few iterations: NumericalError.
-    EXPECT_THROW(numerics::detail::top_eigenpairs(n, 3, [&B](const MatrixXd& Q) { return MatrixXd(B * Q); }, 1e-10, 5, 1),
+    EXPECT_THROW(numerics::detail::top_eigenpairs(
+                     n, 3, [&B](const MatrixXd& Q) { return MatrixXd(B * Q); }, 1e-10, 5, 1),
                  NumericalError);
 }
 
@@ -358,8 +359,8 @@ TEST(Mds, BadInputThrowsInputError) {
         A = D;
         A(6, 6) = 0.5;  // non-zero diagonal
         EXPECT_THROW(mds(A, m), InputError);
-        EXPECT_THROW(mds(D.leftCols(19), m), InputError);  // not square
-        EXPECT_THROW(mds(MatrixXd(), m), InputError);      // empty
+        EXPECT_THROW(mds(D.leftCols(19), m), InputError);         // not square
+        EXPECT_THROW(mds(MatrixXd(), m), InputError);             // empty
         EXPECT_THROW(mds(D.topLeftCorner(3, 3), m), InputError);  // 3 points cannot span 3D
         MdsOptions zero_dim;
         zero_dim.dim = 0;
@@ -407,7 +408,9 @@ TEST(Mds, ProgressCanCancel) {
 TEST(Mds, TimingsAtN2000) {
     const MatrixXd D = great_circle_distances(sphere_points(2000, 17));
     using clock = std::chrono::steady_clock;
-    const auto seconds = [](clock::time_point a) { return std::chrono::duration<double>(clock::now() - a).count(); };
+    const auto seconds = [](clock::time_point a) {
+        return std::chrono::duration<double>(clock::now() - a).count();
+    };
     auto t0 = clock::now();
     const MdsResult c = classical_mds(D);
     const double tc = seconds(t0);
@@ -417,10 +420,11 @@ TEST(Mds, TimingsAtN2000) {
     t0 = clock::now();
     const MdsResult s = least_squares_mds(D);
     const double ts = seconds(t0);
-    std::printf("[ timing ] N = 2000 (sphere geodesics): classical %.3f s (%d subspace iterations, stress %.4g), "
-                "landmark %.3f s (%zu landmarks, stress %.4g), least squares %.3f s (%d iterations, stress %.4g)\n",
-                tc, c.iterations, c.final_stress, tl, l.landmarks.size(), l.final_stress, ts, s.iterations,
-                s.final_stress);
+    std::printf(
+        "[ timing ] N = 2000 (sphere geodesics): classical %.3f s (%d subspace iterations, stress %.4g), "
+        "landmark %.3f s (%zu landmarks, stress %.4g), least squares %.3f s (%d iterations, stress %.4g)\n",
+        tc, c.iterations, c.final_stress, tl, l.landmarks.size(), l.final_stress, ts, s.iterations,
+        s.final_stress);
     EXPECT_LT(s.final_stress, c.final_stress);
 }
 
@@ -434,6 +438,7 @@ TEST(Mds, SameBitsWhateverTheCpuCacheSizes) {
     o.landmarks = 300;  // a landmark block longer than Eigen's product blocks
     for (MdsMethod m : {MdsMethod::Classical, MdsMethod::Landmark, MdsMethod::LeastSquares}) {
         const auto runs = canonform::test::under_l1_cache_sizes([&] { return mds(D, m, o).X; });
-        for (const MatrixXd& X : runs) EXPECT_TRUE((X.array() == runs[0].array()).all()) << static_cast<int>(m);
+        for (const MatrixXd& X : runs)
+            EXPECT_TRUE((X.array() == runs[0].array()).all()) << static_cast<int>(m);
     }
 }

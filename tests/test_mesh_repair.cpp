@@ -58,9 +58,10 @@ TEST(MeshRepair, FiveZeroAreaFacesAreRemovedAndEveryMethodRuns) {
     EXPECT_EQ(r.merged_vertices + r.duplicate_faces + r.removed_components + r.unreferenced_vertices, 0);
     EXPECT_EQ(r.mesh.F.rows(), m.F.rows() - 5);
     EXPECT_EQ(r.mesh.V.rows(), m.V.rows());
-    EXPECT_EQ(r.summary(), "repair: 5 zero-area or repeated-vertex faces removed: " + std::to_string(m.V.rows()) +
-                               " -> " + std::to_string(m.V.rows()) + " vertices, " + std::to_string(m.F.rows()) +
-                               " -> " + std::to_string(m.F.rows() - 5) + " faces");
+    EXPECT_EQ(r.summary(),
+              "repair: 5 zero-area or repeated-vertex faces removed: " + std::to_string(m.V.rows()) + " -> " +
+                  std::to_string(m.V.rows()) + " vertices, " + std::to_string(m.F.rows()) + " -> " +
+                  std::to_string(m.F.rows() - 5) + " faces");
     const MeshReport report = validate_mesh(r.mesh.V, r.mesh.F);  // accepted now
     EXPECT_EQ(report.boundary_edges, 15);  // each sliver leaves a crack of zero width (3 boundary edges)
     for (const char* method : {"none", "euclidean-N"}) {
@@ -86,9 +87,9 @@ TEST(MeshRepair, EachStepOnAMeshThatNeedsIt) {
     m.V.conservativeResize(n + 4, 3);
     m.V.row(n + 3) << 5, 6, 5;
     m.F.conservativeResize(s.F.rows() + 3, 3);
-    m.F.row(s.F.rows()) = s.F.row(1).reverse();      // a duplicate face (the other orientation)
+    m.F.row(s.F.rows()) = s.F.row(1).reverse();  // a duplicate face (the other orientation)
     m.F.row(s.F.rows() + 1) << static_cast<int>(n + 1), static_cast<int>(n + 2), static_cast<int>(n + 3);
-    m.F.row(s.F.rows() + 2) << 3, 3, 4;              // a repeated vertex
+    m.F.row(s.F.rows() + 2) << 3, 3, 4;  // a repeated vertex
     EXPECT_THROW(validate_mesh(m.V, m.F), InputError);
     const MeshRepair r = repair_mesh(m.V, m.F);
     EXPECT_EQ(r.merged_vertices, 1);
@@ -102,22 +103,28 @@ TEST(MeshRepair, EachStepOnAMeshThatNeedsIt) {
     EXPECT_NO_THROW(validate_mesh(r.mesh.V, r.mesh.F));
     for (size_t k = 0; k < r.vertex_source.size(); ++k) EXPECT_EQ(r.vertex_source[k], static_cast<int>(k));
     EXPECT_EQ(r.face_source.size(), static_cast<size_t>(s.F.rows()));
-    EXPECT_NE(r.summary().find("1 duplicate vertex merged, 1 zero-area or repeated-vertex face removed, "
-                               "1 duplicate face removed, 1 smaller component (1 faces) removed, 3 unreferenced "
-                               "vertices dropped"),
-              std::string::npos)
+    EXPECT_NE(
+        r.summary().find("1 duplicate vertex merged, 1 zero-area or repeated-vertex face removed, "
+                         "1 duplicate face removed, 1 smaller component (1 faces) removed, 3 unreferenced "
+                         "vertices dropped"),
+        std::string::npos)
         << r.summary();
 
     // Seeds of tests/fuzz/fuzz_canonical_form.cpp: byte 0 = base mesh (bit 0), repair (bit 1), method (bits
     // 2-4); then 8-byte edits. Seeds: each method untouched, a duplicated vertex with and without
     // repair, a face index out of range, a NaN and a 1e200 coordinate.
-    for (int method = 0; method < 6; ++method) test::fuzz_seed("canonical_form", "method" + std::to_string(method), std::string(1, char(method << 2)));
-    const std::string dup = std::string("\x01\x05\x09\0\0\0\0\0", 8), bad_index = std::string("\x02\x03\x01\x01\x40\x42\x0f\0", 8);
+    for (int method = 0; method < 6; ++method)
+        test::fuzz_seed("canonical_form", "method" + std::to_string(method),
+                        std::string(1, char(method << 2)));
+    const std::string dup = std::string("\x01\x05\x09\0\0\0\0\0", 8),
+                      bad_index = std::string("\x02\x03\x01\x01\x40\x42\x0f\0", 8);
     test::fuzz_seed("canonical_form", "duplicate_vertex", std::string(1, char(1 << 2)) + dup);
     test::fuzz_seed("canonical_form", "duplicate_vertex_repaired", std::string(1, char((1 << 2) | 2)) + dup);
     test::fuzz_seed("canonical_form", "index_out_of_range", std::string(1, char(1 << 2)) + bad_index);
-    test::fuzz_seed("canonical_form", "nan", std::string(1, char(3 << 2)) + std::string("\x00\x02\x01\x06\0\0\0\0", 8));
-    test::fuzz_seed("canonical_form", "huge", std::string(1, char(1 << 2)) + std::string("\x00\x02\x01\x03\0\0\0\0", 8));
+    test::fuzz_seed("canonical_form", "nan",
+                    std::string(1, char(3 << 2)) + std::string("\x00\x02\x01\x06\0\0\0\0", 8));
+    test::fuzz_seed("canonical_form", "huge",
+                    std::string(1, char(1 << 2)) + std::string("\x00\x02\x01\x03\0\0\0\0", 8));
 }
 
 TEST(MeshRepair, AGoodMeshIsLeftAsItIsAndWhatCannotBeRepairedStaysAnError) {

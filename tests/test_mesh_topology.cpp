@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "canonform/common/errors.h"
-#include "canonform/surface/mesh_topology.h"
 #include "canonform/procedural/procedural_meshes.h"
+#include "canonform/surface/mesh_topology.h"
 
 #include <gtest/gtest.h>
 
@@ -27,7 +27,9 @@ std::string problem(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F) {
     }
 }
 
-bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
+bool contains(const std::string& s, const std::string& part) {
+    return s.find(part) != std::string::npos;
+}
 
 }  // namespace
 
@@ -37,8 +39,9 @@ TEST(MeshTopology, EdgesAdjacencyAndComponents) {
     const Eigen::MatrixXi E = unique_edges(F);
     ASSERT_EQ(E.rows(), 5);
     const VertexAdjacency adj = vertex_adjacency(4, E);
-    EXPECT_EQ(std::vector<int>(adj.neighbors.begin() + adj.offsets[1], adj.neighbors.begin() + adj.offsets[2]),
-              (std::vector<int>{0, 2, 3}));
+    EXPECT_EQ(
+        std::vector<int>(adj.neighbors.begin() + adj.offsets[1], adj.neighbors.begin() + adj.offsets[2]),
+        (std::vector<int>{0, 2, 3}));
     const auto bnd = boundary_vertices(4, F);
     EXPECT_TRUE(bnd[0] && bnd[1] && bnd[2] && bnd[3]);
     int count = 0;
@@ -117,7 +120,8 @@ TEST(MeshTopology, TinyAndHugeCoordinatesAreNotDegenerateFaces) {
         const MeshReport r = validate_mesh(s.V * scale, s.F);
         EXPECT_EQ(r.faces, s.F.rows()) << scale;
     }
-    EXPECT_TRUE(contains(problem(s.V * 1e300, s.F), "coordinates reach"));  // beyond what sums and squares hold
+    EXPECT_TRUE(
+        contains(problem(s.V * 1e300, s.F), "coordinates reach"));  // beyond what sums and squares hold
     EXPECT_TRUE(contains(problem(Eigen::MatrixXd::Zero(s.V.rows(), 3), s.F), "are at one point"));
     Eigen::MatrixXd V = s.V * 1e-200;  // a real zero-area face among tiny ones is still one
     V.row(s.F(0, 2)) = 0.5 * (V.row(s.F(0, 0)) + V.row(s.F(0, 1)));
@@ -145,7 +149,8 @@ TEST(MeshTopology, EdgesAndBoundaryMatchASortedReference) {
     const int rim = 40;
     fan.V.resize(rim + 1, 3);
     fan.V.row(0) << 0, 0, 0.3;
-    for (int k = 0; k < rim; ++k) fan.V.row(k + 1) << std::cos(2 * M_PI * k / rim), std::sin(2 * M_PI * k / rim), 0;
+    for (int k = 0; k < rim; ++k)
+        fan.V.row(k + 1) << std::cos(2 * M_PI * k / rim), std::sin(2 * M_PI * k / rim), 0;
     fan.F.resize(rim - 1, 3);  // open: one gap in the rim
     for (int k = 0; k + 1 < rim; ++k) {
         const int j = (k * 17) % (rim - 1);
@@ -171,7 +176,8 @@ TEST(MeshTopology, EdgesAndBoundaryMatchASortedReference) {
         for (size_t k = 0; k < half.size();) {
             size_t j = k;
             while (j < half.size() && half[j] == half[k]) ++j;
-            if (j - k == 1) ref[static_cast<size_t>(half[k].first)] = ref[static_cast<size_t>(half[k].second)] = true;
+            if (j - k == 1)
+                ref[static_cast<size_t>(half[k].first)] = ref[static_cast<size_t>(half[k].second)] = true;
             k = j;
         }
         const std::vector<bool> bnd = boundary_vertices(static_cast<int>(m->V.rows()), F);

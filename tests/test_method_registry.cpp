@@ -37,8 +37,10 @@ CanonicalMethod toy_method() {
     m.label = "toy";
     m.family = MethodFamily::Geodesic;
     m.help = "the mesh scaled about its centroid (a test method)";
-    m.parameters = {Parameter::number("scale", 0.1, 10).default_value("2").label("Scale").help("scale factor")};
-    m.run = [](const Eigen::MatrixXd& V, const Eigen::MatrixXi&, const MethodSettings& s, const MethodContext&) {
+    m.parameters = {
+        Parameter::number("scale", 0.1, 10).default_value("2").label("Scale").help("scale factor")};
+    m.run = [](const Eigen::MatrixXd& V, const Eigen::MatrixXi&, const MethodSettings& s,
+               const MethodContext&) {
         CanonicalForm r;
         const Eigen::RowVector3d c = V.colwise().mean();
         r.V = ((V.rowwise() - c) * s.number("scale")).rowwise() + c;
@@ -100,9 +102,13 @@ TEST(MethodRegistry, ParametersAreTheOptionsDefaults) {
     EXPECT_EQ(canonical_method("geodesic-ls").settings().integer("max_iterations"),
               GeodesicCanonicalFormOptions().mds.smacof.max_iterations);
     const auto set = euclidean_canonical_form_parameters();
-    const EuclideanCanonicalFormOptions o =
-        set.read({{"alpha", "7.5"}, {"ring", "3"}, {"seed", "9"}, {"tolerance", "1e-4"}, {"max_iterations", "77"},
-                  {"acceleration", "anderson"}, {"solver", "multigrid"}});
+    const EuclideanCanonicalFormOptions o = set.read({{"alpha", "7.5"},
+                                                      {"ring", "3"},
+                                                      {"seed", "9"},
+                                                      {"tolerance", "1e-4"},
+                                                      {"max_iterations", "77"},
+                                                      {"acceleration", "anderson"},
+                                                      {"solver", "multigrid"}});
     EXPECT_EQ(o.alpha, 7.5);
     EXPECT_EQ(o.features.ring, 3);
     EXPECT_EQ(o.features.seed, 9u);
@@ -117,7 +123,8 @@ TEST(MethodRegistry, ParametersAreTheOptionsDefaults) {
 
 // Every conversion of a text to a number names the parameter and the text.
 TEST(MethodRegistry, ConversionsAreChecked) {
-    const MethodSettings bad(std::map<std::string, std::string>{{"beta", "13O"}, {"ring", "2.5"}, {"on", "yes"}});
+    const MethodSettings bad(
+        std::map<std::string, std::string>{{"beta", "13O"}, {"ring", "2.5"}, {"on", "yes"}});
     EXPECT_NE(message_of([&] { bad.number("beta"); }).find("beta: '13O'"), std::string::npos);
     EXPECT_NE(message_of([&] { bad.integer("ring"); }).find("ring: '2.5'"), std::string::npos);
     EXPECT_NE(message_of([&] { bad.flag("on"); }).find("on: 'yes'"), std::string::npos);
@@ -143,27 +150,39 @@ TEST(MethodRegistry, SpecsParseAndPrintBothWays) {
     // Defaults are per method; a given default and 0 ("the variant's default") share the cache key.
     EXPECT_EQ(parse_method_spec("euclidean-A").settings().number("beta"), 10);
     EXPECT_EQ(parse_method_spec("euclidean-N").settings().number("beta"), 130);
-    EXPECT_EQ(parse_method_spec("euclidean-N:beta=130").cache_key(), parse_method_spec("euclidean-N").cache_key());
-    EXPECT_EQ(parse_method_spec("euclidean-N:beta=0").cache_key(), parse_method_spec("euclidean-N").cache_key());
-    EXPECT_NE(parse_method_spec("euclidean-N:beta=65").cache_key(), parse_method_spec("euclidean-N").cache_key());
+    EXPECT_EQ(parse_method_spec("euclidean-N:beta=130").cache_key(),
+              parse_method_spec("euclidean-N").cache_key());
+    EXPECT_EQ(parse_method_spec("euclidean-N:beta=0").cache_key(),
+              parse_method_spec("euclidean-N").cache_key());
+    EXPECT_NE(parse_method_spec("euclidean-N:beta=65").cache_key(),
+              parse_method_spec("euclidean-N").cache_key());
     // Run-only parameters are not part of the key.
-    EXPECT_EQ(parse_method_spec("geodesic-ls:max_seconds=5").cache_key(), parse_method_spec("geodesic-ls").cache_key());
+    EXPECT_EQ(parse_method_spec("geodesic-ls:max_seconds=5").cache_key(),
+              parse_method_spec("geodesic-ls").cache_key());
 }
 
 TEST(MethodRegistry, BadSpecsNameTheProblem) {
-    EXPECT_NE(message_of([] { parse_method_spec("euclidean-N:beta=x"); }).find("beta must be a positive number"),
+    EXPECT_NE(
+        message_of([] { parse_method_spec("euclidean-N:beta=x"); }).find("beta must be a positive number"),
+        std::string::npos);
+    EXPECT_NE(message_of([] { parse_method_spec("euclidean-N:beta=nan"); }).find("beta must be"),
               std::string::npos);
-    EXPECT_NE(message_of([] { parse_method_spec("euclidean-N:beta=nan"); }).find("beta must be"), std::string::npos);
-    EXPECT_NE(message_of([] { parse_method_spec("euclidean-N:beta=-1"); }).find("beta must be"), std::string::npos);
-    EXPECT_NE(message_of([] { parse_method_spec("euclidean-N:ring=2.5"); }).find("ring must be a whole number"),
+    EXPECT_NE(message_of([] { parse_method_spec("euclidean-N:beta=-1"); }).find("beta must be"),
               std::string::npos);
-    EXPECT_NE(message_of([] { parse_method_spec("euclidean-N:solver=magic"); }).find("auto, direct, multigrid"),
-              std::string::npos);
-    EXPECT_NE(message_of([] { parse_method_spec("geodesic-ls:beta=5"); }).find("only euclidean-A and euclidean-N take"),
+    EXPECT_NE(
+        message_of([] { parse_method_spec("euclidean-N:ring=2.5"); }).find("ring must be a whole number"),
+        std::string::npos);
+    EXPECT_NE(
+        message_of([] { parse_method_spec("euclidean-N:solver=magic"); }).find("auto, direct, multigrid"),
+        std::string::npos);
+    EXPECT_NE(message_of([] {
+                  parse_method_spec("geodesic-ls:beta=5");
+              }).find("only euclidean-A and euclidean-N take"),
               std::string::npos);
     EXPECT_NE(message_of([] { parse_method_spec("euclidean-N:beta"); }).find("KEY=VALUE"), std::string::npos);
-    EXPECT_NE(message_of([] { parse_method_spec("geodesic-ls:acceleration=fast"); })
-                  .find("none, relaxed, rre, mpe, anderson"),
+    EXPECT_NE(message_of([] {
+                  parse_method_spec("geodesic-ls:acceleration=fast");
+              }).find("none, relaxed, rre, mpe, anderson"),
               std::string::npos);
 }
 
@@ -176,14 +195,17 @@ TEST(MethodRegistry, EverySmacofMethodTakesAnAcceleration) {
         EXPECT_TRUE(p->affects_result());
     }
     // Part of the cache key where it changes the result; not for MDS without SMACOF.
-    EXPECT_NE(parse_method_spec("euclidean-N:acceleration=none").cache_key(), parse_method_spec("euclidean-N").cache_key());
-    EXPECT_EQ(parse_method_spec("euclidean-N:acceleration=rre").cache_key(), parse_method_spec("euclidean-N").cache_key());
+    EXPECT_NE(parse_method_spec("euclidean-N:acceleration=none").cache_key(),
+              parse_method_spec("euclidean-N").cache_key());
+    EXPECT_EQ(parse_method_spec("euclidean-N:acceleration=rre").cache_key(),
+              parse_method_spec("euclidean-N").cache_key());
     EXPECT_EQ(parse_method_spec("geodesic-fast:acceleration=none").cache_key(),
               parse_method_spec("geodesic-fast").cache_key());
     // The run reads it: plain steps give the direct call's plain result.
     const Figure fig = make_figure(800, figure_pose(1));
-    const CanonicalForm r = canonical_method("euclidean-N").run(
-        fig.mesh.V, fig.mesh.F, parse_method_spec("euclidean-N:acceleration=none").settings(), {});
+    const CanonicalForm r =
+        canonical_method("euclidean-N")
+            .run(fig.mesh.V, fig.mesh.F, parse_method_spec("euclidean-N:acceleration=none").settings(), {});
     EuclideanCanonicalFormOptions o;
     o.smacof.acceleration = SmacofAcceleration::None;
     const EuclideanCanonicalFormResult e = euclidean_canonical_form(fig.mesh.V, fig.mesh.F, o);
@@ -192,8 +214,8 @@ TEST(MethodRegistry, EverySmacofMethodTakesAnAcceleration) {
 
 TEST(MethodRegistry, RunsMatchTheDirectCall) {
     const Figure fig = make_figure(800, figure_pose(1));
-    const CanonicalForm r = canonical_method("euclidean-N").run(fig.mesh.V, fig.mesh.F,
-                                                                parse_method_spec("euclidean-N").settings(), {});
+    const CanonicalForm r = canonical_method("euclidean-N")
+                                .run(fig.mesh.V, fig.mesh.F, parse_method_spec("euclidean-N").settings(), {});
     const EuclideanCanonicalFormResult e = euclidean_canonical_form(fig.mesh.V, fig.mesh.F);
     EXPECT_EQ((r.V - e.V).cwiseAbs().maxCoeff(), 0.0);
     EXPECT_EQ(r.features, e.features);
@@ -203,8 +225,8 @@ TEST(MethodRegistry, RunsMatchTheDirectCall) {
 }
 
 TEST(MethodRegistry, AMethodAddedAtRunTimeIsPickedUpEverywhere) {
-    const size_t geodesic_params = meshlab::filter_named(meshlab::make_filter_table(), "generate_geodesic_canonical_form")
-                                       .params.size();
+    const size_t geodesic_params =
+        meshlab::filter_named(meshlab::make_filter_table(), "generate_geodesic_canonical_form").params.size();
     register_canonical_method(toy_method());
     EXPECT_THROW(register_canonical_method(toy_method()), InputError);  // names are unique
     // Method specs and their runs.
@@ -214,7 +236,8 @@ TEST(MethodRegistry, AMethodAddedAtRunTimeIsPickedUpEverywhere) {
     const CanonicalForm r = spec.method().run(fig.mesh.V, fig.mesh.F, spec.settings(), {});
     const Eigen::RowVector3d c = fig.mesh.V.colwise().mean();
     EXPECT_NEAR((r.V.row(0) - c).norm(), 3 * (fig.mesh.V.row(0) - c).norm(), 1e-9);
-    EXPECT_NE(message_of([] { parse_method_spec("toy-scaled:scale=50"); }).find("between"), std::string::npos);
+    EXPECT_NE(message_of([] { parse_method_spec("toy-scaled:scale=50"); }).find("between"),
+              std::string::npos);
     // The filter of its family lists it in its enum, and its parameter with its type and range.
     const auto table = meshlab::make_filter_table();
     const auto& geodesic = meshlab::filter_named(table, "generate_geodesic_canonical_form");
@@ -229,8 +252,9 @@ TEST(MethodRegistry, AMethodAddedAtRunTimeIsPickedUpEverywhere) {
               std::string::npos);
     unregister_canonical_method("toy-scaled");
     EXPECT_THROW(parse_method_spec("toy-scaled"), InputError);
-    EXPECT_EQ(meshlab::filter_named(meshlab::make_filter_table(), "generate_geodesic_canonical_form").params.size(),
-              geodesic_params);
+    EXPECT_EQ(
+        meshlab::filter_named(meshlab::make_filter_table(), "generate_geodesic_canonical_form").params.size(),
+        geodesic_params);
 }
 
 // The registry may be read from any thread while another registers and unregisters methods: no

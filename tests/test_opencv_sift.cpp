@@ -27,7 +27,9 @@ std::vector<float> synthetic_depth(bool bumps) {
         for (int c = 0; c < kN; ++c) {
             const double x = (c + 0.5) / kN * 2 - 1, y = (r + 0.5) / kN * 2 - 1;
             const double z = test::synthetic_scene_height(bumps, x, y);
-            if (z > -1.5) img[static_cast<size_t>(r) * kN + c] = static_cast<float>(std::round(std::clamp(1.0 + 254.0 * (z + 1) / 2, 1.0, 255.0)) / 255);
+            if (z > -1.5)
+                img[static_cast<size_t>(r) * kN + c] =
+                    static_cast<float>(std::round(std::clamp(1.0 + 254.0 * (z + 1) / 2, 1.0, 255.0)) / 255);
         }
     return img;
 }
@@ -62,9 +64,10 @@ TEST(OpenCVSift, LowerContrastThresholdKeepsWeakInteriorExtrema) {
     SiftOptions opencv_default = o;
     opencv_default.contrast_threshold = 0.04;
     const auto b04 = opencv_sift_features(bumpy, kN, opencv_default);
-    std::printf("[opencv] keypoints (contrast threshold %.4g): stick figure %zu, bumpy sphere %zu; bumpy sphere at "
-                "OpenCV's default 0.04: %zu\n",
-                kDefaultContrastThreshold, f.keypoints.size(), b.keypoints.size(), b04.keypoints.size());
+    std::printf(
+        "[opencv] keypoints (contrast threshold %.4g): stick figure %zu, bumpy sphere %zu; bumpy sphere at "
+        "OpenCV's default 0.04: %zu\n",
+        kDefaultContrastThreshold, f.keypoints.size(), b.keypoints.size(), b04.keypoints.size());
     EXPECT_GE(f.keypoints.size(), 10u);
     EXPECT_LE(f.keypoints.size(), 100u);
     EXPECT_GE(b.keypoints.size(), 10u);
@@ -80,7 +83,8 @@ TEST(OpenCVSift, KeypointsAreInTheViewsPixelCoordinates) {
         for (int r = 0; r < kN; ++r)
             for (int c = 0; c < kN; ++c) {
                 const double d2 = (c - cx) * (c - cx) + (r - cy) * (r - cy);
-                img[static_cast<size_t>(r) * kN + c] = static_cast<float>(std::lround(40 + 200 * std::exp(-d2 / 72.0)) / 255.0);
+                img[static_cast<size_t>(r) * kN + c] =
+                    static_cast<float>(std::lround(40 + 200 * std::exp(-d2 / 72.0)) / 255.0);
             }
         const SiftFeatures f = opencv_sift_features(img, kN);
         double best = 1e9;
@@ -101,7 +105,8 @@ TEST(OpenCVSift, DescriptorsAtOpenCVsOwnKeypointsAreItsOwnDescriptors) {
         ASSERT_EQ(d.rows(), f.descriptors.rows());
         double worst = 1;
         for (Eigen::Index r = 0; r < d.rows(); ++r)
-            worst = std::min(worst, double(d.row(r).dot(f.descriptors.row(r)) / (d.row(r).norm() * f.descriptors.row(r).norm())));
+            worst = std::min(worst, double(d.row(r).dot(f.descriptors.row(r)) /
+                                           (d.row(r).norm() * f.descriptors.row(r).norm())));
         std::printf("[opencv] %s: compute() on detectAndCompute()'s %zu keypoints: lowest cosine %.4f\n",
                     bumps ? "bumpy sphere" : "stick figure", f.keypoints.size(), worst);
         EXPECT_GT(worst, 0.99);

@@ -30,11 +30,15 @@ TEST(Parallel, EveryIndexOnceWhateverTheThreads) {
             o.threads = threads;
             o.grain = grain;
             std::vector<int> per_worker(static_cast<size_t>(parallel_workers(5003, o)), 0);
-            parallel_for(5003, [&](std::ptrdiff_t i, int w) {
-                ++hits[static_cast<size_t>(i)];
-                ++per_worker[static_cast<size_t>(w)];
-            }, o);
-            EXPECT_EQ(std::count(hits.begin(), hits.end(), 1), 5003) << threads << " threads, grain " << grain;
+            parallel_for(
+                5003,
+                [&](std::ptrdiff_t i, int w) {
+                    ++hits[static_cast<size_t>(i)];
+                    ++per_worker[static_cast<size_t>(w)];
+                },
+                o);
+            EXPECT_EQ(std::count(hits.begin(), hits.end(), 1), 5003)
+                << threads << " threads, grain " << grain;
             EXPECT_EQ(std::accumulate(per_worker.begin(), per_worker.end(), 0), 5003);
         }
     }
@@ -44,10 +48,14 @@ TEST(Parallel, FirstErrorIsRethrownAndStopsTheRest) {
     ParallelOptions o;
     o.threads = 2;
     std::vector<char> done(100000, 0);
-    EXPECT_THROW(parallel_for(100000, [&](std::ptrdiff_t i, int) {
-        if (i == 10) throw std::invalid_argument("index 10");
-        done[static_cast<size_t>(i)] = 1;
-    }, o), std::invalid_argument);
+    EXPECT_THROW(parallel_for(
+                     100000,
+                     [&](std::ptrdiff_t i, int) {
+                         if (i == 10) throw std::invalid_argument("index 10");
+                         done[static_cast<size_t>(i)] = 1;
+                     },
+                     o),
+                 std::invalid_argument);
     // Chunks not yet started when the error came are skipped.
     EXPECT_LT(std::count(done.begin(), done.end(), 1), 100000);
 }
@@ -60,10 +68,13 @@ TEST(Parallel, ProgressOnTheCallingThreadAndCancellation) {
         seen.push_back(f);
         return true;
     };
-    parallel_for(1000, [](std::ptrdiff_t, int) {}, o);
+    parallel_for(
+        1000, [](std::ptrdiff_t, int) {}, o);
     ASSERT_FALSE(seen.empty());
     EXPECT_TRUE(std::is_sorted(seen.begin(), seen.end()));
     EXPECT_LE(seen.back(), 1.0);
     o.progress = [](double f, const char*) { return f < 0.2; };
-    EXPECT_THROW(parallel_for(1000, [](std::ptrdiff_t, int) {}, o), Cancelled);
+    EXPECT_THROW(parallel_for(
+                     1000, [](std::ptrdiff_t, int) {}, o),
+                 Cancelled);
 }

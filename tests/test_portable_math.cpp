@@ -198,7 +198,8 @@ TEST(PortableMath, LogWithinAUnitInTheLastPlaceOfLibm) {
     for (int i = 0; i < 200000; ++i) {
         // mantissas in [1, 2) over 600 binary orders of magnitude (ldexp is exact), and values near 1
         const double m = 1.0 + static_cast<double>(g() >> 11) * 0x1.0p-53;
-        const double x = i % 4 == 0 ? 1.0 + (m - 1.5) * 1e-6 : std::ldexp(m, static_cast<int>(g() % 600) - 300);
+        const double x =
+            i % 4 == 0 ? 1.0 + (m - 1.5) * 1e-6 : std::ldexp(m, static_cast<int>(g() % 600) - 300);
         const double a = portable_log(x), b = std::log(x);
         const double ulp = std::nextafter(std::abs(b), kInf) - std::abs(b);
         const int units = static_cast<int>(std::round(std::abs(a - b) / ulp));

@@ -90,8 +90,7 @@ Topology topology(const Mesh& m) {
     std::vector<std::vector<std::pair<int, int>>> fan(static_cast<size_t>(nv));
     for (int f = 0; f < nf; ++f)
         for (int k = 0; k < 3; ++k)
-            fan[static_cast<size_t>(m.F(f, k))].push_back(
-                {m.F(f, (k + 1) % 3), m.F(f, (k + 2) % 3)});
+            fan[static_cast<size_t>(m.F(f, k))].push_back({m.F(f, (k + 1) % 3), m.F(f, (k + 2) % 3)});
     for (int v = 0; v < nv; ++v) {
         const auto& fv = fan[static_cast<size_t>(v)];
         if (fv.empty()) {
@@ -142,9 +141,8 @@ double signed_volume(const Mesh& m) {
 double total_area(const Mesh& m) {
     double a = 0.0;
     for (int f = 0; f < m.F.rows(); ++f)
-        a += 0.5 * (vtx(m, m.F(f, 1)) - vtx(m, m.F(f, 0)))
-                       .cross(vtx(m, m.F(f, 2)) - vtx(m, m.F(f, 0)))
-                       .norm();
+        a +=
+            0.5 * (vtx(m, m.F(f, 1)) - vtx(m, m.F(f, 0))).cross(vtx(m, m.F(f, 2)) - vtx(m, m.F(f, 0))).norm();
     return a;
 }
 
@@ -163,8 +161,8 @@ std::pair<double, double> min_area_and_angle(const Mesh& m) {
 }
 
 /// Does segment pq cross triangle abc (proper crossing of the plane, inside the triangle)?
-bool segment_crosses_triangle(const Vector3d& p, const Vector3d& q, const Vector3d& a,
-                              const Vector3d& b, const Vector3d& c) {
+bool segment_crosses_triangle(const Vector3d& p, const Vector3d& q, const Vector3d& a, const Vector3d& b,
+                              const Vector3d& c) {
     const Vector3d n = (b - a).cross(c - a);
     const double dp = n.dot(p - a), dq = n.dot(q - a);
     if ((dp > 0 && dq > 0) || (dp < 0 && dq < 0) || dp == dq) return false;
@@ -183,9 +181,7 @@ long self_intersections(const Mesh& m) {
     const double cell = 2.0 * mean_edge / nf;
     std::unordered_map<std::int64_t, std::vector<int>> grid;
     std::vector<std::array<int, 6>> range(static_cast<size_t>(nf));
-    auto key = [](int i, int j, int k) {
-        return (static_cast<std::int64_t>(i) * 1000003 + j) * 1000003 + k;
-    };
+    auto key = [](int i, int j, int k) { return (static_cast<std::int64_t>(i) * 1000003 + j) * 1000003 + k; };
     for (int f = 0; f < nf; ++f) {
         Vector3d mn = vtx(m, m.F(f, 0)), mx = mn;
         for (int k = 1; k < 3; ++k) {
@@ -311,8 +307,8 @@ TEST(ProceduralDisc, OneBoundaryLoopFlatAndUpwards) {
             ASSERT_LE(m.V.row(i).norm(), radius * (1 + 1e-12));
         }
         for (int f = 0; f < m.F.rows(); ++f) {
-            const Vector3d n = (vtx(m, m.F(f, 1)) - vtx(m, m.F(f, 0)))
-                                   .cross(vtx(m, m.F(f, 2)) - vtx(m, m.F(f, 0)));
+            const Vector3d n =
+                (vtx(m, m.F(f, 1)) - vtx(m, m.F(f, 0))).cross(vtx(m, m.F(f, 2)) - vtx(m, m.F(f, 0)));
             ASSERT_GT(n.z(), 0.0) << "face " << f;
         }
         if (target >= 1000) {
@@ -384,8 +380,7 @@ TEST_P(ProceduralFigureAtTarget, PosesShareConnectivityAndAreNearIsometric) {
             const double l1 = (vtx(posed.mesh, a) - vtx(posed.mesh, b)).norm();
             change.push_back(std::abs(l1 / l0 - 1.0));
         }
-    std::nth_element(change.begin(), change.begin() + static_cast<long>(change.size() / 2),
-                     change.end());
+    std::nth_element(change.begin(), change.begin() + static_cast<long>(change.size() / 2), change.end());
     EXPECT_LT(change[change.size() / 2], 0.05);
     // ... and the pose really differs from the rest pose.
     EXPECT_GT((rest.mesh.V - posed.mesh.V).rowwise().norm().maxCoeff(), 0.2);
@@ -445,11 +440,13 @@ TEST(ProceduralFigure, NamedPosesDoNotSelfIntersect) {
 TEST(ProceduralFigure, RandomPosesAreDeterministicAndClean) {
     for (const int id : {6, 7, 23, 1000}) {
         SCOPED_TRACE("pose " + std::to_string(id));
-        const FigurePose a = canonform::procedural::figure_pose(id), b = canonform::procedural::figure_pose(id);
+        const FigurePose a = canonform::procedural::figure_pose(id),
+                         b = canonform::procedural::figure_pose(id);
         EXPECT_EQ(a.left_arm.elbow_bend, b.left_arm.elbow_bend);
         EXPECT_EQ(a.right_leg.knee_bend, b.right_leg.knee_bend);
         EXPECT_EQ(a.tail_curl, b.tail_curl);
-        EXPECT_NE(a.left_arm.shoulder_down, canonform::procedural::figure_pose(id + 1).left_arm.shoulder_down);
+        EXPECT_NE(a.left_arm.shoulder_down,
+                  canonform::procedural::figure_pose(id + 1).left_arm.shoulder_down);
         const Figure f = canonform::procedural::make_figure(2000, a);
         EXPECT_EQ(self_intersections(f.mesh), 0);
         EXPECT_GT(min_area_and_angle(f.mesh).second, 1.0 * kPi / 180.0);
@@ -482,7 +479,8 @@ TEST(ProceduralFigure, ValidAndRepeatableAtOtherTargets) {
 
 TEST(ProceduralFigureClasses, StandardProportionsGiveExactlyTheStandardFigure) {
     const Figure a = canonform::procedural::make_figure(2000, canonform::procedural::figure_pose(3));
-    const Figure b = canonform::procedural::make_figure(2000, canonform::procedural::figure_pose(3), canonform::procedural::figure_class("standard"));
+    const Figure b = canonform::procedural::make_figure(2000, canonform::procedural::figure_pose(3),
+                                                        canonform::procedural::figure_class("standard"));
     EXPECT_TRUE(a.mesh.V == b.mesh.V);
     EXPECT_TRUE(a.mesh.F == b.mesh.F);
 }
@@ -492,7 +490,8 @@ TEST(ProceduralFigureClasses, EveryClassIsCleanInEveryNamedPoseWithTheSameFaces)
     for (const std::string& name : canonform::procedural::figure_class_names()) {
         for (int pose = 0; pose < canonform::procedural::kFigureNamedPoses; ++pose) {
             SCOPED_TRACE(name + ", pose " + std::to_string(pose));
-            const Figure f = canonform::procedural::make_figure(2000, canonform::procedural::figure_pose(pose), canonform::procedural::figure_class(name));
+            const Figure f = canonform::procedural::make_figure(
+                2000, canonform::procedural::figure_pose(pose), canonform::procedural::figure_class(name));
             EXPECT_TRUE(f.mesh.F == standard.mesh.F);
             const Topology t = topology(f.mesh);
             EXPECT_TRUE(t.oriented_manifold && t.fans_are_discs) << t.problem;
@@ -504,7 +503,8 @@ TEST(ProceduralFigureClasses, EveryClassIsCleanInEveryNamedPoseWithTheSameFaces)
             }
         }
     }
-    EXPECT_EQ(static_cast<int>(canonform::procedural::figure_class_names().size()), canonform::procedural::kFigureClasses);
+    EXPECT_EQ(static_cast<int>(canonform::procedural::figure_class_names().size()),
+              canonform::procedural::kFigureClasses);
 }
 
 TEST(ProceduralFigureClasses, RandomPosesOfTheGeneratedCollectionAreClean) {
@@ -515,7 +515,8 @@ TEST(ProceduralFigureClasses, RandomPosesOfTheGeneratedCollectionAreClean) {
         for (int k = canonform::procedural::kFigureNamedPoses; k < 10; ++k) {
             const int id = 1000 + 37 * static_cast<int>(c) + k;
             SCOPED_TRACE(names[c] + ", pose " + std::to_string(id));
-            const Figure f = canonform::procedural::make_figure(2000, canonform::procedural::figure_pose(id), canonform::procedural::figure_class(names[c]));
+            const Figure f = canonform::procedural::make_figure(
+                2000, canonform::procedural::figure_pose(id), canonform::procedural::figure_class(names[c]));
             EXPECT_EQ(self_intersections(f.mesh), 0);
             EXPECT_GT(min_area_and_angle(f.mesh).second, 1.0 * kPi / 180.0);
         }

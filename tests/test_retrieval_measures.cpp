@@ -30,9 +30,9 @@ const std::vector<std::string> kLabels = {"A", "A", "A", "B", "B"};
 TEST(RetrievalMeasures, HandComputedQuery) {
     const Measures m = query_measures(five().row(0).transpose(), kLabels, 0);
     EXPECT_EQ(m.nn, 0.0);
-    EXPECT_DOUBLE_EQ(m.first_tier, 0.5);   // [B A] of C-1 = 2
-    EXPECT_DOUBLE_EQ(m.second_tier, 1.0);  // [B A A B]
-    EXPECT_NEAR(m.e_measure, 2.0 / 3.0, 1e-12);  // K = min(32, N-1) = 4: P = 1/2, R = 1
+    EXPECT_DOUBLE_EQ(m.first_tier, 0.5);                            // [B A] of C-1 = 2
+    EXPECT_DOUBLE_EQ(m.second_tier, 1.0);                           // [B A A B]
+    EXPECT_NEAR(m.e_measure, 2.0 / 3.0, 1e-12);                     // K = min(32, N-1) = 4: P = 1/2, R = 1
     EXPECT_NEAR(m.dcg, (1.0 + 1.0 / std::log2(3.0)) / 2.0, 1e-12);  // rel 0 1 1 0; ideal 1 + 1
 }
 
@@ -72,10 +72,11 @@ TEST(RetrievalMeasures, PrecisionRecallInterpolatesBetweenHits) {
     ASSERT_EQ(e.recall.size(), 20u);
     EXPECT_NEAR(e.recall.front(), 0.05, 1e-12);
     EXPECT_NEAR(e.recall.back(), 1.0, 1e-12);
-    // Query 0: hits at ranks 2 and 3 -> (0.5, 1/2), (1, 2/3); queries 1 and 2: ranks 1 and 2 -> (0.5, 1), (1, 1).
-    EXPECT_NEAR(e.precision[9], (0.5 + 1 + 1) / 3.0, 1e-12);   // recall 0.50
+    // Query 0: hits at ranks 2 and 3 -> (0.5, 1/2), (1, 2/3); queries 1 and 2: ranks 1 and 2 -> (0.5, 1), (1,
+    // 1).
+    EXPECT_NEAR(e.precision[9], (0.5 + 1 + 1) / 3.0, 1e-12);                         // recall 0.50
     EXPECT_NEAR(e.precision[14], (0.5 + 0.5 * (2.0 / 3.0 - 0.5) + 2) / 3.0, 1e-12);  // recall 0.75
-    EXPECT_NEAR(e.precision[19], (2.0 / 3.0 + 2) / 3.0, 1e-12);  // recall 1.0
+    EXPECT_NEAR(e.precision[19], (2.0 / 3.0 + 2) / 3.0, 1e-12);                      // recall 1.0
 }
 
 TEST(RetrievalMeasures, PerfectRetrievalScoresOne) {
@@ -120,7 +121,8 @@ TEST(RetrievalMeasures, NeighbourListsGiveTheMatrixMeasuresAndABoundedTruncatedD
     const Evaluation full = evaluate(D, labels);
     const int k = neighbours_needed(labels);
     int largest = 0;
-    for (const auto& l : labels) largest = std::max<int>(largest, static_cast<int>(std::count(labels.begin(), labels.end(), l)));
+    for (const auto& l : labels)
+        largest = std::max<int>(largest, static_cast<int>(std::count(labels.begin(), labels.end(), l)));
     EXPECT_EQ(k, std::max(2 * largest, 32));
     // Each model's first K others in ranking order (ties by index), as the index gives them.
     std::vector<std::vector<std::uint32_t>> lists(static_cast<size_t>(n));
@@ -128,12 +130,14 @@ TEST(RetrievalMeasures, NeighbourListsGiveTheMatrixMeasuresAndABoundedTruncatedD
         std::vector<std::uint32_t> order;
         for (int j = 0; j < n; ++j)
             if (j != q) order.push_back(static_cast<std::uint32_t>(j));
-        std::stable_sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return D(q, a) < D(q, b); });
+        std::stable_sort(order.begin(), order.end(),
+                         [&](std::uint32_t a, std::uint32_t b) { return D(q, a) < D(q, b); });
         order.resize(static_cast<size_t>(k));
         lists[static_cast<size_t>(q)] = order;
     }
     const NeighbourEvaluation e = evaluate_neighbours(lists, labels, k);
-    for (const auto& [got, want] : {std::pair{e.evaluation.micro, full.micro}, std::pair{e.evaluation.macro, full.macro}}) {
+    for (const auto& [got, want] :
+         {std::pair{e.evaluation.micro, full.micro}, std::pair{e.evaluation.macro, full.macro}}) {
         EXPECT_EQ(got.nn, want.nn);
         EXPECT_EQ(got.first_tier, want.first_tier);
         EXPECT_EQ(got.second_tier, want.second_tier);

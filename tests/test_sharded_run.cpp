@@ -62,10 +62,12 @@ ExperimentOptions options(const std::string& dataset, const std::string& out, st
     return o;
 }
 
-const char* const kCompared[] = {"/none/distances.bin", "/none/metrics.json", "/none/models.csv", "/none/pr.csv",
-                                 "/none/failures.txt"};
+const char* const kCompared[] = {"/none/distances.bin", "/none/metrics.json", "/none/models.csv",
+                                 "/none/pr.csv", "/none/failures.txt"};
 
-fs::file_time_type mtime(const std::string& p) { return fs::last_write_time(p); }
+fs::file_time_type mtime(const std::string& p) {
+    return fs::last_write_time(p);
+}
 
 }  // namespace
 
@@ -198,7 +200,8 @@ TEST(ShardedRun, AFailedStageLeavesItsMessageUntilItSucceeds) {
     // The given codebook appears: the stage succeeds and its failure is gone.
     views::CodebookOptions co;
     co.words = 4;
-    views::Codebook::train(views::DescriptorMatrix::Random(50, 128).cwiseAbs(), co).save(p.experiment.codebook);
+    views::Codebook::train(views::DescriptorMatrix::Random(50, 128).cwiseAbs(), co)
+        .save(p.experiment.codebook);
     EXPECT_TRUE(r.run(Stage::Codebook));
     EXPECT_TRUE(r.status()[1].failed.empty());
     EXPECT_FALSE(io::is_file(run + "/stages/codebook_0.failed"));
@@ -206,7 +209,8 @@ TEST(ShardedRun, AFailedStageLeavesItsMessageUntilItSucceeds) {
 
 TEST(ShardedRun, NeighbourEvaluationGivesTheMatrixMeasuresWithoutTheMatrix) {
     const std::string data = make_collection("neighbours");
-    const std::string one = temp("canonform_test_sharded_nb_one"), run = temp("canonform_test_sharded_nb_run");
+    const std::string one = temp("canonform_test_sharded_nb_one"),
+                      run = temp("canonform_test_sharded_nb_run");
     fs::remove_all(one);
     fs::remove_all(run);
     Experiment(options(data, one, 0)).run();
@@ -232,7 +236,8 @@ TEST(ShardedRun, NeighbourEvaluationGivesTheMatrixMeasuresWithoutTheMatrix) {
     EXPECT_EQ(got["search"], "exhaustive");
     for (const char* avg : {"micro", "macro"})
         for (const char* key : {"nn", "first_tier", "second_tier", "e_measure", "dcg", "queries"})
-            EXPECT_EQ(got[avg][key], want[avg][key]) << avg << " " << key;  // every other model listed: DCG too
+            EXPECT_EQ(got[avg][key], want[avg][key])
+                << avg << " " << key;  // every other model listed: DCG too
     // neighbours.bin: each model's row of the matrix in ranking order, itself left out.
     const Eigen::MatrixXd D = io::read_distance_matrix(one + "/none/distances.bin");
     const std::string nb = io::read_file(run + "/none/neighbours.bin");

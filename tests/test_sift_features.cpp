@@ -17,11 +17,11 @@
 #include <Eigen/Geometry>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <map>
-#include <atomic>
 #include <string>
 #include <thread>
 #include <vector>
@@ -51,7 +51,9 @@ Image synthetic(bool bumps, double turn = 0, int n = kN) {
             const double u = (c + 0.5) / n * 2 - 1, v = (r + 0.5) / n * 2 - 1;
             const double x = ct * u + st * v, y = -st * u + ct * v;  // the scene point seen at (u, v)
             const double z = test::synthetic_scene_height(bumps, x, y);
-            if (z > -1.5) img[static_cast<std::size_t>(r) * n + c] = static_cast<float>(std::clamp(0.5 + 0.4 * z, 0.01, 1.0));
+            if (z > -1.5)
+                img[static_cast<std::size_t>(r) * n + c] =
+                    static_cast<float>(std::clamp(0.5 + 0.4 * z, 0.01, 1.0));
         }
     return img;
 }
@@ -80,7 +82,8 @@ std::vector<Image> figure_views(int count, double turn = 0) {
 Image rotate90(const Image& a, int n = kN) {
     Image b(a.size());
     for (int y = 0; y < n; ++y)
-        for (int x = 0; x < n; ++x) b[static_cast<size_t>(x) * n + (n - 1 - y)] = a[static_cast<size_t>(y) * n + x];
+        for (int x = 0; x < n; ++x)
+            b[static_cast<size_t>(x) * n + (n - 1 - y)] = a[static_cast<size_t>(y) * n + x];
     return b;
 }
 
@@ -88,7 +91,8 @@ Image rotate90(const Image& a, int n = kN) {
 Image flip(const Image& a, int n = kN) {
     Image b(a.size());
     for (int y = 0; y < n; ++y)
-        for (int x = 0; x < n; ++x) b[static_cast<size_t>(y) * n + (n - 1 - x)] = a[static_cast<size_t>(y) * n + x];
+        for (int x = 0; x < n; ++x)
+            b[static_cast<size_t>(y) * n + (n - 1 - x)] = a[static_cast<size_t>(y) * n + x];
     return b;
 }
 
@@ -100,7 +104,8 @@ double angle_gap(double a, double b) {
 // The fraction of `a`'s keypoints with a keypoint of `b` at the mapped position (within a third of
 // the keypoint's sigma, at least 0.3 pixel), of the same size (5%) and mapped angle (3 degrees).
 template <class Map>
-double repeat_rate(const SiftFeatures& a, const SiftFeatures& b, Map map, std::vector<std::pair<size_t, size_t>>* pairs = nullptr) {
+double repeat_rate(const SiftFeatures& a, const SiftFeatures& b, Map map,
+                   std::vector<std::pair<size_t, size_t>>* pairs = nullptr) {
     if (a.keypoints.empty()) return 0;
     size_t hit = 0;
     for (size_t i = 0; i < a.keypoints.size(); ++i) {
@@ -110,7 +115,8 @@ double repeat_rate(const SiftFeatures& a, const SiftFeatures& b, Map map, std::v
         const double tol = std::max(0.3, k.size / 6.0);
         for (size_t j = 0; j < b.keypoints.size(); ++j) {
             const SiftKeypoint& q = b.keypoints[j];
-            if (std::hypot(q.x - mx, q.y - my) < tol && std::abs(std::log(q.size / k.size)) < 0.05 && angle_gap(q.angle, ma) < 3) {
+            if (std::hypot(q.x - mx, q.y - my) < tol && std::abs(std::log(q.size / k.size)) < 0.05 &&
+                angle_gap(q.angle, ma) < 3) {
                 ++hit;
                 if (pairs) pairs->push_back({i, j});
                 break;
@@ -159,19 +165,23 @@ TEST(Sift, BlankImageHasNoKeypointsAndBadInputIsRefused) {
 
 TEST(Sift, BackendNames) {
     EXPECT_EQ(SiftOptions{}.backend, SiftBackend::Canonform);  // the default needs no other library
-    for (const auto& name : sift_backend_names()) EXPECT_EQ(sift_backend_name(parse_sift_backend(name)), name);
+    for (const auto& name : sift_backend_names())
+        EXPECT_EQ(sift_backend_name(parse_sift_backend(name)), name);
     EXPECT_EQ(builtin_sift_backend_names(), std::vector<std::string>{"canonform"});
     EXPECT_TRUE(sift_backend_available(SiftBackend::Canonform));
 #ifdef CANONFORM_WITHOUT_OPENCV  // (the Windows build) no OpenCV extractor to register
     EXPECT_FALSE(sift_backend_available(SiftBackend::OpenCV));
     SiftOptions o;
     o.backend = SiftBackend::OpenCV;
-    const std::string refused = test::message_of([&] { sift_features(std::vector<float>(64 * 64, 0.5f), 64, o); });
-    EXPECT_NE(refused.find("'opencv' is not part of this program (canonform are"), std::string::npos) << refused;
+    const std::string refused =
+        test::message_of([&] { sift_features(std::vector<float>(64 * 64, 0.5f), 64, o); });
+    EXPECT_NE(refused.find("'opencv' is not part of this program (canonform are"), std::string::npos)
+        << refused;
 #else
     EXPECT_TRUE(sift_backend_available(SiftBackend::OpenCV));  // registered by this program
 #endif
-    EXPECT_NE(test::message_of([] { parse_sift_backend("surf"); }).find("canonform, opencv"), std::string::npos);
+    EXPECT_NE(test::message_of([] { parse_sift_backend("surf"); }).find("canonform, opencv"),
+              std::string::npos);
     const std::string removed = test::message_of([] { parse_sift_backend("opencv-octave0-fine"); });
     EXPECT_NE(removed.find("removed"), std::string::npos) << removed;
     EXPECT_NE(removed.find("'canonform'"), std::string::npos) << removed;
@@ -206,8 +216,10 @@ TEST(Sift, KeypointsAndDescriptorsAsDocumented) {
         // Octave o >= 0 holds sizes 2 sigma0 2^o 2^(j/3) for DoG images j = 1..3 and offsets up to
         // 0.6; octave -1 2 (sigma0 / 2) 2^(j/2), j = 1..2.
         for (const auto& [o, n] : per_octave) {
-            const double lo = o < 0 ? 2 * 0.8 * std::pow(2.0, 0.4 / 2) : 2 * 1.6 * std::ldexp(1.0, o) * std::pow(2.0, 0.4 / 3);
-            const double hi = o < 0 ? 2 * 0.8 * std::pow(2.0, 2.6 / 2) : 2 * 1.6 * std::ldexp(1.0, o) * std::pow(2.0, 3.6 / 3);
+            const double lo = o < 0 ? 2 * 0.8 * std::pow(2.0, 0.4 / 2)
+                                    : 2 * 1.6 * std::ldexp(1.0, o) * std::pow(2.0, 0.4 / 3);
+            const double hi = o < 0 ? 2 * 0.8 * std::pow(2.0, 2.6 / 2)
+                                    : 2 * 1.6 * std::ldexp(1.0, o) * std::pow(2.0, 3.6 / 3);
             EXPECT_GE(smallest[o], 0.99 * lo) << "octave " << o;
             EXPECT_LE(largest[o], 1.01 * hi) << "octave " << o;
         }
@@ -218,7 +230,8 @@ TEST(Sift, KeypointsAndDescriptorsAsDocumented) {
         coarse.fine_octave = false;
         const SiftFeatures c = sift_features(img, kN, coarse);
         for (const SiftKeypoint& k : c.keypoints) EXPECT_GE(k.octave, 0);
-        EXPECT_EQ(static_cast<int>(c.keypoints.size()), static_cast<int>(f.keypoints.size()) - per_octave[-1]);
+        EXPECT_EQ(static_cast<int>(c.keypoints.size()),
+                  static_cast<int>(f.keypoints.size()) - per_octave[-1]);
         SiftOptions few;
         few.max_features = 5;
         const SiftFeatures s = sift_features(img, kN, few);
@@ -264,22 +277,26 @@ TEST(Sift, KeypointsRepeatUnderQuarterTurnsAndMirroring) {
             (grid ? fine_total : coarse_total) += 1;
             for (int t = 0; t < 2; ++t) {
                 const double x = t == 0 ? kN - 1 - k.y : kN - 1 - k.x, y = t == 0 ? k.x : k.y;
-                const double angle = t == 0 ? std::fmod(k.angle + 90.0, 360.0) : std::fmod(540.0 - k.angle, 360.0);
+                const double angle =
+                    t == 0 ? std::fmod(k.angle + 90.0, 360.0) : std::fmod(540.0 - k.angle, 360.0);
                 const double scale = std::ldexp(1.0, std::max(0, k.octave));
-                const double tol_xy = grid ? 0.01 : 0.75 * scale, tol_size = grid ? 1e-4 : 0.1, tol_angle = grid ? 0.05 : 10;
+                const double tol_xy = grid ? 0.01 : 0.75 * scale, tol_size = grid ? 1e-4 : 0.1,
+                             tol_angle = grid ? 0.05 : 10;
                 bool found = false;
                 for (const SiftKeypoint& q : moved[t].keypoints)
                     found = found || (q.octave == k.octave && std::hypot(q.x - x, q.y - y) < tol_xy &&
-                                      std::abs(std::log(q.size / k.size)) < tol_size && angle_gap(q.angle, angle) < tol_angle);
+                                      std::abs(std::log(q.size / k.size)) < tol_size &&
+                                      angle_gap(q.angle, angle) < tol_angle);
                 (grid ? fine_hit[t] : coarse_hit[t]) += found;
             }
         }
     }
     const auto rate = [](size_t hit, size_t n) { return double(hit) / double(std::max<size_t>(n, 1)); };
-    std::printf("[sift] 10 views: of %zu keypoints at octave -1, %.3f come back under a quarter turn and %.3f "
-                "mirrored; of %zu at octaves >= 0, %.3f and %.3f\n",
-                fine_total, rate(fine_hit[0], fine_total), rate(fine_hit[1], fine_total), coarse_total,
-                rate(coarse_hit[0], coarse_total), rate(coarse_hit[1], coarse_total));
+    std::printf(
+        "[sift] 10 views: of %zu keypoints at octave -1, %.3f come back under a quarter turn and %.3f "
+        "mirrored; of %zu at octaves >= 0, %.3f and %.3f\n",
+        fine_total, rate(fine_hit[0], fine_total), rate(fine_hit[1], fine_total), coarse_total,
+        rate(coarse_hit[0], coarse_total), rate(coarse_hit[1], coarse_total));
     ASSERT_GE(fine_total, 10u);
     ASSERT_GE(coarse_total, 100u);
     for (int t = 0; t < 2; ++t) {
@@ -307,8 +324,8 @@ TEST(Sift, MatchedDescriptorsAgreeUnderASmallRotation) {
             const double ang = std::fmod(k.angle + 10.0, 360.0);
             for (size_t j = 0; j < b.keypoints.size(); ++j) {
                 const SiftKeypoint& q = b.keypoints[j];
-                if (std::hypot(q.x - x, q.y - y) < std::max(0.5, q.size / 8.0) && std::abs(std::log(q.size / k.size)) < 0.1 &&
-                    angle_gap(q.angle, ang) < 5) {
+                if (std::hypot(q.x - x, q.y - y) < std::max(0.5, q.size / 8.0) &&
+                    std::abs(std::log(q.size / k.size)) < 0.1 && angle_gap(q.angle, ang) < 5) {
                     const auto da = a.descriptors.row(static_cast<Eigen::Index>(i));
                     Eigen::Index best = 0;
                     (b.descriptors.rowwise() - da).rowwise().squaredNorm().minCoeff(&best);
@@ -321,10 +338,13 @@ TEST(Sift, MatchedDescriptorsAgreeUnderASmallRotation) {
         }
     }
     ASSERT_GE(pairs_total, 50u);
-    const double nn = double(nearest_is_match) / double(pairs_total), mean_cos = cos_sum / double(pairs_total);
-    std::printf("[sift] 10-degree turn, 8 figure views: %zu of %zu keypoints found again; the nearest descriptor is the "
-                "match's for %.3f, mean cosine %.3f\n",
-                pairs_total, keypoints, nn, mean_cos);
+    const double nn = double(nearest_is_match) / double(pairs_total),
+                 mean_cos = cos_sum / double(pairs_total);
+    std::printf(
+        "[sift] 10-degree turn, 8 figure views: %zu of %zu keypoints found again; the nearest descriptor is "
+        "the "
+        "match's for %.3f, mean cosine %.3f\n",
+        pairs_total, keypoints, nn, mean_cos);
     EXPECT_GE(nn, 0.85);
     EXPECT_GE(mean_cos, 0.93);
 }
@@ -339,16 +359,16 @@ TEST(Sift, BlobIsFoundAtItsCentreAndScale) {
         Image img(kN * kN);
         for (int r = 0; r < kN; ++r)
             for (int c = 0; c < kN; ++c)
-                img[static_cast<size_t>(r) * kN + c] =
-                    static_cast<float>(0.6 * std::exp(-((c - cx) * (c - cx) + (r - cy) * (r - cy)) / (2 * s * s)));
+                img[static_cast<size_t>(r) * kN + c] = static_cast<float>(
+                    0.6 * std::exp(-((c - cx) * (c - cx) + (r - cy) * (r - cy)) / (2 * s * s)));
         const SiftFeatures f = sift_features(img, kN);
         const SiftKeypoint* best = nullptr;
         for (const SiftKeypoint& q : f.keypoints)
             if (!best || q.response > best->response) best = &q;
         ASSERT_NE(best, nullptr) << "s = " << s;
         const double sigma = best->size / 2, k = std::pow(2.0, best->octave < 0 ? 0.5 : 1.0 / 3);
-        std::printf("[sift] blob sigma %.0f: strongest keypoint at (%.2f, %.2f), sigma sqrt(k) %.2f\n", s, best->x, best->y,
-                    sigma * std::sqrt(k));
+        std::printf("[sift] blob sigma %.0f: strongest keypoint at (%.2f, %.2f), sigma sqrt(k) %.2f\n", s,
+                    best->x, best->y, sigma * std::sqrt(k));
         EXPECT_LT(std::hypot(best->x - cx, best->y - cy), 0.05 * s + 0.1) << "s = " << s;
         EXPECT_NEAR(sigma * std::sqrt(k), s, 0.06 * s) << "s = " << s;
     }
@@ -392,9 +412,10 @@ TEST(Sift, DescriptorsMatchOpenCVsOnTheSameKeypoints) {
     }
     ASSERT_GE(n, 100u);
     const double rate = double(hits) / double(n);
-    std::printf("[sift] against OpenCV's SIFT::compute on our %zu keypoints (8 views): nearest-neighbour rate %.3f, "
-                "mean cosine %.3f\n",
-                n, rate, cos_sum / double(n));
+    std::printf(
+        "[sift] against OpenCV's SIFT::compute on our %zu keypoints (8 views): nearest-neighbour rate %.3f, "
+        "mean cosine %.3f\n",
+        n, rate, cos_sum / double(n));
     EXPECT_GE(rate, 0.85);
     EXPECT_GE(cos_sum / double(n), 0.9);
 }
@@ -419,9 +440,12 @@ TEST(Sift, DeterministicAndIndependentOfTheThreadCount) {
     std::vector<SiftFeatures> looped(views.size());
     ParallelOptions par;
     par.threads = 2;
-    parallel_for(static_cast<std::ptrdiff_t>(views.size()),
-                 [&](std::ptrdiff_t i, int) { looped[static_cast<size_t>(i)] = sift_features(views[static_cast<size_t>(i)], kN); },
-                 par);
+    parallel_for(
+        static_cast<std::ptrdiff_t>(views.size()),
+        [&](std::ptrdiff_t i, int) {
+            looped[static_cast<size_t>(i)] = sift_features(views[static_cast<size_t>(i)], kN);
+        },
+        par);
     runs.push_back(std::move(looped));
     for (size_t r = 1; r < runs.size(); ++r)
         for (size_t i = 0; i < views.size(); ++i) {
@@ -447,16 +471,19 @@ TEST(Sift, FeaturesMoveWithTheObject) {
     for (int y = 0; y < kN; ++y)
         for (int x = 0; x < kN; ++x) {
             const int sx = x - dx, sy = y - dy;
-            if (sx >= 0 && sy >= 0 && sx < kN && sy < kN) moved[static_cast<size_t>(y) * kN + x] = img[static_cast<size_t>(sy) * kN + sx];
+            if (sx >= 0 && sy >= 0 && sx < kN && sy < kN)
+                moved[static_cast<size_t>(y) * kN + x] = img[static_cast<size_t>(sy) * kN + sx];
         }
     const SiftFeatures a = sift_features(img, kN), b = sift_features(moved, kN);
     // Octave o samples every 2^o-th pixel: a move by (7, -5) is exact at octave 0 (and -1) only.
     std::vector<SiftKeypoint> ka, kb;
     std::vector<Eigen::Index> ra, rb;
     for (size_t i = 0; i < a.keypoints.size(); ++i)
-        if (a.keypoints[i].octave <= 0) ka.push_back(a.keypoints[i]), ra.push_back(static_cast<Eigen::Index>(i));
+        if (a.keypoints[i].octave <= 0)
+            ka.push_back(a.keypoints[i]), ra.push_back(static_cast<Eigen::Index>(i));
     for (size_t i = 0; i < b.keypoints.size(); ++i)
-        if (b.keypoints[i].octave <= 0) kb.push_back(b.keypoints[i]), rb.push_back(static_cast<Eigen::Index>(i));
+        if (b.keypoints[i].octave <= 0)
+            kb.push_back(b.keypoints[i]), rb.push_back(static_cast<Eigen::Index>(i));
     ASSERT_EQ(ka.size(), kb.size());
     ASSERT_GE(ka.size(), 5u);
     for (size_t i = 0; i < ka.size(); ++i) {

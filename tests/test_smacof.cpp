@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "canonform/canonical/euclidean_canonical_form.h"
-#include "canonform/surface/mesh_topology.h"
-#include "canonform/procedural/procedural_meshes.h"
 #include "canonform/numerics/rigid_alignment.h"
 #include "canonform/numerics/smacof.h"
+#include "canonform/procedural/procedural_meshes.h"
+#include "canonform/surface/mesh_topology.h"
 #include "test_util.h"
 
 #include <gtest/gtest.h>
@@ -66,7 +66,8 @@ TEST(Smacof, FullWeightRecoversAKnownPointSet) {
     double worst = 0;
     for (int i = 0; i < 30; ++i)
         for (int j = i + 1; j < 30; ++j)
-            worst = std::max(worst, std::abs((r.X.row(i) - r.X.row(j)).norm() - (X.row(i) - X.row(j)).norm()));
+            worst =
+                std::max(worst, std::abs((r.X.row(i) - r.X.row(j)).norm() - (X.row(i) - X.row(j)).norm()));
     EXPECT_LT(worst, 1e-4);
     EXPECT_LT(align_rigid(r.X, X).rms, 1e-4);
     EXPECT_LT(r.final_stress, 1e-8 * r.initial_stress);
@@ -252,8 +253,9 @@ TEST(SmacofAcceleration, EveryMethodReachesThePlainStressOnAFigure) {
         const EuclideanCanonicalFormResult r = euclidean_canonical_form(fig.mesh.V, fig.mesh.F, opt);
         SCOPED_TRACE(to_string(a));
         const double rms = test::aligned_rms(r.V, plain.V);
-        std::printf("[ info ] %-8s %4d steps (%d extrapolations, %d rejected), stress %.6g, rms to plain %.2e\n",
-                    to_string(a), r.iterations, r.extrapolations, r.rejections, r.final_stress, rms);
+        std::printf(
+            "[ info ] %-8s %4d steps (%d extrapolations, %d rejected), stress %.6g, rms to plain %.2e\n",
+            to_string(a), r.iterations, r.extrapolations, r.rejections, r.final_stress, rms);
         EXPECT_TRUE(r.converged);
         EXPECT_LE(r.final_stress, plain.final_stress * 1.002);
         EXPECT_LT(rms, 1.5 * spread + 1e-3);

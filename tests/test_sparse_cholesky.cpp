@@ -61,7 +61,8 @@ TEST(SparseCholesky, AColumnSolvedWithOthersIsTheSameBitsAsAlone) {
     for (const int cols : {3, 5}) {
         const Eigen::MatrixXd X = s.solve(B.leftCols(cols));
         ASSERT_TRUE(s.ok());
-        for (int c = 0; c < cols; ++c) EXPECT_TRUE(s.solve(B.col(c)) == X.col(c)) << cols << " columns, column " << c;
+        for (int c = 0; c < cols; ++c)
+            EXPECT_TRUE(s.solve(B.col(c)) == X.col(c)) << cols << " columns, column " << c;
     }
 }
 

@@ -11,7 +11,8 @@ namespace canonform::test {
 
 double aligned_rms(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
     const numerics::RigidAlignment al = numerics::align_rigid(a, b);
-    const double radius = std::sqrt((b.rowwise() - b.colwise().mean()).squaredNorm() / static_cast<double>(b.rows()));
+    const double radius =
+        std::sqrt((b.rowwise() - b.colwise().mean()).squaredNorm() / static_cast<double>(b.rows()));
     return al.rms / radius;
 }
 

@@ -27,8 +27,10 @@ auto under_l1_cache_sizes(Fn fn) -> std::vector<decltype(fn())> {
     const std::ptrdiff_t l1 = Eigen::l1CacheSize(), l2 = Eigen::l2CacheSize(), l3 = Eigen::l3CacheSize();
     std::vector<decltype(fn())> out;
     const std::ptrdiff_t K = 1024;
-    for (const auto& c : {std::array<std::ptrdiff_t, 3>{16 * K, 256 * K, 2048 * K}, {32 * K, 512 * K, 8192 * K},
-                          {48 * K, 1280 * K, 30720 * K}, {64 * K, 512 * K, 16384 * K}}) {
+    for (const auto& c : {std::array<std::ptrdiff_t, 3>{16 * K, 256 * K, 2048 * K},
+                          {32 * K, 512 * K, 8192 * K},
+                          {48 * K, 1280 * K, 30720 * K},
+                          {64 * K, 512 * K, 16384 * K}}) {
         Eigen::setCpuCacheSizes(c[0], c[1], c[2]);
         out.push_back(fn());
     }

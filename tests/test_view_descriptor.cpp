@@ -46,7 +46,8 @@ TEST(ViewDescriptor, SameShapeInAnotherFrameIsNearAndAnotherShapeIsFar) {
     const auto maps = rotation_view_maps();
     const double same = clock_matching_distance(view_histograms(a, cb), view_histograms(b, cb), maps);
     const double other = clock_matching_distance(view_histograms(a, cb), view_histograms(c, cb), maps);
-    std::printf("      clock matching: figure vs moved copy %.2f, figure vs torus %.2f (66 views)\n", same, other);
+    std::printf("      clock matching: figure vs moved copy %.2f, figure vs torus %.2f (66 views)\n", same,
+                other);
     EXPECT_LT(same, 0.25 * other);
     EXPECT_LT(same, 10.0);  // of at most 66
 }

@@ -4,20 +4,20 @@
 //
 // Include scheme: both -I<root>/filter_canonical and -I<root>/filter_viewdescriptor are on the
 // path; "core/<name>.h" resolves to whichever folder has <name>.h (the file names are distinct).
+#include "canonform/procedural/procedural_meshes.h"
 #include "canonform/views/depth_render.h"
 #include "canonform/views/pose_normalization.h"
-#include "canonform/procedural/procedural_meshes.h"
 #include "canonform/views/view_directions.h"
 #include "test_util.h"
 
-#include <Eigen/Dense>
 #include <gtest/gtest.h>
+#include <Eigen/Dense>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <numeric>
-#include <algorithm>
 #include <random>
 #include <set>
 
@@ -51,20 +51,23 @@ cf::Mesh to_mesh(const std::vector<Eigen::Vector3d>& P, const std::vector<Eigen:
 cf::Mesh make_cube(double h) {
     cf::Mesh m;
     m.V.resize(8, 3);
-    for (int i = 0; i < 8; ++i)
-        m.V.row(i) << ((i & 1) ? h : -h), ((i & 2) ? h : -h), ((i & 4) ? h : -h);
+    for (int i = 0; i < 8; ++i) m.V.row(i) << ((i & 1) ? h : -h), ((i & 2) ? h : -h), ((i & 4) ? h : -h);
     m.F.resize(12, 3);
-    m.F << 0, 2, 1, 1, 2, 3,   // z = -h
-        4, 5, 6, 5, 7, 6,      // z = +h
-        0, 1, 4, 1, 5, 4,      // y = -h
-        2, 6, 3, 3, 6, 7,      // y = +h
-        0, 4, 2, 2, 4, 6,      // x = -h
-        1, 3, 5, 3, 7, 5;      // x = +h
+    m.F << 0, 2, 1, 1, 2, 3,  // z = -h
+        4, 5, 6, 5, 7, 6,     // z = +h
+        0, 1, 4, 1, 5, 4,     // y = -h
+        2, 6, 3, 3, 6, 7,     // y = +h
+        0, 4, 2, 2, 4, 6,     // x = -h
+        1, 3, 5, 3, 7, 5;     // x = +h
     return m;
 }
 
-double pixel_x(int col, int size) { return -1.0 + (col + 0.5) * 2.0 / size; }
-double pixel_y(int row, int size) { return 1.0 - (row + 0.5) * 2.0 / size; }
+double pixel_x(int col, int size) {
+    return -1.0 + (col + 0.5) * 2.0 / size;
+}
+double pixel_y(int row, int size) {
+    return 1.0 - (row + 0.5) * 2.0 / size;
+}
 
 }  // namespace
 
@@ -147,8 +150,7 @@ TEST(RotationViewMaps, EveryRotationPermutesTheViews) {
         for (size_t b = 0; b < 24; ++b) {
             size_t c = 0;
             while ((R[a] * R[b] - R[c]).norm() > 1e-12) ++c;
-            for (size_t i = 0; i < 66; ++i)
-                EXPECT_EQ(M[c][i], M[a][static_cast<size_t>(M[b][i])]);
+            for (size_t i = 0; i < 66; ++i) EXPECT_EQ(M[c][i], M[a][static_cast<size_t>(M[b][i])]);
         }
 }
 
@@ -171,8 +173,8 @@ TEST(DepthRender, CameraFrameIsARightHandedRotationWithDocumentedUp) {
 TEST(DepthRender, SphereMatchesAnalyticDepth) {
     const cf::Mesh s = cf::procedural::make_icosphere(5, 0.9);
     const int N = 256;
-    for (const Eigen::Vector3d& dir : {Eigen::Vector3d(0, 0, 1), Eigen::Vector3d(1, 2, -0.5).normalized(),
-                                      vw::view_directions()[17]}) {
+    for (const Eigen::Vector3d& dir :
+         {Eigen::Vector3d(0, 0, 1), Eigen::Vector3d(1, 2, -0.5).normalized(), vw::view_directions()[17]}) {
         const vw::DepthImage img = vw::render_depth(s.V, s.F, dir, N);
         ASSERT_EQ(img.size, N);
         ASSERT_EQ(img.depth.size(), static_cast<size_t>(N * N));
@@ -361,9 +363,10 @@ TEST(DepthRender, OppositeViewsInOnePassAreTheTwoRenders) {
             gray_differs += g1[k] != g2[k];
         }
     }
-    std::printf("[ measure  ] opposite views in one pass against their own renders (33 pairs, 10k figure): "
-                "%ld covered pixels, coverage differs at %ld, depth differs by at most %.2g, 8-bit view at %ld\n",
-                covered, coverage_differs, largest, gray_differs);
+    std::printf(
+        "[ measure  ] opposite views in one pass against their own renders (33 pairs, 10k figure): "
+        "%ld covered pixels, coverage differs at %ld, depth differs by at most %.2g, 8-bit view at %ld\n",
+        covered, coverage_differs, largest, gray_differs);
     // A centre exactly on an edge may fall either way, a depth may differ in its last bits.
     EXPECT_LE(coverage_differs, covered / 10000 + 2);
     EXPECT_LE(largest, 1e-6);
@@ -417,7 +420,8 @@ void expect_pose_invariant(const cf::Mesh& mesh, std::uint64_t seed, bool* used_
 TEST(PoseNormalization, FigureIsInvariantToSimilarityTransforms) {
     int n_rect = 0, n = 0;
     for (int pose_id : {0, 2, 3, 4, 5, 11}) {
-        const cf::procedural::Figure fig = cf::procedural::make_figure(2000, cf::procedural::figure_pose(pose_id));
+        const cf::procedural::Figure fig =
+            cf::procedural::make_figure(2000, cf::procedural::figure_pose(pose_id));
         bool used_rect = false;
         SCOPED_TRACE(pose_id);
         expect_pose_invariant(fig.mesh, 100 + static_cast<std::uint64_t>(pose_id), &used_rect);
@@ -431,7 +435,8 @@ TEST(PoseNormalization, BoxLikeShapeIsAlignedByRectilinearity) {
     // A rotated cube: PCA is degenerate (isotropic covariance), rectilinearity aligns the faces
     // with the axes (projected area ratio 1) and wins by bounding-box volume.
     cf::Mesh cube = make_cube(1.0);
-    const Eigen::Matrix3d Q = Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
+    const Eigen::Matrix3d Q =
+        Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
     cube.V = cube.V * Q.transpose();
     const vw::PoseNormalization p = vw::normalize_pose(cube.V, cube.F);
     EXPECT_TRUE(p.used_rectilinearity);
@@ -462,12 +467,14 @@ TEST(PoseNormalization, BinnedCoarseSearchFindsTheSameRectilinearity) {
     // The coarse restarts on direction-binned area vectors, refined on every face, reach the
     // projected-area minimum of the search over every face (within the refinement's tolerance).
     for (int pose = 0; pose < 4; ++pose) {
-        const cf::procedural::Figure fig = cf::procedural::make_figure(3000, cf::procedural::figure_pose(pose));
+        const cf::procedural::Figure fig =
+            cf::procedural::make_figure(3000, cf::procedural::figure_pose(pose));
         vw::PoseOptions exact;
         exact.direction_bins = 0;
         const vw::PoseNormalization a = vw::normalize_pose(fig.mesh.V, fig.mesh.F);
         const vw::PoseNormalization b = vw::normalize_pose(fig.mesh.V, fig.mesh.F, exact);
-        EXPECT_NEAR(a.rect_projected_area, b.rect_projected_area, 1e-3 * b.rect_projected_area) << "pose " << pose;
+        EXPECT_NEAR(a.rect_projected_area, b.rect_projected_area, 1e-3 * b.rect_projected_area)
+            << "pose " << pose;
         EXPECT_DOUBLE_EQ(a.pca_cost, b.pca_cost);
         EXPECT_LE(a.rect_projected_area, a.pca_projected_area + 1e-12);
     }
@@ -477,16 +484,19 @@ TEST(PoseNormalization, ProjectedAreaRatioIsTheSumOverFaces) {
     // projected_area_ratio (and the rectilinearity cost it shares, evaluated on coordinate arrays
     // with SIMD packets) equals the plain sum over faces of |R a_t|_1 / sum_t |a_t|.
     const cf::procedural::Figure fig = cf::procedural::make_figure(3000, cf::procedural::figure_pose(1));
-    const Eigen::Matrix3d R = Eigen::Quaterniond(Eigen::Vector4d(0.3, -0.5, 0.2, 0.7).normalized()).toRotationMatrix();
+    const Eigen::Matrix3d R =
+        Eigen::Quaterniond(Eigen::Vector4d(0.3, -0.5, 0.2, 0.7).normalized()).toRotationMatrix();
     double projected = 0, area = 0;
     for (Eigen::Index f = 0; f < fig.mesh.F.rows(); ++f) {
-        const Eigen::Vector3d p0 = fig.mesh.V.row(fig.mesh.F(f, 0)).transpose(), p1 = fig.mesh.V.row(fig.mesh.F(f, 1)).transpose(),
+        const Eigen::Vector3d p0 = fig.mesh.V.row(fig.mesh.F(f, 0)).transpose(),
+                              p1 = fig.mesh.V.row(fig.mesh.F(f, 1)).transpose(),
                               p2 = fig.mesh.V.row(fig.mesh.F(f, 2)).transpose();
         const Eigen::Vector3d a = 0.5 * (p1 - p0).cross(p2 - p0);
         projected += (R * a).cwiseAbs().sum();
         area += a.norm();
     }
-    EXPECT_NEAR(vw::projected_area_ratio(fig.mesh.V, fig.mesh.F, R), projected / area, 1e-12 * projected / area);
+    EXPECT_NEAR(vw::projected_area_ratio(fig.mesh.V, fig.mesh.F, R), projected / area,
+                1e-12 * projected / area);
     EXPECT_GT(projected / area, 1.0);  // |x|_1 >= |x|_2 for every face
 }
 
@@ -494,11 +504,14 @@ TEST(PoseNormalization, SameBitsWhateverTheCpuCacheSizes) {
     // Eigen blocks a matrix product by the L1 cache size that CPUID reports; the pose does not
     // depend on it (the covariance is summed row by row; no libm either, see the header).
     for (int pose_id : {4, 5}) {
-        const cf::procedural::Figure fig = cf::procedural::make_figure(2000, cf::procedural::figure_pose(pose_id));
-        const auto poses = cf::test::under_l1_cache_sizes([&] { return vw::normalize_pose(fig.mesh.V, fig.mesh.F); });
+        const cf::procedural::Figure fig =
+            cf::procedural::make_figure(2000, cf::procedural::figure_pose(pose_id));
+        const auto poses =
+            cf::test::under_l1_cache_sizes([&] { return vw::normalize_pose(fig.mesh.V, fig.mesh.F); });
         for (const auto& p : poses) {
             EXPECT_EQ(p.used_rectilinearity, poses[0].used_rectilinearity);
-            EXPECT_TRUE((p.R.array() == poses[0].R.array()).all()) << "pose " << pose_id << "\n" << p.R - poses[0].R;
+            EXPECT_TRUE((p.R.array() == poses[0].R.array()).all()) << "pose " << pose_id << "\n"
+                                                                   << p.R - poses[0].R;
             EXPECT_EQ(p.rect_projected_area, poses[0].rect_projected_area);
         }
     }

@@ -68,7 +68,8 @@ void list_filters() {
     for (const std::string& name : fs.pythonFilterFunctionNames()) {
         const pymeshlab::Function& f = fs.filterFunction(QString::fromStdString(name));
         std::printf("%s", name.c_str());
-        for (const pymeshlab::FunctionParameter& p : f) std::printf(" %s", p.pythonName().toStdString().c_str());
+        for (const pymeshlab::FunctionParameter& p : f)
+            std::printf(" %s", p.pythonName().toStdString().c_str());
         std::printf("\n");
     }
 }
@@ -76,9 +77,11 @@ void list_filters() {
 }  // namespace
 
 int main(int argc, char** argv) {
-    CLI::App app{"Applies a MeshLab filter (by its Python name, as in pymeshlab) to a mesh file, with the installed "
-                 "MeshLab " +
-                 ::meshlab::meshlabVersion() + "'s own library and plugins; prints the filter's returned values as JSON."};
+    CLI::App app{
+        "Applies a MeshLab filter (by its Python name, as in pymeshlab) to a mesh file, with the installed "
+        "MeshLab " +
+        ::meshlab::meshlabVersion() +
+        "'s own library and plugins; prints the filter's returned values as JSON."};
     std::string in, out, filter, json_file, layer = "result", plugin_dir = CANONFORM_MESHLAB_PLUGIN_DIR;
     std::vector<std::string> params, plugins;
     bool list = false, verbose = false;
@@ -87,8 +90,9 @@ int main(int argc, char** argv) {
     app.add_option("--filter", filter, "the filter's Python name, e.g. generate_euclidean_canonical_form");
     app.add_option("--param", params, "a parameter as key=value (Python name; enums by name or index)");
     app.add_option("--json", json_file, "also write the returned values (JSON) to this file");
-    app.add_option("--layer", layer, "which layer to save: result (the last layer the filter made, else the current "
-                                     "mesh), current, or a layer index")
+    app.add_option("--layer", layer,
+                   "which layer to save: result (the last layer the filter made, else the current "
+                   "mesh), current, or a layer index")
         ->capture_default_str();
     app.add_option("--plugin", plugins, "load this plugin file too (as pymeshlab.load_plugin)");
     app.add_option("--plugins", plugin_dir, "MeshLab's plugin folder")->capture_default_str();
@@ -121,9 +125,12 @@ int main(int argc, char** argv) {
         // MeshLab's plugins, with MeshLab's checks; a refused plugin is reported, the others load
         const std::string refused = canonform::meshlab::load_plugins(plugin_dir);
         if (!refused.empty()) {
-            if (verbose) std::fprintf(stderr, "canonform-meshlab: %s\n", refused.c_str());
-            else std::fprintf(stderr, "canonform-meshlab: note: MeshLab did not load %s (--verbose says why)\n",
-                              refused_files(refused).c_str());
+            if (verbose)
+                std::fprintf(stderr, "canonform-meshlab: %s\n", refused.c_str());
+            else
+                std::fprintf(stderr,
+                             "canonform-meshlab: note: MeshLab did not load %s (--verbose says why)\n",
+                             refused_files(refused).c_str());
         }
         for (const std::string& p : plugins) canonform::meshlab::load_plugin(p);
         if (list) {
@@ -131,8 +138,8 @@ int main(int argc, char** argv) {
             return 0;
         }
         if (!pymeshlab::functionSetInstance().containsFilterFunction(QString::fromStdString(filter)))
-            return fail("no filter named '" + filter + "' in MeshLab " + ::meshlab::meshlabVersion() + " (loaded from " +
-                        plugin_dir + "; --list shows the names)");
+            return fail("no filter named '" + filter + "' in MeshLab " + ::meshlab::meshlabVersion() +
+                        " (loaded from " + plugin_dir + "; --list shows the names)");
 
         MeshSet ms;
         ms.load_new_mesh(in);
@@ -157,7 +164,9 @@ int main(int argc, char** argv) {
             }
             for (MeshModel& m : ms.meshIterator())
                 if (k++ == index) target = &m;
-            if (!target) return fail("--layer " + layer + ": the document has " + std::to_string(ms.meshNumber()) + " layers");
+            if (!target)
+                return fail("--layer " + layer + ": the document has " + std::to_string(ms.meshNumber()) +
+                            " layers");
         }
         if (!target) return fail("the filter left no mesh to save");
 

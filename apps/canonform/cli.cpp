@@ -35,8 +35,10 @@ double log_interval() {
         char* end = nullptr;
         const double v = std::strtod(text, &end);
         if (*end || !(v >= 0 && v <= 86400)) {
-            std::fprintf(stderr, "canonform: note: CANONFORM_PROGRESS_INTERVAL='%s' is not a number of seconds in "
-                                 "[0, 86400]; using %g\n", text, ProgressLine::kLogInterval);
+            std::fprintf(stderr,
+                         "canonform: note: CANONFORM_PROGRESS_INTERVAL='%s' is not a number of seconds in "
+                         "[0, 86400]; using %g\n",
+                         text, ProgressLine::kLogInterval);
             return ProgressLine::kLogInterval;
         }
         return v;
@@ -61,7 +63,8 @@ void ProgressLine::update(const std::string& text, bool done) {
     // last one (if any was written, or the work took that long) - a short run writes nothing.
     const double interval = log_interval();
     const auto now = std::chrono::steady_clock::now();
-    if (std::chrono::duration<double>(now - last_).count() < interval && !(done && (written_ || seconds() >= interval)))
+    if (std::chrono::duration<double>(now - last_).count() < interval &&
+        !(done && (written_ || seconds() >= interval)))
         return;
     std::fprintf(stderr, "%s\n", text.c_str());
     std::fflush(stderr);
@@ -69,7 +72,9 @@ void ProgressLine::update(const std::string& text, bool done) {
     written_ = !done;
 }
 
-double ProgressLine::seconds() const { return seconds_since(t0_); }
+double ProgressLine::seconds() const {
+    return seconds_since(t0_);
+}
 
 ProgressFn terminal_progress(bool quiet, const std::string& label) {
     const auto line = std::make_shared<ProgressLine>(quiet);
@@ -78,8 +83,8 @@ ProgressFn terminal_progress(bool quiet, const std::string& label) {
         const std::string what = label.empty() ? std::string(stage) : "[" + label + "] " + stage;
         char text[256];
         if (f > 0 && f < 1)
-            std::snprintf(text, sizeof text, "%3d%%  %-40s %.0f s left", static_cast<int>(100 * f), what.c_str(),
-                          el * (1 - f) / f);
+            std::snprintf(text, sizeof text, "%3d%%  %-40s %.0f s left", static_cast<int>(100 * f),
+                          what.c_str(), el * (1 - f) / f);
         else
             std::snprintf(text, sizeof text, "%3d%%  %s", static_cast<int>(100 * f), what.c_str());
         line->update(text, f >= 1);
@@ -158,8 +163,8 @@ CLI::Option* add_parameter(CLI::App* c, const Parameter& p, ParameterArgs& args,
         if (!p.alias().empty()) flag = "--" + p.alias() + "," + flag;
         args.values[p.name()] = p.default_value();
         o = c->add_option(flag, args.values[p.name()], help)
-                ->type_name(p.type() == ParameterType::Choice ? "TEXT"
-                            : p.type() == ParameterType::Int  ? "INT"
+                ->type_name(p.type() == ParameterType::Choice  ? "TEXT"
+                            : p.type() == ParameterType::Int   ? "INT"
                             : p.type() == ParameterType::Float ? "FLOAT"
                                                                : "TEXT");
         if (!defaults.empty()) o->default_str("");
@@ -173,11 +178,14 @@ CLI::Option* add_parameter(CLI::App* c, const Parameter& p, ParameterArgs& args,
                     }
                     return "";
                 },
-                p.type() == ParameterType::Choice ? "{" + [&p] {
-                    std::string s;
-                    for (const auto& ch : p.choices()) s += (s.empty() ? "" : ",") + ch;
-                    return s;
-                }() + "}"
+                p.type() == ParameterType::Choice ? "{" +
+                                                        [&p] {
+                                                            std::string s;
+                                                            for (const auto& ch : p.choices())
+                                                                s += (s.empty() ? "" : ",") + ch;
+                                                            return s;
+                                                        }() +
+                                                        "}"
                 : p.is_number() ? (p.type() == ParameterType::Int ? "INT" : "NUMBER") + std::string(" in [") +
                                       format_number(p.min()) + ", " + format_number(p.max()) + "]"
                                 : ""));
@@ -192,7 +200,8 @@ CLI::Validator mesh_output(bool faces) {
             try {
                 const io::MeshFormat f = io::output_mesh_format(path);
                 if (!faces && f == io::MeshFormat::Stl)
-                    return "cannot write '" + path + "': an STL file cannot hold a point cloud (name it .ply, .off or .obj)";
+                    return "cannot write '" + path +
+                           "': an STL file cannot hold a point cloud (name it .ply, .off or .obj)";
             } catch (const std::exception& e) {
                 return e.what();
             }
@@ -218,8 +227,8 @@ CLI::Validator finite_range(double min, double max) {
         d.str());
 }
 
-void add_in_out(CLI::App* command, std::string& in, std::string& out, const std::string& out_help, bool mesh_out,
-                bool faces) {
+void add_in_out(CLI::App* command, std::string& in, std::string& out, const std::string& out_help,
+                bool mesh_out, bool faces) {
     command->add_option("IN", in, "input mesh (OFF, PLY, OBJ, STL)")->required();
     auto* o = command->add_option("OUT", out, out_help)->required();
     if (mesh_out) o->check(mesh_output(faces));

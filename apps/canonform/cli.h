@@ -8,8 +8,8 @@
 #pragma once
 
 #include "canonform/common/errors.h"
-#include "canonform/common/parameters.h"
 #include "canonform/common/mesh.h"
+#include "canonform/common/parameters.h"
 
 #include "canonform/retrieval/experiment.h"
 
@@ -23,7 +23,6 @@
 #include <vector>
 
 namespace canonform::cli {
-
 
 /// A usage error found after parsing (exit status 2, like CLI11's own).
 struct UsageError : std::runtime_error {
@@ -73,8 +72,8 @@ Mesh read_input_mesh(const std::string& path, bool repair, bool quiet, bool vali
 /// read_input_mesh() for the commands that work on one large mesh (conformal, features, canonical),
 /// which first makes freed memory stay with the process for reuse instead of going back to the
 /// system (glibc's malloc returns large blocks with munmap, and they are faulted in again at their
-/// next use; the figures are in docs/benchmarks.md, "Canonical form at scale"). The peak stays the peak of the
-/// live data.
+/// next use; the figures are in docs/benchmarks.md, "Canonical form at scale"). The peak stays the peak of
+/// the live data.
 Mesh read_large_mesh(const std::string& path, bool repair, bool quiet);
 
 /// Adds --repair (surface/mesh_repair.h's repair_parameter(); default off: strict) to a command
@@ -83,10 +82,10 @@ void add_repair_flag(CLI::App* command, bool& repair);
 
 /// The texts given on the command line for parameters (common/parameters.h), by add_parameter().
 struct ParameterArgs {
-    std::map<std::string, std::string> values;     ///< name -> text (the default until given)
-    std::map<std::string, bool> switches;          ///< name -> value, for a switch
-    std::map<std::string, CLI::Option*> options;   ///< name -> its option
-    std::vector<std::string> order;                ///< names, in the order added
+    std::map<std::string, std::string> values;    ///< name -> text (the default until given)
+    std::map<std::string, bool> switches;         ///< name -> value, for a switch
+    std::map<std::string, CLI::Option*> options;  ///< name -> its option
+    std::vector<std::string> order;               ///< names, in the order added
     /// The parameters given on the command line, in the order added: (name, text).
     std::vector<std::pair<std::string, std::string>> given() const;
 };
@@ -161,9 +160,10 @@ retrieval::ExperimentOptions finish_experiment_options(const ExperimentArgs& arg
 using AddCommand = void(CLI::App& app);
 
 // The commands, in mesh_commands.cpp, views_commands.cpp and retrieval_commands.cpp.
-AddCommand add_check, add_conformal, add_features, add_canonical, add_simplify, add_generate, add_picture,  // one mesh
-    add_views, add_codebook, add_descriptor, add_distance,                                          // views
-    add_retrieve, add_evaluate, add_grid, add_pr,                                                   // retrieval
-    add_stage, add_status, add_slurm, add_index, add_query;                                                     // sharded_commands.cpp
+AddCommand add_check, add_conformal, add_features, add_canonical, add_simplify, add_generate,
+    add_picture,                                             // one mesh
+    add_views, add_codebook, add_descriptor, add_distance,   // views
+    add_retrieve, add_evaluate, add_grid, add_pr,            // retrieval
+    add_stage, add_status, add_slurm, add_index, add_query;  // sharded_commands.cpp
 
 }  // namespace canonform::cli

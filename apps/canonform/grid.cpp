@@ -31,7 +31,8 @@ struct Entry {
 
 std::vector<Entry> read_collection(const std::string& run) {
     const std::string path = run + "/collection.csv";
-    if (!io::is_file(path)) throw InputError("'" + run + "' has no collection.csv: is it a `canonform retrieve` run folder?");
+    if (!io::is_file(path))
+        throw InputError("'" + run + "' has no collection.csv: is it a `canonform retrieve` run folder?");
     std::vector<Entry> out;
     const auto rows = io::read_csv(path);
     for (size_t r = 1; r < rows.size(); ++r) {  // row 0: the header
@@ -42,8 +43,6 @@ std::vector<Entry> read_collection(const std::string& run) {
     }
     return out;
 }
-
-
 
 /// Position of every vertex along the longest principal axis of `ref`, scaled to [0, 1].
 Eigen::VectorXd heights(const Eigen::MatrixXd& ref) {
@@ -85,7 +84,8 @@ int write_grid(const std::string& path, const GridOptions& o) {
     std::vector<std::string> methods = o.methods;
     if (methods.empty()) {
         for (const auto& d : std::filesystem::directory_iterator(o.run))
-            if (d.is_directory() && d.path().filename() != "none" && io::is_file(d.path().string() + "/models.csv"))
+            if (d.is_directory() && d.path().filename() != "none" &&
+                io::is_file(d.path().string() + "/models.csv"))
                 methods.push_back(d.path().filename().string());
         std::sort(methods.begin(), methods.end());
     }
@@ -136,7 +136,8 @@ int write_grid(const std::string& path, const GridOptions& o) {
             if (r == 0) {
                 m = orig;
             } else {
-                const std::string fp = o.run + "/" + methods[static_cast<size_t>(r - 1)] + "/forms/" + cols[c].name + ".ply";
+                const std::string fp =
+                    o.run + "/" + methods[static_cast<size_t>(r - 1)] + "/forms/" + cols[c].name + ".ply";
                 if (io::is_file(fp)) m = io::read_mesh(fp);
             }
             if (m.V.rows() == 0) {
@@ -148,8 +149,8 @@ int write_grid(const std::string& path, const GridOptions& o) {
     }
     for (int r = 0; r < rows; ++r) {
         const std::string name = r == 0 ? std::string("original") : row_labels[static_cast<size_t>(r - 1)];
-        p.drawText(QRect(4, label_h + r * P, label_w - 8, P), Qt::AlignVCenter | Qt::AlignLeft | Qt::TextWordWrap,
-                   QString::fromStdString(name));
+        p.drawText(QRect(4, label_h + r * P, label_w - 8, P),
+                   Qt::AlignVCenter | Qt::AlignLeft | Qt::TextWordWrap, QString::fromStdString(name));
         if (r > 0) p.drawLine(label_w, label_h + r * P, out.width(), label_h + r * P);
     }
     p.end();

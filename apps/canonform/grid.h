@@ -9,12 +9,12 @@
 namespace canonform::cli {
 
 struct GridOptions {
-    std::string run;                   ///< a `canonform retrieve` run folder (RUN/collection.csv, RUN/METHOD/forms/)
+    std::string run;  ///< a `canonform retrieve` run folder (RUN/collection.csv, RUN/METHOD/forms/)
     std::vector<std::string> methods;  ///< method folders of the run, one row each ("" = every one but none);
                                        ///< "DIR=LABEL" labels the row LABEL
-    std::string cls;                   ///< "" = the first model of every class (Fig. 8); else models of this class (Fig. 9)
-    int columns = 10;                  ///< at most this many columns
-    int panel = 150;                   ///< pixels per panel
+    std::string cls;   ///< "" = the first model of every class (Fig. 8); else models of this class (Fig. 9)
+    int columns = 10;  ///< at most this many columns
+    int panel = 150;   ///< pixels per panel
 };
 
 /// Renders the grid into a PNG at `path` (written atomically): the first row the original meshes

@@ -28,13 +28,26 @@ struct Command {
 
 /// Every command, in the order of `canonform --help`. A new command: one line here.
 const Command kCommands[] = {
-    {"check", add_check},           {"conformal", add_conformal},   {"features", add_features}, {"canonical", add_canonical},
-    {"simplify", add_simplify},     {"views", add_views},       {"codebook", add_codebook},
-    {"descriptor", add_descriptor}, {"distance", add_distance}, {"retrieve", add_retrieve},
-    {"evaluate", add_evaluate},     {"grid", add_grid},         {"pr", add_pr},
+    {"check", add_check},
+    {"conformal", add_conformal},
+    {"features", add_features},
+    {"canonical", add_canonical},
+    {"simplify", add_simplify},
+    {"views", add_views},
+    {"codebook", add_codebook},
+    {"descriptor", add_descriptor},
+    {"distance", add_distance},
+    {"retrieve", add_retrieve},
+    {"evaluate", add_evaluate},
+    {"grid", add_grid},
+    {"pr", add_pr},
     {"generate", add_generate},
-    {"picture", add_picture},       {"stage", add_stage},       {"status", add_status},
-    {"slurm", add_slurm},           {"index", add_index},       {"query", add_query},
+    {"picture", add_picture},
+    {"stage", add_stage},
+    {"status", add_status},
+    {"slurm", add_slurm},
+    {"index", add_index},
+    {"query", add_query},
 };
 
 bool known(const char* name) {
@@ -47,12 +60,14 @@ bool known(const char* name) {
 
 int main(int argc, char** argv) {
 #ifdef CANONFORM_HAVE_OPENCV_SIFT
-    canonform::views::register_opencv_sift();  // `--sift opencv` (the plugins carry only the built-in extractor)
+    canonform::views::register_opencv_sift();  // `--sift opencv` (the plugins carry only the built-in
+                                               // extractor)
 #endif
-    CLI::App app{"canonform: pose-invariant canonical forms of non-rigid triangle meshes (Pickup et al. 2015) "
-                 "and view-based shape retrieval.\nMeshes: OFF, PLY, OBJ or STL in; binary PLY out. "
-                 "`canonform COMMAND --help` lists a command's options and defaults.",
-                 "canonform"};
+    CLI::App app{
+        "canonform: pose-invariant canonical forms of non-rigid triangle meshes (Pickup et al. 2015) "
+        "and view-based shape retrieval.\nMeshes: OFF, PLY, OBJ or STL in; binary PLY out. "
+        "`canonform COMMAND --help` lists a command's options and defaults.",
+        "canonform"};
     app.set_version_flag("--version", std::string("canonform ") + canonform::version());
     app.option_defaults()->always_capture_default();
     app.require_subcommand(1);
@@ -71,7 +86,8 @@ int main(int argc, char** argv) {
         return app.exit(e);
     } catch (const CLI::ParseError& e) {
         std::cerr << "canonform" << (*command ? std::string(" ") + command : "") << ": " << e.what()
-                  << "\n(`canonform" << (*command ? std::string(" ") + command : "") << " --help` lists the options)\n";
+                  << "\n(`canonform" << (*command ? std::string(" ") + command : "")
+                  << " --help` lists the options)\n";
         return 2;
     } catch (const ExitStatus& e) {
         return e.code;

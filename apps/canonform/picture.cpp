@@ -39,7 +39,8 @@ QImage panel_image(const Mesh& m, const Eigen::MatrixXd& C, const Eigen::MatrixX
     render::draw_mesh(img, view, m.V, m.F, C);
     if (points.rows()) {
         const double diag = (m.V.colwise().maxCoeff() - m.V.colwise().minCoeff()).norm();
-        render::draw_points(img, view, points, Eigen::Vector3d(0.95, 0.1, 0.1), std::max(3, size / 90), 0.01 * diag);
+        render::draw_points(img, view, points, Eigen::Vector3d(0.95, 0.1, 0.1), std::max(3, size / 90),
+                            0.01 * diag);
     }
     QImage q(img.rgb.data(), size, size, 3 * size, QImage::Format_RGB888);
     return q.copy();  // own the pixels
@@ -68,8 +69,10 @@ void check_drawable(const std::string& path, const Mesh& m, const Eigen::VectorX
                          " vertices and no faces (a point cloud): the picture draws a triangle mesh");
     if (!m.V.allFinite()) throw InputError(where + "the mesh has NaN or infinite coordinates");
     if (!((m.V.colwise().maxCoeff() - m.V.colwise().minCoeff()).stableNorm() > 0))
-        throw InputError(where + "all " + std::to_string(m.V.rows()) + " vertices are at one point: nothing to draw");
-    if (quality.size() && !quality.allFinite()) throw InputError(where + "the vertex quality has NaN or infinite values");
+        throw InputError(where + "all " + std::to_string(m.V.rows()) +
+                         " vertices are at one point: nothing to draw");
+    if (quality.size() && !quality.allFinite())
+        throw InputError(where + "the vertex quality has NaN or infinite values");
 }
 
 void check_points(const std::string& path, const Eigen::MatrixXd& P) {
@@ -78,7 +81,8 @@ void check_points(const std::string& path, const Eigen::MatrixXd& P) {
 }
 
 void write_picture(const std::string& path, const PictureInputs& in, int panel) {
-    if (panel < 64 || panel > 4096) throw std::runtime_error("the panel size must be between 64 and 4096 pixels");
+    if (panel < 64 || panel > 4096)
+        throw std::runtime_error("the panel size must be between 64 and 4096 pixels");
     cli::ensure_gui_application();
 
     struct Panel {
@@ -98,7 +102,8 @@ void write_picture(const std::string& path, const PictureInputs& in, int panel) 
         if (in.canonical.V.rows() != in.mesh.V.rows())
             throw std::runtime_error("the canonical form and the mesh have different vertex counts");
         const Eigen::MatrixXd Cc = colours_from(in.canonical_quality, in.canonical.V.rows());
-        const Eigen::MatrixXd P = in.points.rows() ? map_points(in.mesh, in.points, in.canonical.V) : Eigen::MatrixXd();
+        const Eigen::MatrixXd P =
+            in.points.rows() ? map_points(in.mesh, in.points, in.canonical.V) : Eigen::MatrixXd();
         panels.push_back({panel_image(in.canonical, Cc, P, panel), "canonical form"});
     }
     const int label_h = 28;
@@ -131,7 +136,8 @@ void write_view_images(const std::string& dir, const views::ViewSet& vs) {
         save_png(img, dir + name);
         const int x = static_cast<int>(k % cols) * thumb, y = static_cast<int>(k / cols) * (thumb + label);
         p.drawImage(QRect(x, y + label, thumb, thumb), img);
-        p.drawText(QRect(x, y, thumb, label), Qt::AlignCenter, QString("view %1: %2 keypoints").arg(k).arg(counts[k]));
+        p.drawText(QRect(x, y, thumb, label), Qt::AlignCenter,
+                   QString("view %1: %2 keypoints").arg(k).arg(counts[k]));
     }
     p.end();
     save_png(sheet, dir + "/contact_sheet.png");

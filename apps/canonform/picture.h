@@ -16,11 +16,11 @@ namespace canonform {
 
 /// What the picture shows; empty members are left out.
 struct PictureInputs {
-    Mesh mesh;                 ///< the input mesh
-    Eigen::VectorXd mesh_quality;      ///< colour of the mesh (e.g. conformal factor), or empty
-    Eigen::MatrixXd points;            ///< feature points (#P x 3), or empty
-    Mesh canonical;            ///< canonical form (same vertex order as mesh), or empty
-    Eigen::VectorXd canonical_quality; ///< colour of the canonical form, or empty
+    Mesh mesh;                          ///< the input mesh
+    Eigen::VectorXd mesh_quality;       ///< colour of the mesh (e.g. conformal factor), or empty
+    Eigen::MatrixXd points;             ///< feature points (#P x 3), or empty
+    Mesh canonical;                     ///< canonical form (same vertex order as mesh), or empty
+    Eigen::VectorXd canonical_quality;  ///< colour of the canonical form, or empty
 };
 
 /// Refuses a mesh the picture cannot draw, naming `path` and the cause: no vertices, no faces (a

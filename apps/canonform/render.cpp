@@ -10,10 +10,13 @@
 namespace canonform::render {
 
 Image::Image(int w, int h, Eigen::Vector3d background)
-    : width(w), height(h), rgb(static_cast<size_t>(w) * h * 3), depth(static_cast<size_t>(w) * h,
-                                                                      -std::numeric_limits<float>::infinity()) {
+    : width(w),
+      height(h),
+      rgb(static_cast<size_t>(w) * h * 3),
+      depth(static_cast<size_t>(w) * h, -std::numeric_limits<float>::infinity()) {
     for (size_t k = 0; k < static_cast<size_t>(w) * h; ++k)
-        for (int c = 0; c < 3; ++c) rgb[3 * k + c] = static_cast<std::uint8_t>(std::lround(255 * background(c)));
+        for (int c = 0; c < 3; ++c)
+            rgb[3 * k + c] = static_cast<std::uint8_t>(std::lround(255 * background(c)));
 }
 
 View fit_view(const Eigen::MatrixXd& V, int width, int height, int margin) {
@@ -51,7 +54,8 @@ Eigen::Vector3d project(const View& v, const Eigen::Vector3d& p) {
 void draw_mesh(Image& img, const View& view, const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
                const Eigen::MatrixXd& C) {
     std::vector<Eigen::Vector3d> P(static_cast<size_t>(V.rows()));
-    for (Eigen::Index k = 0; k < V.rows(); ++k) P[static_cast<size_t>(k)] = project(view, V.row(k).transpose());
+    for (Eigen::Index k = 0; k < V.rows(); ++k)
+        P[static_cast<size_t>(k)] = project(view, V.row(k).transpose());
     for (Eigen::Index f = 0; f < F.rows(); ++f) {
         const Eigen::Vector3d &a = P[static_cast<size_t>(F(f, 0))], &b = P[static_cast<size_t>(F(f, 1))],
                               &c = P[static_cast<size_t>(F(f, 2))];
@@ -81,14 +85,15 @@ void draw_mesh(Image& img, const View& view, const Eigen::MatrixXd& V, const Eig
                 const Eigen::Vector3d col =
                     shade * (w0 * C.row(F(f, 0)) + w1 * C.row(F(f, 1)) + w2 * C.row(F(f, 2))).transpose();
                 for (int ch = 0; ch < 3; ++ch)
-                    img.rgb[3 * k + ch] = static_cast<std::uint8_t>(std::clamp(std::lround(255 * col(ch)), 0L, 255L));
+                    img.rgb[3 * k + ch] =
+                        static_cast<std::uint8_t>(std::clamp(std::lround(255 * col(ch)), 0L, 255L));
             }
         }
     }
 }
 
-void draw_points(Image& img, const View& view, const Eigen::MatrixXd& P, const Eigen::Vector3d& color, int radius,
-                 double tolerance) {
+void draw_points(Image& img, const View& view, const Eigen::MatrixXd& P, const Eigen::Vector3d& color,
+                 int radius, double tolerance) {
     for (Eigen::Index k = 0; k < P.rows(); ++k) {
         const Eigen::Vector3d p = project(view, P.row(k).transpose());
         const int cx = static_cast<int>(p(0)), cy = static_cast<int>(p(1));
@@ -103,7 +108,8 @@ void draw_points(Image& img, const View& view, const Eigen::MatrixXd& P, const E
                 if (!visible && !rim) continue;
                 const Eigen::Vector3d col = rim ? Eigen::Vector3d::Zero().eval() : color;
                 const size_t i = 3 * (static_cast<size_t>(y) * img.width + x);
-                for (int ch = 0; ch < 3; ++ch) img.rgb[i + ch] = static_cast<std::uint8_t>(std::lround(255 * col(ch)));
+                for (int ch = 0; ch < 3; ++ch)
+                    img.rgb[i + ch] = static_cast<std::uint8_t>(std::lround(255 * col(ch)));
             }
         }
     }
@@ -111,8 +117,8 @@ void draw_points(Image& img, const View& view, const Eigen::MatrixXd& P, const E
 
 Eigen::Vector3d ramp(double t) {
     t = std::clamp(t, 0.0, 1.0);
-    static const Eigen::Vector3d stops[5] = {{0.1, 0.2, 0.9}, {0.1, 0.8, 0.9}, {0.2, 0.8, 0.2},
-                                             {0.95, 0.9, 0.1}, {0.9, 0.15, 0.1}};
+    static const Eigen::Vector3d stops[5] = {
+        {0.1, 0.2, 0.9}, {0.1, 0.8, 0.9}, {0.2, 0.8, 0.2}, {0.95, 0.9, 0.1}, {0.9, 0.15, 0.1}};
     const double s = t * 4;
     const int i = std::min(3, static_cast<int>(s));
     return stops[i] + (s - i) * (stops[i + 1] - stops[i]);

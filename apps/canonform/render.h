@@ -24,7 +24,7 @@ struct Image {
 /// Camera: rows of R are the screen's right, up and toward-viewer axes (world coordinates).
 struct View {
     Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
-    double scale = 1;                       ///< pixels per world unit
+    double scale = 1;                                  ///< pixels per world unit
     Eigen::Vector2d offset = Eigen::Vector2d::Zero();  ///< pixel position of the world origin
 };
 

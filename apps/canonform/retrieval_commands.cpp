@@ -70,22 +70,26 @@ void print_row(std::ostream& o, const std::string& name, const retrieval::Measur
 
 void add_experiment_options(CLI::App* c, ExperimentArgs& a) {
     std::string names;
-    for (const canonical::CanonicalMethod* m : canonical::canonical_methods()) names += (names.empty() ? "" : ", ") + m->name;
+    for (const canonical::CanonicalMethod* m : canonical::canonical_methods())
+        names += (names.empty() ? "" : ", ") + m->name;
     c->add_option("--dataset", a.o.dataset, "collection folder (label paths are relative to it)")->required();
     c->add_option("--labels", a.o.labels, "labels file, rows path,class (default: DATASET/labels.csv)");
-    c->add_option("--out", a.o.out, "run folder (for a sharded run on a filesystem every machine shares)")->required();
-    c->add_option("--method", a.methods, "comma-separated methods, each NAME[:KEY=VALUE...] (" + names +
-                                         "; e.g. euclidean-N:beta=65), or fused:A+B[+C...] with optional weights "
-                                         "fused:A*0.5+B*0.5: the weighted sum of the members' distances z-normalised per "
-                                         "query, symmetrised (fused-median:A+B: the previous rule, each matrix divided "
-                                         "by its median off-diagonal distance; members are added if not listed)");
+    c->add_option("--out", a.o.out, "run folder (for a sharded run on a filesystem every machine shares)")
+        ->required();
+    c->add_option("--method", a.methods,
+                  "comma-separated methods, each NAME[:KEY=VALUE...] (" + names +
+                      "; e.g. euclidean-N:beta=65), or fused:A+B[+C...] with optional weights "
+                      "fused:A*0.5+B*0.5: the weighted sum of the members' distances z-normalised per "
+                      "query, symmetrised (fused-median:A+B: the previous rule, each matrix divided "
+                      "by its median off-diagonal distance; members are added if not listed)");
     c->add_option("--words", a.o.words, "codebook size")->check(CLI::Range(1, 1000000));
     const bool faiss = views::CodebookOptions::kDefaultMethod == views::CodebookOptions::Method::KMeans;
-    c->add_option("--codebook", a.o.codebook, std::string("how the codebook is made per method: kmeans (FAISS k-means, ") +
-                                              (faiss ? "default" : "not in this build") +
-                                              "), lloyd (our k-means++ and Lloyd" + (faiss ? "" : ", default") +
-                                              "), random (random training "
-                                              "descriptors as words), or a codebook FILE used for every method");
+    c->add_option("--codebook", a.o.codebook,
+                  std::string("how the codebook is made per method: kmeans (FAISS k-means, ") +
+                      (faiss ? "default" : "not in this build") + "), lloyd (our k-means++ and Lloyd" +
+                      (faiss ? "" : ", default") +
+                      "), random (random training "
+                      "descriptors as words), or a codebook FILE used for every method");
     c->add_option("--codebook-sample", a.o.codebook_training.sample,
                   "train the codebook on this many descriptors drawn from the method's features (0: all)")
         ->check(CLI::Range(0L, 2000000000L));
@@ -93,7 +97,8 @@ void add_experiment_options(CLI::App* c, ExperimentArgs& a) {
         ->check(CLI::Range(0, 100000000));
     c->add_option("--noise", a.o.noise, "vertex noise, as a fraction of the mean edge length")
         ->check(finite_range(0, 10));
-    c->add_option("--seed", a.o.seed, "seed of the noise and the codebook")->check(finite_range(0, 4294967295.0));
+    c->add_option("--seed", a.o.seed, "seed of the noise and the codebook")
+        ->check(finite_range(0, 4294967295.0));
     add_parameter(c, *find_parameter(views::view_descriptor_parameters().parameters(), "sift"), a.sift);
     add_repair_flag(c, a.o.repair);
 }
@@ -112,8 +117,10 @@ retrieval::ExperimentOptions finish_experiment_options(const ExperimentArgs& a, 
         else if (fused)
             o.fused.push_back(retrieval::parse_fused_spec(m));
         else
-            throw UsageError("--method " + m + ": fused methods are computed by `retrieve` from the members' "
-                             "distance matrices, not by a sharded run (run retrieve on the merged run folder)");
+            throw UsageError(
+                "--method " + m +
+                ": fused methods are computed by `retrieve` from the members' "
+                "distance matrices, not by a sharded run (run retrieve on the merged run folder)");
     }
     return o;
 }
@@ -123,8 +130,9 @@ void add_retrieve(CLI::App& app) {
         int threads = 0;
     };
     auto a = std::make_shared<Args>();
-    auto* c = app.add_subcommand("retrieve", "a retrieval experiment over a labelled collection: forms, views, "
-                                             "codebook, distances and measures per method");
+    auto* c = app.add_subcommand("retrieve",
+                                 "a retrieval experiment over a labelled collection: forms, views, "
+                                 "codebook, distances and measures per method");
     add_experiment_options(c, *a);
     c->add_option("--threads", a->threads, "meshes in parallel (0: every core)")->check(CLI::Range(0, 1024));
     c->callback([a] {
@@ -147,8 +155,9 @@ void add_evaluate(CLI::App& app) {
         bool json = false;
     };
     auto a = std::make_shared<Args>();
-    auto* c = app.add_subcommand("evaluate", "NN, first and second tier, E-measure and DCG of a distance matrix "
-                                             "(psbTable's definitions)");
+    auto* c = app.add_subcommand("evaluate",
+                                 "NN, first and second tier, E-measure and DCG of a distance matrix "
+                                 "(psbTable's definitions)");
     c->add_option("MATRIX", a->matrix, "distance matrix: float32 row-major, or .csv")->required();
     c->add_option("--labels", a->labels, "labels file, rows path,class in matrix order")->required();
     c->add_flag("--json", a->json, "print the measures as JSON");
@@ -166,17 +175,20 @@ void add_evaluate(CLI::App& app) {
         }
         if (a->json) {
             nlohmann::ordered_json classes = nlohmann::ordered_json::object();
-            for (size_t k = 0; k < e.classes.size(); ++k) classes[e.classes[k]] = retrieval::to_json(e.per_class[k]);
+            for (size_t k = 0; k < e.classes.size(); ++k)
+                classes[e.classes[k]] = retrieval::to_json(e.per_class[k]);
             print_json({{"micro", retrieval::to_json(e.micro)},
                         {"macro", retrieval::to_json(e.macro)},
                         {"classes", classes},
                         {"precision", e.precision}});
             return;
         }
-        std::cout << "| average | NN | 1-Tier | 2-Tier | E-measure | DCG | queries |\n|---|---|---|---|---|---|---|\n";
+        std::cout << "| average | NN | 1-Tier | 2-Tier | E-measure | DCG | queries "
+                     "|\n|---|---|---|---|---|---|---|\n";
         print_row(std::cout, "micro", e.micro);
         print_row(std::cout, "macro", e.macro);
-        std::cout << "\n| class | NN | 1-Tier | 2-Tier | E-measure | DCG | queries |\n|---|---|---|---|---|---|---|\n";
+        std::cout << "\n| class | NN | 1-Tier | 2-Tier | E-measure | DCG | queries "
+                     "|\n|---|---|---|---|---|---|---|\n";
         for (size_t k = 0; k < e.classes.size(); ++k) print_row(std::cout, e.classes[k], e.per_class[k]);
         if (!e.skipped_classes.empty()) {
             std::cout << "\nleft out (two models or fewer):";
@@ -192,18 +204,21 @@ void add_grid(CLI::App& app) {
         GridOptions g;
     };
     auto a = std::make_shared<Args>();
-    auto* c = app.add_subcommand("grid", "originals beside their canonical forms from a retrieve run (Figs. 8, 9)");
+    auto* c =
+        app.add_subcommand("grid", "originals beside their canonical forms from a retrieve run (Figs. 8, 9)");
     c->add_option("OUT", a->out, "output PNG")->required();
     c->add_option("RUN", a->g.run, "a `canonform retrieve` run folder")->required();
-    c->add_option("--methods", a->methods, "comma-separated method folders, each DIR[=LABEL] (default: all but none)");
+    c->add_option("--methods", a->methods,
+                  "comma-separated method folders, each DIR[=LABEL] (default: all but none)");
     c->add_option("--class", a->g.cls, "the models of this class (Fig. 9) instead of one per class (Fig. 8)");
     c->add_option("--columns", a->g.columns, "at most this many columns")->check(CLI::Range(1, 10000));
     c->add_option("--size", a->g.panel, "pixels per panel")->check(CLI::Range(16, 2048));
     c->callback([a] {
         a->g.methods = split_list(a->methods);
         const int n = write_grid(a->out, a->g);
-        std::cerr << "grid: " << n << " models, " << (a->g.methods.empty() ? std::string("every method") : a->methods)
-                  << " -> " << a->out << "\n";
+        std::cerr << "grid: " << n << " models, "
+                  << (a->g.methods.empty() ? std::string("every method") : a->methods) << " -> " << a->out
+                  << "\n";
     });
 }
 
@@ -213,11 +228,13 @@ void add_pr(CLI::App& app) {
         std::vector<std::string> runs;
     };
     auto a = std::make_shared<Args>();
-    auto* c = app.add_subcommand("pr", "precision-recall curves of every method of one or more retrieve runs on "
-                                       "one plot (Figs. 10, 11)");
+    auto* c = app.add_subcommand("pr",
+                                 "precision-recall curves of every method of one or more retrieve runs on "
+                                 "one plot (Figs. 10, 11)");
     c->add_option("OUT", a->out, "output PNG")->required();
-    c->add_option("RUN", a->runs, "`canonform retrieve` run folders, each RUN[=LABEL]: LABEL goes before the "
-                                  "method names of that run (e.g. tosca_o=O tosca_s2k=S)")
+    c->add_option("RUN", a->runs,
+                  "`canonform retrieve` run folders, each RUN[=LABEL]: LABEL goes before the "
+                  "method names of that run (e.g. tosca_o=O tosca_s2k=S)")
         ->required();
     c->add_option("--title", a->title, "the title (default: the run folder's name)");
     c->callback([a] {
@@ -227,7 +244,8 @@ void add_pr(CLI::App& app) {
             const std::string run = r.substr(0, eq), label = eq == std::string::npos ? "" : r.substr(eq + 1);
             std::vector<PrCurve> some = read_pr_curves(run, label);
             if (some.empty())
-                throw InputError("'" + run + "' has no METHOD/pr.csv: is it a `canonform retrieve` run folder?");
+                throw InputError("'" + run +
+                                 "' has no METHOD/pr.csv: is it a `canonform retrieve` run folder?");
             curves.insert(curves.end(), some.begin(), some.end());
         }
         const std::string first = a->runs[0].substr(0, a->runs[0].find('='));

@@ -8,12 +8,12 @@
 #include "canonform/surface/simplify.h"
 #include "canonform/views/view_descriptor.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
 #include <memory>
 #include <sstream>
-#include <algorithm>
 
 namespace canonform::cli {
 
@@ -37,11 +37,14 @@ void add_plan_options(CLI::App* c, PlanArgs& a) {
     c->add_option("--shards", a.plan.shards, "mesh shards")->check(CLI::Range(1, 1000000));
     c->add_option("--blocks", a.plan.blocks, "row blocks of the distance matrix (0: as many as shards)")
         ->check(CLI::Range(0, 1000000));
-    c->add_option("--evaluation", a.plan.evaluation,
-                  "matrix (the N x N distance matrix) or neighbours (each model's K nearest through the collection "
-                  "index: no matrix, for collections too large for one; NN, tiers and E-measure exact, DCG truncated at K)")
+    c->add_option(
+         "--evaluation", a.plan.evaluation,
+         "matrix (the N x N distance matrix) or neighbours (each model's K nearest through the collection "
+         "index: no matrix, for collections too large for one; NN, tiers and E-measure exact, DCG truncated "
+         "at K)")
         ->check(CLI::IsMember({"matrix", "neighbours"}));
-    c->add_option("--neighbours", a.plan.neighbours, "K of --evaluation neighbours (0: max(2 x largest class, 32))")
+    c->add_option("--neighbours", a.plan.neighbours,
+                  "K of --evaluation neighbours (0: max(2 x largest class, 32))")
         ->check(CLI::Range(0, 1000000));
     c->add_flag("--exact-neighbours", a.plan.exact,
                 "--evaluation neighbours by exhaustive clock matching even above the two-stage size");
@@ -78,8 +81,9 @@ void add_stage(CLI::App& app) {
     };
     auto a = std::make_shared<Args>();
     auto* c = app.add_subcommand(
-        "stage", "one stage of a sharded retrieval run (state in the run folder, every stage resumable): init, "
-                 "features, codebook, histograms, index (--evaluation neighbours), distances, merge, or all");
+        "stage",
+        "one stage of a sharded retrieval run (state in the run folder, every stage resumable): init, "
+        "features, codebook, histograms, index (--evaluation neighbours), distances, merge, or all");
     c->require_subcommand(1);
 
     auto* init = c->add_subcommand("init", "start a sharded run: the plan and the collection, read once");
@@ -96,12 +100,15 @@ void add_stage(CLI::App& app) {
                                                   : "the " + n + " stage" + (sharded ? " of one part" : ""));
         s->add_option("RUN", a->run, "the run folder (`canonform stage init`)")->required();
         if (sharded)
-            s->add_option("--shard", a->shard, n == "distances" ? "the row block (0-based)" : "the shard (0-based)")
+            s->add_option("--shard", a->shard,
+                          n == "distances" ? "the row block (0-based)" : "the shard (0-based)")
                 ->required()
                 ->check(CLI::Range(0, 1000000));
-        s->add_option("--threads", a->threads, "meshes or rows in parallel (0: every core)")->check(CLI::Range(0, 1024));
+        s->add_option("--threads", a->threads, "meshes or rows in parallel (0: every core)")
+            ->check(CLI::Range(0, 1024));
         s->callback([a, n] {
-            const retrieval::ShardedRun r(a->run, a->threads, [](const std::string& line) { std::cerr << line << "\n"; });
+            const retrieval::ShardedRun r(a->run, a->threads,
+                                          [](const std::string& line) { std::cerr << line << "\n"; });
             if (n == "all") {
                 r.run_all();
                 return;
@@ -119,8 +126,9 @@ void add_status(CLI::App& app) {
         bool json = false;
     };
     auto a = std::make_shared<Args>();
-    auto* c = app.add_subcommand("status", "where a sharded run stands: per stage the parts done, failed and "
-                                           "pending, and an estimate of the work left");
+    auto* c = app.add_subcommand("status",
+                                 "where a sharded run stands: per stage the parts done, failed and "
+                                 "pending, and an estimate of the work left");
     c->add_option("RUN", a->run, "the run folder")->required();
     c->add_flag("--json", a->json, "print the status as JSON");
     c->callback([a] {
@@ -134,7 +142,8 @@ void add_status(CLI::App& app) {
         for (const auto& s : st) {
             const std::size_t todo = s.pending.size() + s.failed.size();
             double est = -1;
-            if (todo && !s.done.empty()) est = s.seconds / static_cast<double>(s.done.size()) * static_cast<double>(todo);
+            if (todo && !s.done.empty())
+                est = s.seconds / static_cast<double>(s.done.size()) * static_cast<double>(todo);
             if (todo && s.done.empty()) unknown.push_back(retrieval::stage_name(s.stage));
             if (est > 0) left += est;
             stages.push_back({{"stage", retrieval::stage_name(s.stage)},
@@ -159,12 +168,13 @@ void add_status(CLI::App& app) {
         for (const auto& s : st) {
             char sec[32];
             std::snprintf(sec, sizeof sec, "%.1f", s.seconds);
-            std::cout << "| " << retrieval::stage_name(s.stage) << " | " << s.parts << " | " << s.done.size() << " | "
-                      << join(s.failed) << " | " << join(s.pending) << " | " << sec << " |\n";
+            std::cout << "| " << retrieval::stage_name(s.stage) << " | " << s.parts << " | " << s.done.size()
+                      << " | " << join(s.failed) << " | " << join(s.pending) << " | " << sec << " |\n";
         }
         for (const auto& s : st)
             for (std::size_t k = 0; k < s.failed.size(); ++k)
-                std::cout << "failed: " << retrieval::stage_name(s.stage) << " " << s.failed[k] << ": " << s.errors[k] << "\n";
+                std::cout << "failed: " << retrieval::stage_name(s.stage) << " " << s.failed[k] << ": "
+                          << s.errors[k] << "\n";
         if (complete) {
             std::cout << "complete\n";
             return;
@@ -207,9 +217,12 @@ std::string sbatch_script(const retrieval::ShardedRun& run, retrieval::Stage sta
     const bool array = stage == retrieval::Stage::Features || stage == retrieval::Stage::Histograms ||
                        stage == retrieval::Stage::Distances;
     std::ostringstream o;
-    o << "#!/bin/bash\n# canonform: stage '" << name << "' of the sharded run " << dir << " (written by `canonform slurm`).\n"
+    o << "#!/bin/bash\n# canonform: stage '" << name << "' of the sharded run " << dir
+      << " (written by `canonform slurm`).\n"
       << "#SBATCH --job-name=cf-" << name << "\n";
-    if (array) o << "#SBATCH --array=0-" << parts - 1 << (s.max_parallel > 0 ? "%" + std::to_string(s.max_parallel) : "") << "\n";
+    if (array)
+        o << "#SBATCH --array=0-" << parts - 1
+          << (s.max_parallel > 0 ? "%" + std::to_string(s.max_parallel) : "") << "\n";
     o << "#SBATCH --cpus-per-task=" << s.cpus << "\n#SBATCH --time=" << s.time << "\n";
     if (!s.partition.empty()) o << "#SBATCH --partition=" << s.partition << "\n";
     if (!s.mem.empty()) o << "#SBATCH --mem=" << s.mem << "\n";
@@ -218,14 +231,16 @@ std::string sbatch_script(const retrieval::ShardedRun& run, retrieval::Stage sta
       << "#SBATCH --kill-on-invalid-dep=yes\n"
       << "set -eu\n"
       << "exec " << quoted(exe) << " stage " << name << " " << quoted(dir)
-      << (array ? " --shard \"$SLURM_ARRAY_TASK_ID\"" : "") << " --threads \"${SLURM_CPUS_PER_TASK:-" << s.cpus << "}\"\n";
+      << (array ? " --shard \"$SLURM_ARRAY_TASK_ID\"" : "") << " --threads \"${SLURM_CPUS_PER_TASK:-"
+      << s.cpus << "}\"\n";
     return o.str();
 }
 
 /// Runs `command`, returns its standard output (UsageError-free: an Error naming it on failure).
 std::string run_command(const std::string& command) {
 #ifdef _WIN32
-    throw std::runtime_error("cannot run '" + command + "': Slurm's commands are Linux programs (use the Linux build)");
+    throw std::runtime_error("cannot run '" + command +
+                             "': Slurm's commands are Linux programs (use the Linux build)");
 #else
     FILE* p = popen(command.c_str(), "r");
     if (!p) throw std::runtime_error("cannot run: " + command);
@@ -233,7 +248,8 @@ std::string run_command(const std::string& command) {
     char buf[512];
     while (std::fgets(buf, sizeof buf, p)) out += buf;
     const int rc = pclose(p);
-    if (rc != 0) throw std::runtime_error("'" + command + "' failed (exit status " + std::to_string(rc) + "): " + out);
+    if (rc != 0)
+        throw std::runtime_error("'" + command + "' failed (exit status " + std::to_string(rc) + "): " + out);
     return out;
 #endif
 }
@@ -246,33 +262,39 @@ void add_slurm(CLI::App& app) {
     };
     auto a = std::make_shared<Args>();
     auto* c = app.add_subcommand(
-        "slurm", "a sharded retrieval run on a Slurm cluster: writes one sbatch script per stage (job arrays over the "
-                 "shards, each stage after the one before: afterok) into RUN/slurm/, and with --submit submits "
-                 "them; again after a failure, it submits only the parts not done");
+        "slurm",
+        "a sharded retrieval run on a Slurm cluster: writes one sbatch script per stage (job arrays over the "
+        "shards, each stage after the one before: afterok) into RUN/slurm/, and with --submit submits "
+        "them; again after a failure, it submits only the parts not done");
     add_plan_options(c, *a);
     c->add_option("--partition", a->s.partition, "Slurm partition (default: the cluster's)");
     c->add_option("--time", a->s.time, "time limit of each job (Slurm's format)");
-    c->add_option("--cpus-per-task", a->s.cpus, "CPUs of each job (its --threads)")->check(CLI::Range(1, 1024));
+    c->add_option("--cpus-per-task", a->s.cpus, "CPUs of each job (its --threads)")
+        ->check(CLI::Range(1, 1024));
     c->add_option("--mem", a->s.mem, "memory of each job (Slurm's format, e.g. 8G; default: the cluster's)");
     c->add_option("--account", a->s.account, "Slurm account");
-    c->add_option("--max-parallel", a->s.max_parallel, "at most this many parts of a stage at once (0: no limit)")
+    c->add_option("--max-parallel", a->s.max_parallel,
+                  "at most this many parts of a stage at once (0: no limit)")
         ->check(CLI::Range(0, 1000000));
     c->add_option("--canonform", a->s.canonform, "the canonform executable on the nodes (default: this one)");
-    c->add_flag("--submit", a->s.submit, "submit the scripts (sbatch --parsable), only the parts not done yet");
+    c->add_flag("--submit", a->s.submit,
+                "submit the scripts (sbatch --parsable), only the parts not done yet");
     c->callback([a] {
         const retrieval::ShardedPlan p = start_run(*a);
         const std::string& dir = p.experiment.out;
         const retrieval::ShardedRun run(dir);
         std::string exe = a->s.canonform;
 #ifdef _WIN32
-        if (exe.empty()) throw UsageError("slurm: a Slurm cluster runs the Linux build: name its canonform with --canonform");
+        if (exe.empty())
+            throw UsageError(
+                "slurm: a Slurm cluster runs the Linux build: name its canonform with --canonform");
 #else
         if (exe.empty()) exe = std::filesystem::read_symlink("/proc/self/exe").string();
 #endif
         io::make_directories(dir + "/slurm/logs");
-        const retrieval::Stage stages[] = {retrieval::Stage::Features, retrieval::Stage::Codebook,
+        const retrieval::Stage stages[] = {retrieval::Stage::Features,   retrieval::Stage::Codebook,
                                            retrieval::Stage::Histograms, retrieval::Stage::Index,
-                                           retrieval::Stage::Distances, retrieval::Stage::Merge};
+                                           retrieval::Stage::Distances,  retrieval::Stage::Merge};
         std::string scripts;
         for (const auto st : stages) {
             if (run.parts(st) == 0) continue;  // the index stage of a matrix run
@@ -295,8 +317,8 @@ void add_slurm(CLI::App& app) {
             if (todo.empty()) continue;
             const std::string name = retrieval::stage_name(s.stage);
             std::string cmd = "sbatch --parsable";
-            if (s.parts > 1 || s.stage == retrieval::Stage::Features || s.stage == retrieval::Stage::Histograms ||
-                s.stage == retrieval::Stage::Distances) {
+            if (s.parts > 1 || s.stage == retrieval::Stage::Features ||
+                s.stage == retrieval::Stage::Histograms || s.stage == retrieval::Stage::Distances) {
                 cmd += " --array=" + join(todo);
                 if (a->s.max_parallel > 0) cmd += "%" + std::to_string(a->s.max_parallel);
             }
@@ -322,13 +344,17 @@ void add_index(CLI::App& app) {
         CLI::Option* simplify_option = nullptr;
     };
     auto a = std::make_shared<Args>();
-    auto* c = app.add_subcommand("index", "pack the histograms of a retrieval run for queries (METHOD/index.cfci, "
-                                          "one per method): `canonform query` reads it");
-    c->add_option("RUN", a->run, "a run folder (`canonform retrieve` or a sharded run, finished)")->required();
-    c->add_option("--method", a->methods, "comma-separated methods, as the run's --method (default: a sharded "
-                                          "run's methods, else every method folder of the run)");
+    auto* c = app.add_subcommand("index",
+                                 "pack the histograms of a retrieval run for queries (METHOD/index.cfci, "
+                                 "one per method): `canonform query` reads it");
+    c->add_option("RUN", a->run, "a run folder (`canonform retrieve` or a sharded run, finished)")
+        ->required();
+    c->add_option("--method", a->methods,
+                  "comma-separated methods, as the run's --method (default: a sharded "
+                  "run's methods, else every method folder of the run)");
     a->simplify_option =
-        c->add_option("--simplify", a->simplify, "the run's --simplify, for the queries (default: a sharded run's, else 0)")
+        c->add_option("--simplify", a->simplify,
+                      "the run's --simplify, for the queries (default: a sharded run's, else 0)")
             ->check(CLI::Range(0, 100000000));
     c->callback([a] {
         std::vector<canonical::MethodSpec> methods;
@@ -340,22 +366,26 @@ void add_index(CLI::App& app) {
         }
         if (!a->methods.empty()) {
             methods.clear();
-            for (const std::string& m : split_list(a->methods)) methods.push_back(canonical::parse_method_spec(m));
+            for (const std::string& m : split_list(a->methods))
+                methods.push_back(canonical::parse_method_spec(m));
         }
         if (methods.empty())
             for (const canonical::CanonicalMethod* m : canonical::canonical_methods()) {
                 const canonical::MethodSpec spec = canonical::parse_method_spec(m->name);
                 if (io::is_file(a->run + "/" + spec.folder() + "/models.csv")) methods.push_back(spec);
             }
-        if (methods.empty()) throw InputError("'" + a->run + "': no method folder with models.csv: name --method");
+        if (methods.empty())
+            throw InputError("'" + a->run + "': no method folder with models.csv: name --method");
         for (const canonical::MethodSpec& m : methods) {
             const auto t0 = std::chrono::steady_clock::now();
             const std::string folder = a->run + "/" + m.folder();
-            const retrieval::CollectionIndex x = retrieval::index_method_folder(folder, m.to_string(), simplify);
+            const retrieval::CollectionIndex x =
+                retrieval::index_method_folder(folder, m.to_string(), simplify);
             x.save(folder + "/index.cfci");
             char line[300];
             std::snprintf(line, sizeof line,
-                          "index: %s/index.cfci: %zu models, %.1f MiB of histograms, %.1f MiB of first-pass codes, %.2f s\n",
+                          "index: %s/index.cfci: %zu models, %.1f MiB of histograms, %.1f MiB of first-pass "
+                          "codes, %.2f s\n",
                           folder.c_str(), x.size(), static_cast<double>(x.bytes()) / (1 << 20),
                           static_cast<double>(x.first_pass().bytes()) / (1 << 20), seconds_since(t0));
             std::cerr << line;
@@ -372,16 +402,18 @@ void add_query(CLI::App& app) {
         bool json = false, repair = false, exact = false;
     };
     auto a = std::make_shared<Args>();
-    auto* c = app.add_subcommand("query", "the K nearest models of an indexed run (`canonform index`) to each mesh: "
-                                          "only the query's form and descriptor are computed; above " +
-                                              std::to_string(retrieval::CollectionIndex::kTwoStageAbove) +
-                                              " models in two stages (a first pass proposes candidates, clock "
-                                              "matching ranks them: exact distances, recall in docs/scale.md)");
+    auto* c = app.add_subcommand("query",
+                                 "the K nearest models of an indexed run (`canonform index`) to each mesh: "
+                                 "only the query's form and descriptor are computed; above " +
+                                     std::to_string(retrieval::CollectionIndex::kTwoStageAbove) +
+                                     " models in two stages (a first pass proposes candidates, clock "
+                                     "matching ranks them: exact distances, recall in docs/scale.md)");
     c->add_option("RUN", a->run, "an indexed run folder")->required();
     c->add_option("MESH", a->meshes, "query meshes")->required();
     c->add_option("--top", a->top, "K: models per query")->check(CLI::Range(1, 100000000));
     c->add_option("--method", a->method, "the method folder to search (default: the run's only index)");
-    c->add_option("--threads", a->threads, "models scored in parallel (0: every core)")->check(CLI::Range(0, 1024));
+    c->add_option("--threads", a->threads, "models scored in parallel (0: every core)")
+        ->check(CLI::Range(0, 1024));
     c->add_flag("--json", a->json, "print the answers as JSON");
     c->add_flag("--exact", a->exact, "exhaustive clock matching over every model (no first pass)");
     c->add_option("--candidates", a->candidates,
@@ -394,18 +426,23 @@ void add_query(CLI::App& app) {
         if (folder.empty()) {
             std::vector<std::string> found;
             for (const auto& e : std::filesystem::directory_iterator(io::fs_path(a->run)))
-                if (io::is_file(io::utf8_path(e.path()) + "/index.cfci")) found.push_back(io::utf8_path(e.path().filename()));
+                if (io::is_file(io::utf8_path(e.path()) + "/index.cfci"))
+                    found.push_back(io::utf8_path(e.path().filename()));
             if (found.size() != 1)
                 throw InputError("'" + a->run + "': " + std::to_string(found.size()) +
-                                 " method folders have an index.cfci: name one with --method (run `canonform index` first)");
+                                 " method folders have an index.cfci: name one with --method (run `canonform "
+                                 "index` first)");
             folder = found[0];
         }
         // Mapped: a query reads only the models it scores.
-        const retrieval::CollectionIndex x = retrieval::CollectionIndex::load(a->run + "/" + folder + "/index.cfci", true);
+        const retrieval::CollectionIndex x =
+            retrieval::CollectionIndex::load(a->run + "/" + folder + "/index.cfci", true);
         const canonical::MethodSpec spec = canonical::parse_method_spec(x.method());
-        if (!x.first_pass().trained() && !a->exact && (a->candidates > 0 || x.size() > retrieval::CollectionIndex::kTwoStageAbove))
-            std::cerr << "canonform query: the index has no first pass (written by an older canonform): exhaustive "
-                         "search; run `canonform index` again for two-stage queries\n";
+        if (!x.first_pass().trained() && !a->exact &&
+            (a->candidates > 0 || x.size() > retrieval::CollectionIndex::kTwoStageAbove))
+            std::cerr
+                << "canonform query: the index has no first pass (written by an older canonform): exhaustive "
+                   "search; run `canonform index` again for two-stage queries\n";
         if (a->top > x.size())  // said, not silent: fewer answers than asked for
             std::cerr << "canonform query: --top " << a->top << " is more than the " << x.size()
                       << " models of the index: all " << x.size() << " are listed\n";
@@ -416,7 +453,8 @@ void add_query(CLI::App& app) {
             if (x.simplify() > 0 && m.V.rows() > x.simplify()) m = surface::simplify_mesh(m, x.simplify());
             canonical::MethodContext context;
             context.threads = a->threads;
-            const Eigen::MatrixXd X = on_input(path, [&] { return spec.method().run(m.V, m.F, spec.settings(), context).V; });
+            const Eigen::MatrixXd X =
+                on_input(path, [&] { return spec.method().run(m.V, m.F, spec.settings(), context).V; });
             const views::ViewSet vs = on_input(path, [&] {
                 views::ViewDescriptorOptions vo;
                 vo.keep_images = false;
@@ -435,19 +473,27 @@ void add_query(CLI::App& app) {
             nlohmann::ordered_json list = nlohmann::ordered_json::array();
             for (const auto& mt : matches)
                 list.push_back({{"name", mt.name}, {"class", mt.cls}, {"distance", mt.distance}});
-            const std::size_t candidates = two ? std::max(a->top, a->candidates > 0 ? a->candidates : x.default_candidates(a->top)) : x.size();
-            all.push_back({{"query", path}, {"method", folder}, {"models", x.size()},
-                           {"search", two ? "two-stage" : "exhaustive"}, {"candidates", candidates}, {"matches", list},
-                           {"describe_seconds", describe}, {"search_seconds", search}});
+            const std::size_t candidates =
+                two ? std::max(a->top, a->candidates > 0 ? a->candidates : x.default_candidates(a->top))
+                    : x.size();
+            all.push_back({{"query", path},
+                           {"method", folder},
+                           {"models", x.size()},
+                           {"search", two ? "two-stage" : "exhaustive"},
+                           {"candidates", candidates},
+                           {"matches", list},
+                           {"describe_seconds", describe},
+                           {"search_seconds", search}});
             if (!a->json) {
                 std::cout << path << " (" << folder << ", " << x.size() << " models, "
-                          << (two ? "two-stage: " + std::to_string(candidates) + " candidates" : std::string("exhaustive"))
+                          << (two ? "two-stage: " + std::to_string(candidates) + " candidates"
+                                  : std::string("exhaustive"))
                           << "):\n";
                 int rank = 1;
                 for (const auto& mt : matches) {
                     char line[400];
-                    std::snprintf(line, sizeof line, "%4d  %-30s %-20s %.6f\n", rank++, mt.name.c_str(), mt.cls.c_str(),
-                                  static_cast<double>(mt.distance));
+                    std::snprintf(line, sizeof line, "%4d  %-30s %-20s %.6f\n", rank++, mt.name.c_str(),
+                                  mt.cls.c_str(), static_cast<double>(mt.distance));
                     std::cout << line;
                 }
             }

@@ -29,7 +29,9 @@ struct ViewArgs {
         add_parameters(c, views::view_descriptor_parameters(), view);
         add_repair_flag(c, repair);
     }
-    views::ViewDescriptorOptions options() const { return read_parameters(views::view_descriptor_parameters(), view); }
+    views::ViewDescriptorOptions options() const {
+        return read_parameters(views::view_descriptor_parameters(), view);
+    }
     views::ViewSet views_of(const std::string& path, bool images = false) const {
         const Mesh m = read_input_mesh(path, repair, true, false);  // compute_views() validates
         views::ViewDescriptorOptions o = options();
@@ -55,7 +57,8 @@ void add_views(CLI::App& app) {
         const auto counts = vs.keypoint_counts();
         const int total = std::accumulate(counts.begin(), counts.end(), 0);
         std::cerr << "66 views of " << a->options().image_size << " px in " << a->dir << " (pose by "
-                  << (vs.pose.used_rectilinearity ? "rectilinearity" : "PCA") << ", " << total << " SIFT keypoints)\n";
+                  << (vs.pose.used_rectilinearity ? "rectilinearity" : "PCA") << ", " << total
+                  << " SIFT keypoints)\n";
     });
 }
 
@@ -69,12 +72,14 @@ void add_codebook(CLI::App& app) {
         std::int64_t sample = views::kDefaultCodebookSample;
     };
     auto a = std::make_shared<Args>();
-    auto* c = app.add_subcommand("codebook", "a codebook of visual words trained on the SIFT features of meshes");
+    auto* c =
+        app.add_subcommand("codebook", "a codebook of visual words trained on the SIFT features of meshes");
     c->add_option("OUT", a->out, "output codebook file")->required();
     c->add_option("MESH", a->meshes, "meshes to train on")->required();
     c->add_option("--words", a->words, "visual words")->check(CLI::Range(1, 1000000));
-    c->add_option("--training", a->method, "kmeans (FAISS), lloyd (k-means++ and Lloyd) or random (random "
-                                         "training descriptors as words)")
+    c->add_option("--training", a->method,
+                  "kmeans (FAISS), lloyd (k-means++ and Lloyd) or random (random "
+                  "training descriptors as words)")
         ->check(CLI::IsMember({"kmeans", "lloyd", "random"}));
     c->add_flag("--random", a->random, "the same as --training random");
     c->add_option("--sample", a->sample, "train on this many descriptors drawn from all (0: all)")
@@ -100,7 +105,8 @@ void add_codebook(CLI::App& app) {
         co.sample = a->sample;
         const views::Codebook cb = views::Codebook::train(views::stack_features(sets), co);
         cb.save(a->out);
-        std::cerr << "codebook of " << cb.size() << " words from " << rows << " descriptors -> " << a->out << "\n";
+        std::cerr << "codebook of " << cb.size() << " words from " << rows << " descriptors -> " << a->out
+                  << "\n";
     });
 }
 
@@ -110,7 +116,8 @@ void add_descriptor(CLI::App& app) {
         bool json = false;
     };
     auto a = std::make_shared<Args>();
-    auto* c = app.add_subcommand("descriptor", "the view descriptor file of a mesh (histograms, or raw SIFT features)");
+    auto* c = app.add_subcommand("descriptor",
+                                 "the view descriptor file of a mesh (histograms, or raw SIFT features)");
     add_in_out(c, a->in, a->out, "output descriptor file (.cfvd)", false);
     c->add_option("--codebook", a->codebook, "codebook file (without: raw SIFT features)");
     c->add_flag("--json", a->json, "print a JSON summary on stdout");
@@ -120,12 +127,14 @@ void add_descriptor(CLI::App& app) {
         views::Codebook cb;
         if (!a->codebook.empty()) cb = views::Codebook::load(a->codebook);
         const views::ViewSet vs = a->views_of(a->in);
-        const views::ModelDescriptor d =
-            views::make_descriptor(vs.features, a->codebook.empty() ? nullptr : &cb, a->in, a->options().image_size);
+        const views::ModelDescriptor d = views::make_descriptor(
+            vs.features, a->codebook.empty() ? nullptr : &cb, a->in, a->options().image_size);
         views::write_descriptor(a->out, d);
         const int total = std::accumulate(d.keypoints_per_view.begin(), d.keypoints_per_view.end(), 0);
         if (a->json)
-            print_json({{"views", d.views}, {"keypoints", total}, {"codebook_words", d.codebook_words},
+            print_json({{"views", d.views},
+                        {"keypoints", total},
+                        {"codebook_words", d.codebook_words},
                         {"seconds", seconds_since(t0)}});
     });
 }
@@ -139,7 +148,9 @@ void add_distance(CLI::App& app) {
     auto a = std::make_shared<Args>();
     auto* c = app.add_subcommand("distance", "the clock-matching distance matrix of descriptor files");
     c->add_option("OUT", a->out, "output matrix: float32 row-major (and OUT.csv as text)")->required();
-    c->add_option("DESC", a->descriptors, "descriptor files made with a codebook (two or more)")->required()->expected(2, -1);
+    c->add_option("DESC", a->descriptors, "descriptor files made with a codebook (two or more)")
+        ->required()
+        ->expected(2, -1);
     c->add_option("--threads", a->threads, "threads (0: every core)")->check(CLI::Range(0, 1024));
     c->callback([a] {
         std::vector<std::vector<views::Histogram>> models;
@@ -158,8 +169,8 @@ void add_distance(CLI::App& app) {
         const Eigen::MatrixXf D = views::distance_matrix(models, views::rotation_view_maps(), a->threads);
         const double secs = seconds_since(t0);
         io::write_distance_matrix(D, a->out, a->out + ".csv");
-        std::cerr << D.rows() << " x " << D.cols() << " clock-matching distances in " << secs << " s -> " << a->out
-                  << " (float32 row-major) and " << a->out << ".csv\n";
+        std::cerr << D.rows() << " x " << D.cols() << " clock-matching distances in " << secs << " s -> "
+                  << a->out << " (float32 row-major) and " << a->out << ".csv\n";
     });
 }
 

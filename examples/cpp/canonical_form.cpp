@@ -16,8 +16,10 @@ int main(int argc, char** argv) {
     try {
         const canonform::Mesh mesh = canonform::io::read_mesh(argv[1]);  // OFF, PLY, OBJ or STL
 
-        canonform::canonical::EuclideanCanonicalFormOptions options;  // variant N, alpha 10, beta 130, ring 2, ...
-        if (argc > 3 && std::string(argv[3]) == "A") options.variant = canonform::canonical::CanonicalVariant::A;
+        canonform::canonical::EuclideanCanonicalFormOptions
+            options;  // variant N, alpha 10, beta 130, ring 2, ...
+        if (argc > 3 && std::string(argv[3]) == "A")
+            options.variant = canonform::canonical::CanonicalVariant::A;
 
         const auto result = canonform::canonical::euclidean_canonical_form(mesh.V, mesh.F, options);
         // result.V: the form, same vertices and faces, in the input's units

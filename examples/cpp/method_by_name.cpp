@@ -17,9 +17,11 @@ int main(int argc, char** argv) {
     }
     try {
         const canonform::Mesh mesh = canonform::io::read_mesh(argv[1]);
-        const canonform::canonical::MethodSpec spec = canonform::canonical::parse_method_spec(argc > 3 ? argv[3] : "euclidean-N");
+        const canonform::canonical::MethodSpec spec =
+            canonform::canonical::parse_method_spec(argc > 3 ? argv[3] : "euclidean-N");
 
-        const canonform::canonical::CanonicalForm form = spec.method().run(mesh.V, mesh.F, spec.settings(), {});
+        const canonform::canonical::CanonicalForm form =
+            spec.method().run(mesh.V, mesh.F, spec.settings(), {});
         canonform::io::write_mesh(argv[2], form.V, mesh.F, form.quality);
 
         std::printf("%s: %s\n", spec.to_string().c_str(), form.description.c_str());

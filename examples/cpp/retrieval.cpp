@@ -19,7 +19,10 @@ int main() {
     std::vector<std::string> labels;
     for (const std::string& cls : {std::string("standard"), std::string("long-arms")})
         for (int pose = 0; pose < 3; ++pose) {
-            meshes.push_back(canonform::procedural::make_figure(2000, canonform::procedural::figure_pose(pose), canonform::procedural::figure_class(cls)).mesh);
+            meshes.push_back(canonform::procedural::make_figure(2000,
+                                                                canonform::procedural::figure_pose(pose),
+                                                                canonform::procedural::figure_class(cls))
+                                 .mesh);
             labels.push_back(cls);
         }
 
@@ -42,7 +45,7 @@ int main() {
     // clock matching over the 24 cube rotations, then the measures
     const Eigen::MatrixXf D = views::distance_matrix(histograms, views::rotation_view_maps());
     const auto e = canonform::retrieval::evaluate(D.cast<double>(), labels);
-    std::printf("NN %.3f, first tier %.3f, second tier %.3f, E %.3f, DCG %.3f\n", e.micro.nn, e.micro.first_tier,
-                e.micro.second_tier, e.micro.e_measure, e.micro.dcg);
+    std::printf("NN %.3f, first tier %.3f, second tier %.3f, E %.3f, DCG %.3f\n", e.micro.nn,
+                e.micro.first_tier, e.micro.second_tier, e.micro.e_measure, e.micro.dcg);
     return 0;
 }

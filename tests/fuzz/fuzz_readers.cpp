@@ -50,7 +50,8 @@ void require(bool ok, const char* what) {
 [[maybe_unused]] const std::string& scratch() {
     static const std::string dir = [] {
         const char* env = std::getenv("CANONFORM_FUZZ_SCRATCH");
-        const std::string d = env && *env ? std::string(env) : "/tmp/canonform-fuzz-" + std::to_string(::getpid());
+        const std::string d =
+            env && *env ? std::string(env) : "/tmp/canonform-fuzz-" + std::to_string(::getpid());
         io::make_directories(d + "/sub");
         return d;
     }();
@@ -61,7 +62,8 @@ void require(bool ok, const char* what) {
 [[maybe_unused]] bool same(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
     if (a.rows() != b.rows() || a.cols() != b.cols()) return false;
     for (Eigen::Index k = 0; k < a.size(); ++k)
-        if (!(a.data()[k] == b.data()[k] || (std::isnan(a.data()[k]) && std::isnan(b.data()[k])))) return false;
+        if (!(a.data()[k] == b.data()[k] || (std::isnan(a.data()[k]) && std::isnan(b.data()[k]))))
+            return false;
     return true;
 }
 
@@ -76,8 +78,8 @@ void require(bool ok, const char* what) {
     for (const io::MeshFormat out : {io::MeshFormat::Ply, io::MeshFormat::Off, io::MeshFormat::Obj}) {
         if (out == io::MeshFormat::Obj && m.V.rows() == 0) continue;
         const bool q = out == io::MeshFormat::Ply && f.quality.size() > 0;
-        const io::MeshFile back =
-            io::parse_mesh(io::format_mesh(out, m.V, m.F, q ? f.quality : Eigen::VectorXd()), out, "round trip");
+        const io::MeshFile back = io::parse_mesh(
+            io::format_mesh(out, m.V, m.F, q ? f.quality : Eigen::VectorXd()), out, "round trip");
         require(same(back.mesh.V, m.V) && back.mesh.F == m.F, "a written mesh reads back differently");
         require(!q || same(back.quality, f.quality), "written quality reads back differently");
     }
@@ -88,12 +90,14 @@ void require(bool ok, const char* what) {
         io::write_mesh(base + ".off", m.V, m.F);
         require(same(io::read_mesh(base + ".off").V, m.V), "an OFF file reads back differently");
         io::write_ply(base + ".ply", m.V, m.F, f.quality);
-        require(f.quality.size() == 0 || same(io::read_ply_quality(base + ".ply"), f.quality), "PLY file quality");
+        require(f.quality.size() == 0 || same(io::read_ply_quality(base + ".ply"), f.quality),
+                "PLY file quality");
         io::write_mesh(base + ".obj", m.V, m.F);
         require(io::read_mesh_file(base + ".obj").mesh.F == m.F, "an OBJ file reads back differently");
         if (m.F.rows() > 0 && m.V.allFinite()) {
             io::write_mesh(base + ".stl", m.V, m.F);
-            require(io::read_mesh_file(base + ".stl").mesh.F.rows() == m.F.rows(), "an STL file's face count");
+            require(io::read_mesh_file(base + ".stl").mesh.F.rows() == m.F.rows(),
+                    "an STL file's face count");
         }
         for (const char* bad : {".xyz", ""}) {
             try {
@@ -151,27 +155,32 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
             require(static_cast<int>(d.keypoints_per_view.size()) == d.views, "descriptor views");
             views::write_descriptor(scratch() + "/d.cfvd", d);
             const views::ModelDescriptor e = views::read_descriptor(scratch() + "/d.cfvd");
-            require(e.keypoints_per_view == d.keypoints_per_view && e.views == d.views, "a written descriptor reads back differently");
+            require(e.keypoints_per_view == d.keypoints_per_view && e.views == d.views,
+                    "a written descriptor reads back differently");
         }
         if (READER("codebook")) {
             const views::Codebook cb = views::Codebook::parse(bytes, "fuzz: ");
             require(cb.size() > 0 && cb.words().allFinite(), "codebook words");
             cb.save(scratch() + "/c.cfcb");
-            require(views::Codebook::load(scratch() + "/c.cfcb").words() == cb.words(), "a saved codebook loads differently");
+            require(views::Codebook::load(scratch() + "/c.cfcb").words() == cb.words(),
+                    "a saved codebook loads differently");
         }
         if (READER("matrix_bin") || READER("matrix_csv")) {
             const Eigen::MatrixXd D = io::parse_distance_matrix(bytes, READER("matrix_csv"), "fuzz");
             require(D.rows() == D.cols() && D.rows() > 0 && D.allFinite(), "matrix");
             const Eigen::MatrixXf Df = D.cast<float>();
             io::write_distance_matrix(Df, scratch() + "/D.bin", scratch() + "/D.csv");
-            require(io::read_distance_matrix(scratch() + "/D.bin") == Df.cast<double>(), "a written matrix reads back differently");
-            require(io::read_distance_matrix(scratch() + "/D.csv").rows() == D.rows(), "a written CSV matrix");
+            require(io::read_distance_matrix(scratch() + "/D.bin") == Df.cast<double>(),
+                    "a written matrix reads back differently");
+            require(io::read_distance_matrix(scratch() + "/D.csv").rows() == D.rows(),
+                    "a written CSV matrix");
         }
         if (READER("labels")) {
             const auto rows = io::parse_labels(bytes, "fuzz");
             for (const auto& r : rows) require(!r.label.empty(), "empty class accepted");
             io::write_file_atomic(scratch() + "/labels.csv", bytes);
-            require(io::read_labels(scratch() + "/labels.csv").size() == rows.size(), "labels read from a file");
+            require(io::read_labels(scratch() + "/labels.csv").size() == rows.size(),
+                    "labels read from a file");
             require(io::is_file(scratch() + "/labels.csv") && !io::is_file(scratch() + "/sub"), "is_file");
             (void)io::read_csv(scratch() + "/labels.csv");
         }

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // Writes every filter of both plugins and every canonical-form method of the registry, with all
-// their parameters, as JSON: `canonform_params [OUT.json]` (without OUT.json: on stdout). The documentation's filter
-// and pymeshlab pages are generated from it (tools/docs/generate.py), so they say what the filter
+// their parameters, as JSON: `canonform_params [OUT.json]` (without OUT.json: on stdout). The documentation's
+// filter and pymeshlab pages are generated from it (tools/docs/generate.py), so they say what the filter
 // tables (filter_canonical/canonical_filter_table.cpp, filter_viewdescriptor/view_filter_table.cpp)
 // and the method registry (src/canonform/canonical/method_registry.cpp) say, and nothing else.
 #include "canonical_filter_table.h"
@@ -28,11 +28,16 @@ using nlohmann::ordered_json;
 /// The parameter types as the generator names them.
 const char* kind_name(ParameterType t) {
     switch (t) {
-    case ParameterType::Bool: return "bool";
-    case ParameterType::Int: return "int";
-    case ParameterType::Float: return "float";
-    case ParameterType::Choice: return "enum";
-    case ParameterType::Text: return "string";
+        case ParameterType::Bool:
+            return "bool";
+        case ParameterType::Int:
+            return "int";
+        case ParameterType::Float:
+            return "float";
+        case ParameterType::Choice:
+            return "enum";
+        case ParameterType::Text:
+            return "string";
     }
     return "?";
 }
@@ -40,10 +45,13 @@ const char* kind_name(ParameterType t) {
 /// The MeshLab menu a filter class appears in (MeshLab's own menu names).
 const char* menu(FilterKind k) {
     switch (k) {
-    case FilterKind::Quality:
-    case FilterKind::Measure: return "Filters > Quality Measure and Computations";
-    case FilterKind::Selection: return "Filters > Selection";
-    case FilterKind::Smoothing: return "Filters > Smoothing, Fairing and Deformation";
+        case FilterKind::Quality:
+        case FilterKind::Measure:
+            return "Filters > Quality Measure and Computations";
+        case FilterKind::Selection:
+            return "Filters > Selection";
+        case FilterKind::Smoothing:
+            return "Filters > Smoothing, Fairing and Deformation";
     }
     return "?";
 }
@@ -62,11 +70,19 @@ ordered_json filters(const std::vector<FilterSpec>& table) {
             j["name"] = p.name();
             j["type"] = kind_name(p.type());
             switch (p.type()) {
-            case ParameterType::Bool: j["default"] = canonform::meshlab::default_number(p) != 0; break;
-            case ParameterType::Int: j["default"] = static_cast<long long>(canonform::meshlab::default_number(p)); break;
-            case ParameterType::Float: j["default"] = canonform::meshlab::default_number(p); break;
-            case ParameterType::Choice:
-            case ParameterType::Text: j["default"] = p.default_value(); break;
+                case ParameterType::Bool:
+                    j["default"] = canonform::meshlab::default_number(p) != 0;
+                    break;
+                case ParameterType::Int:
+                    j["default"] = static_cast<long long>(canonform::meshlab::default_number(p));
+                    break;
+                case ParameterType::Float:
+                    j["default"] = canonform::meshlab::default_number(p);
+                    break;
+                case ParameterType::Choice:
+                case ParameterType::Text:
+                    j["default"] = p.default_value();
+                    break;
             }
             j["label"] = p.label();
             j["tooltip"] = canonform::meshlab::tooltip(p);
@@ -86,9 +102,12 @@ ordered_json filters(const std::vector<FilterSpec>& table) {
 
 const char* family_name(canonform::canonical::MethodFamily f) {
     switch (f) {
-    case canonform::canonical::MethodFamily::None: return "";
-    case canonform::canonical::MethodFamily::Euclidean: return "Euclidean canonical form";
-    case canonform::canonical::MethodFamily::Geodesic: return "Geodesic canonical form";
+        case canonform::canonical::MethodFamily::None:
+            return "";
+        case canonform::canonical::MethodFamily::Euclidean:
+            return "Euclidean canonical form";
+        case canonform::canonical::MethodFamily::Geodesic:
+            return "Geodesic canonical form";
     }
     return "";
 }
@@ -127,9 +146,9 @@ int main(int argc, char** argv) {
     }
     ordered_json j;
     j["version"] = canonform::version();
-    j["plugins"] = {{{"plugin", "filter_canonical"}, {"filters", filters(canonform::meshlab::filter_table())}},
-                    {{"plugin", "filter_viewdescriptor"},
-                     {"filters", filters(canonform::meshlab::view_filter_table())}}};
+    j["plugins"] = {
+        {{"plugin", "filter_canonical"}, {"filters", filters(canonform::meshlab::filter_table())}},
+        {{"plugin", "filter_viewdescriptor"}, {"filters", filters(canonform::meshlab::view_filter_table())}}};
     j["methods"] = methods();
     if (argc == 2) {
         std::ofstream out(argv[1]);

@@ -11,8 +11,8 @@
 namespace canonform::canonical {
 
 numerics::StressPairs canonical_form_pairs(const Eigen::MatrixXd& V, const Eigen::MatrixXi& E,
-                                 const Eigen::VectorXd& phi, const std::vector<int>& features,
-                                 const EuclideanCanonicalFormOptions& options) {
+                                           const Eigen::VectorXd& phi, const std::vector<int>& features,
+                                           const EuclideanCanonicalFormOptions& options) {
     const bool normalised = options.variant == CanonicalVariant::N;
     const double beta = options.effective_beta();
     const double edge_scale = normalised ? beta / static_cast<double>(E.rows()) : beta;
@@ -48,7 +48,8 @@ namespace {
 /// saves the AMD step) with the feature points moved to the end, where their clique is
 /// one dense trailing block, as AMD itself would place dense rows. Indices are those of the
 /// pinned systems (vertex v > 0 is row v - 1).
-std::vector<int> smacof_ordering(const std::vector<int>& laplacian_ordering, const std::vector<int>& features) {
+std::vector<int> smacof_ordering(const std::vector<int>& laplacian_ordering,
+                                 const std::vector<int>& features) {
     if (laplacian_ordering.empty()) return {};
     std::vector<char> is_feature(laplacian_ordering.size(), 0);
     for (const int f : features)
@@ -69,7 +70,8 @@ EuclideanCanonicalFormResult euclidean_canonical_form(const Eigen::MatrixXd& V0,
     if (!(options.alpha > 0)) throw InputError("alpha must be positive");
     if (options.smacof.max_iterations < 1) throw InputError("the iteration cap must be at least 1");
     if (!(options.smacof.tolerance >= 0)) throw InputError("the tolerance must be non-negative");
-    const surface::MeshReport report = options.validate ? surface::validate_mesh(V0, F) : surface::MeshReport{};
+    const surface::MeshReport report =
+        options.validate ? surface::validate_mesh(V0, F) : surface::MeshReport{};
     report_progress(options.progress, 0.0, "scaling");
 
     Eigen::RowVector3d centroid;
@@ -89,7 +91,8 @@ EuclideanCanonicalFormResult euclidean_canonical_form(const Eigen::MatrixXd& V0,
     const Eigen::MatrixXi E = report.edge_list.rows() ? report.edge_list : surface::unique_edges(F);
     const numerics::VertexAdjacency adj = numerics::vertex_adjacency(static_cast<int>(V.rows()), E);
     surface::FeaturePointOptions fp_opt = options.features;
-    fp_opt.fill = options.variant == CanonicalVariant::A ? surface::FeatureFill::Random : surface::FeatureFill::None;
+    fp_opt.fill =
+        options.variant == CanonicalVariant::A ? surface::FeatureFill::Random : surface::FeatureFill::None;
     const surface::FeaturePoints fp = surface::feature_points(adj, cf.normalized, fp_opt);
     report_progress(options.progress, 0.09, "feature points");
 
@@ -97,7 +100,8 @@ EuclideanCanonicalFormResult euclidean_canonical_form(const Eigen::MatrixXd& V0,
     solver_opt.linear_solver = options.linear_solver;
     solver_opt.ordering = smacof_ordering(cf.ordering, fp.indices);
     const numerics::SmacofSolver solver(static_cast<int>(V.rows()),
-                              canonical_form_pairs(V, E, cf.normalized, fp.indices, options), solver_opt);
+                                        canonical_form_pairs(V, E, cf.normalized, fp.indices, options),
+                                        solver_opt);
     report_progress(options.progress, 0.1, "SMACOF: V factorised");
 
     numerics::SmacofOptions sm_opt = options.smacof;
@@ -133,7 +137,8 @@ ParameterSet<EuclideanCanonicalFormOptions> euclidean_canonical_form_parameters(
     ParameterSet<O> s(defaults);
     s.add(Parameter::number("alpha", 1e-6, 1e6)
               .label("Alpha")
-              .help("target distance of every feature-point pair, in units of the mesh radius (the paper uses 10)"),
+              .help("target distance of every feature-point pair, in units of the mesh radius (the paper "
+                    "uses 10)"),
           &O::alpha);
     s.add(Parameter::number("beta", 0, 1e9)
               .zero_means_default()
@@ -145,7 +150,8 @@ ParameterSet<EuclideanCanonicalFormOptions> euclidean_canonical_form_parameters(
     s.add(Parameter::choice("solver", numerics::linear_solver_names())
               .label("Linear solver")
               .help("linear solver of SMACOF and the conformal factor: auto (direct below " +
-                    std::to_string(numerics::kMultigridFrom) + " vertices, multigrid from there), direct or multigrid")
+                    std::to_string(numerics::kMultigridFrom) +
+                    " vertices, multigrid from there), direct or multigrid")
               .affects_result(false),
           &O::linear_solver);
     return s;
@@ -175,25 +181,34 @@ CanonicalMethod euclidean_method(CanonicalVariant variant) {
         r.features = e.features;
         // Grouped: the method, its feature points, the SMACOF run, the result, the timings.
         const std::string variant_name = o.variant == CanonicalVariant::A ? "A" : "N";
-        r.summary = {{"method", std::string("euclidean")}, {"variant", variant_name}, {"alpha", o.alpha},
+        r.summary = {{"method", std::string("euclidean")},
+                     {"variant", variant_name},
+                     {"alpha", o.alpha},
                      {"beta", e.beta},
-                     {"feature_points", static_cast<int>(e.features.size())}, {"maxima", e.num_maxima},
+                     {"feature_points", static_cast<int>(e.features.size())},
+                     {"maxima", e.num_maxima},
                      {"random", e.num_random},
-                     {"iterations", e.iterations}, {"acceleration", std::string(to_string(o.smacof.acceleration))},
-                     {"extrapolations", e.extrapolations}, {"rejections", e.rejections}, {"converged", e.converged},
-                     {"initial_stress", e.initial_stress}, {"final_stress", e.final_stress},
+                     {"iterations", e.iterations},
+                     {"acceleration", std::string(to_string(o.smacof.acceleration))},
+                     {"extrapolations", e.extrapolations},
+                     {"rejections", e.rejections},
+                     {"converged", e.converged},
+                     {"initial_stress", e.initial_stress},
+                     {"final_stress", e.final_stress},
                      {"solver", std::string(to_string(e.linear_solver))},
-                     {"mean_relative_edge_change", e.mean_relative_edge_change}, {"seconds", e.seconds},
-                     {"conformal_factor_seconds", e.conformal_factor_seconds}, {"setup_seconds", e.setup_seconds},
+                     {"mean_relative_edge_change", e.mean_relative_edge_change},
+                     {"seconds", e.seconds},
+                     {"conformal_factor_seconds", e.conformal_factor_seconds},
+                     {"setup_seconds", e.setup_seconds},
                      {"smacof_seconds", e.smacof_seconds}};
         std::ostringstream d;
-        d << "variant " << variant_name << ", alpha " << o.alpha << ", beta "
-          << e.beta << ": " << V.rows() << " vertices, " << e.features.size() << " feature points ("
-          << e.num_maxima << " maxima, " << e.num_random << " random), " << e.iterations << " SMACOF iterations ("
-          << to_string(o.smacof.acceleration) << ")"
-          << (e.converged ? "" : " (iteration cap reached)") << ", stress " << e.initial_stress << " -> "
-          << e.final_stress << ", mean relative edge-length change " << e.mean_relative_edge_change << ", "
-          << e.seconds << " s";
+        d << "variant " << variant_name << ", alpha " << o.alpha << ", beta " << e.beta << ": " << V.rows()
+          << " vertices, " << e.features.size() << " feature points (" << e.num_maxima << " maxima, "
+          << e.num_random << " random), " << e.iterations << " SMACOF iterations ("
+          << to_string(o.smacof.acceleration) << ")" << (e.converged ? "" : " (iteration cap reached)")
+          << ", stress " << e.initial_stress << " -> " << e.final_stress
+          << ", mean relative edge-length change " << e.mean_relative_edge_change << ", " << e.seconds
+          << " s";
         r.description = d.str();
         return r;
     };

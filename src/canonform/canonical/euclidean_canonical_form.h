@@ -55,19 +55,22 @@ enum class CanonicalVariant {
 /// Options of euclidean_canonical_form().
 struct EuclideanCanonicalFormOptions {
     CanonicalVariant variant = CanonicalVariant::N;  ///< N: deterministic, see the header note
-    double alpha = 10.0;          ///< target distance of feature pairs (unit-radius frame)
-    double beta = 0.0;            ///< edge-preservation weight; <= 0 means the variant's default
+    double alpha = 10.0;                             ///< target distance of feature pairs (unit-radius frame)
+    double beta = 0.0;  ///< edge-preservation weight; <= 0 means the variant's default
     /// Step 3: the k-ring, the seed and the count of the feature points (feature_points.h); their
     /// fill is the variant's (A: random, N: none), whatever `features.fill` says.
     surface::FeaturePointOptions features;
-    numerics::SmacofOptions smacof;         ///< step 4: tolerance, iteration cap, acceleration, history (smacof.h)
-    numerics::LinearSolver linear_solver = numerics::LinearSolver::Auto;  ///< conformal factor's and SMACOF's solver
-    bool restore_scale = true;    ///< return the result in the input's units and position
-    bool validate = true;         ///< run validate_mesh() first (off only if the caller just did)
-    ProgressFn progress;          ///< optional progress callback (smacof.progress is not called)
+    numerics::SmacofOptions smacof;  ///< step 4: tolerance, iteration cap, acceleration, history (smacof.h)
+    numerics::LinearSolver linear_solver =
+        numerics::LinearSolver::Auto;  ///< conformal factor's and SMACOF's solver
+    bool restore_scale = true;         ///< return the result in the input's units and position
+    bool validate = true;              ///< run validate_mesh() first (off only if the caller just did)
+    ProgressFn progress;               ///< optional progress callback (smacof.progress is not called)
 
     /// beta actually used: `beta` if positive, else 10 (A) or 130 (N).
-    double effective_beta() const { return beta > 0 ? beta : (variant == CanonicalVariant::A ? 10.0 : 130.0); }
+    double effective_beta() const {
+        return beta > 0 ? beta : (variant == CanonicalVariant::A ? 10.0 : 130.0);
+    }
     /// The defaults of a variant, with its beta written out (what the method registry lists).
     static EuclideanCanonicalFormOptions of_variant(CanonicalVariant v) {
         EuclideanCanonicalFormOptions o;
@@ -86,18 +89,19 @@ ParameterSet<EuclideanCanonicalFormOptions> euclidean_canonical_form_parameters(
 /// Result of euclidean_canonical_form(): the form, its feature points, the SMACOF run's statistics
 /// (SmacofStatistics, in the unit-radius frame) and the timings.
 struct EuclideanCanonicalFormResult : numerics::SmacofStatistics {
-    Eigen::MatrixXd V;                   ///< canonical form, #V x 3 (same vertex order and faces)
-    Eigen::VectorXd phi;                 ///< normalised conformal factor, #V
-    std::vector<int> features;           ///< feature points (maxima first, then random fill)
-    int num_maxima = 0;                  ///< local maxima among `features`
-    int num_random = 0;                  ///< random fill among `features`
-    double mean_relative_edge_change = 0;///< mean over edges of |d_ij - delta_ij| / delta_ij
-    double beta = 0;                     ///< beta used
-    numerics::LinearSolver linear_solver = numerics::LinearSolver::Direct;  ///< solver used (Direct or Multigrid)
-    double seconds = 0;                  ///< wall time of the whole computation
-    double conformal_factor_seconds = 0; ///< of which: the conformal factor
-    double setup_seconds = 0;            ///< of which: feature points, pairs, factor / multigrid of V
-    double smacof_seconds = 0;           ///< of which: the SMACOF iterations
+    Eigen::MatrixXd V;                     ///< canonical form, #V x 3 (same vertex order and faces)
+    Eigen::VectorXd phi;                   ///< normalised conformal factor, #V
+    std::vector<int> features;             ///< feature points (maxima first, then random fill)
+    int num_maxima = 0;                    ///< local maxima among `features`
+    int num_random = 0;                    ///< random fill among `features`
+    double mean_relative_edge_change = 0;  ///< mean over edges of |d_ij - delta_ij| / delta_ij
+    double beta = 0;                       ///< beta used
+    numerics::LinearSolver linear_solver =
+        numerics::LinearSolver::Direct;   ///< solver used (Direct or Multigrid)
+    double seconds = 0;                   ///< wall time of the whole computation
+    double conformal_factor_seconds = 0;  ///< of which: the conformal factor
+    double setup_seconds = 0;             ///< of which: feature points, pairs, factor / multigrid of V
+    double smacof_seconds = 0;            ///< of which: the SMACOF iterations
 };
 
 /// Computes the canonical form of the mesh (V #V x 3, F #F x 3). Throws InputError on bad input
@@ -112,7 +116,7 @@ CanonicalMethod euclidean_method(CanonicalVariant variant);
 /// The SMACOF pairs of step 4 for a scaled mesh V, its edges E (#E x 2), normalised phi and
 /// feature points; exposed for tests and for callers that want to run SMACOF themselves.
 numerics::StressPairs canonical_form_pairs(const Eigen::MatrixXd& V, const Eigen::MatrixXi& E,
-                                 const Eigen::VectorXd& phi, const std::vector<int>& features,
-                                 const EuclideanCanonicalFormOptions& options);
+                                           const Eigen::VectorXd& phi, const std::vector<int>& features,
+                                           const EuclideanCanonicalFormOptions& options);
 
 }  // namespace canonform::canonical

@@ -3,9 +3,9 @@
 
 #include "canonform/common/parallel.h"
 
+#include "canonform/numerics/mds.h"
 #include "canonform/surface/conformal_factor.h"
 #include "canonform/surface/geodesic_distances.h"
-#include "canonform/numerics/mds.h"
 #include "canonform/surface/mesh_topology.h"
 
 #include <algorithm>
@@ -19,7 +19,9 @@ namespace canonform::canonical {
 namespace {
 
 /// Threads that can run at once: the request, at most every hardware thread.
-int effective_threads(int threads) { return std::min(thread_count(threads), thread_count()); }
+int effective_threads(int threads) {
+    return std::min(thread_count(threads), thread_count());
+}
 
 }  // namespace
 
@@ -61,7 +63,8 @@ GeodesicCanonicalFormResult geodesic_canonical_form(const Eigen::MatrixXd& V0, c
         m << "a geodesic canonical form of " << V0.rows() << " vertices needs " << r.estimate.describe()
           << " (all-pairs geodesic distances grow like N^2), over the limits of " << options.max_memory_gib
           << " GiB and " << options.max_seconds
-          << " s; raise max_memory_gib / max_seconds, simplify the mesh first, or use the Euclidean canonical "
+          << " s; raise max_memory_gib / max_seconds, simplify the mesh first, or use the Euclidean "
+             "canonical "
              "form";
         throw InputError(m.str());
     }
@@ -84,7 +87,8 @@ GeodesicCanonicalFormResult geodesic_canonical_form(const Eigen::MatrixXd& V0, c
     mo.threads = options.threads;
     mo.check_input = false;  // symmetric with zero diagonal by construction
     mo.progress = nullptr;
-    if (options.progress) mo.progress = [&](double f, const char* s) { return options.progress(0.7 + 0.3 * f, s); };
+    if (options.progress)
+        mo.progress = [&](double f, const char* s) { return options.progress(0.7 + 0.3 * f, s); };
     const auto tm = std::chrono::steady_clock::now();
     numerics::MdsResult m = numerics::mds(D, options.method, mo);
     r.mds_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - tm).count();
@@ -119,26 +123,27 @@ ParameterSet<GeodesicCanonicalFormOptions> geodesic_canonical_form_parameters(
 CanonicalMethod geodesic_method(numerics::MdsMethod mds) {
     GeodesicCanonicalFormOptions defaults;
     defaults.method = mds;
-    const ParameterSet<GeodesicCanonicalFormOptions> parameters = geodesic_canonical_form_parameters(defaults);
+    const ParameterSet<GeodesicCanonicalFormOptions> parameters =
+        geodesic_canonical_form_parameters(defaults);
     CanonicalMethod m;
     m.family = MethodFamily::Geodesic;
     m.family_default = mds == GeodesicCanonicalFormOptions().method;
     switch (mds) {
-    case numerics::MdsMethod::LeastSquares:
-        m.name = "geodesic-ls";
-        m.label = "least squares";
-        m.help = "geodesic canonical form, least-squares MDS (SMACOF on all pairs; the paper's LS)";
-        break;
-    case numerics::MdsMethod::Classical:
-        m.name = "geodesic-classical";
-        m.label = "classical";
-        m.help = "geodesic canonical form, classical MDS (the paper's C)";
-        break;
-    case numerics::MdsMethod::Landmark:
-        m.name = "geodesic-fast";
-        m.label = "fast";
-        m.help = "geodesic canonical form, fast (landmark) MDS (the paper's F)";
-        break;
+        case numerics::MdsMethod::LeastSquares:
+            m.name = "geodesic-ls";
+            m.label = "least squares";
+            m.help = "geodesic canonical form, least-squares MDS (SMACOF on all pairs; the paper's LS)";
+            break;
+        case numerics::MdsMethod::Classical:
+            m.name = "geodesic-classical";
+            m.label = "classical";
+            m.help = "geodesic canonical form, classical MDS (the paper's C)";
+            break;
+        case numerics::MdsMethod::Landmark:
+            m.name = "geodesic-fast";
+            m.label = "fast";
+            m.help = "geodesic canonical form, fast (landmark) MDS (the paper's F)";
+            break;
     }
     m.parameters = parameters.parameters();
     // Only least squares runs SMACOF: the others accept its acceleration, which changes nothing.
@@ -146,25 +151,33 @@ CanonicalMethod geodesic_method(numerics::MdsMethod mds) {
         for (Parameter& p : m.parameters)
             if (p.name() == "acceleration") p.affects_result(false);
     const std::string name = m.name;
-    m.run = [parameters, mds, name](const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const MethodSettings& s,
-                                    const MethodContext& c) {
+    m.run = [parameters, mds, name](const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
+                                    const MethodSettings& s, const MethodContext& c) {
         GeodesicCanonicalFormOptions o = parameters.read(s);
         o.threads = c.threads;
         o.progress = c.progress;
         GeodesicCanonicalFormResult g = geodesic_canonical_form(V, F, o);
         CanonicalForm r;
         r.V = std::move(g.V);
-        const std::string acceleration = mds == numerics::MdsMethod::LeastSquares ? to_string(o.mds.smacof.acceleration) : "none";
-        r.summary = {{"method", name}, {"iterations", g.iterations}, {"acceleration", acceleration},
-                     {"initial_stress", g.initial_stress}, {"final_stress", g.final_stress},
+        const std::string acceleration =
+            mds == numerics::MdsMethod::LeastSquares ? to_string(o.mds.smacof.acceleration) : "none";
+        r.summary = {{"method", name},
+                     {"iterations", g.iterations},
+                     {"acceleration", acceleration},
+                     {"initial_stress", g.initial_stress},
+                     {"final_stress", g.final_stress},
                      {"mean_relative_edge_change", g.mean_relative_edge_change},
-                     {"geodesic_seconds", g.geodesic_seconds}, {"mds_seconds", g.mds_seconds}, {"seconds", g.seconds},
-                     {"estimated_seconds", g.estimate.seconds}, {"estimated_bytes", g.estimate.bytes}};
+                     {"geodesic_seconds", g.geodesic_seconds},
+                     {"mds_seconds", g.mds_seconds},
+                     {"seconds", g.seconds},
+                     {"estimated_seconds", g.estimate.seconds},
+                     {"estimated_bytes", g.estimate.bytes}};
         std::ostringstream d;
         d << name << ": " << V.rows() << " vertices (estimated " << g.estimate.describe() << "), geodesics "
-          << g.geodesic_seconds << " s, MDS " << g.mds_seconds << " s (" << g.iterations << " iterations, stress "
-          << g.initial_stress << " -> " << g.final_stress << "), mean relative edge-length change "
-          << g.mean_relative_edge_change << ", " << g.seconds << " s";
+          << g.geodesic_seconds << " s, MDS " << g.mds_seconds << " s (" << g.iterations
+          << " iterations, stress " << g.initial_stress << " -> " << g.final_stress
+          << "), mean relative edge-length change " << g.mean_relative_edge_change << ", " << g.seconds
+          << " s";
         r.description = d.str();
         return r;
     };

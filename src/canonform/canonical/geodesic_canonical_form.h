@@ -32,15 +32,16 @@ namespace canonform::canonical {
 
 /// Options of geodesic_canonical_form().
 struct GeodesicCanonicalFormOptions {
-    numerics::MdsMethod method = numerics::MdsMethod::LeastSquares;  ///< step 3: the paper's LS, C and F (landmark MDS)
+    numerics::MdsMethod method =
+        numerics::MdsMethod::LeastSquares;  ///< step 3: the paper's LS, C and F (landmark MDS)
     /// Step 3's MDS (mds.h): its SMACOF iteration (least squares only), landmarks and seed. Its
     /// dim (3), threads, input check and progress are set from here.
     numerics::MdsOptions mds;
-    int threads = 0;                 ///< threads for the geodesics and MDS; 0 = all cores
-    double max_memory_gib = 4.0;     ///< refuse when the estimate exceeds this (GiB)
-    double max_seconds = 600.0;      ///< refuse when the estimated time exceeds this (s)
-    bool restore_scale = true;       ///< result in the input's units and position
-    ProgressFn progress;             ///< optional progress callback
+    int threads = 0;              ///< threads for the geodesics and MDS; 0 = all cores
+    double max_memory_gib = 4.0;  ///< refuse when the estimate exceeds this (GiB)
+    double max_seconds = 600.0;   ///< refuse when the estimated time exceeds this (s)
+    bool restore_scale = true;    ///< result in the input's units and position
+    ProgressFn progress;          ///< optional progress callback
 };
 
 /// The parameters of these options a user sets - tolerance, max_iterations, acceleration (its
@@ -62,12 +63,12 @@ GeodesicCost estimate_geodesic_canonical_form(long n, numerics::MdsMethod method
 /// Result of geodesic_canonical_form(): the form, the MDS run's statistics (SmacofStatistics:
 /// SMACOF's for least squares, else the eigen/landmark steps; unit-radius frame) and the timings.
 struct GeodesicCanonicalFormResult : numerics::SmacofStatistics {
-    Eigen::MatrixXd V;                    ///< canonical form, #V x 3 (same vertex order and faces)
-    double mean_relative_edge_change = 0; ///< mean over edges of |d_ij - |e_ij|| / |e_ij|
-    double geodesic_seconds = 0;          ///< wall time of step 2
-    double mds_seconds = 0;               ///< wall time of step 3
-    double seconds = 0;                   ///< wall time of everything
-    GeodesicCost estimate;                ///< what was estimated beforehand
+    Eigen::MatrixXd V;                     ///< canonical form, #V x 3 (same vertex order and faces)
+    double mean_relative_edge_change = 0;  ///< mean over edges of |d_ij - |e_ij|| / |e_ij|
+    double geodesic_seconds = 0;           ///< wall time of step 2
+    double mds_seconds = 0;                ///< wall time of step 3
+    double seconds = 0;                    ///< wall time of everything
+    GeodesicCost estimate;                 ///< what was estimated beforehand
 };
 
 /// The registry's method geodesic-ls, geodesic-classical or geodesic-fast (method_registry.h).

@@ -22,8 +22,10 @@ CanonicalMethod none_method() {
     m.name = "none";
     m.label = "none";
     m.help = "the mesh itself (retrieval on the original meshes)";
-    m.run = [](const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const MethodSettings&, const MethodContext& c) {
-        if (c.validate) surface::validate_mesh(V, F);  // the same meshes as every other method, NaN never passed on
+    m.run = [](const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const MethodSettings&,
+               const MethodContext& c) {
+        if (c.validate)
+            surface::validate_mesh(V, F);  // the same meshes as every other method, NaN never passed on
         CanonicalForm r;
         r.V = V;
         r.summary = {{"method", std::string("none")}};
@@ -50,7 +52,7 @@ std::vector<CanonicalMethod> builtin_methods() {
 /// stays valid while other threads register and unregister methods.
 struct Registry {
     std::mutex mutex;
-    std::deque<CanonicalMethod> all;        // every method ever registered (never shrinks)
+    std::deque<CanonicalMethod> all;             // every method ever registered (never shrinks)
     std::vector<const CanonicalMethod*> listed;  // the registered ones, in order
     Registry() {
         for (CanonicalMethod& m : builtin_methods()) {
@@ -75,15 +77,18 @@ std::string names_of(const std::vector<const CanonicalMethod*>& methods) {
 /// and whether it affects the result.
 bool same_definition(const Parameter& a, const Parameter& b) {
     return a.type() == b.type() && a.label() == b.label() && a.help() == b.help() && a.min() == b.min() &&
-           a.max() == b.max() && a.choices() == b.choices() && a.zero_means_default() == b.zero_means_default() &&
-           a.alias() == b.alias();
+           a.max() == b.max() && a.choices() == b.choices() &&
+           a.zero_means_default() == b.zero_means_default() && a.alias() == b.alias();
 }
 
 }  // namespace
 
-const Parameter* CanonicalMethod::parameter(const std::string& n) const { return find_parameter(parameters, n); }
+const Parameter* CanonicalMethod::parameter(const std::string& n) const {
+    return find_parameter(parameters, n);
+}
 
-MethodSettings CanonicalMethod::settings(const std::vector<std::pair<std::string, std::string>>& given) const {
+MethodSettings CanonicalMethod::settings(
+    const std::vector<std::pair<std::string, std::string>>& given) const {
     for (const auto& [key, value] : given) {
         if (parameter(key)) continue;
         std::vector<std::string> takers;
@@ -92,8 +97,9 @@ MethodSettings CanonicalMethod::settings(const std::vector<std::pair<std::string
         std::string who;
         for (size_t k = 0; k < takers.size(); ++k)
             who += (k == 0 ? "" : k + 1 == takers.size() ? " and " : ", ") + takers[k];
-        throw InputError("method '" + name + "' has no parameter '" + key + "'" +
-                         (takers.empty() ? std::string(": no method takes it") : ": only " + who + " take " + key));
+        throw InputError(
+            "method '" + name + "' has no parameter '" + key + "'" +
+            (takers.empty() ? std::string(": no method takes it") : ": only " + who + " take " + key));
     }
     try {
         return MethodSettings(parameters, given);
@@ -140,11 +146,13 @@ std::vector<Parameter> family_parameters(MethodFamily family) {
                 continue;
             }
             if (!same_definition(*seen, p))
-                throw std::logic_error("methods of one family define parameter '" + p.name() + "' differently");
+                throw std::logic_error("methods of one family define parameter '" + p.name() +
+                                       "' differently");
             if (p.affects_result()) seen->affects_result(true);
             if (seen->default_value() == p.default_value()) continue;
             if (!p.zero_means_default())
-                throw std::logic_error("methods of one family give parameter '" + p.name() + "' different defaults");
+                throw std::logic_error("methods of one family give parameter '" + p.name() +
+                                       "' different defaults");
             seen->default_value("0");
         }
     return out;
@@ -152,7 +160,8 @@ std::vector<Parameter> family_parameters(MethodFamily family) {
 
 void register_canonical_method(CanonicalMethod method) {
     if (method.name.empty() || method.name.find_first_of(":,=_ ") != std::string::npos)
-        throw InputError("a method name must be non-empty without ':', ',', '=', '_' or spaces: '" + method.name + "'");
+        throw InputError("a method name must be non-empty without ':', ',', '=', '_' or spaces: '" +
+                         method.name + "'");
     Registry& r = registry();
     std::lock_guard<std::mutex> lock(r.mutex);
     for (const CanonicalMethod* m : r.listed)

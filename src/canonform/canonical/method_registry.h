@@ -59,23 +59,23 @@ using SummaryValue = std::variant<double, int, bool, std::string>;
 
 /// Result of a method's run.
 struct CanonicalForm {
-    Eigen::MatrixXd V;                  ///< the form, #V x 3 (same vertex order and faces)
-    Eigen::VectorXd quality;            ///< per-vertex conformal factor where the method has one (else empty)
-    std::vector<int> features;          ///< feature points where the method has them
+    Eigen::MatrixXd V;          ///< the form, #V x 3 (same vertex order and faces)
+    Eigen::VectorXd quality;    ///< per-vertex conformal factor where the method has one (else empty)
+    std::vector<int> features;  ///< feature points where the method has them
     std::vector<std::pair<std::string, SummaryValue>> summary;  ///< iterations, stresses, times... in order
-    std::string description;            ///< one line for a log ("... 126 iterations, stress a -> b, 0.17 s")
+    std::string description;  ///< one line for a log ("... 126 iterations, stress a -> b, 0.17 s")
 };
 
 /// A canonical-form method.
 struct CanonicalMethod {
-    std::string name;                          ///< "euclidean-N"
-    std::string label;                         ///< its entry in its filter's enum ("N")
+    std::string name;   ///< "euclidean-N"
+    std::string label;  ///< its entry in its filter's enum ("N")
     MethodFamily family = MethodFamily::None;
-    bool family_default = false;               ///< its filter's default entry, the tool's default of the family
-    std::string help;                          ///< one line, for --help
-    std::vector<Parameter> parameters;         ///< with this method's defaults
-    std::function<CanonicalForm(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const MethodSettings& settings,
-                                const MethodContext& context)>
+    bool family_default = false;        ///< its filter's default entry, the tool's default of the family
+    std::string help;                   ///< one line, for --help
+    std::vector<Parameter> parameters;  ///< with this method's defaults
+    std::function<CanonicalForm(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
+                                const MethodSettings& settings, const MethodContext& context)>
         run;
 
     const Parameter* parameter(const std::string& name) const;
@@ -105,7 +105,7 @@ void unregister_canonical_method(const std::string& name);
 
 /// A method with parameter values, as written "NAME[:KEY=VALUE...]".
 struct MethodSpec {
-    std::string name;                                         ///< the method's name
+    std::string name;                                        ///< the method's name
     std::vector<std::pair<std::string, std::string>> given;  ///< parameters as written, in order
 
     const CanonicalMethod& method() const { return canonical_method(name); }

@@ -46,10 +46,11 @@ inline int thread_count(int requested = 0) {
 
 /// How a parallel_for() runs.
 struct ParallelOptions {
-    int threads = 0;           ///< worker threads; 0 = thread_count() (every hardware thread)
-    std::ptrdiff_t grain = 1;  ///< indices per task, and the fewest per worker (small loops use fewer workers)
-    ProgressFn progress;       ///< called on the calling thread with the fraction done; false cancels
-    const char* stage = "";    ///< label passed to `progress`
+    int threads = 0;  ///< worker threads; 0 = thread_count() (every hardware thread)
+    std::ptrdiff_t grain =
+        1;                   ///< indices per task, and the fewest per worker (small loops use fewer workers)
+    ProgressFn progress;     ///< called on the calling thread with the fraction done; false cancels
+    const char* stage = "";  ///< label passed to `progress`
 };
 
 /// Workers parallel_for(n, ..., options) uses: thread_count(options.threads), at most one per
@@ -92,12 +93,13 @@ void parallel_for(std::ptrdiff_t n, Body&& body, const ParallelOptions& options 
 #if defined(CANONFORM_HAVE_TBB)
     tbb::task_arena arena(workers);
     arena.execute([&] {
-        tbb::parallel_for(tbb::blocked_range<std::ptrdiff_t>(0, n, static_cast<std::size_t>(grain)),
-                          [&](const tbb::blocked_range<std::ptrdiff_t>& r) {
-                              const int w = tbb::this_task_arena::current_thread_index();
-                              run(r.begin(), r.end(), std::min(std::max(w, 0), workers - 1));
-                          },
-                          tbb::simple_partitioner());
+        tbb::parallel_for(
+            tbb::blocked_range<std::ptrdiff_t>(0, n, static_cast<std::size_t>(grain)),
+            [&](const tbb::blocked_range<std::ptrdiff_t>& r) {
+                const int w = tbb::this_task_arena::current_thread_index();
+                run(r.begin(), r.end(), std::min(std::max(w, 0), workers - 1));
+            },
+            tbb::simple_partitioner());
     });
 #else
     // Workers 1.. on threads, worker 0 the caller; chunks taken in turn; the first exception

@@ -29,11 +29,16 @@ bool parse_number(const std::string& text, double* value) {
 
 const char* to_string(ParameterType type) {
     switch (type) {
-    case ParameterType::Bool: return "bool";
-    case ParameterType::Int: return "int";
-    case ParameterType::Float: return "float";
-    case ParameterType::Choice: return "choice";
-    case ParameterType::Text: return "text";
+        case ParameterType::Bool:
+            return "bool";
+        case ParameterType::Int:
+            return "int";
+        case ParameterType::Float:
+            return "float";
+        case ParameterType::Choice:
+            return "choice";
+        case ParameterType::Text:
+            return "text";
     }
     return "?";
 }
@@ -49,7 +54,8 @@ std::string format_number(double value) {
     // 2147483647), an exponent for very small and round large ones (1e-5, 1e6).
     if (value != 0 && std::isfinite(value)) {
         const int e = static_cast<int>(std::floor(std::log10(std::fabs(value))));
-        if ((e > -5 && e < 6) || digits > e) std::snprintf(buf, sizeof buf, "%.*g", std::max(digits, e + 1), value);
+        if ((e > -5 && e < 6) || digits > e)
+            std::snprintf(buf, sizeof buf, "%.*g", std::max(digits, e + 1), value);
     }
     std::string s = buf;
     // "1e-05" -> "1e-5", "1e+06" -> "1e6": as a person writes it.
@@ -101,7 +107,9 @@ Parameter Parameter::choice(std::string name, std::vector<std::string> choices) 
     return p;
 }
 
-Parameter Parameter::text(std::string name) { return Parameter(std::move(name), ParameterType::Text); }
+Parameter Parameter::text(std::string name) {
+    return Parameter(std::move(name), ParameterType::Text);
+}
 
 Parameter& Parameter::label(std::string text) {
     label_ = std::move(text);
@@ -135,35 +143,40 @@ Parameter& Parameter::alias(std::string name) {
 
 std::string Parameter::requirement() const {
     switch (type_) {
-    case ParameterType::Bool: return "true or false";
-    case ParameterType::Text: return "a text";
-    case ParameterType::Choice: return "one of " + join(choices_, ", ");
-    case ParameterType::Int:
-    case ParameterType::Float:
-        if (zero_means_default_) return "a positive number (or 0 for the default)";
-        return std::string(type_ == ParameterType::Int ? "a whole number" : "a finite number") + " between " +
-               format_number(min_) + " and " + format_number(max_);
+        case ParameterType::Bool:
+            return "true or false";
+        case ParameterType::Text:
+            return "a text";
+        case ParameterType::Choice:
+            return "one of " + join(choices_, ", ");
+        case ParameterType::Int:
+        case ParameterType::Float:
+            if (zero_means_default_) return "a positive number (or 0 for the default)";
+            return std::string(type_ == ParameterType::Int ? "a whole number" : "a finite number") +
+                   " between " + format_number(min_) + " and " + format_number(max_);
     }
     return "";
 }
 
 void Parameter::check(const std::string& value) const {
     switch (type_) {
-    case ParameterType::Text: return;
-    case ParameterType::Bool:
-        if (value == "true" || value == "false") return;
-        break;
-    case ParameterType::Choice:
-        if (std::find(choices_.begin(), choices_.end(), value) != choices_.end()) return;
-        break;
-    case ParameterType::Int:
-    case ParameterType::Float: {
-        double v = 0;
-        if (parse_number(value, &v) && std::isfinite(v) && (type_ != ParameterType::Int || v == std::floor(v)) &&
-            ((v >= min_ && v <= max_) || (zero_means_default_ && v == 0)))
+        case ParameterType::Text:
             return;
-        break;
-    }
+        case ParameterType::Bool:
+            if (value == "true" || value == "false") return;
+            break;
+        case ParameterType::Choice:
+            if (std::find(choices_.begin(), choices_.end(), value) != choices_.end()) return;
+            break;
+        case ParameterType::Int:
+        case ParameterType::Float: {
+            double v = 0;
+            if (parse_number(value, &v) && std::isfinite(v) &&
+                (type_ != ParameterType::Int || v == std::floor(v)) &&
+                ((v >= min_ && v <= max_) || (zero_means_default_ && v == 0)))
+                return;
+            break;
+        }
     }
     throw InputError(name_ + " must be " + requirement() + ", got '" + value + "'");
 }
@@ -208,7 +221,8 @@ Settings::Settings(const std::vector<Parameter>& parameters,
         if (!p) {
             std::vector<std::string> names;
             for (const Parameter& q : parameters) names.push_back(q.name());
-            throw InputError("unknown parameter '" + name + "' (" + (names.empty() ? "none" : join(names, ", ")) + ")");
+            throw InputError("unknown parameter '" + name + "' (" +
+                             (names.empty() ? "none" : join(names, ", ")) + ")");
         }
         p->check(value);
         if (p->zero_means_default() && p->number(value) == 0) continue;  // 0 stands for the default

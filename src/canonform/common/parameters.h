@@ -60,9 +60,9 @@ public:
     Parameter& help(std::string text);           ///< what it does, a phrase without a final full stop
     Parameter& default_value(std::string text);  ///< as text; a ParameterSet sets it from its defaults
     Parameter& zero_means_default(bool on = true);  ///< numbers: a given 0 stands for the default
-    Parameter& affects_result(bool on);          ///< false: not part of a retrieval run's cache key
-    Parameter& alias(std::string name);          ///< a second, older tool option name ("tol"); for a
-                                                 ///< switch that is on by default, the one that turns it off
+    Parameter& affects_result(bool on);             ///< false: not part of a retrieval run's cache key
+    Parameter& alias(std::string name);             ///< a second, older tool option name ("tol"); for a
+                                         ///< switch that is on by default, the one that turns it off
 
     // Getters.
     const std::string& name() const { return name_; }
@@ -113,7 +113,8 @@ public:
     Settings() = default;
     /// Every parameter of `parameters` at its default, then `given` (checked; InputError naming an
     /// unknown name or a bad value). A given 0 of a zero_means_default parameter keeps the default.
-    Settings(const std::vector<Parameter>& parameters, const std::vector<std::pair<std::string, std::string>>& given);
+    Settings(const std::vector<Parameter>& parameters,
+             const std::vector<std::pair<std::string, std::string>>& given);
     /// The texts as they are (no checks; for a caller that has them from a Settings).
     explicit Settings(std::map<std::string, std::string> values) : values_(std::move(values)) {}
 
@@ -151,7 +152,8 @@ public:
     /// `get(options)` of type Inner: their defaults become that member's values in this set's
     /// defaults.
     template <class Inner, class Get>
-    ParameterSet& include(const ParameterSet<Inner>& inner, Get get, const std::vector<std::string>& only = {});
+    ParameterSet& include(const ParameterSet<Inner>& inner, Get get,
+                          const std::vector<std::string>& only = {});
 
     /// The parameters, in the order added (a copy from a temporary set, so that
     /// `for (const Parameter& p : some_parameters().parameters())` is safe).
@@ -173,8 +175,8 @@ private:
     template <class>
     friend class ParameterSet;
     struct Binding {
-        std::function<std::string(Options&)> text_of;                // the member's value as text
-        std::function<void(Options&, const Settings&)> read;         // writes the setting in
+        std::function<std::string(Options&)> text_of;         // the member's value as text
+        std::function<void(Options&, const Settings&)> read;  // writes the setting in
     };
     Options defaults_;
     std::vector<Parameter> parameters_;
@@ -206,7 +208,8 @@ constexpr ParameterType parameter_type_of() {
     else if constexpr (std::is_floating_point_v<T>)
         return ParameterType::Float;
     else {
-        static_assert(std::is_same_v<T, std::string>, "a parameter binds a bool, number, enum or string member");
+        static_assert(std::is_same_v<T, std::string>,
+                      "a parameter binds a bool, number, enum or string member");
         return ParameterType::Text;
     }
 }
@@ -218,7 +221,8 @@ std::string text_of_value(const Parameter& p, const T& v) {
         return v ? "true" : "false";
     else if constexpr (std::is_enum_v<T>) {
         const auto k = static_cast<std::size_t>(v);
-        if (k >= p.choices().size()) throw std::logic_error("parameter '" + p.name() + "': enumerator without a choice");
+        if (k >= p.choices().size())
+            throw std::logic_error("parameter '" + p.name() + "': enumerator without a choice");
         return p.choices()[k];
     } else if constexpr (std::is_integral_v<T>)
         return std::to_string(v);
@@ -257,10 +261,11 @@ ParameterSet<Options>& ParameterSet<Options>::add(Parameter p, Get get) {
     p.default_value(detail::text_of_value(p, detail::member_of(defaults_, get)));
     p.check(p.default_value());
     const Parameter bound = p;
-    bindings_.push_back({[bound, get](Options& o) { return detail::text_of_value(bound, detail::member_of(o, get)); },
-                         [bound, get](Options& o, const Settings& s) {
-                             detail::member_of(o, get) = detail::value_of_setting<T>(bound, s);
-                         }});
+    bindings_.push_back(
+        {[bound, get](Options& o) { return detail::text_of_value(bound, detail::member_of(o, get)); },
+         [bound, get](Options& o, const Settings& s) {
+             detail::member_of(o, get) = detail::value_of_setting<T>(bound, s);
+         }});
     parameters_.push_back(std::move(p));
     return *this;
 }
@@ -276,8 +281,9 @@ ParameterSet<Options>& ParameterSet<Options>::include(const ParameterSet<Inner>&
             if (q.name() == p.name()) throw std::logic_error("parameter '" + p.name() + "' added twice");
         const typename ParameterSet<Inner>::Binding b = inner.bindings_[k];
         p.default_value(b.text_of(detail::member_of(defaults_, get)));
-        bindings_.push_back({[b, get](Options& o) { return b.text_of(detail::member_of(o, get)); },
-                             [b, get](Options& o, const Settings& s) { b.read(detail::member_of(o, get), s); }});
+        bindings_.push_back(
+            {[b, get](Options& o) { return b.text_of(detail::member_of(o, get)); },
+             [b, get](Options& o, const Settings& s) { b.read(detail::member_of(o, get), s); }});
         parameters_.push_back(std::move(p));
     }
     return *this;

@@ -5,12 +5,15 @@
 #pragma once
 
 #ifndef CANONFORM_VERSION
-#error "CANONFORM_VERSION is not defined: link canonform::common (src/CMakeLists.txt defines it from project())"
+#error \
+    "CANONFORM_VERSION is not defined: link canonform::common (src/CMakeLists.txt defines it from project())"
 #endif
 
 namespace canonform {
 
 /// The version, "MAJOR.MINOR.PATCH" (CMake's PROJECT_VERSION).
-inline const char* version() { return CANONFORM_VERSION; }
+inline const char* version() {
+    return CANONFORM_VERSION;
+}
 
 }  // namespace canonform

@@ -19,7 +19,8 @@ std::vector<std::vector<std::string>> parse_csv(const std::string& text) {
         std::string::size_type start = 0;
         for (;;) {
             const auto comma = line.find(',', start);
-            cells.push_back(line.substr(start, comma == std::string::npos ? std::string::npos : comma - start));
+            cells.push_back(
+                line.substr(start, comma == std::string::npos ? std::string::npos : comma - start));
             if (comma == std::string::npos) break;
             start = comma + 1;
         }
@@ -28,9 +29,13 @@ std::vector<std::vector<std::string>> parse_csv(const std::string& text) {
     return rows;
 }
 
-std::vector<std::vector<std::string>> read_csv(const std::string& path) { return parse_csv(read_file(path)); }
+std::vector<std::vector<std::string>> read_csv(const std::string& path) {
+    return parse_csv(read_file(path));
+}
 
-std::vector<LabelRow> read_labels(const std::string& path) { return parse_labels(read_file(path), path); }
+std::vector<LabelRow> read_labels(const std::string& path) {
+    return parse_labels(read_file(path), path);
+}
 
 std::vector<LabelRow> parse_labels(const std::string& text, const std::string& path) {
     std::vector<LabelRow> out;
@@ -42,7 +47,8 @@ std::vector<LabelRow> parse_labels(const std::string& text, const std::string& p
         for (size_t c = 0; c + 1 < cells.size(); ++c) r.path += (c ? "," : "") + cells[c];
         if (k == 0 && r.label == "class" && (r.path == "path" || r.path.empty())) continue;  // header
         if (r.label.empty())
-            throw InputError("'" + path + "': row " + std::to_string(k + 1) + " has no class (rows are path,class)");
+            throw InputError("'" + path + "': row " + std::to_string(k + 1) +
+                             " has no class (rows are path,class)");
         out.push_back(std::move(r));
     }
     if (out.empty()) throw InputError("'" + path + "': no labels (rows are path,class)");

@@ -12,7 +12,8 @@
 namespace canonform::io {
 
 /// Writes D as binary (`bin_path`) and as CSV (`csv_path`, 7 significant digits), both atomically.
-void write_distance_matrix(const Eigen::MatrixXf& D, const std::string& bin_path, const std::string& csv_path);
+void write_distance_matrix(const Eigen::MatrixXf& D, const std::string& bin_path,
+                           const std::string& csv_path);
 
 /// Reads a distance matrix: CSV if the name ends in .csv, else binary. InputError naming the file
 /// and the cause (missing, a folder, empty, not square, a cell that is not a number, a NaN or

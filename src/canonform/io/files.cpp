@@ -52,7 +52,9 @@ std::string lower_extension(const std::string& path) {
     return ext;
 }
 
-std::string stem(const std::string& path) { return utf8_path(io::fs_path(path).stem()); }
+std::string stem(const std::string& path) {
+    return utf8_path(io::fs_path(path).stem());
+}
 
 std::string temporary_path_for(const std::string& path) {
     std::random_device rd;
@@ -60,7 +62,8 @@ std::string temporary_path_for(const std::string& path) {
     std::snprintf(buf, sizeof buf, ".tmp%08x", static_cast<unsigned>(rd()));
     const fs::path p = io::fs_path(path);
     const std::string ext = lower_extension(path);
-    const fs::path tmp = p.parent_path() / io::fs_path("." + utf8_path(p.filename()) + buf + (ext.empty() ? "" : "." + ext));
+    const fs::path tmp =
+        p.parent_path() / io::fs_path("." + utf8_path(p.filename()) + buf + (ext.empty() ? "" : "." + ext));
     return utf8_path(tmp);
 }
 
@@ -91,7 +94,8 @@ void write_file_atomic(const std::string& path, const std::string& bytes) {
 void make_directories(const std::string& dir) {
     std::error_code ec;
     fs::create_directories(io::fs_path(dir), ec);
-    if (!fs::is_directory(io::fs_path(dir), ec)) throw std::runtime_error("cannot create the folder '" + dir + "'");
+    if (!fs::is_directory(io::fs_path(dir), ec))
+        throw std::runtime_error("cannot create the folder '" + dir + "'");
 }
 
 bool is_file(const std::string& path) {

@@ -8,8 +8,8 @@
 #include <charconv>
 #include <clocale>
 #include <cmath>
-#include <cstdio>
 #include <cstdint>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <limits>
@@ -49,13 +49,16 @@ void check_claim(const std::string& name, u64 count, const std::string& what, u6
 
 void check_index_range(const std::string& name, u64 count, const char* what) {
     if (count > static_cast<u64>(std::numeric_limits<int>::max()))
-        fail(name, "the header claims " + std::to_string(count) + " " + what + ", more than this program handles (" +
+        fail(name, "the header claims " + std::to_string(count) + " " + what +
+                       ", more than this program handles (" +
                        std::to_string(std::numeric_limits<int>::max()) + ")");
 }
 
 // --- text -------------------------------------------------------------------------------------------
 
-bool is_space(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\f' || c == '\v'; }
+bool is_space(char c) {
+    return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\f' || c == '\v';
+}
 
 /// The lines of a text, without their end-of-line characters, numbered from 1.
 class Lines {
@@ -73,7 +76,9 @@ public:
     }
     long number() const { return number_; }
     /// "on line N" of the line last read (`what`: "line", "header line").
-    std::string where(const char* what = "line") const { return std::string("on ") + what + " " + std::to_string(number_); }
+    std::string where(const char* what = "line") const {
+        return std::string("on ") + what + " " + std::to_string(number_);
+    }
     u64 remaining() const { return pos_ >= s_.size() ? 0 : s_.size() - pos_; }
 
 private:
@@ -150,7 +155,8 @@ bool parse_integer(std::string_view t, long long* v) {
 /// its face (counted; the first one's message kept).
 class FaceList {
 public:
-    FaceList(const std::string& name, const ReadOptions& options) : name_(name), drop_(options.drop_bad_faces) {}
+    FaceList(const std::string& name, const ReadOptions& options)
+        : name_(name), drop_(options.drop_bad_faces) {}
 
     /// Starts a polygon.
     void start() {
@@ -179,14 +185,16 @@ public:
             ++dropped_;
             return;
         }
-        for (std::size_t k = 1; k + 1 < poly_.size(); ++k) F_.insert(F_.end(), {poly_[0], poly_[k], poly_[k + 1]});
+        for (std::size_t k = 1; k + 1 < poly_.size(); ++k)
+            F_.insert(F_.end(), {poly_[0], poly_[k], poly_[k + 1]});
     }
     void reserve(std::size_t n) { F_.reserve(n); }
 
     /// The mesh of the vertices `v` (x y z per vertex), these faces and per-vertex `quality`.
     MeshFile assemble(std::vector<double>& v, std::vector<double>* quality = nullptr) {
         MeshFile r;
-        const auto nv = static_cast<Eigen::Index>(v.size() / 3), nf = static_cast<Eigen::Index>(F_.size() / 3);
+        const auto nv = static_cast<Eigen::Index>(v.size() / 3),
+                   nf = static_cast<Eigen::Index>(F_.size() / 3);
         r.mesh.V = Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>>(v.data(), nv, 3);
         r.mesh.F = Eigen::Map<Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor>>(F_.data(), nf, 3);
         if (quality && !quality->empty()) r.quality = Eigen::Map<Eigen::VectorXd>(quality->data(), nv);
@@ -251,19 +259,22 @@ MeshFile parse_off(const std::string& bytes, const std::string& name, const Read
     }
     const std::string_view prefix = token.substr(0, token.size() - 3);
     if (prefix.find_first_of("4n") != std::string_view::npos)
-        fail(name, "a " + std::string(token) + " file (4D or n-dimensional vertices) is not supported: 3D OFF only");
+        fail(name, "a " + std::string(token) +
+                       " file (4D or n-dimensional vertices) is not supported: 3D OFF only");
     if (prefix.find_first_not_of("STCN") != std::string_view::npos)
         fail(name, "not an OFF file: unknown header keyword " + quoted(token));
     std::vector<std::string_view> counts;
     while (header.next(&token)) counts.push_back(token);
     if (!counts.empty() && counts[0] == "BINARY") fail(name, "binary OFF is not supported (ASCII OFF only)");
     if (counts.empty()) {
-        if (!content_line(lines, &line)) fail(name, "truncated: no vertex and face counts after the OFF keyword");
+        if (!content_line(lines, &line))
+            fail(name, "truncated: no vertex and face counts after the OFF keyword");
         Tokens t(line);
         while (t.next(&token)) counts.push_back(token);
     }
     long long nv = 0, nf = 0;
-    if (counts.size() < 2 || !parse_integer(counts[0], &nv) || !parse_integer(counts[1], &nf) || nv < 0 || nf < 0)
+    if (counts.size() < 2 || !parse_integer(counts[0], &nv) || !parse_integer(counts[1], &nf) || nv < 0 ||
+        nf < 0)
         fail(name, "bad counts line " + std::to_string(lines.number()) + ": " + quoted(line) +
                        " (expected: vertices faces edges)");
     // At least "0 0 0\n" per vertex and "3 0 1 2\n" per face.
@@ -276,8 +287,8 @@ MeshFile parse_off(const std::string& bytes, const std::string& name, const Read
     V.reserve(3 * static_cast<std::size_t>(nv));
     for (long long k = 0; k < nv; ++k) {
         if (!content_line(lines, &line))
-            fail(name, "truncated: the header claims " + std::to_string(nv) + " vertices, the file ends after " +
-                           std::to_string(k));
+            fail(name, "truncated: the header claims " + std::to_string(nv) +
+                           " vertices, the file ends after " + std::to_string(k));
         Tokens t(line);
         double x[3];
         for (double& c : x)
@@ -361,11 +372,11 @@ enum class PlyType { Int8, UInt8, Int16, UInt16, Int32, UInt32, Float32, Float64
 
 bool ply_type(std::string_view t, PlyType* type) {
     static const std::pair<const char*, PlyType> names[] = {
-        {"char", PlyType::Int8},     {"int8", PlyType::Int8},      {"uchar", PlyType::UInt8},
-        {"uint8", PlyType::UInt8},   {"short", PlyType::Int16},    {"int16", PlyType::Int16},
-        {"ushort", PlyType::UInt16}, {"uint16", PlyType::UInt16},  {"int", PlyType::Int32},
-        {"int32", PlyType::Int32},   {"uint", PlyType::UInt32},    {"uint32", PlyType::UInt32},
-        {"float", PlyType::Float32}, {"float32", PlyType::Float32}, {"double", PlyType::Float64},
+        {"char", PlyType::Int8},      {"int8", PlyType::Int8},       {"uchar", PlyType::UInt8},
+        {"uint8", PlyType::UInt8},    {"short", PlyType::Int16},     {"int16", PlyType::Int16},
+        {"ushort", PlyType::UInt16},  {"uint16", PlyType::UInt16},   {"int", PlyType::Int32},
+        {"int32", PlyType::Int32},    {"uint", PlyType::UInt32},     {"uint32", PlyType::UInt32},
+        {"float", PlyType::Float32},  {"float32", PlyType::Float32}, {"double", PlyType::Float64},
         {"float64", PlyType::Float64}};
     for (const auto& [n, ty] : names)
         if (t == n) {
@@ -377,14 +388,18 @@ bool ply_type(std::string_view t, PlyType* type) {
 
 int ply_size(PlyType t) {
     switch (t) {
-    case PlyType::Int8:
-    case PlyType::UInt8: return 1;
-    case PlyType::Int16:
-    case PlyType::UInt16: return 2;
-    case PlyType::Int32:
-    case PlyType::UInt32:
-    case PlyType::Float32: return 4;
-    case PlyType::Float64: return 8;
+        case PlyType::Int8:
+        case PlyType::UInt8:
+            return 1;
+        case PlyType::Int16:
+        case PlyType::UInt16:
+            return 2;
+        case PlyType::Int32:
+        case PlyType::UInt32:
+        case PlyType::Float32:
+            return 4;
+        case PlyType::Float64:
+            return 8;
     }
     return 1;
 }
@@ -408,7 +423,11 @@ enum class PlyFormat { Ascii, BinaryLittle, BinaryBig };
 class PlyData {
 public:
     PlyData(const std::string& bytes, std::size_t start, PlyFormat format, const std::string& name)
-        : b_(bytes), pos_(start), format_(format), name_(name), tokens_(std::string_view(bytes).substr(start)) {}
+        : b_(bytes),
+          pos_(start),
+          format_(format),
+          name_(name),
+          tokens_(std::string_view(bytes).substr(start)) {}
 
     double value(PlyType type, const char* what) {
         if (format_ == PlyFormat::Ascii) {
@@ -424,35 +443,43 @@ public:
                             " while reading " + what);
         unsigned char raw[8];
         for (int k = 0; k < n; ++k)
-            raw[k] = static_cast<unsigned char>(b_[pos_ + static_cast<std::size_t>(format_ == PlyFormat::BinaryBig ? n - 1 - k : k)]);
+            raw[k] = static_cast<unsigned char>(
+                b_[pos_ + static_cast<std::size_t>(format_ == PlyFormat::BinaryBig ? n - 1 - k : k)]);
         pos_ += static_cast<std::size_t>(n);
         std::uint64_t u = 0;
         for (int k = n - 1; k >= 0; --k) u = (u << 8) | raw[k];
         switch (type) {
-        case PlyType::Int8: return static_cast<std::int8_t>(u);
-        case PlyType::UInt8: return static_cast<std::uint8_t>(u);
-        case PlyType::Int16: return static_cast<std::int16_t>(u);
-        case PlyType::UInt16: return static_cast<std::uint16_t>(u);
-        case PlyType::Int32: return static_cast<std::int32_t>(u);
-        case PlyType::UInt32: return static_cast<std::uint32_t>(u);
-        case PlyType::Float32: {
-            const auto w = static_cast<std::uint32_t>(u);
-            float f;
-            std::memcpy(&f, &w, 4);
-            return f;
-        }
-        case PlyType::Float64: {
-            double d;
-            std::memcpy(&d, &u, 8);
-            return d;
-        }
+            case PlyType::Int8:
+                return static_cast<std::int8_t>(u);
+            case PlyType::UInt8:
+                return static_cast<std::uint8_t>(u);
+            case PlyType::Int16:
+                return static_cast<std::int16_t>(u);
+            case PlyType::UInt16:
+                return static_cast<std::uint16_t>(u);
+            case PlyType::Int32:
+                return static_cast<std::int32_t>(u);
+            case PlyType::UInt32:
+                return static_cast<std::uint32_t>(u);
+            case PlyType::Float32: {
+                const auto w = static_cast<std::uint32_t>(u);
+                float f;
+                std::memcpy(&f, &w, 4);
+                return f;
+            }
+            case PlyType::Float64: {
+                double d;
+                std::memcpy(&d, &u, 8);
+                return d;
+            }
         }
         return 0;
     }
     /// A list's entry count, checked against what is left of the file.
     long long list_count(const PlyProperty& p, const char* what) {
         const double c = value(p.count_type, what);
-        if (!(c >= 0) || !std::isfinite(c) || c != std::floor(c)) fail(name_, std::string("bad list length in ") + what);
+        if (!(c >= 0) || !std::isfinite(c) || c != std::floor(c))
+            fail(name_, std::string("bad list length in ") + what);
         const u64 min_each = format_ == PlyFormat::Ascii ? 2 : static_cast<u64>(ply_size(p.type));
         const u64 left = format_ == PlyFormat::Ascii ? b_.size() - pos_ + 1 : b_.size() - pos_;
         if (c > static_cast<double>(left / min_each)) {
@@ -460,8 +487,9 @@ public:
             // fuzzer's 2.2e25 has no u64, and converting it was undefined behaviour).
             char claimed[400];
             std::snprintf(claimed, sizeof claimed, "%.0f", c);
-            fail(name_, "a list in " + std::string(what) + " claims " + claimed +
-                            " entries, more than the rest of the file holds: the file lies (truncated or corrupt)");
+            fail(name_,
+                 "a list in " + std::string(what) + " claims " + claimed +
+                     " entries, more than the rest of the file holds: the file lies (truncated or corrupt)");
         }
         return static_cast<long long>(c);
     }
@@ -478,7 +506,8 @@ MeshFile parse_ply(const std::string& bytes, const std::string& name, const Read
     Lines lines(bytes);
     std::string_view line, token;
     if (!lines.next(&line) || line != "ply") {
-        if (line.substr(0, 3) == "OFF") fail(name, "not a PLY file: it starts like an OFF file (name it .off)");
+        if (line.substr(0, 3) == "OFF")
+            fail(name, "not a PLY file: it starts like an OFF file (name it .off)");
         fail(name, "not a PLY file (it does not start with 'ply')");
     }
     PlyFormat format = PlyFormat::Ascii;
@@ -497,10 +526,14 @@ MeshFile parse_ply(const std::string& bytes, const std::string& name, const Read
         if (token == "format") {
             std::string_view f;
             t.next(&f);
-            if (f == "ascii") format = PlyFormat::Ascii;
-            else if (f == "binary_little_endian") format = PlyFormat::BinaryLittle;
-            else if (f == "binary_big_endian") format = PlyFormat::BinaryBig;
-            else fail(name, "unknown PLY format " + quoted(f) + where);
+            if (f == "ascii")
+                format = PlyFormat::Ascii;
+            else if (f == "binary_little_endian")
+                format = PlyFormat::BinaryLittle;
+            else if (f == "binary_big_endian")
+                format = PlyFormat::BinaryBig;
+            else
+                fail(name, "unknown PLY format " + quoted(f) + where);
             have_format = true;
         } else if (token == "element") {
             PlyElement e;
@@ -518,13 +551,15 @@ MeshFile parse_ply(const std::string& bytes, const std::string& name, const Read
             if (!t.next(&a)) fail(name, "bad property line" + where);
             if (a == "list") {
                 p.list = true;
-                if (!t.next(&b) || !t.next(&c) || !ply_type(b, &p.count_type) || !ply_type(c, &p.type) || !t.next(&a))
+                if (!t.next(&b) || !t.next(&c) || !ply_type(b, &p.count_type) || !ply_type(c, &p.type) ||
+                    !t.next(&a))
                     fail(name, "bad list property" + where + ": " + quoted(line));
                 if (p.count_type == PlyType::Float32 || p.count_type == PlyType::Float64)
                     fail(name, "a list length of floating-point type" + where);
                 p.name = std::string(a);
             } else {
-                if (!ply_type(a, &p.type) || !t.next(&b)) fail(name, "bad property line" + where + ": " + quoted(line));
+                if (!ply_type(a, &p.type) || !t.next(&b))
+                    fail(name, "bad property line" + where + ": " + quoted(line));
                 p.name = std::string(b);
             }
             elements.back().properties.push_back(p);
@@ -549,7 +584,8 @@ MeshFile parse_ply(const std::string& bytes, const std::string& name, const Read
                 if (e.properties[k].name == n && e.properties[k].list == list) return static_cast<int>(k);
         return -1;
     };
-    const int px = find(*vertex, {"x"}, false), py = find(*vertex, {"y"}, false), pz = find(*vertex, {"z"}, false);
+    const int px = find(*vertex, {"x"}, false), py = find(*vertex, {"y"}, false),
+              pz = find(*vertex, {"z"}, false);
     if (px < 0 || py < 0 || pz < 0) fail(name, "the vertex element has no x, y and z properties");
     const int pq = find(*vertex, {"quality"}, false);
     const int pf = face ? find(*face, {"vertex_indices", "vertex_index"}, true) : -1;
@@ -561,7 +597,8 @@ MeshFile parse_ply(const std::string& bytes, const std::string& name, const Read
     for (const auto& e : elements) {
         u64 each = 0;
         for (const auto& p : e.properties)
-            each += format == PlyFormat::Ascii ? 2 : static_cast<u64>(ply_size(p.list ? p.count_type : p.type));
+            each +=
+                format == PlyFormat::Ascii ? 2 : static_cast<u64>(ply_size(p.list ? p.count_type : p.type));
         if (each == 0) continue;
         check_claim(name, e.count, "'" + e.name + "' elements", each, available - used);
         used += e.count * each;
@@ -596,13 +633,15 @@ MeshFile parse_ply(const std::string& bytes, const std::string& name, const Read
                 const long long n = data.list_count(prop, what.c_str());
                 const bool indices = is_face && static_cast<int>(p) == pf;
                 if (indices && n < 3)
-                    fail(name, "face " + std::to_string(k) + " has " + std::to_string(n) + " vertices (at least 3)");
+                    fail(name, "face " + std::to_string(k) + " has " + std::to_string(n) +
+                                   " vertices (at least 3)");
                 if (indices) F.start();
                 for (long long c = 0; c < n; ++c) {
                     const double v = data.value(prop.type, what.c_str());
                     if (!indices) continue;
                     if (v != std::floor(v) || !(std::abs(v) < 9e18))
-                        fail(name, "face " + std::to_string(k) + " has a vertex index that is not a whole number");
+                        fail(name,
+                             "face " + std::to_string(k) + " has a vertex index that is not a whole number");
                     F.index(static_cast<long long>(v), nv, [&] {
                         return out_of_range(static_cast<long long>(v), nv, "in face " + std::to_string(k));
                     });
@@ -619,7 +658,8 @@ MeshFile parse_ply(const std::string& bytes, const std::string& name, const Read
 
 std::uint32_t le32(const std::string& b, std::size_t at) {
     std::uint32_t v = 0;
-    for (int k = 3; k >= 0; --k) v = (v << 8) | static_cast<unsigned char>(b[at + static_cast<std::size_t>(k)]);
+    for (int k = 3; k >= 0; --k)
+        v = (v << 8) | static_cast<unsigned char>(b[at + static_cast<std::size_t>(k)]);
     return v;
 }
 
@@ -641,7 +681,9 @@ public:
 private:
     struct Key {
         std::uint64_t bits[3];
-        bool operator==(const Key& o) const { return bits[0] == o.bits[0] && bits[1] == o.bits[1] && bits[2] == o.bits[2]; }
+        bool operator==(const Key& o) const {
+            return bits[0] == o.bits[0] && bits[1] == o.bits[1] && bits[2] == o.bits[2];
+        }
     };
     struct Hash {
         std::size_t operator()(const Key& k) const {
@@ -739,7 +781,9 @@ MeshFile parse_stl(const std::string& bytes, const std::string& name) {
 
 // --- writers -----------------------------------------------------------------------------------------
 
-void put(std::string& out, const void* p, std::size_t n) { out.append(static_cast<const char*>(p), n); }
+void put(std::string& out, const void* p, std::size_t n) {
+    out.append(static_cast<const char*>(p), n);
+}
 template <class T>
 void put_le(std::string& out, T v) {  // x86 and every platform we build on are little-endian
     unsigned char b[sizeof(T)];
@@ -755,20 +799,29 @@ std::string number(double x) {
 
 const char* format_name(MeshFormat f) {
     switch (f) {
-    case MeshFormat::Ply: return "PLY";
-    case MeshFormat::Off: return "OFF";
-    case MeshFormat::Obj: return "OBJ";
-    case MeshFormat::Stl: return "STL";
+        case MeshFormat::Ply:
+            return "PLY";
+        case MeshFormat::Off:
+            return "OFF";
+        case MeshFormat::Obj:
+            return "OBJ";
+        case MeshFormat::Stl:
+            return "STL";
     }
     return "?";
 }
 
 bool mesh_extension(const std::string& ext, MeshFormat* f) {
-    if (ext == "ply") *f = MeshFormat::Ply;
-    else if (ext == "off") *f = MeshFormat::Off;
-    else if (ext == "obj") *f = MeshFormat::Obj;
-    else if (ext == "stl") *f = MeshFormat::Stl;
-    else return false;
+    if (ext == "ply")
+        *f = MeshFormat::Ply;
+    else if (ext == "off")
+        *f = MeshFormat::Off;
+    else if (ext == "obj")
+        *f = MeshFormat::Obj;
+    else if (ext == "stl")
+        *f = MeshFormat::Stl;
+    else
+        return false;
     return true;
 }
 
@@ -778,9 +831,10 @@ MeshFormat input_mesh_format(const std::string& path) {
     MeshFormat f;
     const std::string ext = lower_extension(path);
     if (!mesh_extension(ext, &f))
-        throw InputError("cannot read '" + path + "': " +
-                         (ext.empty() ? std::string("no file extension") : "unsupported format '." + ext + "'") +
-                         " (a mesh file is .off, .ply, .obj or .stl)");
+        throw InputError(
+            "cannot read '" + path +
+            "': " + (ext.empty() ? std::string("no file extension") : "unsupported format '." + ext + "'") +
+            " (a mesh file is .off, .ply, .obj or .stl)");
     return f;
 }
 
@@ -793,13 +847,18 @@ MeshFormat output_mesh_format(const std::string& path) {
     return f;
 }
 
-MeshFile parse_mesh(const std::string& bytes, MeshFormat format, const std::string& name, const ReadOptions& options) {
+MeshFile parse_mesh(const std::string& bytes, MeshFormat format, const std::string& name,
+                    const ReadOptions& options) {
     if (bytes.empty()) fail(name, "the file is empty");
     switch (format) {
-    case MeshFormat::Off: return parse_off(bytes, name, options);
-    case MeshFormat::Ply: return parse_ply(bytes, name, options);
-    case MeshFormat::Obj: return parse_obj(bytes, name, options);
-    case MeshFormat::Stl: return parse_stl(bytes, name);  // no indices in STL
+        case MeshFormat::Off:
+            return parse_off(bytes, name, options);
+        case MeshFormat::Ply:
+            return parse_ply(bytes, name, options);
+        case MeshFormat::Obj:
+            return parse_obj(bytes, name, options);
+        case MeshFormat::Stl:
+            return parse_stl(bytes, name);  // no indices in STL
     }
     fail(name, "unknown format");
 }
@@ -809,12 +868,17 @@ MeshFile read_mesh_file(const std::string& path, const ReadOptions& options) {
     return parse_mesh(bytes, input_mesh_format(path), path, options);
 }
 
-Mesh read_mesh(const std::string& path) { return read_mesh_file(path).mesh; }
+Mesh read_mesh(const std::string& path) {
+    return read_mesh_file(path).mesh;
+}
 
-Eigen::VectorXd read_ply_quality(const std::string& path) { return read_mesh_file(path).quality; }
+Eigen::VectorXd read_ply_quality(const std::string& path) {
+    return read_mesh_file(path).quality;
+}
 
 std::string format_mesh(MeshFormat format, const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
-                        const Eigen::VectorXd& quality, const Eigen::MatrixXi& colors, const std::string& name) {
+                        const Eigen::VectorXd& quality, const Eigen::MatrixXi& colors,
+                        const std::string& name) {
     auto refuse = [&](const std::string& why) { throw InputError("cannot write '" + name + "': " + why); };
     if (V.cols() != 3 || (F.size() && F.cols() != 3)) refuse("a mesh needs #V x 3 vertices and #F x 3 faces");
     if (F.size() && (F.minCoeff() < 0 || F.maxCoeff() >= V.rows())) refuse("a face index is out of range");
@@ -823,62 +887,67 @@ std::string format_mesh(MeshFormat format, const Eigen::MatrixXd& V, const Eigen
     const Eigen::Index nf = F.size() ? F.rows() : 0;
     std::string out;
     switch (format) {
-    case MeshFormat::Ply: {
-        std::ostringstream h;
-        h << "ply\nformat binary_little_endian 1.0\ncomment canonform\nelement vertex " << V.rows()
-          << "\nproperty double x\nproperty double y\nproperty double z\n";
-        if (quality.size()) h << "property double quality\n";
-        if (colors.size()) h << "property uchar red\nproperty uchar green\nproperty uchar blue\nproperty uchar alpha\n";
-        h << "element face " << nf << "\nproperty list uchar int vertex_indices\nend_header\n";
-        out = h.str();
-        out.reserve(out.size() + static_cast<std::size_t>(V.rows()) * 36 + static_cast<std::size_t>(nf) * 13);
-        for (Eigen::Index k = 0; k < V.rows(); ++k) {
-            for (int c = 0; c < 3; ++c) put_le(out, V(k, c));
-            if (quality.size()) put_le(out, quality(k));
-            if (colors.size()) {
-                for (int c = 0; c < 3; ++c) put_le(out, static_cast<std::uint8_t>(std::min(255, std::max(0, colors(k, c)))));
-                put_le(out, std::uint8_t(255));
+        case MeshFormat::Ply: {
+            std::ostringstream h;
+            h << "ply\nformat binary_little_endian 1.0\ncomment canonform\nelement vertex " << V.rows()
+              << "\nproperty double x\nproperty double y\nproperty double z\n";
+            if (quality.size()) h << "property double quality\n";
+            if (colors.size())
+                h << "property uchar red\nproperty uchar green\nproperty uchar blue\nproperty uchar alpha\n";
+            h << "element face " << nf << "\nproperty list uchar int vertex_indices\nend_header\n";
+            out = h.str();
+            out.reserve(out.size() + static_cast<std::size_t>(V.rows()) * 36 +
+                        static_cast<std::size_t>(nf) * 13);
+            for (Eigen::Index k = 0; k < V.rows(); ++k) {
+                for (int c = 0; c < 3; ++c) put_le(out, V(k, c));
+                if (quality.size()) put_le(out, quality(k));
+                if (colors.size()) {
+                    for (int c = 0; c < 3; ++c)
+                        put_le(out, static_cast<std::uint8_t>(std::min(255, std::max(0, colors(k, c)))));
+                    put_le(out, std::uint8_t(255));
+                }
             }
+            for (Eigen::Index f = 0; f < nf; ++f) {
+                put_le(out, std::uint8_t(3));
+                for (int c = 0; c < 3; ++c) put_le(out, static_cast<std::int32_t>(F(f, c)));
+            }
+            break;
         }
-        for (Eigen::Index f = 0; f < nf; ++f) {
-            put_le(out, std::uint8_t(3));
-            for (int c = 0; c < 3; ++c) put_le(out, static_cast<std::int32_t>(F(f, c)));
+        case MeshFormat::Off: {
+            out = "OFF\n" + std::to_string(V.rows()) + " " + std::to_string(nf) + " 0\n";
+            for (Eigen::Index k = 0; k < V.rows(); ++k)
+                out += number(V(k, 0)) + " " + number(V(k, 1)) + " " + number(V(k, 2)) + "\n";
+            for (Eigen::Index f = 0; f < nf; ++f)
+                out += "3 " + std::to_string(F(f, 0)) + " " + std::to_string(F(f, 1)) + " " +
+                       std::to_string(F(f, 2)) + "\n";
+            break;
         }
-        break;
-    }
-    case MeshFormat::Off: {
-        out = "OFF\n" + std::to_string(V.rows()) + " " + std::to_string(nf) + " 0\n";
-        for (Eigen::Index k = 0; k < V.rows(); ++k)
-            out += number(V(k, 0)) + " " + number(V(k, 1)) + " " + number(V(k, 2)) + "\n";
-        for (Eigen::Index f = 0; f < nf; ++f)
-            out += "3 " + std::to_string(F(f, 0)) + " " + std::to_string(F(f, 1)) + " " + std::to_string(F(f, 2)) + "\n";
-        break;
-    }
-    case MeshFormat::Obj: {
-        out = "# canonform\n";
-        for (Eigen::Index k = 0; k < V.rows(); ++k)
-            out += "v " + number(V(k, 0)) + " " + number(V(k, 1)) + " " + number(V(k, 2)) + "\n";
-        for (Eigen::Index f = 0; f < nf; ++f)
-            out += "f " + std::to_string(F(f, 0) + 1) + " " + std::to_string(F(f, 1) + 1) + " " +
-                   std::to_string(F(f, 2) + 1) + "\n";
-        break;
-    }
-    case MeshFormat::Stl: {
-        if (nf == 0) refuse("an STL file cannot hold a point cloud (no faces): name it .ply, .off or .obj");
-        char header[80] = "canonform binary STL";
-        put(out, header, 80);
-        put_le(out, static_cast<std::uint32_t>(nf));
-        for (Eigen::Index f = 0; f < nf; ++f) {
-            const Eigen::Vector3d a = V.row(F(f, 0)), b = V.row(F(f, 1)), c = V.row(F(f, 2));
-            Eigen::Vector3d n = (b - a).cross(c - a);
-            if (n.norm() > 0) n.normalize();
-            for (int d = 0; d < 3; ++d) put_le(out, static_cast<float>(n(d)));
-            for (const Eigen::Vector3d* p : {&a, &b, &c})
-                for (int d = 0; d < 3; ++d) put_le(out, static_cast<float>((*p)(d)));
-            put_le(out, std::uint16_t(0));
+        case MeshFormat::Obj: {
+            out = "# canonform\n";
+            for (Eigen::Index k = 0; k < V.rows(); ++k)
+                out += "v " + number(V(k, 0)) + " " + number(V(k, 1)) + " " + number(V(k, 2)) + "\n";
+            for (Eigen::Index f = 0; f < nf; ++f)
+                out += "f " + std::to_string(F(f, 0) + 1) + " " + std::to_string(F(f, 1) + 1) + " " +
+                       std::to_string(F(f, 2) + 1) + "\n";
+            break;
         }
-        break;
-    }
+        case MeshFormat::Stl: {
+            if (nf == 0)
+                refuse("an STL file cannot hold a point cloud (no faces): name it .ply, .off or .obj");
+            char header[80] = "canonform binary STL";
+            put(out, header, 80);
+            put_le(out, static_cast<std::uint32_t>(nf));
+            for (Eigen::Index f = 0; f < nf; ++f) {
+                const Eigen::Vector3d a = V.row(F(f, 0)), b = V.row(F(f, 1)), c = V.row(F(f, 2));
+                Eigen::Vector3d n = (b - a).cross(c - a);
+                if (n.norm() > 0) n.normalize();
+                for (int d = 0; d < 3; ++d) put_le(out, static_cast<float>(n(d)));
+                for (const Eigen::Vector3d* p : {&a, &b, &c})
+                    for (int d = 0; d < 3; ++d) put_le(out, static_cast<float>((*p)(d)));
+                put_le(out, std::uint16_t(0));
+            }
+            break;
+        }
     }
     return out;
 }

@@ -44,7 +44,7 @@ MeshFormat output_mesh_format(const std::string& path);
 /// A mesh file's content: the mesh and, where the file has it (PLY "quality"), per-vertex quality.
 struct MeshFile {
     Mesh mesh;
-    Eigen::VectorXd quality;    ///< #V, or empty
+    Eigen::VectorXd quality;      ///< #V, or empty
     long long dropped_faces = 0;  ///< faces (polygons) dropped for an index out of range (drop_bad_faces)
     std::string first_dropped;    ///< why the first of them was dropped (the error it would have been)
 };
@@ -78,7 +78,8 @@ Eigen::VectorXd read_ply_quality(const std::string& path);
 /// point cloud; not in STL). Atomic. InputError for an unsupported extension, an STL point cloud,
 /// or a face index outside [0, #V).
 void write_mesh(const std::string& path, const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
-                const Eigen::VectorXd& quality = Eigen::VectorXd(), const Eigen::MatrixXi& colors = Eigen::MatrixXi());
+                const Eigen::VectorXd& quality = Eigen::VectorXd(),
+                const Eigen::MatrixXi& colors = Eigen::MatrixXi());
 
 /// Writes a binary PLY (PLY whatever the name, unless the name's extension is another mesh
 /// format: then InputError, never PLY under a .off/.obj/.stl name). Atomic.

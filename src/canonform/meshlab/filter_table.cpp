@@ -16,11 +16,20 @@ std::string xml_escape(const std::string& s) {
     std::string o;
     for (char c : s) {
         switch (c) {
-        case '&': o += "&amp;"; break;
-        case '<': o += "&lt;"; break;
-        case '>': o += "&gt;"; break;
-        case '"': o += "&quot;"; break;
-        default: o += c;
+            case '&':
+                o += "&amp;";
+                break;
+            case '<':
+                o += "&lt;";
+                break;
+            case '>':
+                o += "&gt;";
+                break;
+            case '"':
+                o += "&quot;";
+                break;
+            default:
+                o += c;
         }
     }
     return o;
@@ -77,16 +86,22 @@ std::vector<Parameter> concat(std::vector<Parameter> a, const std::vector<Parame
 
 double default_number(const Parameter& p) {
     switch (p.type()) {
-    case ParameterType::Bool: return p.truth(p.default_value()) ? 1 : 0;
-    case ParameterType::Int:
-    case ParameterType::Float: return p.number(p.default_value());
-    case ParameterType::Choice: return p.choice_index(p.default_value());
-    case ParameterType::Text: return 0;
+        case ParameterType::Bool:
+            return p.truth(p.default_value()) ? 1 : 0;
+        case ParameterType::Int:
+        case ParameterType::Float:
+            return p.number(p.default_value());
+        case ParameterType::Choice:
+            return p.choice_index(p.default_value());
+        case ParameterType::Text:
+            return 0;
     }
     return 0;
 }
 
-std::string tooltip(const Parameter& p) { return p.sentence(); }
+std::string tooltip(const Parameter& p) {
+    return p.sentence();
+}
 
 double ParamValues::get(const std::string& name) const {
     const auto it = values.find(name);
@@ -100,7 +115,8 @@ const std::string& ParamValues::get_string(const std::string& name) const {
     return it->second;
 }
 
-std::vector<std::pair<std::string, std::string>> ParamValues::texts(const std::vector<Parameter>& params) const {
+std::vector<std::pair<std::string, std::string>> ParamValues::texts(
+    const std::vector<Parameter>& params) const {
     std::vector<std::pair<std::string, std::string>> out;
     for (const Parameter& p : params) {
         if (p.type() == ParameterType::Text) {
@@ -112,15 +128,19 @@ std::vector<std::pair<std::string, std::string>> ParamValues::texts(const std::v
         std::ostringstream t;
         t.precision(17);
         switch (p.type()) {
-        case ParameterType::Bool: t << (v != 0 ? "true" : "false"); break;
-        case ParameterType::Choice: {
-            const int k = static_cast<int>(v);
-            if (k < 0 || k >= static_cast<int>(p.choices().size()))
-                throw InputError(p.name() + " must be " + p.requirement() + ", got the index " + std::to_string(k));
-            t << p.choices()[static_cast<size_t>(k)];
-            break;
-        }
-        default: t << v;
+            case ParameterType::Bool:
+                t << (v != 0 ? "true" : "false");
+                break;
+            case ParameterType::Choice: {
+                const int k = static_cast<int>(v);
+                if (k < 0 || k >= static_cast<int>(p.choices().size()))
+                    throw InputError(p.name() + " must be " + p.requirement() + ", got the index " +
+                                     std::to_string(k));
+                t << p.choices()[static_cast<size_t>(k)];
+                break;
+            }
+            default:
+                t << v;
         }
         out.emplace_back(p.name(), t.str());
     }
@@ -133,27 +153,30 @@ std::string default_script(const FilterSpec& spec) {
     for (const auto& p : spec.params) {
         o << "  <Param name=\"" << p.name() << "\"";
         switch (p.type()) {
-        case ParameterType::Bool:
-            o << " type=\"RichBool\" value=\"" << (default_number(p) != 0 ? "true" : "false") << "\"";
-            break;
-        case ParameterType::Int: o << " type=\"RichInt\" value=\"" << static_cast<long>(default_number(p)) << "\""; break;
-        case ParameterType::Float: {
-            char buf[64];
-            std::snprintf(buf, sizeof buf, "%g", default_number(p));
-            o << " type=\"RichFloat\" value=\"" << buf << "\"";
-            break;
+            case ParameterType::Bool:
+                o << " type=\"RichBool\" value=\"" << (default_number(p) != 0 ? "true" : "false") << "\"";
+                break;
+            case ParameterType::Int:
+                o << " type=\"RichInt\" value=\"" << static_cast<long>(default_number(p)) << "\"";
+                break;
+            case ParameterType::Float: {
+                char buf[64];
+                std::snprintf(buf, sizeof buf, "%g", default_number(p));
+                o << " type=\"RichFloat\" value=\"" << buf << "\"";
+                break;
+            }
+            case ParameterType::Text:
+                o << " type=\"RichString\" value=\"" << xml_escape(p.default_value()) << "\"";
+                break;
+            case ParameterType::Choice:
+                o << " type=\"RichEnum\" value=\"" << static_cast<long>(default_number(p))
+                  << "\" enum_cardinality=\"" << p.choices().size() << "\"";
+                for (size_t k = 0; k < p.choices().size(); ++k)
+                    o << " enum_val" << k << "=\"" << xml_escape(p.choices()[k]) << "\"";
+                break;
         }
-        case ParameterType::Text:
-            o << " type=\"RichString\" value=\"" << xml_escape(p.default_value()) << "\"";
-            break;
-        case ParameterType::Choice:
-            o << " type=\"RichEnum\" value=\"" << static_cast<long>(default_number(p)) << "\" enum_cardinality=\""
-              << p.choices().size() << "\"";
-            for (size_t k = 0; k < p.choices().size(); ++k)
-                o << " enum_val" << k << "=\"" << xml_escape(p.choices()[k]) << "\"";
-            break;
-        }
-        o << " description=\"" << xml_escape(p.label()) << "\" tooltip=\"" << xml_escape(tooltip(p)) << "\"/>\n";
+        o << " description=\"" << xml_escape(p.label()) << "\" tooltip=\"" << xml_escape(tooltip(p))
+          << "\"/>\n";
     }
     o << " </filter>\n</FilterScript>\n";
     return o.str();

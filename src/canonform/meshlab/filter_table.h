@@ -70,21 +70,33 @@ enum MeshData : unsigned {
 ///   FilterSpec("Conformal factor", "compute_conformal_factor", FilterKind::Quality)
 ///       .with_info(...).with_params({...}).with_needs(kVertexQuality).with_changes(...)
 struct FilterSpec {
-    int id = 0;                    ///< its index in its table (MeshLab's filter id; set by number_filters())
-    std::string name;              ///< menu name, also the name in a .mlx script
-    std::string python_name;       ///< pymeshlab's name
+    int id = 0;               ///< its index in its table (MeshLab's filter id; set by number_filters())
+    std::string name;         ///< menu name, also the name in a .mlx script
+    std::string python_name;  ///< pymeshlab's name
     FilterKind kind = FilterKind::Measure;
-    std::string info;              ///< HTML description shown by MeshLab (with the citation)
+    std::string info;  ///< HTML description shown by MeshLab (with the citation)
     std::vector<Parameter> params;
-    unsigned needs = kNothing;     ///< MeshData flags the mesh must have (not `requires`: a C++20 keyword)
-    unsigned changes = kNothing;   ///< MeshData flags the filter changes
+    unsigned needs = kNothing;    ///< MeshData flags the mesh must have (not `requires`: a C++20 keyword)
+    unsigned changes = kNothing;  ///< MeshData flags the filter changes
 
     FilterSpec(std::string menu_name, std::string python, FilterKind k)
         : name(std::move(menu_name)), python_name(std::move(python)), kind(k) {}
-    FilterSpec& with_info(std::string html) { info = std::move(html); return *this; }
-    FilterSpec& with_params(std::vector<Parameter> p) { params = std::move(p); return *this; }
-    FilterSpec& with_needs(unsigned flags) { needs = flags; return *this; }
-    FilterSpec& with_changes(unsigned flags) { changes = flags; return *this; }
+    FilterSpec& with_info(std::string html) {
+        info = std::move(html);
+        return *this;
+    }
+    FilterSpec& with_params(std::vector<Parameter> p) {
+        params = std::move(p);
+        return *this;
+    }
+    FilterSpec& with_needs(unsigned flags) {
+        needs = flags;
+        return *this;
+    }
+    FilterSpec& with_changes(unsigned flags) {
+        changes = flags;
+        return *this;
+    }
 
     /// The shipped .mlx file: the menu name in lower case, spaces as '_' ("conformal_factor.mlx").
     std::string script_file() const;

@@ -19,9 +19,13 @@ MeshFilterInterface::FilterClass TableFilterPlugin2020::getClass(QAction* a) {
     return canonform::meshlab::filter_class<MeshFilterInterface>(spec(ID(a)).kind);
 }
 
-int TableFilterPlugin2020::getRequirements(QAction* a) { return mesh_mask<MeshModel>(spec(ID(a)).needs); }
+int TableFilterPlugin2020::getRequirements(QAction* a) {
+    return mesh_mask<MeshModel>(spec(ID(a)).needs);
+}
 
-int TableFilterPlugin2020::postCondition(QAction* a) const { return mesh_mask<MeshModel>(spec(ID(a)).changes); }
+int TableFilterPlugin2020::postCondition(QAction* a) const {
+    return mesh_mask<MeshModel>(spec(ID(a)).changes);
+}
 
 void TableFilterPlugin2020::initParameterSet(QAction* a, MeshModel&, RichParameterList& par) {
     canonform::meshlab::add_params(spec(ID(a)), par);

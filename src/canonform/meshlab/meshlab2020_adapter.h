@@ -23,5 +23,6 @@ public:
     int getPreConditions(QAction*) const override { return MeshModel::MM_NONE; }
     int postCondition(QAction* a) const override;
     void initParameterSet(QAction* a, MeshModel& m, RichParameterList& par) override;
-    bool applyFilter(QAction* a, MeshDocument& md, const RichParameterList& par, vcg::CallBackPos* cb) override;
+    bool applyFilter(QAction* a, MeshDocument& md, const RichParameterList& par,
+                     vcg::CallBackPos* cb) override;
 };

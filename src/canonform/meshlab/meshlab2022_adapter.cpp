@@ -33,21 +33,29 @@ std::map<std::string, QVariant> canonform::meshlab::to_qvariant_map(const Action
     return out;
 }
 
-QString TableFilterPlugin2022::filterName(ActionIDType filter) const { return QString::fromStdString(spec(filter).name); }
+QString TableFilterPlugin2022::filterName(ActionIDType filter) const {
+    return QString::fromStdString(spec(filter).name);
+}
 
 QString TableFilterPlugin2022::pythonFilterName(ActionIDType filter) const {
     return QString::fromStdString(spec(filter).python_name);
 }
 
-QString TableFilterPlugin2022::filterInfo(ActionIDType filter) const { return QString::fromStdString(spec(filter).info); }
+QString TableFilterPlugin2022::filterInfo(ActionIDType filter) const {
+    return QString::fromStdString(spec(filter).info);
+}
 
 FilterPlugin::FilterClass TableFilterPlugin2022::getClass(const QAction* a) const {
     return canonform::meshlab::filter_class<FilterPlugin>(spec(ID(a)).kind);
 }
 
-int TableFilterPlugin2022::getRequirements(const QAction* a) { return mesh_mask<MeshModel>(spec(ID(a)).needs); }
+int TableFilterPlugin2022::getRequirements(const QAction* a) {
+    return mesh_mask<MeshModel>(spec(ID(a)).needs);
+}
 
-int TableFilterPlugin2022::postCondition(const QAction* a) const { return mesh_mask<MeshModel>(spec(ID(a)).changes); }
+int TableFilterPlugin2022::postCondition(const QAction* a) const {
+    return mesh_mask<MeshModel>(spec(ID(a)).changes);
+}
 
 RichParameterList TableFilterPlugin2022::initParameterList(const QAction* a, const MeshModel&) {
     RichParameterList par;
@@ -55,8 +63,10 @@ RichParameterList TableFilterPlugin2022::initParameterList(const QAction* a, con
     return par;
 }
 
-std::map<std::string, QVariant> TableFilterPlugin2022::applyFilter(const QAction* a, const RichParameterList& par,
-                                                                   MeshDocument& md, unsigned int& /*postConditionMask*/,
+std::map<std::string, QVariant> TableFilterPlugin2022::applyFilter(const QAction* a,
+                                                                   const RichParameterList& par,
+                                                                   MeshDocument& md,
+                                                                   unsigned int& /*postConditionMask*/,
                                                                    vcg::CallBackPos* cb) {
     const FilterSpec& s = spec(ID(a));
     const canonform::meshlab::ParamValues values = canonform::meshlab::read_params(s, par);

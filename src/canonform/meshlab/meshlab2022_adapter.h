@@ -33,6 +33,7 @@ public:
     int getPreConditions(const QAction*) const override { return MeshModel::MM_NONE; }
     int postCondition(const QAction* a) const override;
     RichParameterList initParameterList(const QAction* a, const MeshModel& m) override;
-    std::map<std::string, QVariant> applyFilter(const QAction* a, const RichParameterList& par, MeshDocument& md,
-                                                unsigned int& postConditionMask, vcg::CallBackPos* cb) override;
+    std::map<std::string, QVariant> applyFilter(const QAction* a, const RichParameterList& par,
+                                                MeshDocument& md, unsigned int& postConditionMask,
+                                                vcg::CallBackPos* cb) override;
 };

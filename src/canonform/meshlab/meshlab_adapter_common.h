@@ -62,11 +62,21 @@ ParamValues read_params(const FilterSpec& spec, const RichParameterListT& par) {
         const auto name = QString::fromStdString(p.name());
         if (!par.hasParameter(name)) continue;
         switch (p.type()) {
-        case ParameterType::Bool: values.values[p.name()] = par.getBool(name) ? 1 : 0; break;
-        case ParameterType::Int: values.values[p.name()] = par.getInt(name); break;
-        case ParameterType::Float: values.values[p.name()] = static_cast<double>(par.getFloat(name)); break;
-        case ParameterType::Choice: values.values[p.name()] = par.getEnum(name); break;
-        case ParameterType::Text: values.strings[p.name()] = par.getString(name).toStdString(); break;
+            case ParameterType::Bool:
+                values.values[p.name()] = par.getBool(name) ? 1 : 0;
+                break;
+            case ParameterType::Int:
+                values.values[p.name()] = par.getInt(name);
+                break;
+            case ParameterType::Float:
+                values.values[p.name()] = static_cast<double>(par.getFloat(name));
+                break;
+            case ParameterType::Choice:
+                values.values[p.name()] = par.getEnum(name);
+                break;
+            case ParameterType::Text:
+                values.strings[p.name()] = par.getString(name).toStdString();
+                break;
         }
     }
     return values;
@@ -77,10 +87,14 @@ ParamValues read_params(const FilterSpec& spec, const RichParameterListT& par) {
 template <class PluginInterface>
 typename PluginInterface::FilterClass filter_class(FilterKind kind) {
     switch (kind) {
-    case FilterKind::Quality: return PluginInterface::Quality;
-    case FilterKind::Selection: return PluginInterface::Selection;
-    case FilterKind::Smoothing: return PluginInterface::Smoothing;
-    case FilterKind::Measure: return PluginInterface::Measure;
+        case FilterKind::Quality:
+            return PluginInterface::Quality;
+        case FilterKind::Selection:
+            return PluginInterface::Selection;
+        case FilterKind::Smoothing:
+            return PluginInterface::Smoothing;
+        case FilterKind::Measure:
+            return PluginInterface::Measure;
     }
     return PluginInterface::Measure;
 }
@@ -103,20 +117,24 @@ void add_params(const FilterSpec& spec, RichParameterListT& par) {
         const QString name = QString::fromStdString(p.name()), label = QString::fromStdString(p.label()),
                       tip = QString::fromStdString(tooltip(p));
         switch (p.type()) {
-        case ParameterType::Bool: par.addParam(RichBool(name, default_number(p) != 0, label, tip)); break;
-        case ParameterType::Int: par.addParam(RichInt(name, static_cast<int>(default_number(p)), label, tip)); break;
-        case ParameterType::Float:
-            par.addParam(RichFloat(name, static_cast<MESHLAB_SCALAR>(default_number(p)), label, tip));
-            break;
-        case ParameterType::Text:
-            par.addParam(RichString(name, QString::fromStdString(p.default_value()), label, tip));
-            break;
-        case ParameterType::Choice: {
-            QStringList choices;
-            for (const auto& c : p.choices()) choices << QString::fromStdString(c);
-            par.addParam(RichEnum(name, static_cast<int>(default_number(p)), choices, label, tip));
-            break;
-        }
+            case ParameterType::Bool:
+                par.addParam(RichBool(name, default_number(p) != 0, label, tip));
+                break;
+            case ParameterType::Int:
+                par.addParam(RichInt(name, static_cast<int>(default_number(p)), label, tip));
+                break;
+            case ParameterType::Float:
+                par.addParam(RichFloat(name, static_cast<MESHLAB_SCALAR>(default_number(p)), label, tip));
+                break;
+            case ParameterType::Text:
+                par.addParam(RichString(name, QString::fromStdString(p.default_value()), label, tip));
+                break;
+            case ParameterType::Choice: {
+                QStringList choices;
+                for (const auto& c : p.choices()) choices << QString::fromStdString(c);
+                par.addParam(RichEnum(name, static_cast<int>(default_number(p)), choices, label, tip));
+                break;
+            }
         }
     }
 }

@@ -106,7 +106,8 @@ PyValue from_text(const RichParameter& par, const std::string& key, const std::s
     }
     if (par.isOfType<RichEnum>()) {  // by name, else by index
         int i = 0;
-        if (dynamic_cast<const RichEnum&>(par).enumvalues.indexOf(QString::fromStdString(text)) == -1 && parse_int(text, i))
+        if (dynamic_cast<const RichEnum&>(par).enumvalues.indexOf(QString::fromStdString(text)) == -1 &&
+            parse_int(text, i))
             return i;
         return text;
     }
@@ -115,7 +116,8 @@ PyValue from_text(const RichParameter& par, const std::string& key, const std::s
 
 /// One keyword on its parameter, as pymeshlab's updateRichParameterFromKwarg converts it.
 void set_from_kwarg(RichParameter& par, const std::string& key, const PyValue& value) {
-    const PyValue v = std::holds_alternative<Text>(value) ? from_text(par, key, std::get<Text>(value).text) : value;
+    const PyValue v =
+        std::holds_alternative<Text>(value) ? from_text(par, key, std::get<Text>(value).text) : value;
     auto wrong = [&](const char* want) {
         return MLException(QString::fromStdString("Parameter " + key + ": expected " + want));
     };
@@ -126,9 +128,12 @@ void set_from_kwarg(RichParameter& par, const std::string& key, const PyValue& v
         if (!std::holds_alternative<int>(v)) throw wrong("an int");
         par.setValue(IntValue(std::get<int>(v)));
     } else if (par.isOfType<RichFloat>()) {  // pymeshlab: FloatValue(py::cast<float>(value))
-        if (std::holds_alternative<double>(v)) par.setValue(FloatValue(static_cast<float>(std::get<double>(v))));
-        else if (std::holds_alternative<int>(v)) par.setValue(FloatValue(static_cast<float>(std::get<int>(v))));
-        else throw wrong("a float");
+        if (std::holds_alternative<double>(v))
+            par.setValue(FloatValue(static_cast<float>(std::get<double>(v))));
+        else if (std::holds_alternative<int>(v))
+            par.setValue(FloatValue(static_cast<float>(std::get<int>(v))));
+        else
+            throw wrong("a float");
     } else if (par.isOfType<RichEnum>()) {  // by name, or by index
         auto& en = dynamic_cast<RichEnum&>(par);
         int index = -1;
@@ -152,12 +157,15 @@ void set_from_kwarg(RichParameter& par, const std::string& key, const PyValue& v
         if (!std::holds_alternative<std::string>(v)) throw wrong("a str");
         par.setValue(StringValue(QString::fromStdString(std::get<std::string>(v))));
     } else {
-        throw MLException(QString::fromStdString("Parameter " + key + ": a type canonform's MeshSet does not set"));
+        throw MLException(
+            QString::fromStdString("Parameter " + key + ": a type canonform's MeshSet does not set"));
     }
 }
 
 /// The progress callback (pymeshlab passes its own: some of MeshLab's filters call it unchecked).
-bool quiet_progress(const int, const char*) { return true; }
+bool quiet_progress(const int, const char*) {
+    return true;
+}
 
 FilterPlugin* plugin_of(const QString& meshlab_name, QAction*& action) {
     for (FilterPlugin* fp : ::meshlab::pluginManagerInstance().filterPluginIterator())
@@ -187,15 +195,17 @@ void MeshSet::save_mesh(const std::string& path, MeshModel& m) {
     const QString extension = QFileInfo(file).suffix().toLower();
     IOPlugin* io = ::meshlab::pluginManagerInstance().outputMeshPlugin(extension);
     if (io == nullptr)
-        throw MLException("Mesh " + file + " cannot be saved: MeshLab has no plugin to save " + extension + " files");
+        throw MLException("Mesh " + file + " cannot be saved: MeshLab has no plugin to save " + extension +
+                          " files");
     io->setLog(&Log);
     int capability = 0, default_bits = 0;
     io->exportMaskCapability(extension, capability, default_bits);
     namespace io_mask = vcg::tri::io;
     int mask = 0;
-    for (const int bit : {io_mask::Mask::IOM_VERTCOLOR, io_mask::Mask::IOM_VERTQUALITY, io_mask::Mask::IOM_VERTNORMAL,
-                          io_mask::Mask::IOM_VERTTEXCOORD, io_mask::Mask::IOM_FACECOLOR, io_mask::Mask::IOM_FACEQUALITY,
-                          io_mask::Mask::IOM_FACENORMAL, io_mask::Mask::IOM_WEDGTEXCOORD})
+    for (const int bit :
+         {io_mask::Mask::IOM_VERTCOLOR, io_mask::Mask::IOM_VERTQUALITY, io_mask::Mask::IOM_VERTNORMAL,
+          io_mask::Mask::IOM_VERTTEXCOORD, io_mask::Mask::IOM_FACECOLOR, io_mask::Mask::IOM_FACEQUALITY,
+          io_mask::Mask::IOM_FACENORMAL, io_mask::Mask::IOM_WEDGTEXCOORD})
         if ((capability & bit) && m.hasDataMask(MeshModel::io2mm(bit))) mask |= bit;
     io->save(extension, file, m, mask, io->initSaveParameter(extension, m), &quiet_progress);
 }
@@ -215,14 +225,16 @@ Dict MeshSet::apply_filter(const std::string& filtername, const Kwargs& kwargs) 
     for (const auto& [key, value] : kwargs) {
         const QString k = QString::fromStdString(key);
         if (!f.contains(k))
-            throw MLException("Parameter " + k + " not found for filter " + fname + ". Please check the documentation.");
+            throw MLException("Parameter " + k + " not found for filter " + fname +
+                              ". Please check the documentation.");
         auto it = rpl.findParameter(f.getFilterFunctionParameter(k).meshlabName());
         if (it != rpl.end()) set_from_kwarg(*it, key, value);
     }
 #if CANONFORM_MESHLAB_API >= 2025  // pymeshlab 2025.7 checks the filter's preconditions first
     QStringList missing;
     if (mm() != nullptr && !fp->isFilterApplicable(action, *mm(), missing))
-        throw MLException("Failed to apply filter:  '" + fname + ". Current mesh does not have " + missing.join(",") + ".");
+        throw MLException("Failed to apply filter:  '" + fname + ". Current mesh does not have " +
+                          missing.join(",") + ".");
 #endif
     fp->setLog(&Log);
     try {
@@ -251,13 +263,18 @@ std::string to_json(const Dict& d, bool vector_summary) {
     nlohmann::ordered_json j = nlohmann::ordered_json::object();
     for (const auto& [k, v] : d) {
         const std::string t = v.typeName() ? v.typeName() : "";
-        if (t == "int") j[k] = v.toInt();
-        else if (t == "double" || t == "float") j[k] = v.toDouble();
-        else if (t == "bool") j[k] = v.toBool();
+        if (t == "int")
+            j[k] = v.toInt();
+        else if (t == "double" || t == "float")
+            j[k] = v.toDouble();
+        else if (t == "bool")
+            j[k] = v.toBool();
         else if (v.canConvert<Eigen::VectorXd>()) {
             const Eigen::VectorXd e = v.value<Eigen::VectorXd>();
-            if (vector_summary) j[k] = {{"length", e.size()}, {"sum", e.sum()}};
-            else j[k] = std::vector<double>(e.data(), e.data() + e.size());
+            if (vector_summary)
+                j[k] = {{"length", e.size()}, {"sum", e.sum()}};
+            else
+                j[k] = std::vector<double>(e.data(), e.data() + e.size());
         } else {
             j[k] = nullptr;
         }

@@ -17,7 +17,7 @@ namespace canonform::meshlab {
 /// The live part of a vcg mesh as a Mesh, and where each row of V came from.
 template <class MeshT>
 struct BridgedMesh : Mesh {
-    std::vector<typename MeshT::VertexPointer> vertices; ///< row k of V <- vertices[k]
+    std::vector<typename MeshT::VertexPointer> vertices;  ///< row k of V <- vertices[k]
 };
 
 /// Copies the live vertices and faces of `m` into V and F (compact 0-based indices).
@@ -33,15 +33,15 @@ BridgedMesh<MeshT> to_eigen(MeshT& m) {
     }
     b.V.resize(static_cast<Eigen::Index>(b.vertices.size()), 3);
     for (size_t k = 0; k < b.vertices.size(); ++k)
-        for (int c = 0; c < 3; ++c) b.V(static_cast<Eigen::Index>(k), c) = static_cast<double>(b.vertices[k]->P()[c]);
+        for (int c = 0; c < 3; ++c)
+            b.V(static_cast<Eigen::Index>(k), c) = static_cast<double>(b.vertices[k]->P()[c]);
     int nf = 0;
     for (const auto& f : m.face) nf += f.IsD() ? 0 : 1;
     b.F.resize(nf, 3);
     int r = 0;
     for (auto& f : m.face) {
         if (f.IsD()) continue;
-        for (int c = 0; c < 3; ++c)
-            b.F(r, c) = index[static_cast<size_t>(f.V(c) - &m.vert[0])];
+        for (int c = 0; c < 3; ++c) b.F(r, c) = index[static_cast<size_t>(f.V(c) - &m.vert[0])];
         ++r;
     }
     return b;
@@ -52,13 +52,16 @@ template <class MeshT>
 void write_positions(const BridgedMesh<MeshT>& b, const Eigen::MatrixXd& X) {
     using S = typename MeshT::ScalarType;
     for (size_t k = 0; k < b.vertices.size(); ++k)
-        for (int c = 0; c < 3; ++c) b.vertices[k]->P()[c] = static_cast<S>(X(static_cast<Eigen::Index>(k), c));
+        for (int c = 0; c < 3; ++c)
+            b.vertices[k]->P()[c] = static_cast<S>(X(static_cast<Eigen::Index>(k), c));
 }
 
 /// Writes q (#V) into the quality of the bridged vertices (the mesh must have vertex quality).
 template <class MeshT>
 void write_quality(const BridgedMesh<MeshT>& b, const Eigen::VectorXd& q) {
-    for (size_t k = 0; k < b.vertices.size(); ++k) b.vertices[k]->Q() = static_cast<typename MeshT::VertexType::QualityType>(q(static_cast<Eigen::Index>(k)));
+    for (size_t k = 0; k < b.vertices.size(); ++k)
+        b.vertices[k]->Q() =
+            static_cast<typename MeshT::VertexType::QualityType>(q(static_cast<Eigen::Index>(k)));
 }
 
 }  // namespace canonform::meshlab

@@ -7,8 +7,8 @@
 #include <cmath>
 #include <random>
 #include <sstream>
-#include <utility>
 #include <stdexcept>
+#include <utility>
 #include <vector>
 
 namespace canonform::numerics {
@@ -43,14 +43,18 @@ void multiply_k(const RowSparse& A, const Block& x, Block& y) {
 
 void multiply(const RowSparse& A, const Block& x, Block& y) {
     if (x.rows() != A.cols()) throw InputError("AMG: block size mismatch");
-    if (x.cols() == 3) multiply_k<3>(A, x, y);
-    else if (x.cols() == 1) multiply_k<1>(A, x, y);  // the conformal factor's CG, the power iteration
-    else multiply_k<0>(A, x, y);
+    if (x.cols() == 3)
+        multiply_k<3>(A, x, y);
+    else if (x.cols() == 1)
+        multiply_k<1>(A, x, y);  // the conformal factor's CG, the power iteration
+    else
+        multiply_k<0>(A, x, y);
 }
 
 // One Gauss-Seidel sweep on A x = b, rows in increasing (forward) or decreasing order.
 template <int K>
-void gauss_seidel_k(const RowSparse& A, const Eigen::VectorXd& inv_diag, const Block& b, Block& x, bool forward) {
+void gauss_seidel_k(const RowSparse& A, const Eigen::VectorXd& inv_diag, const Block& b, Block& x,
+                    bool forward) {
     const Eigen::Index n = A.rows(), k = K > 0 ? K : x.cols();
     const auto* outer = A.outerIndexPtr();
     const auto* inner = A.innerIndexPtr();
@@ -73,10 +77,14 @@ void gauss_seidel_k(const RowSparse& A, const Eigen::VectorXd& inv_diag, const B
     }
 }
 
-void gauss_seidel(const RowSparse& A, const Eigen::VectorXd& inv_diag, const Block& b, Block& x, bool forward) {
-    if (x.cols() == 3) gauss_seidel_k<3>(A, inv_diag, b, x, forward);
-    else if (x.cols() == 1) gauss_seidel_k<1>(A, inv_diag, b, x, forward);
-    else gauss_seidel_k<0>(A, inv_diag, b, x, forward);
+void gauss_seidel(const RowSparse& A, const Eigen::VectorXd& inv_diag, const Block& b, Block& x,
+                  bool forward) {
+    if (x.cols() == 3)
+        gauss_seidel_k<3>(A, inv_diag, b, x, forward);
+    else if (x.cols() == 1)
+        gauss_seidel_k<1>(A, inv_diag, b, x, forward);
+    else
+        gauss_seidel_k<0>(A, inv_diag, b, x, forward);
 }
 
 // Sorts the columns within every row of a compressed matrix written by hand, as
@@ -120,7 +128,8 @@ RowSparse compressed_rows(Eigen::Index rows, Eigen::Index cols, RowSize row_size
         emit_row(i, put);
         outer[i + 1] = static_cast<int>(q);
     }
-    if (q != nnz) throw std::logic_error("compressed_rows: a row emitted another number of entries than counted");
+    if (q != nnz)
+        throw std::logic_error("compressed_rows: a row emitted another number of entries than counted");
     sort_rows(M);
     return M;
 }
@@ -202,7 +211,8 @@ std::vector<int> aggregate(const RowSparse& F, int* count) {
         const int b = s_outer[static_cast<size_t>(i)], e = s_outer[static_cast<size_t>(i) + 1];
         if (b == e) continue;  // no strong neighbour: left for pass 3
         bool free = true;
-        for (int p = b; p < e && free; ++p) free = agg[static_cast<size_t>(s_inner[static_cast<size_t>(p)])] < 0;
+        for (int p = b; p < e && free; ++p)
+            free = agg[static_cast<size_t>(s_inner[static_cast<size_t>(p)])] < 0;
         if (!free) continue;
         agg[static_cast<size_t>(i)] = next;
         for (int p = b; p < e; ++p) agg[static_cast<size_t>(s_inner[static_cast<size_t>(p)])] = next;
@@ -258,15 +268,19 @@ double spectral_radius_estimate(const RowSparse& A, const Eigen::VectorXd& inv_d
 
 const char* to_string(LinearSolver s) {
     switch (s) {
-    case LinearSolver::Direct: return "direct";
-    case LinearSolver::Multigrid: return "multigrid";
-    case LinearSolver::Auto: break;
+        case LinearSolver::Direct:
+            return "direct";
+        case LinearSolver::Multigrid:
+            return "multigrid";
+        case LinearSolver::Auto:
+            break;
     }
     return "auto";
 }
 
 std::vector<std::string> linear_solver_names() {
-    return {to_string(LinearSolver::Auto), to_string(LinearSolver::Direct), to_string(LinearSolver::Multigrid)};
+    return {to_string(LinearSolver::Auto), to_string(LinearSolver::Direct),
+            to_string(LinearSolver::Multigrid)};
 }
 
 bool use_multigrid(LinearSolver s, long long unknowns, long long threshold) {
@@ -275,10 +289,12 @@ bool use_multigrid(LinearSolver s, long long unknowns, long long threshold) {
 }
 
 AmgPreconditioner::AmgPreconditioner(const Eigen::SparseMatrix<double>& A0, const AmgOptions& options) {
-    if (A0.rows() != A0.cols() || A0.rows() < 1) throw InputError("AMG: the matrix must be square and non-empty");
+    if (A0.rows() != A0.cols() || A0.rows() < 1)
+        throw InputError("AMG: the matrix must be square and non-empty");
     if (options.smoothing_sweeps < 1 || options.max_levels < 1)
         throw InputError("AMG: smoothing_sweeps and max_levels must be at least 1 (given " +
-                         std::to_string(options.smoothing_sweeps) + " and " + std::to_string(options.max_levels) + ")");
+                         std::to_string(options.smoothing_sweeps) + " and " +
+                         std::to_string(options.max_levels) + ")");
     sweeps_ = options.smoothing_sweeps;
     RowSparse A = A0;
     A.makeCompressed();
@@ -303,7 +319,8 @@ AmgPreconditioner::AmgPreconditioner(const Eigen::SparseMatrix<double>& A0, cons
         {
             RowSparse F = filtered_matrix(L.A, diag, options.strength, &weak);
             agg = aggregate(F, &nc);
-            if (nc > 0.6 * static_cast<double>(n) || nc < 1) break;  // poor coarsening: a direct solve from here
+            if (nc > 0.6 * static_cast<double>(n) || nc < 1)
+                break;  // poor coarsening: a direct solve from here
             RowSparse Pt(n, nc);
             {
                 std::vector<Eigen::Triplet<double>> t;
@@ -326,7 +343,9 @@ AmgPreconditioner::AmgPreconditioner(const Eigen::SparseMatrix<double>& A0, cons
         // aggregate around them, and the coarse levels stay sparse.
         {
             // Written straight into compressed storage (no triplet list of P's entries).
-            const auto keep_tentative = [&](Eigen::Index i) { return weak[static_cast<size_t>(i)] > kManyWeakCouplings; };
+            const auto keep_tentative = [&](Eigen::Index i) {
+                return weak[static_cast<size_t>(i)] > kManyWeakCouplings;
+            };
             RowSparse Pf = compressed_rows(
                 n, nc,
                 [&](Eigen::Index i) {
@@ -413,8 +432,8 @@ void AmgPreconditioner::cycle(const Eigen::MatrixXd& B, Eigen::MatrixXd& X, int 
     cycle(B, Eigen::Ref<Eigen::MatrixXd>(X), cycles, work);
 }
 
-void AmgPreconditioner::cycle(const Eigen::Ref<const Eigen::MatrixXd>& B, Eigen::Ref<Eigen::MatrixXd> X, int cycles,
-                              Workspace& work) const {
+void AmgPreconditioner::cycle(const Eigen::Ref<const Eigen::MatrixXd>& B, Eigen::Ref<Eigen::MatrixXd> X,
+                              int cycles, Workspace& work) const {
     const Eigen::Index n = rows();
     if (B.rows() != n || X.rows() != n || X.cols() != B.cols())
         throw InputError("AMG: right-hand side and guess must have the matrix's number of rows");
@@ -424,8 +443,8 @@ void AmgPreconditioner::cycle(const Eigen::Ref<const Eigen::MatrixXd>& B, Eigen:
     X = work.x;
 }
 
-PcgReport AmgPreconditioner::pcg(const Eigen::MatrixXd& B, Eigen::MatrixXd& X0, double tolerance, int max_iterations,
-                                 int min_iterations) const {
+PcgReport AmgPreconditioner::pcg(const Eigen::MatrixXd& B, Eigen::MatrixXd& X0, double tolerance,
+                                 int max_iterations, int min_iterations) const {
     const Level& L = levels_.at(0);
     const Eigen::Index n = L.A.rows(), k = B.cols();
     if (B.rows() != n || X0.rows() != n || X0.cols() != k)

@@ -55,17 +55,18 @@ bool use_multigrid(LinearSolver s, long long unknowns, long long threshold = kMu
 
 /// Options of AmgPreconditioner.
 struct AmgOptions {
-    double strength = 0.08;   ///< j is a strong neighbour of i if |a_ij| >= strength sqrt(a_ii a_jj)
-    int coarse_size = 1500;   ///< levels stop at or below this many rows (then a direct solve)
-    int max_levels = 25;      ///< level cap
-    int smoothing_sweeps = 1; ///< Gauss-Seidel sweeps before (forward) and after (backward) the coarse correction
+    double strength = 0.08;  ///< j is a strong neighbour of i if |a_ij| >= strength sqrt(a_ii a_jj)
+    int coarse_size = 1500;  ///< levels stop at or below this many rows (then a direct solve)
+    int max_levels = 25;     ///< level cap
+    int smoothing_sweeps =
+        1;  ///< Gauss-Seidel sweeps before (forward) and after (backward) the coarse correction
 };
 
 /// Result of AmgPreconditioner::pcg().
 struct PcgReport {
-    int iterations = 0;               ///< CG steps taken (every column steps together)
-    double relative_residual = 0;     ///< max over columns of |b - A x| / |b - A x0|
-    bool converged = false;           ///< relative_residual <= the requested tolerance
+    int iterations = 0;            ///< CG steps taken (every column steps together)
+    double relative_residual = 0;  ///< max over columns of |b - A x| / |b - A x0|
+    bool converged = false;        ///< relative_residual <= the requested tolerance
 };
 
 /// Smoothed-aggregation AMG hierarchy of one SPD matrix; apply() is one symmetric V-cycle (an SPD
@@ -113,10 +114,10 @@ public:
 private:
     using RowSparse = Eigen::SparseMatrix<double, Eigen::RowMajor>;
     struct Level {
-        RowSparse A;                 // this level's operator
-        Eigen::VectorXd inv_diag;    // 1 / a_ii
-        RowSparse P;                 // prolongation to this level from the next coarser one
-        RowSparse R;                 // P^T
+        RowSparse A;               // this level's operator
+        Eigen::VectorXd inv_diag;  // 1 / a_ii
+        RowSparse P;               // prolongation to this level from the next coarser one
+        RowSparse R;               // P^T
     };
     void vcycle(int level, const Block& b, Block& x, bool zero_guess, Workspace& work) const;
 

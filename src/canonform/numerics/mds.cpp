@@ -46,7 +46,8 @@ template <class F>
 void run_parallel(int T, const F& f) {
     ParallelOptions o;
     o.threads = T;
-    parallel_for(T, [&](std::ptrdiff_t t, int) { f(static_cast<int>(t)); }, o);
+    parallel_for(
+        T, [&](std::ptrdiff_t t, int) { f(static_cast<int>(t)); }, o);
 }
 
 /// T + 1 row boundaries splitting rows [0, n) into T ranges of equal size.
@@ -86,7 +87,8 @@ void validate(const MatrixXd& D, const MdsOptions& options, const char* who) {
         throw InputError(msg.str());
     }
     if (D.rows() != D.cols() || D.rows() == 0) {
-        msg << "the distance matrix is " << D.rows() << " x " << D.cols() << "; it must be square and non-empty";
+        msg << "the distance matrix is " << D.rows() << " x " << D.cols()
+            << "; it must be square and non-empty";
         throw InputError(msg.str());
     }
     const Index n = D.rows();
@@ -131,11 +133,13 @@ void validate(const MatrixXd& D, const MdsOptions& options, const char* who) {
         }
 }
 
-void centre(MatrixXd& X) { X.rowwise() -= X.colwise().mean(); }
+void centre(MatrixXd& X) {
+    X.rowwise() -= X.colwise().mean();
+}
 
 /// Per-thread scratch of the all-pairs stress pass.
 struct PassScratch {
-    MatrixXd acc;           // n x dim accumulator of B(X) X (blocks > 0 only)
+    MatrixXd acc;            // n x dim accumulator of B(X) X (blocks > 0 only)
     Eigen::ArrayXd dist, f;  // length n
     double stress = 0;
 };
@@ -185,8 +189,10 @@ public:
     static constexpr int kBlocks = 16;
 
     AllPairsPass(const MatrixXd& D, Index dim, int threads)
-        : D_(D), B_(static_cast<int>(std::min<Index>(kBlocks, std::max<Index>(D.rows(), 1)))),
-          T_(std::min(resolve_threads(threads, D.rows()), B_)), bounds_(triangle_bounds(D.rows(), B_)),
+        : D_(D),
+          B_(static_cast<int>(std::min<Index>(kBlocks, std::max<Index>(D.rows(), 1)))),
+          T_(std::min(resolve_threads(threads, D.rows()), B_)),
+          bounds_(triangle_bounds(D.rows(), B_)),
           scratch_(static_cast<size_t>(B_)) {
         const Index n = D.rows();
         for (int b = 0; b < B_; ++b) {
@@ -213,7 +219,8 @@ public:
                         acc = BX;  // block 0 comes first in the sum
                     }
                 }
-                pair_pass(D_, X, bounds_[static_cast<size_t>(b)], bounds_[static_cast<size_t>(b) + 1], acc, s);
+                pair_pass(D_, X, bounds_[static_cast<size_t>(b)], bounds_[static_cast<size_t>(b) + 1], acc,
+                          s);
             }
         });
         double total = 0;
@@ -281,7 +288,8 @@ MatrixXd scaled_coordinates(const detail::EigenPairs& e) {
 namespace detail {
 
 EigenPairs top_eigenpairs(Index n, int k, const std::function<MatrixXd(const MatrixXd&)>& apply,
-                          double tolerance, int max_iterations, std::uint64_t seed, const ProgressFn& progress) {
+                          double tolerance, int max_iterations, std::uint64_t seed,
+                          const ProgressFn& progress) {
     if (n < 1 || k < 1 || k > n) throw InputError("top_eigenpairs: need 1 <= k <= n");
     const Index p = std::min<Index>(n, k + 4);
     std::mt19937_64 rng(seed ^ 0x9e3779b97f4a7c15ULL);
@@ -294,7 +302,8 @@ EigenPairs top_eigenpairs(Index n, int k, const std::function<MatrixXd(const Mat
     bool shifted = false;
     for (int it = 1; it <= max_iterations; ++it) {
         MatrixXd Z = apply(Q);
-        if (Z.rows() != n || Z.cols() != p) throw NumericalError("top_eigenpairs: the operator returned the wrong shape");
+        if (Z.rows() != n || Z.cols() != p)
+            throw NumericalError("top_eigenpairs: the operator returned the wrong shape");
         if (sigma != 0) Z += sigma * Q;
         if (!Z.allFinite()) throw NumericalError("eigensolver: the operator produced non-finite values");
         // Rayleigh-Ritz on span(Q): H = Q^T (B + sigma) Q, Ritz vectors U = Q W, (B + sigma) U = Z W.
@@ -302,10 +311,10 @@ EigenPairs top_eigenpairs(Index n, int k, const std::function<MatrixXd(const Mat
         H = 0.5 * (H + H.transpose()).eval();
         Eigen::SelfAdjointEigenSolver<MatrixXd> es(H);
         if (es.info() != Eigen::Success) throw NumericalError("eigensolver: the Rayleigh-Ritz step failed");
-        const VectorXd theta = es.eigenvalues().reverse();             // descending
+        const VectorXd theta = es.eigenvalues().reverse();  // descending
         const MatrixXd W = es.eigenvectors().rowwise().reverse();
         const MatrixXd U = Q * W, BU = Z * W;
-        const VectorXd lambda = theta.array() - sigma;                   // Ritz values of B
+        const VectorXd lambda = theta.array() - sigma;  // Ritz values of B
         const double scale = lambda.cwiseAbs().maxCoeff();
         bool converged = true;
         for (int j = 0; j < k && scale > 0; ++j) {
@@ -389,8 +398,9 @@ MdsResult classical_mds(const MatrixXd& D, const MdsOptions& options) {
         Z *= -0.5;
         return Z;
     };
-    const detail::EigenPairs e = detail::top_eigenpairs(n, options.dim, apply, options.eigen_tolerance,
-                                                        options.eigen_max_iterations, options.seed, options.progress);
+    const detail::EigenPairs e =
+        detail::top_eigenpairs(n, options.dim, apply, options.eigen_tolerance, options.eigen_max_iterations,
+                               options.seed, options.progress);
     MdsResult r;
     r.X = scaled_coordinates(e);
     r.iterations = e.iterations;
@@ -438,7 +448,8 @@ MdsResult landmark_mds(const MatrixXd& D, const MdsOptions& options) {
     // Classical MDS on the landmark block.
     MatrixXd DL2(L, L);
     for (Index b = 0; b < L; ++b)
-        for (Index a = 0; a < L; ++a) DL2(a, b) = D(r.landmarks[static_cast<size_t>(a)], r.landmarks[static_cast<size_t>(b)]);
+        for (Index a = 0; a < L; ++a)
+            DL2(a, b) = D(r.landmarks[static_cast<size_t>(a)], r.landmarks[static_cast<size_t>(b)]);
     DL2 = DL2.array().square().matrix();
     DL2 = 0.5 * (DL2 + DL2.transpose()).eval();
     const VectorXd mean_sq = DL2.rowwise().mean();  // delta_mu
@@ -449,7 +460,8 @@ MdsResult landmark_mds(const MatrixXd& D, const MdsOptions& options) {
     detail::EigenPairs e;
     if (L <= 1000) {
         Eigen::SelfAdjointEigenSolver<MatrixXd> es(BL);
-        if (es.info() != Eigen::Success) throw NumericalError("landmark MDS: the eigensolver of the landmark block failed");
+        if (es.info() != Eigen::Success)
+            throw NumericalError("landmark MDS: the eigensolver of the landmark block failed");
         e.values = es.eigenvalues().reverse().head(dim);
         e.vectors = es.eigenvectors().rowwise().reverse().leftCols(dim);
         fix_signs(e.vectors);
@@ -482,8 +494,8 @@ MdsResult least_squares_mds(const MatrixXd& D, const MdsOptions& options, const 
     if (X0) {
         if (X0->rows() != n || X0->cols() != dim) {
             std::ostringstream msg;
-            msg << "least-squares MDS: the start is " << X0->rows() << " x " << X0->cols() << "; expected " << n
-                << " x " << dim;
+            msg << "least-squares MDS: the start is " << X0->rows() << " x " << X0->cols() << "; expected "
+                << n << " x " << dim;
             throw InputError(msg.str());
         }
         if (!X0->allFinite()) throw InputError("least-squares MDS: the start has non-finite coordinates");
@@ -533,9 +545,12 @@ ParameterSet<MdsOptions> mds_parameters(const MdsOptions& defaults) {
 
 MdsResult mds(const MatrixXd& D, MdsMethod method, const MdsOptions& options) {
     switch (method) {
-        case MdsMethod::LeastSquares: return least_squares_mds(D, options);
-        case MdsMethod::Classical: return classical_mds(D, options);
-        case MdsMethod::Landmark: return landmark_mds(D, options);
+        case MdsMethod::LeastSquares:
+            return least_squares_mds(D, options);
+        case MdsMethod::Classical:
+            return classical_mds(D, options);
+        case MdsMethod::Landmark:
+            return landmark_mds(D, options);
     }
     throw InputError("mds: unknown method");
 }

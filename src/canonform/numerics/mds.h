@@ -75,19 +75,19 @@ enum class MdsMethod { LeastSquares, Classical, Landmark };
 
 /// Options of the MDS solvers (fields a method does not use are ignored).
 struct MdsOptions {
-    int dim = 3;                        ///< embedding dimension (>= 1)
+    int dim = 3;  ///< embedding dimension (>= 1)
     /// Least squares: its SMACOF iteration (tolerance, cap, acceleration, history); its progress
     /// is not called: `progress` below reports the whole run.
     SmacofOptions smacof = SmacofOptions().with_max_iterations(500);
-    int landmarks = 0;                  ///< landmark MDS: L in [dim+1, N]; 0 = clamp(3 ceil(sqrt N), dim+1, N)
-    std::uint64_t seed = 0;             ///< subspace-iteration start, first landmark, degenerate-start noise
-    int threads = 0;                    ///< worker threads; 0 = every hardware thread (thread_count())
-    double eigen_tolerance = 1e-8;      ///< classical: relative Ritz residual for convergence
-    int eigen_max_iterations = 1000;    ///< classical: subspace-iteration cap (NumericalError beyond)
-    double symmetry_tolerance = 1e-9;   ///< relative to max D: allowed |D_ij - D_ji| and |D_ii|
-    bool check_input = true;            ///< full O(N^2) validation of D (shape is always checked)
-    bool compute_stress = true;         ///< classical/landmark: fill initial/final_stress (O(N^2))
-    ProgressFn progress;                ///< called every few iterations; false cancels (Cancelled)
+    int landmarks = 0;                 ///< landmark MDS: L in [dim+1, N]; 0 = clamp(3 ceil(sqrt N), dim+1, N)
+    std::uint64_t seed = 0;            ///< subspace-iteration start, first landmark, degenerate-start noise
+    int threads = 0;                   ///< worker threads; 0 = every hardware thread (thread_count())
+    double eigen_tolerance = 1e-8;     ///< classical: relative Ritz residual for convergence
+    int eigen_max_iterations = 1000;   ///< classical: subspace-iteration cap (NumericalError beyond)
+    double symmetry_tolerance = 1e-9;  ///< relative to max D: allowed |D_ij - D_ji| and |D_ii|
+    bool check_input = true;           ///< full O(N^2) validation of D (shape is always checked)
+    bool compute_stress = true;        ///< classical/landmark: fill initial/final_stress (O(N^2))
+    ProgressFn progress;               ///< called every few iterations; false cancels (Cancelled)
 };
 
 /// The parameters of MdsOptions a user sets (its SMACOF iteration's: smacof_parameters()), with
@@ -99,8 +99,9 @@ ParameterSet<MdsOptions> mds_parameters(const MdsOptions& defaults = {});
 /// converged = true, the stresses S(X) (NaN if not computed); landmark: iterations 0,
 /// converged = true, the stresses likewise.
 struct MdsResult : SmacofResult {
-    Eigen::VectorXd eigenvalues;         ///< classical: top dim eigenvalues of B; landmark: of the landmark block's B
-    std::vector<int> landmarks;          ///< landmark MDS: the chosen landmark indices, in order of choice
+    Eigen::VectorXd
+        eigenvalues;             ///< classical: top dim eigenvalues of B; landmark: of the landmark block's B
+    std::vector<int> landmarks;  ///< landmark MDS: the chosen landmark indices, in order of choice
 };
 
 /// Classical (Torgerson) MDS via subspace iteration. InputError on bad D, NumericalError if the

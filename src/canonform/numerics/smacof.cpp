@@ -13,20 +13,28 @@ namespace canonform::numerics {
 
 const char* to_string(SmacofAcceleration a) {
     switch (a) {
-        case SmacofAcceleration::None: return "none";
-        case SmacofAcceleration::Relaxed: return "relaxed";
-        case SmacofAcceleration::Rre: return "rre";
-        case SmacofAcceleration::Mpe: return "mpe";
-        case SmacofAcceleration::Anderson: return "anderson";
+        case SmacofAcceleration::None:
+            return "none";
+        case SmacofAcceleration::Relaxed:
+            return "relaxed";
+        case SmacofAcceleration::Rre:
+            return "rre";
+        case SmacofAcceleration::Mpe:
+            return "mpe";
+        case SmacofAcceleration::Anderson:
+            return "anderson";
     }
     return "?";
 }
 
-std::vector<std::string> smacof_acceleration_names() { return {"none", "relaxed", "rre", "mpe", "anderson"}; }
+std::vector<std::string> smacof_acceleration_names() {
+    return {"none", "relaxed", "rre", "mpe", "anderson"};
+}
 
 SmacofAcceleration parse_smacof_acceleration(const std::string& name) {
-    for (SmacofAcceleration a : {SmacofAcceleration::None, SmacofAcceleration::Relaxed, SmacofAcceleration::Rre,
-                                 SmacofAcceleration::Mpe, SmacofAcceleration::Anderson})
+    for (SmacofAcceleration a :
+         {SmacofAcceleration::None, SmacofAcceleration::Relaxed, SmacofAcceleration::Rre,
+          SmacofAcceleration::Mpe, SmacofAcceleration::Anderson})
         if (name == to_string(a)) return a;
     throw InputError("unknown SMACOF acceleration '" + name + "' (none, relaxed, rre, mpe, anderson)");
 }
@@ -38,12 +46,17 @@ ParameterSet<SmacofOptions> smacof_parameters(const SmacofOptions& defaults) {
               .help("SMACOF stops when an iteration lowers the stress by less than this fraction")
               .alias("tol"),
           &SmacofOptions::tolerance);
-    s.add(Parameter::integer("max_iterations", 1, 1e7).label("Maximum iterations").help("SMACOF iteration cap").alias("max-iter"),
+    s.add(Parameter::integer("max_iterations", 1, 1e7)
+              .label("Maximum iterations")
+              .help("SMACOF iteration cap")
+              .alias("max-iter"),
           &SmacofOptions::max_iterations);
     s.add(Parameter::choice("acceleration", smacof_acceleration_names())
               .label("SMACOF acceleration")
-              .help("SMACOF acceleration: none (plain Guttman steps), relaxed (X + 2(G(X) - X), de Leeuw), rre or mpe "
-                    "(reduced-rank or minimal-polynomial vector extrapolation, Rosman et al. 2008), anderson (Anderson "
+              .help("SMACOF acceleration: none (plain Guttman steps), relaxed (X + 2(G(X) - X), de Leeuw), "
+                    "rre or mpe "
+                    "(reduced-rank or minimal-polynomial vector extrapolation, Rosman et al. 2008), anderson "
+                    "(Anderson "
                     "acceleration); a step that would raise the stress is replaced by the plain step"),
           &SmacofOptions::acceleration);
     return s;
@@ -74,12 +87,14 @@ void GuttmanAccelerator::rejected() {
     dG_.clear();
 }
 
-Eigen::MatrixXd GuttmanAccelerator::propose(const Eigen::MatrixXd& X, const Eigen::MatrixXd& Y, bool* extrapolated) {
+Eigen::MatrixXd GuttmanAccelerator::propose(const Eigen::MatrixXd& X, const Eigen::MatrixXd& Y,
+                                            bool* extrapolated) {
     *extrapolated = false;
     const bool forced = plain_next_;
     plain_next_ = false;
     switch (method_) {
-        case SmacofAcceleration::None: return Y;
+        case SmacofAcceleration::None:
+            return Y;
         case SmacofAcceleration::Relaxed:
             // Every other step: the relaxed update alone oscillates on the fast modes (see the header).
             relax_next_ = !relax_next_ && !forced;
@@ -93,7 +108,8 @@ Eigen::MatrixXd GuttmanAccelerator::propose(const Eigen::MatrixXd& X, const Eige
             U_.push_back(Y - X);
             const int k = static_cast<int>(U_.size()) - 1;
             gram_.conservativeResize(k + 1, k + 1);
-            for (int a = 0; a <= k; ++a) gram_(a, k) = gram_(k, a) = dot(U_[static_cast<size_t>(a)], U_[static_cast<size_t>(k)]);
+            for (int a = 0; a <= k; ++a)
+                gram_(a, k) = gram_(k, a) = dot(U_[static_cast<size_t>(a)], U_[static_cast<size_t>(k)]);
             if (k < depth_) return Y;
             const int K = depth_;  // u_0 .. u_K
             Eigen::VectorXd gamma(K + 1);
@@ -140,7 +156,8 @@ Eigen::MatrixXd GuttmanAccelerator::propose(const Eigen::MatrixXd& X, const Eige
             Eigen::VectorXd b(m);
             for (int a = 0; a < m; ++a) {
                 b(a) = dot(dF_[static_cast<size_t>(a)], f);
-                for (int c = a; c < m; ++c) G(a, c) = G(c, a) = dot(dF_[static_cast<size_t>(a)], dF_[static_cast<size_t>(c)]);
+                for (int c = a; c < m; ++c)
+                    G(a, c) = G(c, a) = dot(dF_[static_cast<size_t>(a)], dF_[static_cast<size_t>(c)]);
             }
             const Eigen::VectorXd gamma = solve_gram(G, b);
             if (!gamma.allFinite()) return Y;
@@ -157,7 +174,8 @@ SmacofSolver::SmacofSolver(int num_points, StressPairs pairs, const SmacofSolver
     : n_(num_points), pairs_(std::move(pairs)), options_(options) {
     if (n_ < 2) throw InputError("SMACOF needs at least two points");
     if (options_.vcycles_per_step < 1)
-        throw InputError("SMACOF: vcycles_per_step must be at least 1 (given " + std::to_string(options_.vcycles_per_step) + ")");
+        throw InputError("SMACOF: vcycles_per_step must be at least 1 (given " +
+                         std::to_string(options_.vcycles_per_step) + ")");
     const size_t m = pairs_.size();
     Eigen::MatrixXi E(static_cast<Eigen::Index>(m), 2);
     // V of the pinned system (vertex 0's row and column dropped, indices shift by one), assembled
@@ -256,7 +274,8 @@ Eigen::MatrixXd SmacofSolver::guttman(const Eigen::MatrixXd& X, double* stress_o
     return guttman(X, stress_of_X, work);
 }
 
-Eigen::MatrixXd SmacofSolver::guttman(const Eigen::MatrixXd& X, double* stress_of_X, StepWorkspace& work) const {
+Eigen::MatrixXd SmacofSolver::guttman(const Eigen::MatrixXd& X, double* stress_of_X,
+                                      StepWorkspace& work) const {
     Eigen::MatrixXd& BX = work.BX;
     guttman_rhs(X, &BX, stress_of_X);
     Eigen::MatrixXd Y(n_, X.cols());
@@ -265,7 +284,8 @@ Eigen::MatrixXd SmacofSolver::guttman(const Eigen::MatrixXd& X, double* stress_o
         // Warm start at X translated so that the pinned vertex 0 sits at the origin.
         Y.bottomRows(n_ - 1) = X.bottomRows(n_ - 1).rowwise() - X.row(0);
         amg_.cycle(BX.bottomRows(n_ - 1), Y.bottomRows(n_ - 1), options_.vcycles_per_step, work.amg);
-        if (!Y.allFinite()) throw NumericalError("SMACOF: the multigrid solve of V produced non-finite values");
+        if (!Y.allFinite())
+            throw NumericalError("SMACOF: the multigrid solve of V produced non-finite values");
     } else {
         Y.bottomRows(n_ - 1) = factor_.solve(BX.bottomRows(n_ - 1));
         if (!factor_.ok()) throw NumericalError("SMACOF: the solve with the factor of V failed");

@@ -62,9 +62,9 @@
 // iteration counts compare costs.
 #pragma once
 
-#include "canonform/numerics/algebraic_multigrid.h"
 #include "canonform/common/errors.h"
 #include "canonform/common/parameters.h"
+#include "canonform/numerics/algebraic_multigrid.h"
 #include "canonform/numerics/sparse_cholesky.h"
 
 #include <Eigen/Core>
@@ -107,17 +107,26 @@ std::vector<std::string> smacof_acceleration_names();
 /// Options of a SMACOF iteration: SmacofSolver::solve(), least-squares MDS (mds.h) and every
 /// method built on them, whose options hold one SmacofOptions (never a copy of its fields).
 struct SmacofOptions {
-    double tolerance = 1e-5;      ///< relative stress decrease below which iteration stops
-    int max_iterations = 1000;    ///< iteration cap (every stress evaluation counts)
+    double tolerance = 1e-5;    ///< relative stress decrease below which iteration stops
+    int max_iterations = 1000;  ///< iteration cap (every stress evaluation counts)
     SmacofAcceleration acceleration = kDefaultSmacofAcceleration;  ///< see the top of this header
-    int acceleration_depth = kDefaultAccelerationDepth;            ///< RRE/MPE cycle - 1, Anderson memory (>= 1)
+    int acceleration_depth = kDefaultAccelerationDepth;  ///< RRE/MPE cycle - 1, Anderson memory (>= 1)
     bool record_history = false;  ///< keep S(X_k) for every k in SmacofResult::stress_history
     ProgressFn progress;          ///< called every few iterations (fraction of max_iterations)
 
     /// Named setters, for a default other than the ones above (`SmacofOptions().with_max_iterations(500)`).
-    SmacofOptions& with_tolerance(double t) { tolerance = t; return *this; }
-    SmacofOptions& with_max_iterations(int n) { max_iterations = n; return *this; }
-    SmacofOptions& with_acceleration(SmacofAcceleration a) { acceleration = a; return *this; }
+    SmacofOptions& with_tolerance(double t) {
+        tolerance = t;
+        return *this;
+    }
+    SmacofOptions& with_max_iterations(int n) {
+        max_iterations = n;
+        return *this;
+    }
+    SmacofOptions& with_acceleration(SmacofAcceleration a) {
+        acceleration = a;
+        return *this;
+    }
 };
 
 /// The parameters of SmacofOptions a user sets - tolerance, max_iterations, acceleration - with
@@ -128,18 +137,18 @@ ParameterSet<SmacofOptions> smacof_parameters(const SmacofOptions& defaults = {}
 /// What a SMACOF run reports: counts and stresses. Every result that reports a run derives from
 /// it (SmacofResult, MdsResult, the canonical forms' results), so one assignment passes it on.
 struct SmacofStatistics {
-    int iterations = 0;                 ///< stress evaluations after the start (rejected ones included)
-    bool converged = false;             ///< stopped by the tolerance, not by the cap
-    int extrapolations = 0;             ///< accelerated points accepted
-    int rejections = 0;                 ///< accelerated points replaced by the plain step (safeguard)
-    double initial_stress = 0;          ///< S(X_0)
-    double final_stress = 0;            ///< S(X_final)
-    std::vector<double> stress_history; ///< S of every accepted iterate X_0, X_1, ... if requested
+    int iterations = 0;                  ///< stress evaluations after the start (rejected ones included)
+    bool converged = false;              ///< stopped by the tolerance, not by the cap
+    int extrapolations = 0;              ///< accelerated points accepted
+    int rejections = 0;                  ///< accelerated points replaced by the plain step (safeguard)
+    double initial_stress = 0;           ///< S(X_0)
+    double final_stress = 0;             ///< S(X_final)
+    std::vector<double> stress_history;  ///< S of every accepted iterate X_0, X_1, ... if requested
 };
 
 /// Result of SmacofSolver::solve() and run_guttman().
 struct SmacofResult : SmacofStatistics {
-    Eigen::MatrixXd X;                  ///< final configuration, #V x dim, centred at the origin
+    Eigen::MatrixXd X;  ///< final configuration, #V x dim, centred at the origin
 };
 
 /// Proposes the next point of an accelerated Guttman iteration (see the top of this header).
@@ -157,13 +166,13 @@ public:
 private:
     SmacofAcceleration method_;
     int depth_;
-    Eigen::MatrixXd x0_;                     // RRE/MPE: x_0 of the current cycle
-    std::vector<Eigen::MatrixXd> U_;         // RRE/MPE: u_j = x_{j+1} - x_j of the current cycle
-    Eigen::MatrixXd gram_;                   // RRE/MPE: U^T U, grown a row per step
-    std::vector<Eigen::MatrixXd> dF_, dG_;   // Anderson: differences of f and G
-    Eigen::MatrixXd f_prev_, g_prev_;        // Anderson: the previous f and G(x)
-    bool relax_next_ = false;                // relaxed: this step relaxes
-    bool plain_next_ = false;                // plain_next() was called
+    Eigen::MatrixXd x0_;                    // RRE/MPE: x_0 of the current cycle
+    std::vector<Eigen::MatrixXd> U_;        // RRE/MPE: u_j = x_{j+1} - x_j of the current cycle
+    Eigen::MatrixXd gram_;                  // RRE/MPE: U^T U, grown a row per step
+    std::vector<Eigen::MatrixXd> dF_, dG_;  // Anderson: differences of f and G
+    Eigen::MatrixXd f_prev_, g_prev_;       // Anderson: the previous f and G(x)
+    bool relax_next_ = false;               // relaxed: this step relaxes
+    bool plain_next_ = false;               // plain_next() was called
 };
 
 /// The SMACOF iteration shared by SmacofSolver::solve and least_squares_mds (mds.h): from a
@@ -184,7 +193,8 @@ SmacofResult run_guttman(const Step& step, Eigen::MatrixXd X, const SmacofOption
     const auto evaluate = [&](const Eigen::MatrixXd& Z, double* s) {
         Eigen::MatrixXd G = step(Z, s);  // S(Z) comes with the step's B(Z) Z
         if (!std::isfinite(*s) || !G.allFinite())
-            throw NumericalError(std::string(what) + ": non-finite stress or coordinates after a Guttman step");
+            throw NumericalError(std::string(what) +
+                                 ": non-finite stress or coordinates after a Guttman step");
         ++r.iterations;
         if (r.iterations % 10 == 0)
             report_progress(progress, progress_from + (1 - progress_from) * r.iterations / max_iterations,
@@ -232,7 +242,7 @@ SmacofResult run_guttman(const Step& step, Eigen::MatrixXd X, const SmacofOption
 struct SmacofSolverOptions {
     LinearSolver linear_solver = LinearSolver::Auto;
     int multigrid_from = kMultigridFrom;  ///< Auto: points from which Multigrid is used
-    int vcycles_per_step = 1;    ///< Multigrid: V-cycles per Guttman step (>= 1)
+    int vcycles_per_step = 1;             ///< Multigrid: V-cycles per Guttman step (>= 1)
     /// Direct: fill-reducing ordering of V with point 0 pinned (num_points - 1 entries, entry
     /// k = point ordering[k] + 1 eliminated k-th; see SparseCholesky::compute); empty = AMD.
     std::vector<int> ordering;
@@ -257,9 +267,7 @@ public:
 
     int num_points() const { return n_; }
     /// The solver in use: Direct or Multigrid (never Auto).
-    LinearSolver linear_solver() const {
-        return multigrid_ ? LinearSolver::Multigrid : LinearSolver::Direct;
-    }
+    LinearSolver linear_solver() const { return multigrid_ ? LinearSolver::Multigrid : LinearSolver::Direct; }
 
 private:
     /// B(X) X (#points x dim, if BX is given) and S(X) (if stress_of_X is given), in one pass.
@@ -277,8 +285,8 @@ private:
     StressPairs pairs_;
     SmacofSolverOptions options_;
     bool multigrid_ = false;
-    SparseCholesky factor_;    // Direct: V with vertex 0 pinned
-    AmgPreconditioner amg_;    // Multigrid: the same matrix
+    SparseCholesky factor_;  // Direct: V with vertex 0 pinned
+    AmgPreconditioner amg_;  // Multigrid: the same matrix
 };
 
 }  // namespace canonform::numerics

@@ -38,9 +38,8 @@ Body build_body() {
                {mirror_x(kn), mirror_x(an), r_kn, r_an, kRLowerLeg}});
     // Tail, straight back from the lower back.
     const Vector3d t0(0, 0.10, 0.86), t1(0, 0.40, 0.74), t2(0, 0.68, 0.70), t3(0, 0.92, 0.74);
-    add_chain({{t0, t1, 0.060, 0.052, kTail1},
-               {t1, t2, 0.052, 0.045, kTail2},
-               {t2, t3, 0.045, 0.040, kTail3}});
+    add_chain(
+        {{t0, t1, 0.060, 0.052, kTail1}, {t1, t2, 0.052, 0.045, kTail2}, {t2, t3, 0.045, 0.040, kTail3}});
 
     b.bones.resize(kNumBones);
     b.bones[kRoot] = {-1, Vector3d(0, 0, 0.9)};
@@ -69,8 +68,8 @@ Body build_body() {
         for (const Capsule& c : ch.caps) bb.extend(c.a).extend(c.b);
         ch.centre = bb.center();
         for (const Capsule& c : ch.caps)
-            ch.radius = std::max(
-                {ch.radius, (c.a - ch.centre).norm() + c.ra, (c.b - ch.centre).norm() + c.rb});
+            ch.radius =
+                std::max({ch.radius, (c.a - ch.centre).norm() + c.ra, (c.b - ch.centre).norm() + c.rb});
     }
     b.box.setEmpty();
     b.min_radius = std::numeric_limits<double>::infinity();

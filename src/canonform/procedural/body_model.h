@@ -201,8 +201,8 @@ public:
     /// Moves p onto the zero set by Newton steps along the gradient (each step at most max_step).
     /// With ids, only those chains are evaluated (see relevant_chains()).
     /// If last_grad is given, it receives the gradient at the last point evaluated.
-    Vector3d project(Vector3d p, int steps, double max_step, const int* ids = nullptr,
-                     int n_ids = 0, Vector3d* last_grad = nullptr) const {
+    Vector3d project(Vector3d p, int steps, double max_step, const int* ids = nullptr, int n_ids = 0,
+                     Vector3d* last_grad = nullptr) const {
         for (int s = 0; s < steps; ++s) {
             Vector3d g = Vector3d::Zero();
             const double f = ids ? eval(p, ids, n_ids, &g) : eval(p, &g);

@@ -1,10 +1,9 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // canonform: shortest-edge collapses on the zero set. See decimation.h.
 #include "canonform/procedural/decimation.h"
-#include "canonform/procedural/mesh_checks.h"
 #include "canonform/procedural/mesh_building.h"
+#include "canonform/procedural/mesh_checks.h"
 #include "canonform/surface/mesh_topology.h"
-
 
 #include <algorithm>
 #include <array>
@@ -28,8 +27,8 @@
 namespace canonform::procedural {
 namespace detail {
 
-int decimate(const BodySdf& sdf, std::vector<Vector3d>* V, std::vector<Face>* F,
-             std::vector<char>* pinned, int target, double max_step) {
+int decimate(const BodySdf& sdf, std::vector<Vector3d>* V, std::vector<Face>* F, std::vector<char>* pinned,
+             int target, double max_step) {
     const int nv = static_cast<int>(V->size());
     std::vector<Vector3d>& P = *V;
     std::vector<Face>& T = *F;
@@ -96,8 +95,7 @@ int decimate(const BodySdf& sdf, std::vector<Vector3d>* V, std::vector<Face>* F,
             version[static_cast<size_t>(e.u)] != e.vu || version[static_cast<size_t>(e.v)] != e.vv)
             continue;
         // v is merged into u; a pinned vertex survives in place.
-        const bool pin_u = (*pinned)[static_cast<size_t>(e.u)],
-                   pin_v = (*pinned)[static_cast<size_t>(e.v)];
+        const bool pin_u = (*pinned)[static_cast<size_t>(e.u)], pin_v = (*pinned)[static_cast<size_t>(e.v)];
         if (pin_u && pin_v) continue;
         const int u = pin_v ? e.v : e.u, v = pin_v ? e.u : e.v;
         // Shared faces and their opposite vertices.
@@ -118,8 +116,7 @@ int decimate(const BodySdf& sdf, std::vector<Vector3d>* V, std::vector<Face>* F,
         neighbours(u, &nu);
         neighbours(v, &nvv);
         common.clear();
-        std::set_intersection(nu.begin(), nu.end(), nvv.begin(), nvv.end(),
-                              std::back_inserter(common));
+        std::set_intersection(nu.begin(), nu.end(), nvv.begin(), nvv.end(), std::back_inserter(common));
         if (common.size() != 2) continue;
         // Valences: u gets deg(u) + deg(v) - 4, each opposite vertex loses one.
         const int new_valence = static_cast<int>(nu.size() + nvv.size()) - 4;
@@ -133,8 +130,7 @@ int decimate(const BodySdf& sdf, std::vector<Vector3d>* V, std::vector<Face>* F,
         const Vector3d p =
             (pin_u || pin_v)
                 ? P[static_cast<size_t>(u)]
-                : sdf.project(0.5 * (P[static_cast<size_t>(u)] + P[static_cast<size_t>(v)]), 4,
-                              max_step);
+                : sdf.project(0.5 * (P[static_cast<size_t>(u)] + P[static_cast<size_t>(v)]), 4, max_step);
         // Geometry of the surviving faces around u and v after the move: no large turn, not
         // thinner than before (or at least min_angle), and facing about like the surface there
         // (a coarse thin tube must not get triangles slicing across it).

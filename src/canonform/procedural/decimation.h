@@ -17,8 +17,8 @@ namespace detail {
 /// pinned end, which never moves or disappears) until `target` vertices remain. Collapses that
 /// would break the manifold (link condition), create a vertex of valence < 4 or > 10, or turn,
 /// thin or tilt a triangle away from the surface are skipped. Returns the vertex count reached.
-int decimate(const BodySdf& sdf, std::vector<Vector3d>* V, std::vector<Face>* F,
-             std::vector<char>* pinned, int target, double max_step);
+int decimate(const BodySdf& sdf, std::vector<Vector3d>* V, std::vector<Face>* F, std::vector<char>* pinned,
+             int target, double max_step);
 
 }  // namespace detail
 }  // namespace canonform::procedural

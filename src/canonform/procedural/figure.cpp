@@ -1,11 +1,10 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // canonform: posing the figure and its body types. See procedural_meshes.h.
-#include "canonform/procedural/procedural_meshes.h"
 #include "canonform/procedural/body_model.h"
-#include "canonform/procedural/rest_figure.h"
 #include "canonform/procedural/mesh_building.h"
+#include "canonform/procedural/procedural_meshes.h"
+#include "canonform/procedural/rest_figure.h"
 #include "canonform/surface/mesh_topology.h"
-
 
 #include <algorithm>
 #include <array>
@@ -53,7 +52,8 @@ std::array<Matrix3d, kNumBones> joint_rotations(const FigurePose& p) {
         R[static_cast<size_t>(lower)] = rl;
     };
     auto arm = [&](const ArmPose& a, int upper, int lower, bool right) {
-        limb(rot(Z, -a.shoulder_forward) * rot(Y, a.shoulder_down), rot(Z, -a.elbow_bend), upper, lower, right);
+        limb(rot(Z, -a.shoulder_forward) * rot(Y, a.shoulder_down), rot(Z, -a.elbow_bend), upper, lower,
+             right);
     };
     auto leg = [&](const LegPose& l, int upper, int lower, bool right) {
         limb(rot(X, -l.hip_forward) * rot(Y, -l.hip_out), rot(X, l.knee_bend), upper, lower, right);
@@ -260,7 +260,8 @@ std::array<Affine, kNumBones> shape_maps(const Body& body, const FigureProportio
     for (int b = 0; b < kNumBones; ++b) {
         const size_t k = static_cast<size_t>(b);
         const Vector3d& d = axis[k];
-        const Matrix3d M = length[k] * d * d.transpose() + girth[k] * (Matrix3d::Identity() - d * d.transpose());
+        const Matrix3d M =
+            length[k] * d * d.transpose() + girth[k] * (Matrix3d::Identity() - d * d.transpose());
         const Vector3d j = body.bones[k].joint;
         const Vector3d moved = body.bones[k].parent < 0 ? j : S[static_cast<size_t>(body.bones[k].parent)](j);
         S[k].A = M;
@@ -274,9 +275,11 @@ std::array<Affine, kNumBones> shape_maps(const Body& body, const FigureProportio
 Figure make_figure(int target_vertices, const FigurePose& pose, const FigureProportions& proportions) {
     if (target_vertices < 300 || target_vertices > 1000000)
         throw std::invalid_argument("make_figure: target_vertices must be in [300, 1000000]");
-    for (double f : {proportions.arm_length, proportions.leg_length, proportions.tail_length, proportions.neck_length,
-                     proportions.torso_length, proportions.limb_girth, proportions.torso_girth})
-        if (!(f >= 0.5 && f <= 2.0)) throw std::invalid_argument("make_figure: proportions must lie in [0.5, 2]");
+    for (double f :
+         {proportions.arm_length, proportions.leg_length, proportions.tail_length, proportions.neck_length,
+          proportions.torso_length, proportions.limb_girth, proportions.torso_girth})
+        if (!(f >= 0.5 && f <= 2.0))
+            throw std::invalid_argument("make_figure: proportions must lie in [0.5, 2]");
     const Body& standard = the_body();
     const std::shared_ptr<const RestFigure> rest = rest_figure(target_vertices);
     const std::array<Affine, kNumBones> S = shape_maps(standard, proportions);
@@ -310,8 +313,12 @@ Figure make_figure(int target_vertices, const FigurePose& pose, const FigureProp
         fig.limb_tips.push_back(posed[static_cast<size_t>(rest->tip_vertex[t])]);
     fig.limb_names = body.tip_names;
     fig.limb_radius = body.tip_radius;
-    const double limb_girth[] = {1.0, proportions.limb_girth, proportions.limb_girth, proportions.limb_girth,
-                                 proportions.limb_girth, proportions.limb_girth};
+    const double limb_girth[] = {1.0,
+                                 proportions.limb_girth,
+                                 proportions.limb_girth,
+                                 proportions.limb_girth,
+                                 proportions.limb_girth,
+                                 proportions.limb_girth};
     for (size_t t = 0; t < fig.limb_radius.size() && t < 6; ++t) fig.limb_radius[t] *= limb_girth[t];
     fig.limb_tip_vertex = rest->tip_vertex;
     return fig;

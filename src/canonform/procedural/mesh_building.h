@@ -32,14 +32,12 @@ inline Mesh to_trimesh(const std::vector<Vector3d>& V, const std::vector<Face>& 
     for (size_t i = 0; i < V.size(); ++i) m.V.row(static_cast<Eigen::Index>(i)) = V[i].transpose();
     m.F.resize(static_cast<Eigen::Index>(F.size()), 3);
     for (size_t i = 0; i < F.size(); ++i)
-        for (int k = 0; k < 3; ++k)
-            m.F(static_cast<Eigen::Index>(i), k) = F[i][static_cast<size_t>(k)];
+        for (int k = 0; k < 3; ++k) m.F(static_cast<Eigen::Index>(i), k) = F[i][static_cast<size_t>(k)];
     return m;
 }
 
 inline std::uint64_t edge_key(int a, int b) {
-    return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) |
-           static_cast<std::uint32_t>(b);
+    return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) | static_cast<std::uint32_t>(b);
 }
 
 /// Runs fn(begin, end) on chunks of 4096 indices of [0, n), in parallel (canonform::parallel_for).
@@ -53,7 +51,6 @@ void parallel_ranges(size_t n, const Fn& fn) {
         fn(begin, std::min(n, begin + kChunk));
     });
 }
-
 
 }  // namespace detail
 }  // namespace canonform::procedural

@@ -4,7 +4,6 @@
 #include "canonform/procedural/mesh_building.h"
 #include "canonform/surface/mesh_topology.h"
 
-
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -68,8 +67,8 @@ bool check_closed_sphere(int nv, const std::vector<Face>& F, std::string* why) {
     for (const Face& f : F)
         for (int k = 0; k < 3; ++k) {
             const int v = f[static_cast<size_t>(k)];
-            fan[static_cast<size_t>(fill[static_cast<size_t>(v)]++)] = {
-                f[static_cast<size_t>((k + 1) % 3)], f[static_cast<size_t>((k + 2) % 3)]};
+            fan[static_cast<size_t>(fill[static_cast<size_t>(v)]++)] = {f[static_cast<size_t>((k + 1) % 3)],
+                                                                        f[static_cast<size_t>((k + 2) % 3)]};
         }
     for (int v = 0; v < nv; ++v) {
         const auto first = fan.begin() + off[static_cast<size_t>(v)];
@@ -99,8 +98,7 @@ bool check_closed_sphere(int nv, const std::vector<Face>& F, std::string* why) {
     for (int v = 0; v < nv; ++v) parent[static_cast<size_t>(v)] = v;
     auto find = [&](int x) {
         while (parent[static_cast<size_t>(x)] != x) {
-            parent[static_cast<size_t>(x)] =
-                parent[static_cast<size_t>(parent[static_cast<size_t>(x)])];
+            parent[static_cast<size_t>(x)] = parent[static_cast<size_t>(parent[static_cast<size_t>(x)])];
             x = parent[static_cast<size_t>(x)];
         }
         return x;
@@ -108,8 +106,7 @@ bool check_closed_sphere(int nv, const std::vector<Face>& F, std::string* why) {
     int components = nv;
     for (const Face& f : F)
         for (int k = 0; k < 3; ++k) {
-            const int a = find(f[static_cast<size_t>(k)]),
-                      b = find(f[static_cast<size_t>((k + 1) % 3)]);
+            const int a = find(f[static_cast<size_t>(k)]), b = find(f[static_cast<size_t>((k + 1) % 3)]);
             if (a != b) {
                 parent[static_cast<size_t>(a)] = b;
                 --components;
@@ -119,8 +116,7 @@ bool check_closed_sphere(int nv, const std::vector<Face>& F, std::string* why) {
         *why = "mesh has " + std::to_string(components) + " connected components";
         return false;
     }
-    const long euler =
-        static_cast<long>(nv) - static_cast<long>(de.size() / 2) + static_cast<long>(F.size());
+    const long euler = static_cast<long>(nv) - static_cast<long>(de.size() / 2) + static_cast<long>(F.size());
     if (euler != 2) {
         *why = "Euler characteristic " + std::to_string(euler) + " (expected 2: genus 0)";
         return false;
@@ -153,8 +149,7 @@ bool check_quality(const BodySdf& sdf, const std::vector<Vector3d>& V, const std
             const Vector3d& a = V[static_cast<size_t>(f[0])];
             const Vector3d& b = V[static_cast<size_t>(f[1])];
             const Vector3d& c = V[static_cast<size_t>(f[2])];
-            const Vector3d g = normal[static_cast<size_t>(f[0])] +
-                               normal[static_cast<size_t>(f[1])] +
+            const Vector3d g = normal[static_cast<size_t>(f[0])] + normal[static_cast<size_t>(f[1])] +
                                normal[static_cast<size_t>(f[2])];
             if (triangle_min_angle(a, b, c) < min_angle)
                 bad[i] = 1;

@@ -1,9 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // canonform: the simple procedural shapes (icosphere, torus, disc). See procedural_meshes.h.
-#include "canonform/procedural/procedural_meshes.h"
 #include "canonform/procedural/mesh_building.h"
+#include "canonform/procedural/procedural_meshes.h"
 #include "canonform/surface/mesh_topology.h"
-
 
 #include <algorithm>
 #include <array>
@@ -34,9 +33,8 @@ Mesh make_icosphere(int subdivisions, double radius) {
     if (!(radius > 0.0) || !std::isfinite(radius))
         throw std::invalid_argument("make_icosphere: radius must be positive");
     const double t = (1.0 + std::sqrt(5.0)) / 2.0;
-    std::vector<Vector3d> V = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0},
-                               {0, -1, t}, {0, 1, t}, {0, -1, -t}, {0, 1, -t},
-                               {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
+    std::vector<Vector3d> V = {{-1, t, 0},  {1, t, 0},  {-1, -t, 0}, {1, -t, 0}, {0, -1, t},  {0, 1, t},
+                               {0, -1, -t}, {0, 1, -t}, {t, 0, -1},  {t, 0, 1},  {-t, 0, -1}, {-t, 0, 1}};
     for (Vector3d& v : V) v.normalize();
     std::vector<Face> F = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11},
                            {1, 5, 9},  {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
@@ -57,8 +55,7 @@ Mesh make_icosphere(int subdivisions, double radius) {
         std::vector<Face> F2;
         F2.reserve(F.size() * 4);
         for (const Face& f : F) {
-            const int ab = midpoint(f[0], f[1]), bc = midpoint(f[1], f[2]),
-                      ca = midpoint(f[2], f[0]);
+            const int ab = midpoint(f[0], f[1]), bc = midpoint(f[1], f[2]), ca = midpoint(f[2], f[0]);
             F2.push_back({f[0], ab, ca});
             F2.push_back({f[1], bc, ab});
             F2.push_back({f[2], ca, bc});
@@ -104,8 +101,8 @@ Mesh make_disc(int target_vertices, double radius) {
     if (!(radius > 0.0) || !std::isfinite(radius))
         throw std::invalid_argument("make_disc: radius must be positive");
     // 1 + 3K(K+1) vertices for K rings; pick the K whose count is closest to the target.
-    int K = std::max(1, static_cast<int>(std::floor(
-                            (-3.0 + std::sqrt(9.0 + 12.0 * (target_vertices - 1.0))) / 6.0)));
+    int K = std::max(
+        1, static_cast<int>(std::floor((-3.0 + std::sqrt(9.0 + 12.0 * (target_vertices - 1.0))) / 6.0)));
     auto count = [](long k) { return 1 + 3 * k * (k + 1); };
     if (std::abs(count(K + 1) - target_vertices) < std::abs(count(K) - target_vertices)) ++K;
 
@@ -129,8 +126,7 @@ Mesh make_disc(int target_vertices, double radius) {
         // Zip ring k-1 (n_in vertices) and ring k (n_out) by angle: advance whichever ring's
         // next vertex comes first. Both rings start at angle 0. Triangles are counter-clockwise.
         const int n_in = 6 * (k - 1), n_out = 6 * k;
-        const int s_in = ring_start[static_cast<size_t>(k - 1)],
-                  s_out = ring_start[static_cast<size_t>(k)];
+        const int s_in = ring_start[static_cast<size_t>(k - 1)], s_out = ring_start[static_cast<size_t>(k)];
         int i = 0, o = 0;
         while (i < n_in || o < n_out) {
             const double next_in = (i < n_in) ? double(i + 1) / n_in : 2.0;

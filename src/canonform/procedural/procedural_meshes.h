@@ -113,7 +113,7 @@ FigureProportions figure_class(const std::string& name);
 
 /// A posed figure.
 struct Figure {
-    Mesh mesh;                            ///< watertight, 2-manifold, one component, genus 0
+    Mesh mesh;                               ///< watertight, 2-manifold, one component, genus 0
     std::vector<Eigen::Vector3d> limb_tips;  ///< posed extremities, on the surface: the mesh
                                              ///< vertices limb_tip_vertex (same positions)
     std::vector<std::string> limb_names;     ///< "head","left_hand","right_hand","left_foot",

@@ -1,10 +1,9 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // canonform: tangential relaxation on the zero set. See relaxation.h.
 #include "canonform/procedural/relaxation.h"
-#include "canonform/procedural/mesh_checks.h"
 #include "canonform/procedural/mesh_building.h"
+#include "canonform/procedural/mesh_checks.h"
 #include "canonform/surface/mesh_topology.h"
-
 
 #include <algorithm>
 #include <array>
@@ -31,7 +30,8 @@ namespace detail {
 void relax(const BodySdf& sdf, std::vector<Vector3d>* V, const std::vector<Face>& F,
            const std::vector<char>& pinned, int iterations, double lambda, double max_step) {
     const size_t nv = V->size();
-    const numerics::VertexAdjacency adjacency = numerics::vertex_adjacency(static_cast<int>(nv), surface::unique_edges(to_trimesh({}, F).F));
+    const numerics::VertexAdjacency adjacency =
+        numerics::vertex_adjacency(static_cast<int>(nv), surface::unique_edges(to_trimesh({}, F).F));
     const std::vector<int>& off = adjacency.offsets;
     const std::vector<int>& nb = adjacency.neighbors;
     const std::vector<Vector3d> start = *V;
@@ -52,8 +52,7 @@ void relax(const BodySdf& sdf, std::vector<Vector3d>* V, const std::vector<Face>
                 if (pinned[v]) continue;
                 const int b = off[v], e = off[v + 1];
                 Vector3d c = Vector3d::Zero();
-                for (int i = b; i < e; ++i)
-                    c += (*V)[static_cast<size_t>(nb[static_cast<size_t>(i)])];
+                for (int i = b; i < e; ++i) c += (*V)[static_cast<size_t>(nb[static_cast<size_t>(i)])];
                 c /= std::max(1, e - b);
                 Vector3d d = c - p;
                 // Everything below is evaluated within rho of p.
@@ -85,8 +84,8 @@ void relax(const BodySdf& sdf, std::vector<Vector3d>* V, const std::vector<Face>
                     const Vector3d n_old = (o[1] - o[0]).cross(o[2] - o[0]);
                     const Vector3d n_new = (q[1] - q[0]).cross(q[2] - q[0]);
                     const double ln = n_new.norm();
-                    bad[i] = n_new.dot(n_old) <= 0.2 * ln * n_old.norm() ||
-                             n_new.dot(sn) <= 0.2 * ln * sn.norm();
+                    bad[i] =
+                        n_new.dot(n_old) <= 0.2 * ln * n_old.norm() || n_new.dot(sn) <= 0.2 * ln * sn.norm();
                 }
             });
             for (size_t i = 0; i < F.size(); ++i) {

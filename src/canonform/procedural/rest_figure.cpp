@@ -1,13 +1,12 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // canonform: the rest figure: extraction, coarsening, skinning weights. See rest_figure.h.
 #include "canonform/procedural/rest_figure.h"
-#include "canonform/procedural/surface_nets.h"
-#include "canonform/procedural/mesh_checks.h"
-#include "canonform/procedural/relaxation.h"
 #include "canonform/procedural/decimation.h"
 #include "canonform/procedural/mesh_building.h"
+#include "canonform/procedural/mesh_checks.h"
+#include "canonform/procedural/relaxation.h"
+#include "canonform/procedural/surface_nets.h"
 #include "canonform/surface/mesh_topology.h"
-
 
 #include <algorithm>
 #include <array>
@@ -74,8 +73,7 @@ void skin_weights(const Body& body, const Vector3d& p, std::array<int, kInfluenc
         double dn[kNumBones];
         std::fill(dn, dn + kNumBones, std::numeric_limits<double>::infinity());
         for (int i = 0; i < n_caps; ++i)
-            dn[caps[i]->bone] =
-                std::min(dn[caps[i]->bone], capsule_normalized_distance(*caps[i], q));
+            dn[caps[i]->bone] = std::min(dn[caps[i]->bone], capsule_normalized_distance(*caps[i], q));
         double w[kNumBones] = {};
         double sum = 0.0;
         for (int b = 0; b < kNumBones; ++b) {
@@ -89,10 +87,9 @@ void skin_weights(const Body& body, const Vector3d& p, std::array<int, kInfluenc
     }
     std::array<std::pair<double, int>, kNumBones> w;
     for (int b = 0; b < kNumBones; ++b) w[static_cast<size_t>(b)] = {acc[b], b};
-    std::partial_sort(w.begin(), w.begin() + kInfluences, w.end(),
-                      [](const auto& x, const auto& y) {
-                          return x.first > y.first || (x.first == y.first && x.second < y.second);
-                      });
+    std::partial_sort(w.begin(), w.begin() + kInfluences, w.end(), [](const auto& x, const auto& y) {
+        return x.first > y.first || (x.first == y.first && x.second < y.second);
+    });
     double sum = 0.0;
     for (int i = 0; i < kInfluences; ++i) sum += w[static_cast<size_t>(i)].first;
     for (int i = 0; i < kInfluences; ++i) {
@@ -126,8 +123,7 @@ std::shared_ptr<RestFigure> build_rest_figure(int target) {
     for (int attempt = 0; attempt < 12; ++attempt) {
         std::vector<Vector3d> V;
         std::vector<Face> F;
-        if (!surface_nets(sdf, body.box, h, grid_shift(attempt), false, nullptr, &V, &F, &why))
-            continue;
+        if (!surface_nets(sdf, body.box, h, grid_shift(attempt), false, nullptr, &V, &F, &why)) continue;
         if (static_cast<int>(V.size()) < target) {
             // Spacing too coarse (the calibration is approximate): refine and retry.
             h *= std::sqrt(static_cast<double>(V.size()) / (1.08 * target));
@@ -173,16 +169,15 @@ std::shared_ptr<RestFigure> build_rest_figure(int target) {
         rest->tip_vertex.assign(n_tips, -1);
         for (size_t t = 0; t < n_tips; ++t)
             for (size_t i = 0; i < n; ++i)
-                if (pinned[i] && rest->V[i] == body.tips[t])
-                    rest->tip_vertex[t] = static_cast<int>(i);
+                if (pinned[i] && rest->V[i] == body.tips[t]) rest->tip_vertex[t] = static_cast<int>(i);
         if (std::count(rest->tip_vertex.begin(), rest->tip_vertex.end(), -1) != 0) {
             why = "lost a limb tip vertex";
             continue;
         }
         return rest;
     }
-    throw std::runtime_error("make_figure: could not extract a valid mesh for " +
-                             std::to_string(target) + " vertices (" + why + ")");
+    throw std::runtime_error("make_figure: could not extract a valid mesh for " + std::to_string(target) +
+                             " vertices (" + why + ")");
 }
 }  // namespace
 

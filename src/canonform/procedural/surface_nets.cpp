@@ -4,7 +4,6 @@
 #include "canonform/procedural/mesh_building.h"
 #include "canonform/surface/mesh_topology.h"
 
-
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -105,8 +104,8 @@ const std::array<bool, 256>& ambiguous_cells() {
 /// grid plane grazes the surface) by moving the sign of the offending grid value nearest to zero
 /// (|value| < 1.5 h, so the surface moves by less than a cell) to the other side, repeating until
 /// no cell is ambiguous. Values shared by neighbouring blocks are changed in all of them.
-bool repair_ambiguities(std::vector<Block>* blocks, const std::vector<int>& slot, const int nb[3],
-                        double h, std::string* why) {
+bool repair_ambiguities(std::vector<Block>* blocks, const std::vector<int>& slot, const int nb[3], double h,
+                        std::string* why) {
     const std::array<bool, 256>& ambiguous = ambiguous_cells();
     const double limit = 1.5 * h, tiny = 1e-9 * h;
     auto set_point = [&](const int g[3], double v) {
@@ -121,12 +120,12 @@ bool repair_ambiguities(std::vector<Block>* blocks, const std::vector<int>& slot
             for (int j = 0; j < n_cand[1]; ++j)
                 for (int k = 0; k < n_cand[2]; ++k) {
                     const int bx = cand[0][i], by = cand[1][j], bz = cand[2][k];
-                    const int s = slot[static_cast<size_t>(
-                        (static_cast<long>(bz) * nb[1] + by) * nb[0] + bx)];
+                    const int s =
+                        slot[static_cast<size_t>((static_cast<long>(bz) * nb[1] + by) * nb[0] + bx)];
                     if (s < 0) continue;
                     Block& blk = (*blocks)[static_cast<size_t>(s)];
-                    blk.val[static_cast<size_t>(point_index(g[0] - bx * kBlock, g[1] - by * kBlock,
-                                                            g[2] - bz * kBlock))] = v;
+                    blk.val[static_cast<size_t>(
+                        point_index(g[0] - bx * kBlock, g[1] - by * kBlock, g[2] - bz * kBlock))] = v;
                 }
     };
     for (int pass = 0; pass < 10; ++pass) {
@@ -170,9 +169,9 @@ bool repair_ambiguities(std::vector<Block>* blocks, const std::vector<int>& slot
 }
 }  // namespace
 
-bool surface_nets(const BodySdf& sdf, const Eigen::AlignedBox3d& box, double h,
-                  const Vector3d& shift, bool count_only, long* cell_count,
-                  std::vector<Vector3d>* V, std::vector<Face>* F, std::string* why) {
+bool surface_nets(const BodySdf& sdf, const Eigen::AlignedBox3d& box, double h, const Vector3d& shift,
+                  bool count_only, long* cell_count, std::vector<Vector3d>* V, std::vector<Face>* F,
+                  std::string* why) {
     const Vector3d origin = box.min() - Vector3d::Constant(3.0 * h) - shift * h;
     const Vector3d extent = box.max() + Vector3d::Constant(3.0 * h) - origin;
     int nb[3];
@@ -192,8 +191,7 @@ bool surface_nets(const BodySdf& sdf, const Eigen::AlignedBox3d& box, double h,
     for (int bz = 0; bz < nb[2]; ++bz) {
         for (int by = 0; by < nb[1]; ++by) {
             for (int bx = 0; bx < nb[0]; ++bx) {
-                const Vector3d centre =
-                    origin + (kBlock * h) * Vector3d(bx + 0.5, by + 0.5, bz + 0.5);
+                const Vector3d centre = origin + (kBlock * h) * Vector3d(bx + 0.5, by + 0.5, bz + 0.5);
                 double cv[kMaxChains];
                 double vmin = std::numeric_limits<double>::infinity();
                 for (int c = 0; c < nc; ++c) {
@@ -213,7 +211,8 @@ bool surface_nets(const BodySdf& sdf, const Eigen::AlignedBox3d& box, double h,
                 blk.b[0] = bx;
                 blk.b[1] = by;
                 blk.b[2] = bz;
-                blk.ids = std::vector<int>(ids, ids + n_ids);  // (assign() on the empty vector: a GCC 12 -Wnonnull false positive)
+                blk.ids = std::vector<int>(
+                    ids, ids + n_ids);  // (assign() on the empty vector: a GCC 12 -Wnonnull false positive)
                 slot[static_cast<size_t>((static_cast<long>(bz) * nb[1] + by) * nb[0] + bx)] =
                     static_cast<int>(blocks.size());
                 blocks.push_back(std::move(blk));
@@ -227,9 +226,8 @@ bool surface_nets(const BodySdf& sdf, const Eigen::AlignedBox3d& box, double h,
             for (int z = 0; z <= kBlock; ++z)
                 for (int y = 0; y <= kBlock; ++y)
                     for (int x = 0; x <= kBlock; ++x) {
-                        const Vector3d p =
-                            origin + h * Vector3d(blk.b[0] * kBlock + x, blk.b[1] * kBlock + y,
-                                                  blk.b[2] * kBlock + z);
+                        const Vector3d p = origin + h * Vector3d(blk.b[0] * kBlock + x, blk.b[1] * kBlock + y,
+                                                                 blk.b[2] * kBlock + z);
                         blk.val[static_cast<size_t>(point_index(x, y, z))] =
                             sdf.eval(p, blk.ids.data(), static_cast<int>(blk.ids.size()), nullptr);
                     }
@@ -265,10 +263,9 @@ bool surface_nets(const BodySdf& sdf, const Eigen::AlignedBox3d& box, double h,
                     }
                     const Vector3d local = sum / n;
                     blk.vid[static_cast<size_t>(cell_index(x, y, z))] = static_cast<int>(V->size());
-                    V->push_back(origin +
-                                 h * (Vector3d(blk.b[0] * kBlock + x, blk.b[1] * kBlock + y,
-                                               blk.b[2] * kBlock + z) +
-                                      local));
+                    V->push_back(origin + h * (Vector3d(blk.b[0] * kBlock + x, blk.b[1] * kBlock + y,
+                                                        blk.b[2] * kBlock + z) +
+                                               local));
                 }
     }
     if (cell_count) *cell_count = count;
@@ -280,8 +277,8 @@ bool surface_nets(const BodySdf& sdf, const Eigen::AlignedBox3d& box, double h,
         if (bx >= nb[0] || by >= nb[1] || bz >= nb[2]) return -1;
         const int s = slot[static_cast<size_t>((static_cast<long>(bz) * nb[1] + by) * nb[0] + bx)];
         if (s < 0) return -1;
-        return blocks[static_cast<size_t>(s)].vid[static_cast<size_t>(
-            cell_index(gx - bx * kBlock, gy - by * kBlock, gz - bz * kBlock))];
+        return blocks[static_cast<size_t>(s)]
+            .vid[static_cast<size_t>(cell_index(gx - bx * kBlock, gy - by * kBlock, gz - bz * kBlock))];
     };
 
     // One quad per grid edge with a sign change, between the four cells around it; split along
@@ -295,8 +292,7 @@ bool surface_nets(const BodySdf& sdf, const Eigen::AlignedBox3d& box, double h,
                     for (int a = 0; a < 3; ++a) {
                         int l1[3] = {x, y, z};
                         ++l1[a];
-                        const double v1 =
-                            blk.val[static_cast<size_t>(point_index(l1[0], l1[1], l1[2]))];
+                        const double v1 = blk.val[static_cast<size_t>(point_index(l1[0], l1[1], l1[2]))];
                         if ((v0 < 0.0) == (v1 < 0.0)) continue;
                         const int ab = (a + 1) % 3, ac = (a + 2) % 3;  // e_a = e_ab x e_ac
                         int g[3];

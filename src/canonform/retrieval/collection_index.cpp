@@ -23,7 +23,8 @@ void put_leb128(std::vector<std::uint8_t>& out, std::uint32_t v) {
     out.push_back(static_cast<std::uint8_t>(v));
 }
 
-void encode_view(const views::Histogram& h, int words, std::vector<std::uint8_t>& out, const std::string& model) {
+void encode_view(const views::Histogram& h, int words, std::vector<std::uint8_t>& out,
+                 const std::string& model) {
     put_leb128(out, static_cast<std::uint32_t>(h.size()));
     int prev = -1;
     double total = 0;
@@ -34,7 +35,8 @@ void encode_view(const views::Histogram& h, int words, std::vector<std::uint8_t>
                              "a count that is not a positive integer");
         total += c;
         if (total > 65535)  // checked before the 16-bit casts below
-            throw InputError("Collection index: model '" + model + "' has a view of more than 65535 "
+            throw InputError("Collection index: model '" + model +
+                             "' has a view of more than 65535 "
                              "keypoints (16-bit sums: at most 65535)");
         const int gap = w - prev, count = static_cast<int>(c);
         if (count == 1 && gap <= 240) {
@@ -142,8 +144,8 @@ struct Plan {
     struct Block {
         int start = 0, size = 0, base = 0;  // lanes [start, start + size), distances at base
     };
-    int width = 0;          // lanes
-    std::vector<int> lane;  // per view
+    int width = 0;               // lanes
+    std::vector<int> lane;       // per view
     std::vector<int> registers;  // per view: its block's registers of 16 lanes
     std::vector<Block> blocks;
     int pairs = 0;
@@ -164,7 +166,8 @@ Plan make_plan(const std::vector<std::vector<int>>& maps, int views) {
         b.start = p.width;
         b.base = p.pairs;
         for (int v = 0; v < views; ++v)
-            if (orbit[static_cast<std::size_t>(v)] == o) p.lane[static_cast<std::size_t>(v)] = b.start + b.size++;
+            if (orbit[static_cast<std::size_t>(v)] == o)
+                p.lane[static_cast<std::size_t>(v)] = b.start + b.size++;
         const int regs = (b.size + 15) / 16;
         for (int v = 0; v < views; ++v)
             if (orbit[static_cast<std::size_t>(v)] == o) p.registers[static_cast<std::size_t>(v)] = regs;
@@ -173,7 +176,8 @@ Plan make_plan(const std::vector<std::vector<int>>& maps, int views) {
         p.blocks.push_back(b);
     }
     auto pair = [&](int query_view, int model_view) {
-        const Plan::Block& b = p.blocks[static_cast<std::size_t>(orbit[static_cast<std::size_t>(query_view)])];
+        const Plan::Block& b =
+            p.blocks[static_cast<std::size_t>(orbit[static_cast<std::size_t>(query_view)])];
         return b.base + (p.lane[static_cast<std::size_t>(model_view)] - b.start) * b.size +
                (p.lane[static_cast<std::size_t>(query_view)] - b.start);
     };
@@ -189,7 +193,7 @@ Plan make_plan(const std::vector<std::vector<int>>& maps, int views) {
 }
 
 struct Scratch {
-    std::vector<std::uint16_t> acc;  // width x width: a row per lane
+    std::vector<std::uint16_t> acc;   // width x width: a row per lane
     std::vector<std::uint32_t> msum;  // per lane
     std::vector<double> pair, rot;
 };
@@ -200,8 +204,8 @@ typedef std::uint16_t Lanes __attribute__((vector_size(32)));
 /// One view's entries, decoded, accumulated over R registers of lanes from `q0` on: per entry
 /// (word w, count c) acc += min(query counts of w, c) - the hot loop. Returns the bytes after it.
 template <int R>
-inline const std::uint8_t* accumulate_view(const std::uint8_t* p, std::uint32_t n, const std::uint16_t* qt, int width,
-                                           std::uint16_t* out, std::uint32_t* sum) {
+inline const std::uint8_t* accumulate_view(const std::uint8_t* p, std::uint32_t n, const std::uint16_t* qt,
+                                           int width, std::uint16_t* out, std::uint32_t* sum) {
     Lanes a[R] = {};
     std::uint32_t s = 0;
     int w = -1;
@@ -239,11 +243,10 @@ inline const std::uint8_t* accumulate_view(const std::uint8_t* p, std::uint32_t 
 #endif
 /// Decodes the model's V views and accumulates each over its block's lanes (qt: the query's
 /// counts from the block's first lane on) into the row of its lane; msum[lane] = its keypoints.
-CANONFORM_INDEX_CLONES void accumulate_model(const std::uint8_t* p, int views,
-                                                                         const int* lane, const int* registers,
-                                                                         const int* block_start, int width,
-                                                                         const std::uint16_t* qt, std::uint16_t* acc,
-                                                                         std::uint32_t* msum) {
+CANONFORM_INDEX_CLONES void accumulate_model(const std::uint8_t* p, int views, const int* lane,
+                                             const int* registers, const int* block_start, int width,
+                                             const std::uint16_t* qt, std::uint16_t* acc,
+                                             std::uint32_t* msum) {
     for (int j = 0; j < views; ++j) {
         std::uint32_t n = 0;
         int shift = 0;
@@ -257,11 +260,21 @@ CANONFORM_INDEX_CLONES void accumulate_model(const std::uint8_t* p, int views,
         std::uint16_t* out = acc + static_cast<std::size_t>(l) * static_cast<std::size_t>(width) + start;
         const std::uint16_t* q = qt + start;
         switch (registers[j]) {
-        case 1: p = accumulate_view<1>(p, n, q, width, out, &msum[l]); break;
-        case 2: p = accumulate_view<2>(p, n, q, width, out, &msum[l]); break;
-        case 3: p = accumulate_view<3>(p, n, q, width, out, &msum[l]); break;
-        case 4: p = accumulate_view<4>(p, n, q, width, out, &msum[l]); break;
-        default: p = accumulate_view<5>(p, n, q, width, out, &msum[l]); break;
+            case 1:
+                p = accumulate_view<1>(p, n, q, width, out, &msum[l]);
+                break;
+            case 2:
+                p = accumulate_view<2>(p, n, q, width, out, &msum[l]);
+                break;
+            case 3:
+                p = accumulate_view<3>(p, n, q, width, out, &msum[l]);
+                break;
+            case 4:
+                p = accumulate_view<4>(p, n, q, width, out, &msum[l]);
+                break;
+            default:
+                p = accumulate_view<5>(p, n, q, width, out, &msum[l]);
+                break;
         }
     }
 }
@@ -269,15 +282,15 @@ CANONFORM_INDEX_CLONES void accumulate_model(const std::uint8_t* p, int views,
 /// bag_of_features.cpp's view distance of every pair of each orbit block, side by side:
 /// 1 - inter / max(sums), clamped to [0, 1], 0 if both views are empty - divisions and min/max,
 /// rounded the same in every lane width.
-CANONFORM_INDEX_CLONES void pair_distances(const std::uint16_t* acc, int width,
-                                                                       const double* qsum, const std::uint32_t* msum,
-                                                                       const Plan::Block* blocks, int count,
-                                                                       double* out) {
+CANONFORM_INDEX_CLONES void pair_distances(const std::uint16_t* acc, int width, const double* qsum,
+                                           const std::uint32_t* msum, const Plan::Block* blocks, int count,
+                                           double* out) {
     for (int b = 0; b < count; ++b) {
         const int start = blocks[b].start, size = blocks[b].size;
         for (int a = start; a < start + size; ++a) {
             const double ms = msum[a];
-            const std::uint16_t* row = acc + static_cast<std::size_t>(a) * static_cast<std::size_t>(width) + start;
+            const std::uint16_t* row =
+                acc + static_cast<std::size_t>(a) * static_cast<std::size_t>(width) + start;
             const double* qs = qsum + start;
             double* d = out + blocks[b].base + (a - start) * size;
             for (int l = 0; l < size; ++l) {
@@ -292,14 +305,15 @@ CANONFORM_INDEX_CLONES void pair_distances(const std::uint16_t* acc, int width,
 /// The query transposed: per word, the count in each query view (its lane), and per lane its sum.
 struct Query {
     std::vector<std::uint16_t> storage;
-    std::uint16_t* qt = nullptr;  // words x width in `storage`, from a 64-byte boundary (a block's lanes in one cache line)
-    std::vector<double> qsum;     // width
+    std::uint16_t* qt =
+        nullptr;  // words x width in `storage`, from a 64-byte boundary (a block's lanes in one cache line)
+    std::vector<double> qsum;  // width
 };
 
 /// Clock-matching distance of the query to model `m` (bytes at `p`); `model_order`: the
 /// rotation sums over the model's views (the matrix's order when the model comes first).
-float score(const std::uint8_t* p, int V, const Query& q, const Plan& plan, const std::vector<int>& block_start,
-            bool model_order, Scratch& s) {
+float score(const std::uint8_t* p, int V, const Query& q, const Plan& plan,
+            const std::vector<int>& block_start, bool model_order, Scratch& s) {
     const auto width = static_cast<std::size_t>(plan.width);
     s.acc.resize(width * width);
     s.msum.resize(width);
@@ -364,7 +378,9 @@ void CollectionIndex::Builder::add(const std::string& name, const std::string& c
     x.classes_.push_back(cls);
 }
 
-std::size_t CollectionIndex::Builder::size() const { return parts_->x.names_.size(); }
+std::size_t CollectionIndex::Builder::size() const {
+    return parts_->x.names_.size();
+}
 
 CollectionIndex CollectionIndex::Builder::finish(const SummaryOptions* summary, int threads) {
     CollectionIndex x = std::move(parts_->x);
@@ -379,8 +395,8 @@ void CollectionIndex::train_first_pass(const SummaryOptions& options, int thread
     const auto maps = views::rotation_view_maps();
     if (maps.empty() || maps[0].size() != static_cast<std::size_t>(views_)) return;  // exact queries only
     orbit_of_view_ = view_orbits(maps, views_, &orbit_count_);
-    const std::uint32_t dims =
-        static_cast<std::uint32_t>(options.orbits ? orbit_count_ : 1) * static_cast<std::uint32_t>(codebook_.size());
+    const std::uint32_t dims = static_cast<std::uint32_t>(options.orbits ? orbit_count_ : 1) *
+                               static_cast<std::uint32_t>(codebook_.size());
     const std::size_t n = size();
     const std::size_t s = std::min<std::size_t>(n, static_cast<std::size_t>(std::max(1, options.sample)));
     std::vector<Summary> sample(s);
@@ -389,30 +405,40 @@ void CollectionIndex::train_first_pass(const SummaryOptions& options, int thread
     par.grain = 16;
     const int workers = parallel_workers(static_cast<std::ptrdiff_t>(std::max(s, n)), par);
     std::vector<std::vector<views::Histogram>> scratch(static_cast<std::size_t>(workers));
-    parallel_for(static_cast<std::ptrdiff_t>(s), [&](std::ptrdiff_t k, int w) {
-        const std::size_t m = static_cast<std::size_t>(k) * n / s;
-        auto& h = scratch[static_cast<std::size_t>(w)];
-        detail::unpack(model_bytes(m), views_, h);
-        sample[static_cast<std::size_t>(k)] = SummarySearch::summarise(h, orbit_of_view_, orbit_count_, codebook_.size(), options);
-    }, par);
+    parallel_for(
+        static_cast<std::ptrdiff_t>(s),
+        [&](std::ptrdiff_t k, int w) {
+            const std::size_t m = static_cast<std::size_t>(k) * n / s;
+            auto& h = scratch[static_cast<std::size_t>(w)];
+            detail::unpack(model_bytes(m), views_, h);
+            sample[static_cast<std::size_t>(k)] =
+                SummarySearch::summarise(h, orbit_of_view_, orbit_count_, codebook_.size(), options);
+        },
+        par);
     first_ = SummarySearch::train(sample, dims, options, threads);
     sample.clear();
     std::vector<std::int8_t> codes(n * static_cast<std::size_t>(first_.dims()));
-    parallel_for(static_cast<std::ptrdiff_t>(n), [&](std::ptrdiff_t k, int w) {
-        auto& h = scratch[static_cast<std::size_t>(w)];
-        detail::unpack(model_bytes(static_cast<std::size_t>(k)), views_, h);
-        first_.encode(SummarySearch::summarise(h, orbit_of_view_, orbit_count_, codebook_.size(), options),
-                      codes.data() + static_cast<std::size_t>(k) * static_cast<std::size_t>(first_.dims()));
-    }, par);
+    parallel_for(
+        static_cast<std::ptrdiff_t>(n),
+        [&](std::ptrdiff_t k, int w) {
+            auto& h = scratch[static_cast<std::size_t>(w)];
+            detail::unpack(model_bytes(static_cast<std::size_t>(k)), views_, h);
+            first_.encode(
+                SummarySearch::summarise(h, orbit_of_view_, orbit_count_, codebook_.size(), options),
+                codes.data() + static_cast<std::size_t>(k) * static_cast<std::size_t>(first_.dims()));
+        },
+        par);
     first_.set_codes(std::move(codes));
 }
 
-CollectionIndex CollectionIndex::build(const std::vector<std::string>& names, const std::vector<std::string>& classes,
-                                       const std::vector<std::vector<views::Histogram>>& models, views::Codebook codebook,
-                                       const std::string& method, int simplify) {
+CollectionIndex CollectionIndex::build(const std::vector<std::string>& names,
+                                       const std::vector<std::string>& classes,
+                                       const std::vector<std::vector<views::Histogram>>& models,
+                                       views::Codebook codebook, const std::string& method, int simplify) {
     if (names.size() != models.size() || classes.size() != models.size())
-        throw InputError("Collection index: " + std::to_string(models.size()) + " models, " + std::to_string(names.size()) +
-                         " names and " + std::to_string(classes.size()) + " classes");
+        throw InputError("Collection index: " + std::to_string(models.size()) + " models, " +
+                         std::to_string(names.size()) + " names and " + std::to_string(classes.size()) +
+                         " classes");
     if (models.empty()) throw InputError("Collection index: no models");
     Builder b(std::move(codebook), method, simplify, static_cast<int>(models[0].size()));
     for (std::size_t k = 0; k < models.size(); ++k) b.add(names[k], classes[k], models[k]);
@@ -426,15 +452,17 @@ const std::uint8_t* CollectionIndex::model_bytes(std::size_t m) const {
     std::atomic<std::uint8_t>& checked = checked_[m];
     if (!checked.load(std::memory_order_relaxed)) {
         if (!detail::check_model(p, mapped_.get() + offsets_[m + 1], views_, codebook_.size()))
-            throw InputError("Collection index: model " + std::to_string(m) + " ('" + names_[m] +
-                             "') is not well-formed: the index file is damaged (run `canonform index` again)");
+            throw InputError(
+                "Collection index: model " + std::to_string(m) + " ('" + names_[m] +
+                "') is not well-formed: the index file is damaged (run `canonform index` again)");
         checked.store(1, std::memory_order_relaxed);
     }
     return p;
 }
 
 std::vector<views::Histogram> CollectionIndex::histograms(std::size_t m) const {
-    if (m >= size()) throw InputError("Collection index: model " + std::to_string(m) + " of " + std::to_string(size()));
+    if (m >= size())
+        throw InputError("Collection index: model " + std::to_string(m) + " of " + std::to_string(size()));
     std::vector<views::Histogram> h;
     detail::unpack(model_bytes(m), views_, h);
     return h;
@@ -444,8 +472,8 @@ namespace {
 
 Query transpose_query(const std::vector<views::Histogram>& query, int views, int words, const Plan& plan) {
     if (query.size() != static_cast<std::size_t>(views))
-        throw InputError("Collection index: the query has " + std::to_string(query.size()) + " views, the index " +
-                         std::to_string(views));
+        throw InputError("Collection index: the query has " + std::to_string(query.size()) +
+                         " views, the index " + std::to_string(views));
     Query q;
     const auto width = static_cast<std::size_t>(plan.width);
     q.storage.assign(static_cast<std::size_t>(words) * width + 32, 0);
@@ -455,8 +483,9 @@ Query transpose_query(const std::vector<views::Histogram>& query, int views, int
     for (int i = 0; i < views; ++i)
         for (const auto& [w, c] : query[static_cast<std::size_t>(i)]) {
             if (w < 0 || w >= words || !(c >= 0) || c > 65535 || c != static_cast<float>(static_cast<int>(c)))
-                throw InputError("Collection index: a query word outside the codebook or a count that is not an "
-                                 "integer of 16 bits");
+                throw InputError(
+                    "Collection index: a query word outside the codebook or a count that is not an "
+                    "integer of 16 bits");
             const auto l = static_cast<std::size_t>(plan.lane[static_cast<std::size_t>(i)]);
             q.qt[static_cast<std::size_t>(w) * width + l] = static_cast<std::uint16_t>(c);
             q.qsum[l] += c;
@@ -467,8 +496,9 @@ Query transpose_query(const std::vector<views::Histogram>& query, int views, int
 Plan plan_for(int views) {
     const auto maps = views::rotation_view_maps();
     if (maps.empty() || maps[0].size() != static_cast<std::size_t>(views))
-        throw InputError("Collection index: the rotation maps are for " + std::to_string(maps.empty() ? 0 : maps[0].size()) +
-                         " views, the index has " + std::to_string(views));
+        throw InputError("Collection index: the rotation maps are for " +
+                         std::to_string(maps.empty() ? 0 : maps[0].size()) + " views, the index has " +
+                         std::to_string(views));
     return make_plan(maps, views);
 }
 
@@ -489,37 +519,43 @@ std::vector<float> CollectionIndex::distances(const std::vector<views::Histogram
     std::vector<int> block_start(static_cast<std::size_t>(views_));  // per view: its block's first lane
     for (const Plan::Block& b : plan.blocks)
         for (int v = 0; v < views_; ++v)
-            if (plan.lane[static_cast<std::size_t>(v)] >= b.start && plan.lane[static_cast<std::size_t>(v)] < b.start + b.size)
+            if (plan.lane[static_cast<std::size_t>(v)] >= b.start &&
+                plan.lane[static_cast<std::size_t>(v)] < b.start + b.size)
                 block_start[static_cast<std::size_t>(v)] = b.start;
     for (std::uint32_t m : models)
-        if (m >= size()) throw InputError("Collection index: model " + std::to_string(m) + " of " + std::to_string(size()));
+        if (m >= size())
+            throw InputError("Collection index: model " + std::to_string(m) + " of " +
+                             std::to_string(size()));
     std::vector<float> out(models.size());
     ParallelOptions par;
     par.threads = threads;
     par.grain = 256;
     const int workers = parallel_workers(static_cast<std::ptrdiff_t>(models.size()), par);
     std::vector<Scratch> scratch(static_cast<std::size_t>(workers));
-    parallel_for(static_cast<std::ptrdiff_t>(models.size()), [&](std::ptrdiff_t k, int worker) {
-        const std::uint32_t m = models[static_cast<std::size_t>(k)];
-        out[static_cast<std::size_t>(k)] = score(model_bytes(m), views_, q, plan, block_start,
-                                                 self >= 0 && static_cast<std::ptrdiff_t>(m) < self,
-                                                 scratch[static_cast<std::size_t>(worker)]);
-    }, par);
+    parallel_for(
+        static_cast<std::ptrdiff_t>(models.size()),
+        [&](std::ptrdiff_t k, int worker) {
+            const std::uint32_t m = models[static_cast<std::size_t>(k)];
+            out[static_cast<std::size_t>(k)] = score(model_bytes(m), views_, q, plan, block_start,
+                                                     self >= 0 && static_cast<std::ptrdiff_t>(m) < self,
+                                                     scratch[static_cast<std::size_t>(worker)]);
+        },
+        par);
     return out;
 }
 
 namespace {
 
 /// The k smallest (distance, model) of `d` over `models`, as matches.
-std::vector<IndexMatch> smallest(const std::vector<float>& d, const std::vector<std::uint32_t>& models, std::size_t k,
-                                 const std::vector<std::string>& names, const std::vector<std::string>& classes) {
+std::vector<IndexMatch> smallest(const std::vector<float>& d, const std::vector<std::uint32_t>& models,
+                                 std::size_t k, const std::vector<std::string>& names,
+                                 const std::vector<std::string>& classes) {
     std::vector<std::size_t> order(d.size());
     std::iota(order.begin(), order.end(), std::size_t{0});
     k = std::min(k, order.size());
-    std::partial_sort(order.begin(), order.begin() + static_cast<std::ptrdiff_t>(k), order.end(),
-                      [&](std::size_t a, std::size_t b) {
-                          return d[a] < d[b] || (d[a] == d[b] && models[a] < models[b]);
-                      });
+    std::partial_sort(
+        order.begin(), order.begin() + static_cast<std::ptrdiff_t>(k), order.end(),
+        [&](std::size_t a, std::size_t b) { return d[a] < d[b] || (d[a] == d[b] && models[a] < models[b]); });
     std::vector<IndexMatch> out;
     for (std::size_t r = 0; r < k; ++r) {
         const std::size_t m = models[order[r]];
@@ -530,7 +566,8 @@ std::vector<IndexMatch> smallest(const std::vector<float>& d, const std::vector<
 
 }  // namespace
 
-std::vector<IndexMatch> CollectionIndex::top(const std::vector<views::Histogram>& query, std::size_t k, int threads) const {
+std::vector<IndexMatch> CollectionIndex::top(const std::vector<views::Histogram>& query, std::size_t k,
+                                             int threads) const {
     SearchOptions o;
     o.exact = true;
     o.threads = threads;
@@ -546,12 +583,16 @@ std::size_t CollectionIndex::default_candidates(std::size_t k) const {
 }
 
 std::vector<std::int8_t> CollectionIndex::code(const std::vector<views::Histogram>& query) const {
-    if (!first_.trained()) throw InputError("Collection index: no first pass (an index of version 1: run `canonform index` again)");
+    if (!first_.trained())
+        throw InputError(
+            "Collection index: no first pass (an index of version 1: run `canonform index` again)");
     if (query.size() != static_cast<std::size_t>(views_))
-        throw InputError("Collection index: the query has " + std::to_string(query.size()) + " views, the index " +
-                         std::to_string(views_));
+        throw InputError("Collection index: the query has " + std::to_string(query.size()) +
+                         " views, the index " + std::to_string(views_));
     std::vector<std::int8_t> c(static_cast<std::size_t>(first_.dims()));
-    first_.encode(SummarySearch::summarise(query, orbit_of_view_, orbit_count_, codebook_.size(), first_.options()), c.data());
+    first_.encode(
+        SummarySearch::summarise(query, orbit_of_view_, orbit_count_, codebook_.size(), first_.options()),
+        c.data());
     return c;
 }
 

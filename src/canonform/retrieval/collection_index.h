@@ -90,7 +90,8 @@ public:
         /// One model (V histograms of the codebook's words). InputError naming it on bad input.
         void add(const std::string& name, const std::string& cls, const std::vector<views::Histogram>& views);
         std::size_t size() const;
-        /// The index; with `summary` the first pass is trained and every model coded (threads: <= 0 every core).
+        /// The index; with `summary` the first pass is trained and every model coded (threads: <= 0 every
+        /// core).
         CollectionIndex finish(const SummaryOptions* summary = nullptr, int threads = 0);
 
     private:
@@ -102,9 +103,10 @@ public:
     /// Packs `models` (each V histograms of the codebook's words; names and classes alike long)
     /// with a first pass of the default options. `method` and `simplify` say how a query mesh is
     /// to be processed (the run's settings). InputError on inconsistent input or counts beyond 16 bits.
-    static CollectionIndex build(const std::vector<std::string>& names, const std::vector<std::string>& classes,
-                                 const std::vector<std::vector<views::Histogram>>& models, views::Codebook codebook,
-                                 const std::string& method, int simplify = 0);
+    static CollectionIndex build(const std::vector<std::string>& names,
+                                 const std::vector<std::string>& classes,
+                                 const std::vector<std::vector<views::Histogram>>& models,
+                                 views::Codebook codebook, const std::string& method, int simplify = 0);
     /// Reads and writes the file format above (InputError naming the file and the problem). With
     /// `map` (POSIX systems) the model bytes stay in the file, memory-mapped: a query reads only the
     /// models it scores (each checked the first time), the rest is read into memory.
@@ -119,7 +121,10 @@ public:
     const std::string& method() const { return method_; }
     int simplify() const { return simplify_; }
     /// Bytes of the packed histograms (offsets and model bytes).
-    std::size_t bytes() const { return offsets_.size() * sizeof(std::uint64_t) + static_cast<std::size_t>(offsets_.empty() ? 0 : offsets_.back()); }
+    std::size_t bytes() const {
+        return offsets_.size() * sizeof(std::uint64_t) +
+               static_cast<std::size_t>(offsets_.empty() ? 0 : offsets_.back());
+    }
     /// Whether the model bytes are memory-mapped from the file (load() with `map`).
     bool mapped() const { return mapped_ != nullptr; }
     /// The first pass (untrained if the index has none).
@@ -132,10 +137,12 @@ public:
     std::vector<float> distances(const std::vector<views::Histogram>& query, int threads = 0,
                                  std::ptrdiff_t self = -1) const;
     /// The same for the models `models` only (in that order).
-    std::vector<float> distances(const std::vector<views::Histogram>& query, const std::vector<std::uint32_t>& models,
-                                 int threads = 0, std::ptrdiff_t self = -1) const;
+    std::vector<float> distances(const std::vector<views::Histogram>& query,
+                                 const std::vector<std::uint32_t>& models, int threads = 0,
+                                 std::ptrdiff_t self = -1) const;
     /// The `k` nearest models by exhaustive clock matching, nearest first (ties: lower model index first).
-    std::vector<IndexMatch> top(const std::vector<views::Histogram>& query, std::size_t k, int threads = 0) const;
+    std::vector<IndexMatch> top(const std::vector<views::Histogram>& query, std::size_t k,
+                                int threads = 0) const;
 
     /// Whether search() with these options uses the first pass: not `exact`, the index has one,
     /// and it holds more than kTwoStageAbove models or `candidates` was given.
@@ -156,8 +163,8 @@ private:
     views::Codebook codebook_;
     std::string method_;
     int simplify_ = 0;
-    std::vector<std::uint64_t> offsets_;  // N + 1 byte offsets
-    std::vector<std::uint8_t> data_;      // the models' bytes, unless mapped
+    std::vector<std::uint64_t> offsets_;          // N + 1 byte offsets
+    std::vector<std::uint8_t> data_;              // the models' bytes, unless mapped
     std::shared_ptr<const std::uint8_t> mapped_;  // or in the mapped file (unmapped with the last copy)
     std::shared_ptr<std::atomic<std::uint8_t>[]> checked_;  // per mapped model: checked already
     /// The bytes of model m (a mapped model checked on first use: InputError if damaged).
@@ -176,7 +183,7 @@ CollectionIndex index_method_folder(const std::string& folder, const std::string
 /// The index of the models `names` (classes alike long) of a method folder: descriptors/NAME.cfvd
 /// and codebook.bin, in that order, with the default first pass. threads <= 0: every core.
 CollectionIndex index_descriptors(const std::string& folder, const std::vector<std::string>& names,
-                                  const std::vector<std::string>& classes, const std::string& method, int simplify = 0,
-                                  int threads = 0);
+                                  const std::vector<std::string>& classes, const std::string& method,
+                                  int simplify = 0, int threads = 0);
 
 }  // namespace canonform::retrieval

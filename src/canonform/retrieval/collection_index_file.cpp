@@ -71,7 +71,9 @@ struct Out {
     void put(T v) {
         f.write(reinterpret_cast<const char*>(&v), sizeof v);
     }
-    void put_bytes(const void* p, std::size_t n) { f.write(static_cast<const char*>(p), static_cast<std::streamsize>(n)); }
+    void put_bytes(const void* p, std::size_t n) {
+        f.write(static_cast<const char*>(p), static_cast<std::streamsize>(n));
+    }
     void put_string(const std::string& s) {
         put(static_cast<std::uint32_t>(s.size()));
         put_bytes(s.data(), s.size());
@@ -88,9 +90,11 @@ public:
         char magic[4];
         in.need(4);
         in.read(magic, 4);
-        if (std::memcmp(magic, "CFCI", 4) != 0) throw InputError(in.where + ": not a canonform collection index");
+        if (std::memcmp(magic, "CFCI", 4) != 0)
+            throw InputError(in.where + ": not a canonform collection index");
         const auto version = in.get<std::uint32_t>();
-        if (version != 1 && version != 2) throw InputError(in.where + ": unsupported version " + std::to_string(version));
+        if (version != 1 && version != 2)
+            throw InputError(in.where + ": unsupported version " + std::to_string(version));
         const auto n = in.get<std::uint32_t>(), v = in.get<std::uint32_t>(), w = in.get<std::uint32_t>();
         if (n == 0 || v == 0 || v > static_cast<std::uint32_t>(detail::kMaxViews) || w == 0 || w > 65535)
             throw InputError(in.where + ": bad header (models, views or words out of range)");
@@ -111,7 +115,8 @@ public:
             read_v1(in, x);
         else
             read_v2(in, x, map ? path : std::string());
-        if (in.at != in.size) throw InputError(in.where + ": " + std::to_string(in.size - in.at) + " trailing bytes");
+        if (in.at != in.size)
+            throw InputError(in.where + ": " + std::to_string(in.size - in.at) + " trailing bytes");
         return x;
     }
 
@@ -131,9 +136,11 @@ public:
                 o.put_string(x.names_[k]);
                 o.put_string(x.classes_[k]);
             }
-            o.put_bytes(x.codebook_.words().data(), static_cast<std::size_t>(x.codebook_.words().size()) * sizeof(float));
+            o.put_bytes(x.codebook_.words().data(),
+                        static_cast<std::size_t>(x.codebook_.words().size()) * sizeof(float));
             o.put_bytes(x.offsets_.data(), x.offsets_.size() * sizeof(std::uint64_t));
-            o.put_bytes(x.mapped_ ? x.mapped_.get() : x.data_.data(), static_cast<std::size_t>(x.offsets_.back()));
+            o.put_bytes(x.mapped_ ? x.mapped_.get() : x.data_.data(),
+                        static_cast<std::size_t>(x.offsets_.back()));
             const SummarySearch& s = x.first_;
             o.put(static_cast<std::uint32_t>(s.trained() ? 1 : 0));
             if (s.trained()) {
@@ -169,7 +176,8 @@ private:
         for (std::size_t k = 0; k + 1 < slots; ++k)
             if (offsets[k + 1] < offsets[k]) throw InputError(in.where + ": offsets not increasing");
         if (offsets[0] != 0 || (in.size - in.at) != offsets.back() * 2 * sizeof(std::uint16_t))
-            throw InputError(in.where + ": the entries do not match the offsets (truncated or trailing bytes)");
+            throw InputError(in.where +
+                             ": the entries do not match the offsets (truncated or trailing bytes)");
         std::vector<std::uint16_t> entries(static_cast<std::size_t>(offsets.back()) * 2);
         in.read(entries.data(), entries.size() * sizeof(std::uint16_t));
         x.offsets_.assign(1, 0);
@@ -201,7 +209,8 @@ private:
         const auto* models = static_cast<const std::uint8_t*>(base) + in.at;
         // Queries read scattered models: no read-ahead.
         ::madvise(base, length, MADV_RANDOM);
-        x.mapped_ = std::shared_ptr<const std::uint8_t>(models, [base, length](const std::uint8_t*) { ::munmap(base, length); });
+        x.mapped_ = std::shared_ptr<const std::uint8_t>(
+            models, [base, length](const std::uint8_t*) { ::munmap(base, length); });
         const std::size_t n = x.names_.size();
         x.checked_ = std::shared_ptr<std::atomic<std::uint8_t>[]>(new std::atomic<std::uint8_t>[n]());
         in.f.seekg(static_cast<std::streamoff>(in.at + x.offsets_.back()));
@@ -233,16 +242,17 @@ private:
         std::atomic<std::size_t> bad{n};
         parallel_for(static_cast<std::ptrdiff_t>(n), [&](std::ptrdiff_t k, int) {
             const auto m = static_cast<std::size_t>(k);
-            if (!detail::check_model(x.data_.data() + x.offsets_[m], x.data_.data() + x.offsets_[m + 1], x.views_,
-                                     x.codebook_.size())) {
+            if (!detail::check_model(x.data_.data() + x.offsets_[m], x.data_.data() + x.offsets_[m + 1],
+                                     x.views_, x.codebook_.size())) {
                 std::size_t cur = bad.load();
                 while (m < cur && !bad.compare_exchange_weak(cur, m)) {
                 }
             }
         });
         if (bad.load() < n)
-            throw InputError(in.where + ": model " + std::to_string(bad.load()) + " ('" + x.names_[bad.load()] +
-                             "') is not well-formed (an entry out of range or a view of more than 65535 keypoints)");
+            throw InputError(
+                in.where + ": model " + std::to_string(bad.load()) + " ('" + x.names_[bad.load()] +
+                "') is not well-formed (an entry out of range or a view of more than 65535 keypoints)");
         read_first_pass(in, x);
     }
 
@@ -263,13 +273,14 @@ private:
         const auto maps = views::rotation_view_maps();
         if (maps.empty() || maps[0].size() != static_cast<std::size_t>(x.views_))
             throw InputError(in.where + ": a first pass for " + std::to_string(x.views_) +
-                             " views (the rotations are for " + std::to_string(maps.empty() ? 0 : maps[0].size()) + ")");
+                             " views (the rotations are for " +
+                             std::to_string(maps.empty() ? 0 : maps[0].size()) + ")");
         x.orbit_of_view_ = view_orbits(maps, x.views_, &x.orbit_count_);
-        const std::uint64_t expected =
-            static_cast<std::uint64_t>(so.orbits ? x.orbit_count_ : 1) * static_cast<std::uint64_t>(x.codebook_.size());
+        const std::uint64_t expected = static_cast<std::uint64_t>(so.orbits ? x.orbit_count_ : 1) *
+                                       static_cast<std::uint64_t>(x.codebook_.size());
         if (sdims != expected)
-            throw InputError(in.where + ": first pass of " + std::to_string(sdims) + " summary coordinates, expected " +
-                             std::to_string(expected));
+            throw InputError(in.where + ": first pass of " + std::to_string(sdims) +
+                             " summary coordinates, expected " + std::to_string(expected));
         const auto d = static_cast<std::size_t>(so.dims);
         std::vector<float> offset(d), axes(static_cast<std::size_t>(sdims) * d);
         in.read(offset.data(), d * sizeof(float));
@@ -289,13 +300,16 @@ CollectionIndex CollectionIndex::load(const std::string& path, bool map) {
     }
 }
 
-void CollectionIndex::save(const std::string& path) const { IndexFile::save(*this, path); }
+void CollectionIndex::save(const std::string& path) const {
+    IndexFile::save(*this, path);
+}
 
 CollectionIndex index_descriptors(const std::string& folder, const std::vector<std::string>& names,
-                                  const std::vector<std::string>& classes, const std::string& method, int simplify,
-                                  int threads) {
+                                  const std::vector<std::string>& classes, const std::string& method,
+                                  int simplify, int threads) {
     if (names.empty()) throw InputError("'" + folder + "': no models to index");
-    if (classes.size() != names.size()) throw InputError("Collection index: names and classes differ in number");
+    if (classes.size() != names.size())
+        throw InputError("Collection index: names and classes differ in number");
     auto read = [&](std::size_t k) {
         const std::string path = folder + "/descriptors/" + names[k] + ".cfvd";
         views::ModelDescriptor d = views::read_descriptor(path);
@@ -309,11 +323,15 @@ CollectionIndex index_descriptors(const std::string& folder, const std::vector<s
     par.threads = threads;
     for (std::size_t begin = 0; begin < names.size(); begin += chunk.size()) {
         const std::size_t end = std::min(names.size(), begin + chunk.size());
-        parallel_for(static_cast<std::ptrdiff_t>(end - begin),
-                     [&](std::ptrdiff_t k, int) { chunk[static_cast<std::size_t>(k)] = read(begin + static_cast<std::size_t>(k)); },
-                     par);
+        parallel_for(
+            static_cast<std::ptrdiff_t>(end - begin),
+            [&](std::ptrdiff_t k, int) {
+                chunk[static_cast<std::size_t>(k)] = read(begin + static_cast<std::size_t>(k));
+            },
+            par);
         if (!b)
-            b = std::make_unique<CollectionIndex::Builder>(views::Codebook::load(folder + "/codebook.bin"), method, simplify,
+            b = std::make_unique<CollectionIndex::Builder>(views::Codebook::load(folder + "/codebook.bin"),
+                                                           method, simplify,
                                                            static_cast<int>(chunk[0].size()));
         for (std::size_t k = begin; k < end; ++k) b->add(names[k], classes[k], chunk[k - begin]);
     }
@@ -325,7 +343,9 @@ CollectionIndex index_method_folder(const std::string& folder, const std::string
     const auto rows = io::read_csv(folder + "/models.csv");
     std::vector<std::string> names, classes;
     for (std::size_t r = 1; r < rows.size(); ++r) {
-        if (rows[r].size() < 2) throw InputError("'" + folder + "/models.csv': row " + std::to_string(r + 1) + " is not name,class");
+        if (rows[r].size() < 2)
+            throw InputError("'" + folder + "/models.csv': row " + std::to_string(r + 1) +
+                             " is not name,class");
         names.push_back(rows[r][0]);
         classes.push_back(rows[r][1]);
     }

@@ -30,7 +30,9 @@ namespace canonform::retrieval {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+double since(Clock::time_point t0) {
+    return std::chrono::duration<double>(Clock::now() - t0).count();
+}
 
 /// Seeded vertex noise: every coordinate moves by N(0, (sigma * mean edge length)^2).
 void add_noise(Mesh& m, double sigma, std::uint64_t seed) {
@@ -72,7 +74,8 @@ void write_measures(const ExperimentOptions& o, const std::string& dir, const st
         js["no_measures"] = out.no_measures;
     }
     for (const auto& [key, value] : pose.items()) js[key] = value;
-    io::write_file_atomic(dir + "/metrics.json", js.dump(-1, ' ', false, nlohmann::ordered_json::error_handler_t::replace) + "\n");
+    io::write_file_atomic(dir + "/metrics.json",
+                          js.dump(-1, ' ', false, nlohmann::ordered_json::error_handler_t::replace) + "\n");
     if (!out.no_measures.empty() || !out.evaluation.recall.empty()) {  // measures without a matrix: no curve
         std::ostringstream pr;
         pr << "recall,precision\n";
@@ -82,8 +85,8 @@ void write_measures(const ExperimentOptions& o, const std::string& dir, const st
     }
     const Measures& e = out.evaluation.micro;
     char line[300];
-    std::snprintf(line, sizeof line, "[%s] NN %.3f, 1-tier %.3f, 2-tier %.3f, E %.3f, DCG %.3f", label.c_str(), e.nn,
-                  e.first_tier, e.second_tier, e.e_measure, e.dcg);
+    std::snprintf(line, sizeof line, "[%s] NN %.3f, 1-tier %.3f, 2-tier %.3f, E %.3f, DCG %.3f",
+                  label.c_str(), e.nn, e.first_tier, e.second_tier, e.e_measure, e.dcg);
     log_line(o, out.no_measures.empty() ? line : "[" + label + "] no measures: " + out.no_measures);
 }
 
@@ -100,8 +103,9 @@ std::vector<Model> read_collection(const std::string& dataset, const std::string
         m.name = io::stem(m.path);
         const auto [it, fresh] = names.emplace(m.name, m.path);
         if (!fresh)
-            throw InputError("'" + labels + "': two models are named '" + m.name + "' ('" + it->second + "' and '" +
-                             m.path + "'): their forms and descriptors would overwrite each other");
+            throw InputError("'" + labels + "': two models are named '" + m.name + "' ('" + it->second +
+                             "' and '" + m.path +
+                             "'): their forms and descriptors would overwrite each other");
         try {
             m.hash = io::fnv1a(io::read_file(m.path));
         } catch (const InputError& e) {
@@ -113,7 +117,8 @@ std::vector<Model> read_collection(const std::string& dataset, const std::string
 }
 
 Experiment::Experiment(ExperimentOptions options)
-    : Experiment(options, options.methods.empty() ? std::vector<Model>{} : read_collection(options.dataset, options.labels)) {}
+    : Experiment(options, options.methods.empty() ? std::vector<Model>{}
+                                                  : read_collection(options.dataset, options.labels)) {}
 
 Experiment::Experiment(ExperimentOptions options, std::vector<Model> models)
     : options_(std::move(options)), models_(std::move(models)) {
@@ -122,7 +127,8 @@ Experiment::Experiment(ExperimentOptions options, std::vector<Model> models)
         for (const std::string& member : f.members) {
             const canonical::MethodSpec m = canonical::parse_method_spec(member);
             bool listed = false;
-            for (const canonical::MethodSpec& x : options_.methods) listed = listed || x.folder() == m.folder();
+            for (const canonical::MethodSpec& x : options_.methods)
+                listed = listed || x.folder() == m.folder();
             if (!listed) options_.methods.push_back(m);
         }
     if (o.methods.empty()) throw InputError("name at least one --method");
@@ -130,7 +136,8 @@ Experiment::Experiment(ExperimentOptions options, std::vector<Model> models)
         for (size_t j = 0; j < k; ++j)
             if (o.methods[j].folder() == o.methods[k].folder())
                 throw InputError("method '" + o.methods[k].to_string() + "' is named twice");
-    if (models_.size() < 3) throw InputError("'" + o.labels + "': the collection needs at least three meshes");
+    if (models_.size() < 3)
+        throw InputError("'" + o.labels + "': the collection needs at least three meshes");
     // The measures average over the classes of three or more models (psbTable's rule); say before
     // any work when no class qualifies: the distances are still computed and written.
     std::map<std::string, int> sizes;
@@ -138,12 +145,16 @@ Experiment::Experiment(ExperimentOptions options, std::vector<Model> models)
     std::string small;
     int measurable = 0;
     for (const auto& [label, count] : sizes) {
-        if (count > 2) ++measurable;
-        else small += (small.empty() ? "" : ", ") + label + " (" + std::to_string(count) + ")";
+        if (count > 2)
+            ++measurable;
+        else
+            small += (small.empty() ? "" : ", ") + label + " (" + std::to_string(count) + ")";
     }
     if (measurable == 0)
-        log_line(o, "note: no class of '" + o.labels + "' has more than two models (" + small +
-                        "): the retrieval measures need three; the distances will be written, the measures left out");
+        log_line(
+            o,
+            "note: no class of '" + o.labels + "' has more than two models (" + small +
+                "): the retrieval measures need three; the distances will be written, the measures left out");
     else if (!small.empty())
         log_line(o, "note: classes with two models or fewer are left out of the measures: " + small);
     io::make_directories(o.out + "/cache");
@@ -160,9 +171,11 @@ std::string Experiment::cache_entry(const canonical::MethodSpec& method, std::si
     // The form and its views depend on the seed only through the noise (the codebook's seed is
     // in the codebook's key): without noise, runs with other seeds share these entries.
     params << method.cache_key() << "|simplify=" << o.simplify << "|noise=" << o.noise
-           << (o.noise > 0 ? "|seed=" + std::to_string(o.seed) : std::string()) << "|views=v1" << (o.repair ? "|repair" : "")
-           << (o.views.sift.backend != views::SiftBackend::OpenCV ? "|sift=" + views::sift_backend_name(o.views.sift.backend)
-                                                                  : std::string());
+           << (o.noise > 0 ? "|seed=" + std::to_string(o.seed) : std::string()) << "|views=v1"
+           << (o.repair ? "|repair" : "")
+           << (o.views.sift.backend != views::SiftBackend::OpenCV
+                   ? "|sift=" + views::sift_backend_name(o.views.sift.backend)
+                   : std::string());
     return o.out + "/cache/" + io::hex(io::fnv1a(params.str(), models_[k].hash));
 }
 
@@ -204,8 +217,9 @@ MeshFeatures Experiment::mesh_features(const canonical::MethodSpec& method, std:
         if (o.simplify > 0 && m.V.rows() > o.simplify) {
             m = surface::simplify_mesh(m, o.simplify);
         } else if (o.simplify > 0) {  // said, not silent: the mesh is already at most that size
-            r.note += (r.note.empty() ? "" : "; ") + std::string("not simplified: ") + std::to_string(m.V.rows()) +
-                      " vertices, at most the --simplify " + std::to_string(o.simplify);
+            r.note += (r.note.empty() ? "" : "; ") + std::string("not simplified: ") +
+                      std::to_string(m.V.rows()) + " vertices, at most the --simplify " +
+                      std::to_string(o.simplify);
         }
         if (o.noise > 0) add_noise(m, o.noise, o.seed ^ model.hash);
         canonical::MethodContext context;
@@ -233,9 +247,12 @@ std::vector<MeshFeatures> Experiment::features(const canonical::MethodSpec& meth
     par.threads = options_.threads;
     par.stage = "meshes";
     if (options_.progress) par.progress = options_.progress(method.folder());
-    parallel_for(static_cast<std::ptrdiff_t>(models_.size()),
-                 [&](std::ptrdiff_t k, int) { results[static_cast<size_t>(k)] = mesh_features(method, static_cast<size_t>(k)); },
-                 par);
+    parallel_for(
+        static_cast<std::ptrdiff_t>(models_.size()),
+        [&](std::ptrdiff_t k, int) {
+            results[static_cast<size_t>(k)] = mesh_features(method, static_cast<size_t>(k));
+        },
+        par);
     return results;
 }
 
@@ -246,16 +263,19 @@ views::CodebookOptions Experiment::codebook_options() const {
     return co;
 }
 
-views::Codebook Experiment::codebook(const canonical::MethodSpec& method, const std::vector<MeshFeatures>& features,
+views::Codebook Experiment::codebook(const canonical::MethodSpec& method,
+                                     const std::vector<MeshFeatures>& features,
                                      const std::vector<std::size_t>& good) const {
     const ExperimentOptions& o = options_;
     if (!o.codebook.empty()) return views::Codebook::load(o.codebook);
     const views::CodebookOptions co = codebook_options();
-    std::string key = method.cache_key() + "|words=" + std::to_string(o.words) + "|seed=" + std::to_string(o.seed);
+    std::string key =
+        method.cache_key() + "|words=" + std::to_string(o.words) + "|seed=" + std::to_string(o.seed);
     if (co.method != views::CodebookOptions::Method::Lloyd || co.sample != 0 || co.kmeans_iterations != 10)
         key += "|" + views::codebook_method_name(co.method) + "|sample=" + std::to_string(co.sample) +
                "|iterations=" + std::to_string(co.kmeans_iterations);  // (the old key is Lloyd's on all)
-    if (o.views.sift.backend != views::SiftBackend::OpenCV) key += "|sift=" + views::sift_backend_name(o.views.sift.backend);
+    if (o.views.sift.backend != views::SiftBackend::OpenCV)
+        key += "|sift=" + views::sift_backend_name(o.views.sift.backend);
     // The features it is trained on also depend on these (they were missing from the key, so a
     // run with --noise or --simplify reused the codebook of the plain run in the same folder).
     if (o.simplify > 0) key += "|simplify=" + std::to_string(o.simplify);
@@ -290,7 +310,8 @@ MethodOutcome Experiment::run_method(const canonical::MethodSpec& spec) const {
     std::vector<size_t> good;
     std::ostringstream failures;
     for (size_t k = 0; k < models_.size(); ++k) {
-        if (!results[k].note.empty()) log_line(o, "[" + method + "] " + models_[k].name + ": " + results[k].note);
+        if (!results[k].note.empty())
+            log_line(o, "[" + method + "] " + models_[k].name + ": " + results[k].note);
         if (results[k].ok) {
             good.push_back(k);
             out.cached += results[k].cached;
@@ -302,10 +323,11 @@ MethodOutcome Experiment::run_method(const canonical::MethodSpec& spec) const {
     out.failed = models_.size() - good.size();
     io::write_file_atomic(dir + "/failures.txt", failures.str());
     char line[300];
-    std::snprintf(line, sizeof line, "[%s] %zu meshes in %.1f s (%d from the cache, %zu failed)", method.c_str(),
-                  models_.size(), out.forms_seconds, out.cached, out.failed);
+    std::snprintf(line, sizeof line, "[%s] %zu meshes in %.1f s (%d from the cache, %zu failed)",
+                  method.c_str(), models_.size(), out.forms_seconds, out.cached, out.failed);
     log_line(o, line);
-    if (good.size() < 3) throw InputError(method + ": fewer than three meshes succeeded; see " + dir + "/failures.txt");
+    if (good.size() < 3)
+        throw InputError(method + ": fewer than three meshes succeeded; see " + dir + "/failures.txt");
 
     // 2. Codebook.
     t0 = Clock::now();
@@ -327,7 +349,8 @@ MethodOutcome Experiment::run_method(const canonical::MethodSpec& spec) const {
     return out;
 }
 
-void Experiment::finish_method(MethodOutcome& out, const std::vector<size_t>& good, const Eigen::MatrixXf& D) const {
+void Experiment::finish_method(MethodOutcome& out, const std::vector<size_t>& good,
+                               const Eigen::MatrixXf& D) const {
     const auto t0 = Clock::now();
     std::vector<std::string> labels;
     for (size_t k : good) labels.push_back(models_[k].label);
@@ -339,14 +362,15 @@ void Experiment::finish_method(MethodOutcome& out, const std::vector<size_t>& go
     if (measurable)
         out.evaluation = evaluate(D.cast<double>(), labels);
     else
-        out.no_measures = "no class has more than two models among the " + std::to_string(good.size()) +
-                          " meshes that succeeded: the measures need three; the distances are in distances.bin";
+        out.no_measures =
+            "no class has more than two models among the " + std::to_string(good.size()) +
+            " meshes that succeeded: the measures need three; the distances are in distances.bin";
     out.distances_seconds += since(t0);
     finish_measures(out, good, nlohmann::ordered_json::object());
 }
 
-void Experiment::finish_method(MethodOutcome& out, const std::vector<size_t>& good, const Evaluation& evaluation,
-                               const nlohmann::ordered_json& extra) const {
+void Experiment::finish_method(MethodOutcome& out, const std::vector<size_t>& good,
+                               const Evaluation& evaluation, const nlohmann::ordered_json& extra) const {
     out.evaluation = evaluation;
     finish_measures(out, good, extra);
 }
@@ -366,7 +390,8 @@ void Experiment::finish_measures(MethodOutcome& out, const std::vector<size_t>& 
     // on simplified ones.
     try {
         if (o.simplify == 0)
-            out.pose_consistency = pose_consistency(models_, good, o.dataset, dir + "/forms", &out.pose_consistency_pairs);
+            out.pose_consistency =
+                pose_consistency(models_, good, o.dataset, dir + "/forms", &out.pose_consistency_pairs);
     } catch (const std::exception& ex) {
         log_line(o, "[" + method + "] pose consistency not measured: " + ex.what());
     }
@@ -382,9 +407,10 @@ void Experiment::finish_measures(MethodOutcome& out, const std::vector<size_t>& 
     out.distances_seconds += since(t0);
     // The timings apart from the measures, so that metrics.json is equal for equal inputs.
     const nlohmann::ordered_json timings = {{"method", method},
-                                            {"seconds", {{"forms_and_views", out.forms_seconds},
-                                                         {"codebook", out.codebook_seconds},
-                                                         {"distances_and_measures", out.distances_seconds}}}};
+                                            {"seconds",
+                                             {{"forms_and_views", out.forms_seconds},
+                                              {"codebook", out.codebook_seconds},
+                                              {"distances_and_measures", out.distances_seconds}}}};
     io::write_file_atomic(dir + "/timings.json", timings.dump() + "\n");
 }
 
@@ -430,7 +456,8 @@ MethodOutcome Experiment::run_fused(const FusedSpec& fused) const {
     }
     out.meshes = models.size();
     out.failed = models_.size() - models.size();
-    if (models.size() < 3) throw InputError(out.label + ": fewer than three models have every member's distances");
+    if (models.size() < 3)
+        throw InputError(out.label + ": fewer than three models have every member's distances");
     const Eigen::Index n = static_cast<Eigen::Index>(models.size());
     std::vector<Eigen::MatrixXf> parts;
     for (size_t k = 0; k < folders.size(); ++k) {
@@ -472,38 +499,46 @@ MethodOutcome Experiment::run_fused(const FusedSpec& fused) const {
     return out;
 }
 
-std::string report_markdown(const ExperimentOptions& o, std::size_t meshes, const std::vector<MethodOutcome>& outcomes,
-                            const std::string& pictures) {
+std::string report_markdown(const ExperimentOptions& o, std::size_t meshes,
+                            const std::vector<MethodOutcome>& outcomes, const std::string& pictures) {
     std::ostringstream report;
-    report << "# Retrieval run\n\n" << meshes << " meshes from `" << o.dataset << "`, labels `" << o.labels << "`"
-           << (o.simplify ? ", simplified to " + std::to_string(o.simplify) + " vertices" : std::string())
-           << (o.noise > 0 ? ", noise " + std::to_string(o.noise) + " of the mean edge length" : std::string())
-           << ".\n\n| method | NN | 1-Tier | 2-Tier | E-measure | DCG | pose consistency | meshes | failed | "
-              "forms+views s | codebook s | distances s |\n|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+    report
+        << "# Retrieval run\n\n"
+        << meshes << " meshes from `" << o.dataset << "`, labels `" << o.labels << "`"
+        << (o.simplify ? ", simplified to " + std::to_string(o.simplify) + " vertices" : std::string())
+        << (o.noise > 0 ? ", noise " + std::to_string(o.noise) + " of the mean edge length" : std::string())
+        << ".\n\n| method | NN | 1-Tier | 2-Tier | E-measure | DCG | pose consistency | meshes | failed | "
+           "forms+views s | codebook s | distances s |\n|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     for (const MethodOutcome& m : outcomes) {
         const Measures& e = m.evaluation.micro;
         char row[400], cons[32] = "-";
         if (m.pose_consistency >= 0) std::snprintf(cons, sizeof cons, "%.3f", m.pose_consistency);
         if (m.no_measures.empty())
-            std::snprintf(row, sizeof row, "| %s | %.3f | %.3f | %.3f | %.3f | %.3f | %s | %zu | %zu | %.1f | %.1f | %.1f |\n",
+            std::snprintf(row, sizeof row,
+                          "| %s | %.3f | %.3f | %.3f | %.3f | %.3f | %s | %zu | %zu | %.1f | %.1f | %.1f |\n",
                           m.name().c_str(), e.nn, e.first_tier, e.second_tier, e.e_measure, e.dcg, cons,
                           m.meshes, m.failed, m.forms_seconds, m.codebook_seconds, m.distances_seconds);
         else
-            std::snprintf(row, sizeof row, "| %s | - | - | - | - | - | %s | %zu | %zu | %.1f | %.1f | %.1f |\n",
+            std::snprintf(row, sizeof row,
+                          "| %s | - | - | - | - | - | %s | %zu | %zu | %.1f | %.1f | %.1f |\n",
                           m.name().c_str(), cons, m.meshes, m.failed, m.forms_seconds, m.codebook_seconds,
                           m.distances_seconds);
         report << row;
     }
     report << summary_markdown(outcomes);
     for (const MethodOutcome& m : outcomes)
-        if (!m.no_measures.empty()) report << "\nNo measures for " << m.name() << ": " << m.no_measures << ".\n";
+        if (!m.no_measures.empty())
+            report << "\nNo measures for " << m.name() << ": " << m.no_measures << ".\n";
     report << pictures;
-    report << "\nPose consistency: mean over same-class pairs with ground-truth correspondences (corres/*.vts) of "
-              "the RMS distance between corresponding vertices after the best rigid motion (or mirror image), "
-              "relative to the RMS radius; lower = more pose removed.\n";
-    report << "\nMicro averages (psbTable's definitions, normalised by C-1). Per method: `METHOD/metrics.json`, "
-              "`METHOD/pr.csv`, `METHOD/distances.bin` (float32 row-major, rows as `METHOD/models.csv`), "
-              "`METHOD/failures.txt`.\n";
+    report
+        << "\nPose consistency: mean over same-class pairs with ground-truth correspondences (corres/*.vts) "
+           "of "
+           "the RMS distance between corresponding vertices after the best rigid motion (or mirror image), "
+           "relative to the RMS radius; lower = more pose removed.\n";
+    report
+        << "\nMicro averages (psbTable's definitions, normalised by C-1). Per method: `METHOD/metrics.json`, "
+           "`METHOD/pr.csv`, `METHOD/distances.bin` (float32 row-major, rows as `METHOD/models.csv`), "
+           "`METHOD/failures.txt`.\n";
     return report.str();
 }
 
@@ -548,7 +583,8 @@ std::string summary_markdown(const std::vector<MethodOutcome>& outcomes) {
             const MethodOutcome* top = members.front();
             for (const MethodOutcome* m : members)
                 if (shown(m->evaluation.micro.*c.value) > shown(top->evaluation.micro.*c.value)) top = m;
-            const long long mine = shown(f->evaluation.micro.*c.value), theirs = shown(top->evaluation.micro.*c.value);
+            const long long mine = shown(f->evaluation.micro.*c.value),
+                            theirs = shown(top->evaluation.micro.*c.value);
             if (mine > theirs) continue;
             char text[160];
             std::snprintf(text, sizeof text, "%s %.3f %s %s's %.3f", c.title, mine / 1000.0,
@@ -558,15 +594,16 @@ std::string summary_markdown(const std::vector<MethodOutcome>& outcomes) {
         if (behind.empty())
             out << "\n" << f->name() << " beats every member on all five measures.\n";
         else
-            out << "\n" << f->name() << " does not beat its best member on this collection: " << behind
+            out << "\n"
+                << f->name() << " does not beat its best member on this collection: " << behind
                 << ". Here the better member alone is at least as good on those measures (docs/retrieval.md, "
                    "\"Fused methods\").\n";
     }
     return out.str();
 }
 
-double pose_consistency(const std::vector<Model>& models, const std::vector<size_t>& good, const std::string& dataset,
-                        const std::string& forms_dir, int* pairs) {
+double pose_consistency(const std::vector<Model>& models, const std::vector<size_t>& good,
+                        const std::string& dataset, const std::string& forms_dir, int* pairs) {
     std::vector<std::vector<int>> vts(models.size());
     std::vector<Eigen::MatrixXd> V(models.size());
     for (size_t k : good) {
@@ -578,11 +615,13 @@ double pose_consistency(const std::vector<Model>& models, const std::vector<size
     for (size_t a = 0; a < good.size(); ++a) {
         for (size_t b = a + 1; b < good.size(); ++b) {
             const size_t i = good[a], j = good[b];
-            if (models[i].label != models[j].label || vts[i].empty() || vts[i].size() != vts[j].size()) continue;
+            if (models[i].label != models[j].label || vts[i].empty() || vts[i].size() != vts[j].size())
+                continue;
             Eigen::MatrixXd P(static_cast<Eigen::Index>(vts[i].size()), 3), Q(P.rows(), 3);
             bool valid = true;
             for (size_t k = 0; k < vts[i].size() && valid; ++k) {
-                valid = vts[i][k] >= 0 && vts[i][k] < V[i].rows() && vts[j][k] >= 0 && vts[j][k] < V[j].rows();
+                valid =
+                    vts[i][k] >= 0 && vts[i][k] < V[i].rows() && vts[j][k] >= 0 && vts[j][k] < V[j].rows();
                 if (valid) {
                     P.row(static_cast<Eigen::Index>(k)) = V[i].row(vts[i][k]);
                     Q.row(static_cast<Eigen::Index>(k)) = V[j].row(vts[j][k]);

@@ -45,33 +45,34 @@ std::vector<Model> read_collection(const std::string& dataset, const std::string
 
 /// What an experiment runs.
 struct ExperimentOptions {
-    std::string dataset;              ///< folder the label paths are relative to
-    std::string labels;               ///< labels file ("path,class")
-    std::string out;                  ///< run folder
+    std::string dataset;                         ///< folder the label paths are relative to
+    std::string labels;                          ///< labels file ("path,class")
+    std::string out;                             ///< run folder
     std::vector<canonical::MethodSpec> methods;  ///< canonical-form methods, in order (folders must differ)
     /// Fused methods (fused_distances.h), run after `methods`; a member not among `methods` is
     /// added to them.
     std::vector<FusedSpec> fused;
-    int words = 1500;                 ///< codebook size (trained on each method's features)
-    std::string codebook;             ///< a given codebook instead ("" = train)
+    int words = 1500;                          ///< codebook size (trained on each method's features)
+    std::string codebook;                      ///< a given codebook instead ("" = train)
     views::CodebookOptions codebook_training;  ///< method, sample, iterations (words, seed: the fields here)
-    int simplify = 0;                 ///< simplify every mesh to this many vertices first (0 = no)
-    double noise = 0;                 ///< vertex noise, as a fraction of the mean edge length
-    std::uint64_t seed = 0;           ///< seeds of the noise and the codebook
-    int threads = 0;                  ///< meshes in parallel (0 = every core)
-    bool repair = false;              ///< repair every mesh first (surface/mesh_repair.h; logged per mesh)
-    views::ViewDescriptorOptions views;                ///< image size, pose and SIFT settings
-    std::function<void(const std::string&)> log;       ///< one line per finished stage (may be empty)
-    std::function<ProgressFn(const std::string& method)> progress;  ///< per-mesh progress of a method (may be empty)
+    int simplify = 0;                          ///< simplify every mesh to this many vertices first (0 = no)
+    double noise = 0;                          ///< vertex noise, as a fraction of the mean edge length
+    std::uint64_t seed = 0;                    ///< seeds of the noise and the codebook
+    int threads = 0;                           ///< meshes in parallel (0 = every core)
+    bool repair = false;                 ///< repair every mesh first (surface/mesh_repair.h; logged per mesh)
+    views::ViewDescriptorOptions views;  ///< image size, pose and SIFT settings
+    std::function<void(const std::string&)> log;  ///< one line per finished stage (may be empty)
+    std::function<ProgressFn(const std::string& method)>
+        progress;  ///< per-mesh progress of a method (may be empty)
 };
 
 /// The features of one mesh under one method.
 struct MeshFeatures {
     bool ok = false;
-    bool cached = false;                          ///< read from the run's cache
-    std::string error;                            ///< why it failed (if !ok)
-    std::string note;                             ///< what the run should log for it (a repair, a recomputed cache entry)
-    std::vector<views::SiftDescriptors> features; ///< one matrix per view
+    bool cached = false;  ///< read from the run's cache
+    std::string error;    ///< why it failed (if !ok)
+    std::string note;     ///< what the run should log for it (a repair, a recomputed cache entry)
+    std::vector<views::SiftDescriptors> features;  ///< one matrix per view
 };
 
 /// The outcome of one method.
@@ -81,11 +82,11 @@ struct MethodOutcome {
     std::vector<std::string> members;  ///< a fused method's member folders, in order (empty otherwise)
     std::string folder;                ///< RUN/METHOD
     Evaluation evaluation;
-    std::string no_measures;           ///< why there are no measures ("" if there are): classes too small
-    double pose_consistency = -1;      ///< -1: not measured (no correspondences, or simplified)
+    std::string no_measures;       ///< why there are no measures ("" if there are): classes too small
+    double pose_consistency = -1;  ///< -1: not measured (no correspondences, or simplified)
     int pose_consistency_pairs = 0;
     std::size_t meshes = 0, failed = 0;
-    int cached = 0;                    ///< meshes read from the cache
+    int cached = 0;  ///< meshes read from the cache
     double forms_seconds = 0, codebook_seconds = 0, distances_seconds = 0;
     /// Its name in the report: the fused method's label, else the method's folder.
     std::string name() const { return label.empty() ? spec.folder() : label; }
@@ -93,7 +94,8 @@ struct MethodOutcome {
 
 /// A retrieval run. The constructor reads and checks the collection before any work (the labels,
 /// at least three models, distinct names; classes too small for the measures are logged) and
-/// prepares the run folder; the stage functions can be called one by one (benchmarks, tests) or all at once by run().
+/// prepares the run folder; the stage functions can be called one by one (benchmarks, tests) or all at once
+/// by run().
 class Experiment {
 public:
     explicit Experiment(ExperimentOptions options);
@@ -124,7 +126,8 @@ public:
     /// writes distances.bin (+ .csv), models.csv, metrics.json, timings.json (out's seconds, plus
     /// this stage's), pr.csv; fills out.evaluation / no_measures and the pose consistency. `out`
     /// carries spec, folder, meshes, failed and the seconds of the earlier stages.
-    void finish_method(MethodOutcome& out, const std::vector<std::size_t>& good, const Eigen::MatrixXf& D) const;
+    void finish_method(MethodOutcome& out, const std::vector<std::size_t>& good,
+                       const Eigen::MatrixXf& D) const;
     /// The same from measures computed without the matrix (each model's nearest neighbours,
     /// retrieval_measures.h): no distances.bin or pr.csv; `extra` is added to metrics.json.
     void finish_method(MethodOutcome& out, const std::vector<std::size_t>& good, const Evaluation& evaluation,
@@ -139,7 +142,8 @@ public:
 
 private:
     /// models.csv, pose consistency, metrics.json (with `extra`), timings.json of a method.
-    void finish_measures(MethodOutcome& out, const std::vector<std::size_t>& good, const nlohmann::ordered_json& extra) const;
+    void finish_measures(MethodOutcome& out, const std::vector<std::size_t>& good,
+                         const nlohmann::ordered_json& extra) const;
     ExperimentOptions options_;
     std::vector<Model> models_;
 };

@@ -18,7 +18,9 @@ std::string number(double w) {
     return buf;
 }
 
-bool equal_weights(const FusedSpec& s) { return s.default_weights; }
+bool equal_weights(const FusedSpec& s) {
+    return s.default_weights;
+}
 
 const char* kMedianPrefix = "fused-median:";
 
@@ -54,7 +56,8 @@ FusedSpec parse_fused_spec(const std::string& text) {
     size_t start = 0;
     while (true) {
         const size_t plus = body.find('+', start);
-        const std::string part = body.substr(start, plus == std::string::npos ? std::string::npos : plus - start);
+        const std::string part =
+            body.substr(start, plus == std::string::npos ? std::string::npos : plus - start);
         const size_t star = part.find('*');
         const std::string member = part.substr(0, star);
         if (member.empty()) throw InputError("'" + text + "': a member of the fused method is empty");
@@ -64,7 +67,8 @@ FusedSpec parse_fused_spec(const std::string& text) {
             char* end = nullptr;
             w = std::strtod(ws.c_str(), &end);
             if (ws.empty() || *end != '\0' || !std::isfinite(w) || !(w > 0))
-                throw InputError("'" + text + "': the weight '" + ws + "' of " + member + " is not a number > 0");
+                throw InputError("'" + text + "': the weight '" + ws + "' of " + member +
+                                 " is not a number > 0");
             ++weighted;
         }
         s.members.push_back(member);
@@ -72,7 +76,8 @@ FusedSpec parse_fused_spec(const std::string& text) {
         if (plus == std::string::npos) break;
         start = plus + 1;
     }
-    if (s.members.size() < 2) throw InputError("'" + text + "': a fused method needs two or more members (fused:A+B)");
+    if (s.members.size() < 2)
+        throw InputError("'" + text + "': a fused method needs two or more members (fused:A+B)");
     if (std::set<std::string>(s.members.begin(), s.members.end()).size() != s.members.size())
         throw InputError("'" + text + "': a member is named twice");
     if (weighted != 0 && weighted != static_cast<int>(s.members.size()))
@@ -80,10 +85,13 @@ FusedSpec parse_fused_spec(const std::string& text) {
     if (weighted == 0) {
         s.default_weights = true;
         const bool has_none = std::find(s.members.begin(), s.members.end(), "none") != s.members.end();
-        const double none_weight = s.rule == FusionRule::GlobalMedian ? kFusedMedianNoneWeight : kFusedNoneWeight;
+        const double none_weight =
+            s.rule == FusionRule::GlobalMedian ? kFusedMedianNoneWeight : kFusedNoneWeight;
         const double others = static_cast<double>(s.members.size()) - (has_none ? 1.0 : 0.0);
         for (size_t k = 0; k < s.members.size(); ++k)
-            s.weights[k] = !has_none ? 1.0 / others : s.members[k] == "none" ? none_weight : (1.0 - none_weight) / others;
+            s.weights[k] = !has_none                ? 1.0 / others
+                           : s.members[k] == "none" ? none_weight
+                                                    : (1.0 - none_weight) / others;
     }
     return s;
 }
@@ -129,7 +137,8 @@ Eigen::MatrixXd row_zscores(const Eigen::MatrixXf& D) {
 Eigen::MatrixXf fuse_distances(const std::vector<Eigen::MatrixXf>& D, const std::vector<double>& weights,
                                FusionRule rule) {
     if (D.empty()) throw InputError("fused distances: no member matrix");
-    if (D.size() != weights.size()) throw InputError("fused distances: one weight per member matrix is needed");
+    if (D.size() != weights.size())
+        throw InputError("fused distances: one weight per member matrix is needed");
     Eigen::MatrixXd sum = Eigen::MatrixXd::Zero(D[0].rows(), D[0].cols());
     for (size_t k = 0; k < D.size(); ++k) {
         if (D[k].rows() != D[0].rows() || D[k].cols() != D[0].cols())

@@ -76,8 +76,12 @@ std::vector<double> pr_curve(const std::vector<char>& rel, int relevant) {
 }  // namespace
 
 nlohmann::ordered_json to_json(const Measures& m) {
-    return {{"nn", m.nn},         {"first_tier", m.first_tier}, {"second_tier", m.second_tier},
-            {"e_measure", m.e_measure}, {"dcg", m.dcg},       {"queries", m.queries}};
+    return {{"nn", m.nn},
+            {"first_tier", m.first_tier},
+            {"second_tier", m.second_tier},
+            {"e_measure", m.e_measure},
+            {"dcg", m.dcg},
+            {"queries", m.queries}};
 }
 
 Measures ranked_measures(const std::vector<char>& rel, int c1, int n) {
@@ -86,7 +90,8 @@ Measures ranked_measures(const std::vector<char>& rel, int c1, int n) {
     if (c1 <= 0) return m;
     m.nn = rel.empty() ? 0 : rel[0];
     auto hits_in = [&](int k) {
-        return static_cast<double>(std::count(rel.begin(), rel.begin() + std::min<int>(k, static_cast<int>(rel.size())), 1));
+        return static_cast<double>(
+            std::count(rel.begin(), rel.begin() + std::min<int>(k, static_cast<int>(rel.size())), 1));
     };
     m.first_tier = hits_in(c1) / c1;
     m.second_tier = hits_in(2 * c1) / c1;
@@ -107,7 +112,8 @@ Measures ranked_measures(const std::vector<char>& rel, int c1, int n) {
 }
 
 Measures query_measures(const Eigen::VectorXd& d, const std::vector<std::string>& labels, int q) {
-    const int c1 = static_cast<int>(std::count(labels.begin(), labels.end(), labels[static_cast<size_t>(q)])) - 1;
+    const int c1 =
+        static_cast<int>(std::count(labels.begin(), labels.end(), labels[static_cast<size_t>(q)])) - 1;
     return ranked_measures(ranked_relevance(d, labels, q), c1, static_cast<int>(labels.size()));
 }
 
@@ -132,7 +138,8 @@ Evaluation evaluate(const Eigen::MatrixXd& D, const std::vector<std::string>& la
         const Measures m = query_measures(D.row(q).transpose(), labels, static_cast<int>(q));
         accumulate(micro, m);
         accumulate(sums[cls], m);
-        const auto pr = pr_curve(ranked_relevance(D.row(q).transpose(), labels, static_cast<int>(q)), size[cls] - 1);
+        const auto pr =
+            pr_curve(ranked_relevance(D.row(q).transpose(), labels, static_cast<int>(q)), size[cls] - 1);
         for (size_t k = 0; k < pr.size(); ++k) e.precision[k] += pr[k];
     }
     for (const auto& [cls, count] : size)
@@ -164,15 +171,17 @@ NeighbourEvaluation evaluate_neighbours(const std::vector<std::vector<std::uint3
                                         const std::vector<std::string>& labels, int k) {
     const int n = static_cast<int>(labels.size());
     if (static_cast<int>(neighbours.size()) != n)
-        throw InputError(std::to_string(neighbours.size()) + " neighbour lists but " + std::to_string(n) + " labels");
+        throw InputError(std::to_string(neighbours.size()) + " neighbour lists but " + std::to_string(n) +
+                         " labels");
     if (n < 2) throw InputError("at least two models are needed");
     std::map<std::string, int> size;
     int largest = 0;
     for (const auto& l : labels) largest = std::max(largest, ++size[l]);
     const int need = std::min(std::max(2 * (largest - 1), std::min(32, n - 1)), n - 1);
     if (k < need || k > n - 1)
-        throw InputError("neighbour lists of " + std::to_string(k) + " models: the measures need " + std::to_string(need) +
-                         " (twice the largest class less one, at least 32) and there are " + std::to_string(n - 1));
+        throw InputError(
+            "neighbour lists of " + std::to_string(k) + " models: the measures need " + std::to_string(need) +
+            " (twice the largest class less one, at least 32) and there are " + std::to_string(n - 1));
     NeighbourEvaluation out;
     out.k = k;
     Evaluation& e = out.evaluation;
@@ -182,14 +191,14 @@ NeighbourEvaluation evaluate_neighbours(const std::vector<std::vector<std::uint3
         const std::string& cls = labels[static_cast<size_t>(q)];
         const auto& list = neighbours[static_cast<size_t>(q)];
         if (static_cast<int>(list.size()) < k)
-            throw InputError("the neighbour list of model " + std::to_string(q) + " has " + std::to_string(list.size()) +
-                             " models, fewer than " + std::to_string(k));
+            throw InputError("the neighbour list of model " + std::to_string(q) + " has " +
+                             std::to_string(list.size()) + " models, fewer than " + std::to_string(k));
         std::vector<char> rel;
         for (int i = 0; i < k; ++i) {
             const std::uint32_t m = list[static_cast<size_t>(i)];
             if (m >= static_cast<std::uint32_t>(n) || static_cast<int>(m) == q)
-                throw InputError("the neighbour list of model " + std::to_string(q) + " names model " + std::to_string(m) +
-                                 " (itself or out of range)");
+                throw InputError("the neighbour list of model " + std::to_string(q) + " names model " +
+                                 std::to_string(m) + " (itself or out of range)");
             rel.push_back(labels[m] == cls);
         }
         if (size[cls] <= 2) continue;

@@ -39,12 +39,12 @@ struct Measures {
 
 /// Measures of a whole evaluation.
 struct Evaluation {
-    Measures micro;                        ///< mean over queries
-    Measures macro;                        ///< mean over classes of the class means
-    std::vector<std::string> classes;      ///< class names (evaluated classes only), sorted
-    std::vector<Measures> per_class;       ///< same order as `classes`
-    std::vector<double> recall;            ///< 0.05, 0.10, ..., 1.0
-    std::vector<double> precision;         ///< averaged over queries, same size as recall
+    Measures micro;                            ///< mean over queries
+    Measures macro;                            ///< mean over classes of the class means
+    std::vector<std::string> classes;          ///< class names (evaluated classes only), sorted
+    std::vector<Measures> per_class;           ///< same order as `classes`
+    std::vector<double> recall;                ///< 0.05, 0.10, ..., 1.0
+    std::vector<double> precision;             ///< averaged over queries, same size as recall
     std::vector<std::string> skipped_classes;  ///< classes of one or two models (not averaged)
 };
 
@@ -75,8 +75,8 @@ Measures ranked_measures(const std::vector<char>& rel, int c1, int n);
 /// range or a label count that differs.
 struct NeighbourEvaluation {
     Evaluation evaluation;
-    int k = 0;                          ///< results per query used
-    Measures dcg_bound;                 ///< only dcg (micro in `evaluation`'s order) is set
+    int k = 0;           ///< results per query used
+    Measures dcg_bound;  ///< only dcg (micro in `evaluation`'s order) is set
     double dcg_bound_macro = 0;
 };
 NeighbourEvaluation evaluate_neighbours(const std::vector<std::vector<std::uint32_t>>& neighbours,

@@ -37,8 +37,8 @@ void ShardedRun::index(nlohmann::ordered_json& m) const {
             names.push_back(experiment_.models()[k].name);
             classes.push_back(experiment_.models()[k].label);
         }
-        const CollectionIndex x =
-            index_descriptors(dir, names, classes, spec.to_string(), plan_.experiment.simplify, plan_.experiment.threads);
+        const CollectionIndex x = index_descriptors(dir, names, classes, spec.to_string(),
+                                                    plan_.experiment.simplify, plan_.experiment.threads);
         x.save(dir + "/index.cfci");
         m["outputs"].push_back(folder + "/index.cfci");
     }
@@ -50,8 +50,9 @@ void ShardedRun::neighbours(int block, nlohmann::ordered_json& m) const {
         const CollectionIndex x = CollectionIndex::load(dir + "/index.cfci");
         const Collected c = collect(spec);
         if (x.size() != c.good.size())
-            throw InputError("'" + dir + "/index.cfci' holds " + std::to_string(x.size()) + " models, the run " +
-                             std::to_string(c.good.size()) + ": the index stage is out of date (delete its marker)");
+            throw InputError("'" + dir + "/index.cfci' holds " + std::to_string(x.size()) +
+                             " models, the run " + std::to_string(c.good.size()) +
+                             ": the index stage is out of date (delete its marker)");
         const int k = list_length(plan_, x.classes());
         const auto rows = equal_rows(block, parts(Stage::Distances), x.size());
         const std::size_t r0 = rows.first, r1 = rows.second;
@@ -61,22 +62,27 @@ void ShardedRun::neighbours(int block, nlohmann::ordered_json& m) const {
         std::string bytes((r1 - r0) * static_cast<std::size_t>(k) * 8, '\0');
         ParallelOptions par;
         par.threads = plan_.experiment.threads;
-        parallel_for(static_cast<std::ptrdiff_t>(r1 - r0), [&](std::ptrdiff_t i, int) {
-            const std::size_t r = r0 + static_cast<std::size_t>(i);
-            SearchOptions mine = o;
-            mine.self = static_cast<std::ptrdiff_t>(r);
-            const auto found = x.search(x.histograms(r), static_cast<std::size_t>(k) + 1, mine);
-            char* out = bytes.data() + static_cast<std::size_t>(i) * static_cast<std::size_t>(k) * 8;
-            int put = 0;
-            for (const auto& f : found) {
-                if (f.model == r || put == k) continue;
-                const auto model = static_cast<std::uint32_t>(f.model);
-                std::memcpy(out + 8 * put, &model, 4);
-                std::memcpy(out + 8 * put + 4, &f.distance, 4);
-                ++put;
-            }
-            if (put < k) throw InputError("model " + x.names()[r] + ": fewer than " + std::to_string(k) + " neighbours found");
-        }, par);
+        parallel_for(
+            static_cast<std::ptrdiff_t>(r1 - r0),
+            [&](std::ptrdiff_t i, int) {
+                const std::size_t r = r0 + static_cast<std::size_t>(i);
+                SearchOptions mine = o;
+                mine.self = static_cast<std::ptrdiff_t>(r);
+                const auto found = x.search(x.histograms(r), static_cast<std::size_t>(k) + 1, mine);
+                char* out = bytes.data() + static_cast<std::size_t>(i) * static_cast<std::size_t>(k) * 8;
+                int put = 0;
+                for (const auto& f : found) {
+                    if (f.model == r || put == k) continue;
+                    const auto model = static_cast<std::uint32_t>(f.model);
+                    std::memcpy(out + 8 * put, &model, 4);
+                    std::memcpy(out + 8 * put + 4, &f.distance, 4);
+                    ++put;
+                }
+                if (put < k)
+                    throw InputError("model " + x.names()[r] + ": fewer than " + std::to_string(k) +
+                                     " neighbours found");
+            },
+            par);
         const std::string path = dir + "/stages/neighbours_" + std::to_string(block) + ".bin";
         io::make_directories(dir + "/stages");
         io::write_file_atomic(path, bytes);
@@ -87,7 +93,8 @@ void ShardedRun::neighbours(int block, nlohmann::ordered_json& m) const {
     }
 }
 
-void ShardedRun::merge_neighbours(const canonical::MethodSpec& spec, MethodOutcome& out, nlohmann::ordered_json& m) const {
+void ShardedRun::merge_neighbours(const canonical::MethodSpec& spec, MethodOutcome& out,
+                                  nlohmann::ordered_json& m) const {
     const std::string folder = spec.folder(), dir = run_ + "/" + folder;
     const Collected c = collect(spec);
     const std::size_t n = c.good.size();
@@ -103,13 +110,17 @@ void ShardedRun::merge_neighbours(const canonical::MethodSpec& spec, MethodOutco
         const std::string bytes = io::read_file(path);
         const std::size_t expected = (rows.second - rows.first) * static_cast<std::size_t>(k) * 8;
         if (bytes.size() != expected)
-            throw InputError("'" + path + "': " + std::to_string(bytes.size()) + " bytes, expected " + std::to_string(expected) +
-                             " (rows " + std::to_string(rows.first) + " to " + std::to_string(rows.second) + ", " +
-                             std::to_string(k) + " neighbours each)");
+            throw InputError("'" + path + "': " + std::to_string(bytes.size()) + " bytes, expected " +
+                             std::to_string(expected) + " (rows " + std::to_string(rows.first) + " to " +
+                             std::to_string(rows.second) + ", " + std::to_string(k) + " neighbours each)");
         for (std::size_t r = rows.first; r < rows.second; ++r)
             for (int i = 0; i < k; ++i) {
                 std::uint32_t model;
-                std::memcpy(&model, bytes.data() + ((r - rows.first) * static_cast<std::size_t>(k) + static_cast<std::size_t>(i)) * 8, 4);
+                std::memcpy(
+                    &model,
+                    bytes.data() +
+                        ((r - rows.first) * static_cast<std::size_t>(k) + static_cast<std::size_t>(i)) * 8,
+                    4);
                 lists[r].push_back(model);
             }
         all += bytes;
@@ -130,11 +141,13 @@ void ShardedRun::merge_neighbours(const canonical::MethodSpec& spec, MethodOutco
         extra["dcg"] = "truncated at rank " + std::to_string(k) + ": the full DCG is at most dcg_bound above";
         extra["dcg_bound"] = {{"micro", ne.dcg_bound.dcg}, {"macro", ne.dcg_bound_macro}};
     } else {
-        out.no_measures = "no class has more than two models among the " + std::to_string(n) +
-                          " meshes that succeeded: the measures need three; the neighbours are in neighbours.bin";
+        out.no_measures =
+            "no class has more than two models among the " + std::to_string(n) +
+            " meshes that succeeded: the measures need three; the neighbours are in neighbours.bin";
     }
     experiment_.finish_method(out, c.good, e, extra);
-    for (const char* f : {"/neighbours.bin", "/models.csv", "/metrics.json", "/timings.json", "/failures.txt"})
+    for (const char* f :
+         {"/neighbours.bin", "/models.csv", "/metrics.json", "/timings.json", "/failures.txt"})
         m["outputs"].push_back(folder + f);
 }
 

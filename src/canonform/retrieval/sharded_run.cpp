@@ -2,8 +2,8 @@
 #include "canonform/retrieval/sharded_run.h"
 
 #include "canonform/common/parallel.h"
-#include "canonform/retrieval/collection_index.h"
 #include "canonform/io/files.h"
+#include "canonform/retrieval/collection_index.h"
 #include "canonform/views/view_directions.h"
 
 #include <algorithm>
@@ -19,9 +19,12 @@ namespace {
 
 using Json = nlohmann::ordered_json;
 using Clock = std::chrono::steady_clock;
-double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+double since(Clock::time_point t0) {
+    return std::chrono::duration<double>(Clock::now() - t0).count();
+}
 
-const Stage kStages[] = {Stage::Features, Stage::Codebook, Stage::Histograms, Stage::Index, Stage::Distances, Stage::Merge};
+const Stage kStages[] = {Stage::Features, Stage::Codebook,  Stage::Histograms,
+                         Stage::Index,    Stage::Distances, Stage::Merge};
 
 Json read_json(const std::string& path) {
     const std::string bytes = io::read_file(path);
@@ -41,22 +44,22 @@ Json plan_json(const ShardedPlan& p) {
     Json methods = Json::array();
     for (const canonical::MethodSpec& m : o.methods) methods.push_back(m.to_string());
     Json j = {{"format", "canonform sharded run 1"},
-            {"dataset", o.dataset},
-            {"labels", o.labels},
-            {"methods", methods},
-            {"words", o.words},
-            {"codebook", o.codebook},
-            {"codebook_training",
-             {{"method", views::codebook_method_name(o.codebook_training.method)},
-              {"sample", o.codebook_training.sample},
-              {"iterations", o.codebook_training.kmeans_iterations}}},
-            {"sift", views::sift_backend_name(o.views.sift.backend)},
-            {"simplify", o.simplify},
-            {"noise", o.noise},
-            {"seed", o.seed},
-            {"repair", o.repair},
-            {"shards", p.shards},
-            {"blocks", p.blocks > 0 ? p.blocks : p.shards}};
+              {"dataset", o.dataset},
+              {"labels", o.labels},
+              {"methods", methods},
+              {"words", o.words},
+              {"codebook", o.codebook},
+              {"codebook_training",
+               {{"method", views::codebook_method_name(o.codebook_training.method)},
+                {"sample", o.codebook_training.sample},
+                {"iterations", o.codebook_training.kmeans_iterations}}},
+              {"sift", views::sift_backend_name(o.views.sift.backend)},
+              {"simplify", o.simplify},
+              {"noise", o.noise},
+              {"seed", o.seed},
+              {"repair", o.repair},
+              {"shards", p.shards},
+              {"blocks", p.blocks > 0 ? p.blocks : p.shards}};
     if (p.evaluation != "matrix") {  // absent for a matrix run: the plans of earlier runs stay equal
         j["evaluation"] = p.evaluation;
         j["neighbours"] = p.neighbours;
@@ -71,7 +74,8 @@ ShardedPlan plan_from_json(const Json& j, const std::string& run) {
     o.dataset = j.at("dataset").get<std::string>();
     o.labels = j.at("labels").get<std::string>();
     o.out = run;
-    for (const auto& m : j.at("methods")) o.methods.push_back(canonical::parse_method_spec(m.get<std::string>()));
+    for (const auto& m : j.at("methods"))
+        o.methods.push_back(canonical::parse_method_spec(m.get<std::string>()));
     o.words = j.at("words").get<int>();
     o.codebook = j.at("codebook").get<std::string>();
     const Json& training = j.at("codebook_training");
@@ -110,7 +114,8 @@ std::vector<Model> models_from_json(const Json& j) {
 ShardedPlan read_plan(const std::string& run) {
     const std::string path = run + "/sharded.json";
     if (!io::is_file(path))
-        throw InputError("'" + run + "' is not a sharded run (no sharded.json): start one with `canonform stage init`");
+        throw InputError("'" + run +
+                         "' is not a sharded run (no sharded.json): start one with `canonform stage init`");
     try {
         return plan_from_json(read_json(path), run);
     } catch (const InputError&) {
@@ -145,12 +150,18 @@ std::string parts_list(const std::vector<int>& v) {
 
 const char* stage_name(Stage s) {
     switch (s) {
-    case Stage::Features: return "features";
-    case Stage::Codebook: return "codebook";
-    case Stage::Histograms: return "histograms";
-    case Stage::Index: return "index";
-    case Stage::Distances: return "distances";
-    case Stage::Merge: return "merge";
+        case Stage::Features:
+            return "features";
+        case Stage::Codebook:
+            return "codebook";
+        case Stage::Histograms:
+            return "histograms";
+        case Stage::Index:
+            return "index";
+        case Stage::Distances:
+            return "distances";
+        case Stage::Merge:
+            return "merge";
     }
     return "?";
 }
@@ -158,7 +169,8 @@ const char* stage_name(Stage s) {
 Stage parse_stage(const std::string& name) {
     for (Stage s : kStages)
         if (name == stage_name(s)) return s;
-    throw InputError("unknown stage '" + name + "' (features, codebook, histograms, index, distances, merge)");
+    throw InputError("unknown stage '" + name +
+                     "' (features, codebook, histograms, index, distances, merge)");
 }
 
 void init_sharded_run(const ShardedPlan& plan) {
@@ -181,13 +193,19 @@ void init_sharded_run(const ShardedPlan& plan) {
     const Experiment e(o);
     Json models = Json::array();
     for (const Model& m : e.models())
-        models.push_back({{"path", m.path}, {"class", m.label}, {"name", m.name}, {"hash", io::hex(m.hash)}, {"error", m.error}});
+        models.push_back({{"path", m.path},
+                          {"class", m.label},
+                          {"name", m.name},
+                          {"hash", io::hex(m.hash)},
+                          {"error", m.error}});
     write_json(o.out + "/models.json", models);
     write_json(path, wanted);
 }
 
 ShardedRun::ShardedRun(const std::string& run, int threads, std::function<void(const std::string&)> log)
-    : run_(run), plan_(read_plan(run)), experiment_([&] {
+    : run_(run),
+      plan_(read_plan(run)),
+      experiment_([&] {
           ExperimentOptions o = plan_.experiment;
           o.threads = threads;
           o.log = log;
@@ -246,10 +264,11 @@ std::pair<std::size_t, std::size_t> ShardedRun::block_rows(int block, std::size_
 
 bool ShardedRun::run(Stage s, int index) const {
     if (parts(s) == 0)
-        throw InputError(std::string("stage ") + stage_name(s) + " is part of a run with --evaluation neighbours only");
+        throw InputError(std::string("stage ") + stage_name(s) +
+                         " is part of a run with --evaluation neighbours only");
     if (index < 0 || index >= parts(s))
-        throw InputError(std::string("stage ") + stage_name(s) + " has parts 0 to " + std::to_string(parts(s) - 1) +
-                         ", not " + std::to_string(index));
+        throw InputError(std::string("stage ") + stage_name(s) + " has parts 0 to " +
+                         std::to_string(parts(s) - 1) + ", not " + std::to_string(index));
     if (done(s, index)) return false;
     // What the stage needs first: every part of the stage before it (that the run has).
     int at = static_cast<int>(s) - 1;
@@ -260,8 +279,8 @@ bool ShardedRun::run(Stage s, int index) const {
         for (int i = 0; i < parts(before); ++i)
             if (!done(before, i)) missing.push_back(i);
         if (!missing.empty())
-            throw InputError(std::string("stage ") + stage_name(s) + " needs the " + stage_name(before) + " parts " +
-                             parts_list(missing) + " first");
+            throw InputError(std::string("stage ") + stage_name(s) + " needs the " + stage_name(before) +
+                             " parts " + parts_list(missing) + " first");
     }
     const std::string failed = marker(s, index) + ".failed";
     io::make_directories(run_ + "/stages");
@@ -272,12 +291,24 @@ bool ShardedRun::run(Stage s, int index) const {
     m["outputs"] = Json::array();
     try {
         switch (s) {
-        case Stage::Features: features(index, m); break;
-        case Stage::Codebook: codebook(m); break;
-        case Stage::Histograms: histograms(index, m); break;
-        case Stage::Index: this->index(m); break;
-        case Stage::Distances: by_neighbours() ? neighbours(index, m) : distances(index, m); break;
-        case Stage::Merge: merge(m); break;
+            case Stage::Features:
+                features(index, m);
+                break;
+            case Stage::Codebook:
+                codebook(m);
+                break;
+            case Stage::Histograms:
+                histograms(index, m);
+                break;
+            case Stage::Index:
+                this->index(m);
+                break;
+            case Stage::Distances:
+                by_neighbours() ? neighbours(index, m) : distances(index, m);
+                break;
+            case Stage::Merge:
+                merge(m);
+                break;
         }
         m["seconds"] = since(t0);
         write_json(marker(s, index) + ".json", m);
@@ -340,19 +371,29 @@ void ShardedRun::features(int shard, Json& m) const {
         ParallelOptions par;
         par.threads = plan_.experiment.threads;
         const auto t0 = Clock::now();
-        parallel_for(static_cast<std::ptrdiff_t>(end - begin), [&](std::ptrdiff_t k, int) {
-            r[static_cast<std::size_t>(k)] = experiment_.mesh_features(spec, begin + static_cast<std::size_t>(k));
-        }, par);
+        parallel_for(
+            static_cast<std::ptrdiff_t>(end - begin),
+            [&](std::ptrdiff_t k, int) {
+                r[static_cast<std::size_t>(k)] =
+                    experiment_.mesh_features(spec, begin + static_cast<std::size_t>(k));
+            },
+            par);
         Json meshes = Json::array();
         for (std::size_t k = begin; k < end; ++k) {
             const MeshFeatures& f = r[k - begin];
             std::size_t rows = 0;
             for (const auto& v : f.features) rows += static_cast<std::size_t>(v.rows());
-            meshes.push_back({{"model", k}, {"ok", f.ok}, {"cached", f.cached}, {"rows", rows}, {"error", f.error}, {"note", f.note}});
+            meshes.push_back({{"model", k},
+                              {"ok", f.ok},
+                              {"cached", f.cached},
+                              {"rows", rows},
+                              {"error", f.error},
+                              {"note", f.note}});
             if (f.ok) {
                 const std::string key = experiment_.cache_entry(spec, k);
-                for (const std::string& p : {key + ".cfvd", key + ".ply",
-                                             run_ + "/" + spec.folder() + "/forms/" + experiment_.models()[k].name + ".ply"})
+                for (const std::string& p :
+                     {key + ".cfvd", key + ".ply",
+                      run_ + "/" + spec.folder() + "/forms/" + experiment_.models()[k].name + ".ply"})
                     m["outputs"].push_back(relative(run_, p));
             }
         }
@@ -391,7 +432,8 @@ void ShardedRun::codebook(Json& m) const {
         io::make_directories(dir);
         const Collected c = collect(spec);
         if (c.good.size() < 3)
-            throw InputError(spec.folder() + ": fewer than three meshes succeeded; see the features markers in " + run_ +
+            throw InputError(spec.folder() +
+                             ": fewer than three meshes succeeded; see the features markers in " + run_ +
                              "/stages");
         views::Codebook cb;
         if (!o.codebook.empty()) {
@@ -405,7 +447,8 @@ void ShardedRun::codebook(Json& m) const {
             for (std::size_t r : c.rows) total += static_cast<std::int64_t>(r);
             const std::vector<int> rows = views::Codebook::training_rows(total, co);
             std::vector<std::pair<int, Eigen::Index>> wanted;  // (stacked row, its place in the sample)
-            for (std::size_t i = 0; i < rows.size(); ++i) wanted.emplace_back(rows[i], static_cast<Eigen::Index>(i));
+            for (std::size_t i = 0; i < rows.size(); ++i)
+                wanted.emplace_back(rows[i], static_cast<Eigen::Index>(i));
             std::sort(wanted.begin(), wanted.end());
             views::SiftDescriptors training(static_cast<Eigen::Index>(rows.size()), 128);
             std::size_t next = 0;
@@ -420,11 +463,14 @@ void ShardedRun::codebook(Json& m) const {
                         for (Eigen::Index r = 0; r < v.rows(); ++r, ++at)
                             while (next < wanted.size() && wanted[next].first == at)
                                 training.row(wanted[next++].second) = v.row(r);
-                    if (at != end) throw InputError(spec.folder() + ": the cached features changed since the features stage");
+                    if (at != end)
+                        throw InputError(spec.folder() +
+                                         ": the cached features changed since the features stage");
                 }
                 base = end;
             }
-            if (next != wanted.size()) throw InputError(spec.folder() + ": the cached features changed since the features stage");
+            if (next != wanted.size())
+                throw InputError(spec.folder() + ": the cached features changed since the features stage");
             cb = views::Codebook::train_on_rows(training, total, co);
         }
         cb.save(dir + "/codebook.bin");
@@ -446,16 +492,20 @@ void ShardedRun::histograms(int shard, Json& m) const {
             if (k >= begin && k < end) mine.push_back(k);
         ParallelOptions par;
         par.threads = plan_.experiment.threads;
-        parallel_for(static_cast<std::ptrdiff_t>(mine.size()), [&](std::ptrdiff_t i, int) {
-            const std::size_t k = mine[static_cast<std::size_t>(i)];
-            const Model& model = experiment_.models()[k];
-            const MeshFeatures f = experiment_.mesh_features(spec, k);
-            if (!f.ok) throw InputError(model.name + ": " + f.error);
-            views::write_descriptor(dir + "/descriptors/" + model.name + ".cfvd",
-                                    views::make_descriptor(f.features, &cb, model.path));
-        }, par);
+        parallel_for(
+            static_cast<std::ptrdiff_t>(mine.size()),
+            [&](std::ptrdiff_t i, int) {
+                const std::size_t k = mine[static_cast<std::size_t>(i)];
+                const Model& model = experiment_.models()[k];
+                const MeshFeatures f = experiment_.mesh_features(spec, k);
+                if (!f.ok) throw InputError(model.name + ": " + f.error);
+                views::write_descriptor(dir + "/descriptors/" + model.name + ".cfvd",
+                                        views::make_descriptor(f.features, &cb, model.path));
+            },
+            par);
         for (std::size_t k : mine)
-            m["outputs"].push_back(relative(run_, dir + "/descriptors/" + experiment_.models()[k].name + ".cfvd"));
+            m["outputs"].push_back(
+                relative(run_, dir + "/descriptors/" + experiment_.models()[k].name + ".cfvd"));
     }
 }
 
@@ -468,10 +518,14 @@ void ShardedRun::distances(int block, Json& m) const {
         std::vector<std::vector<views::Histogram>> hist(c.good.size());
         ParallelOptions par;
         par.threads = plan_.experiment.threads;
-        parallel_for(static_cast<std::ptrdiff_t>(c.good.size()), [&](std::ptrdiff_t i, int) {
-            const std::string& name = experiment_.models()[c.good[static_cast<std::size_t>(i)]].name;
-            hist[static_cast<std::size_t>(i)] = views::read_descriptor(dir + "/descriptors/" + name + ".cfvd").histograms;
-        }, par);
+        parallel_for(
+            static_cast<std::ptrdiff_t>(c.good.size()),
+            [&](std::ptrdiff_t i, int) {
+                const std::string& name = experiment_.models()[c.good[static_cast<std::size_t>(i)]].name;
+                hist[static_cast<std::size_t>(i)] =
+                    views::read_descriptor(dir + "/descriptors/" + name + ".cfvd").histograms;
+            },
+            par);
         const Eigen::MatrixXf B =
             views::distance_rows(hist, views::rotation_view_maps(), r0, r1, plan_.experiment.threads);
         // Row-major float32 rows r0..r1-1, every column.
@@ -519,8 +573,9 @@ void ShardedRun::merge(Json& m) const {
             const std::string bytes = io::read_file(path);
             if (bytes.size() != (r1 - r0) * n * sizeof(float))
                 throw InputError("'" + path + "': " + std::to_string(bytes.size()) + " bytes, expected " +
-                                 std::to_string((r1 - r0) * n * sizeof(float)) + " (rows " + std::to_string(r0) + " to " +
-                                 std::to_string(r1) + " of " + std::to_string(n) + ")");
+                                 std::to_string((r1 - r0) * n * sizeof(float)) + " (rows " +
+                                 std::to_string(r0) + " to " + std::to_string(r1) + " of " +
+                                 std::to_string(n) + ")");
             const float* f = reinterpret_cast<const float*>(bytes.data());
             for (std::size_t r = r0; r < r1; ++r)
                 for (std::size_t col = r + 1; col < n; ++col) {
@@ -534,15 +589,16 @@ void ShardedRun::merge(Json& m) const {
             distance_seconds += read_json(marker(Stage::Histograms, s) + ".json").at("seconds").get<double>();
         out.distances_seconds = distance_seconds;
         experiment_.finish_method(out, c.good, D);
-        for (const char* f : {"/distances.bin", "/distances.csv", "/models.csv", "/metrics.json", "/timings.json",
-                              "/pr.csv", "/failures.txt"})
+        for (const char* f : {"/distances.bin", "/distances.csv", "/models.csv", "/metrics.json",
+                              "/timings.json", "/pr.csv", "/failures.txt"})
             m["outputs"].push_back(relative(run_, dir + f));
         outcomes.push_back(out);
     }
     ExperimentOptions o = plan_.experiment;
-    io::write_file_atomic(run_ + "/report.md", report_markdown(o, experiment_.models().size(), outcomes,
-                                                               "\n(A sharded run: timings are CPU seconds summed over "
-                                                               "the stages' parts.)\n"));
+    io::write_file_atomic(run_ + "/report.md",
+                          report_markdown(o, experiment_.models().size(), outcomes,
+                                          "\n(A sharded run: timings are CPU seconds summed over "
+                                          "the stages' parts.)\n"));
     m["outputs"].push_back("report.md");
 }
 

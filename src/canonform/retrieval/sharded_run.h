@@ -45,8 +45,8 @@ struct ShardedPlan {
     /// "matrix" (the N x N matrix) or "neighbours" (each model's K nearest through the index,
     /// for collections too large for the matrix).
     std::string evaluation = "matrix";
-    int neighbours = 0;      ///< K of "neighbours" (0 = max(2 x largest class, 32), at most N - 1)
-    bool exact = false;      ///< "neighbours" by exhaustive clock matching even above the two-stage size
+    int neighbours = 0;  ///< K of "neighbours" (0 = max(2 x largest class, 32), at most N - 1)
+    bool exact = false;  ///< "neighbours" by exhaustive clock matching even above the two-stage size
 };
 
 /// neighbours.bin of a "neighbours" run: per model (models.csv order) K x (u32 model, f32 distance),
@@ -62,10 +62,10 @@ Stage parse_stage(const std::string& name);
 /// Where one stage of a run stands.
 struct StageStatus {
     Stage stage = Stage::Features;
-    int parts = 1;                  ///< shards, blocks, or 1
+    int parts = 1;  ///< shards, blocks, or 1
     std::vector<int> done, failed, pending;
     std::vector<std::string> errors;  ///< the message of each failed part
-    double seconds = 0;             ///< summed over the done parts
+    double seconds = 0;               ///< summed over the done parts
 };
 
 /// Writes the plan of a new run (RUN/sharded.json) and reads the collection once (RUN/models.json,
@@ -111,7 +111,8 @@ private:
     void distances(int block, nlohmann::ordered_json& m) const;
     void neighbours(int block, nlohmann::ordered_json& m) const;
     void merge(nlohmann::ordered_json& m) const;
-    void merge_neighbours(const canonical::MethodSpec& spec, MethodOutcome& out, nlohmann::ordered_json& m) const;
+    void merge_neighbours(const canonical::MethodSpec& spec, MethodOutcome& out,
+                          nlohmann::ordered_json& m) const;
     bool by_neighbours() const { return plan_.evaluation == "neighbours"; }
     /// Per method folder, the meshes that succeeded (in collection order) and the failures, from
     /// the features markers.

@@ -37,7 +37,7 @@ struct Sparse {
     std::vector<std::size_t> row_start;  // rows + 1
     std::vector<std::uint32_t> row_index;
     std::vector<double> row_value;
-    std::vector<std::size_t> col_start;  // cols + 1
+    std::vector<std::size_t> col_start;    // cols + 1
     std::vector<std::uint32_t> col_index;  // the row of each entry, ascending within a column
     std::vector<double> col_value;
 };
@@ -51,8 +51,9 @@ Sparse make_sparse(const std::vector<Summary>& sample, std::uint32_t dims) {
     for (const Summary& s : sample) {
         for (std::size_t k = 0; k < s.index.size(); ++k) {
             if (s.index[k] >= dims || (k > 0 && s.index[k] <= s.index[k - 1]) || !std::isfinite(s.value[k]))
-                throw InputError("Summary search: a summary with an index out of range, out of order or a "
-                                 "non-finite value");
+                throw InputError(
+                    "Summary search: a summary with an index out of range, out of order or a "
+                    "non-finite value");
             x.row_index.push_back(s.index[k]);
             x.row_value.push_back(s.value[k]);
             ++per_col[s.index[k] + 1];
@@ -83,15 +84,19 @@ Dense times(const Sparse& x, const std::vector<double>& mu, const Dense& b, int 
     ParallelOptions par;
     par.threads = threads;
     par.grain = 64;
-    parallel_for(static_cast<std::ptrdiff_t>(x.rows), [&](std::ptrdiff_t r, int) {
-        double* out = y.row(static_cast<std::size_t>(r));
-        for (std::size_t e = x.row_start[static_cast<std::size_t>(r)]; e < x.row_start[static_cast<std::size_t>(r) + 1]; ++e) {
-            const double v = x.row_value[e];
-            const double* br = b.row(x.row_index[e]);
-            for (std::size_t l = 0; l < L; ++l) out[l] += v * br[l];
-        }
-        for (std::size_t l = 0; l < L; ++l) out[l] -= mub[l];
-    }, par);
+    parallel_for(
+        static_cast<std::ptrdiff_t>(x.rows),
+        [&](std::ptrdiff_t r, int) {
+            double* out = y.row(static_cast<std::size_t>(r));
+            for (std::size_t e = x.row_start[static_cast<std::size_t>(r)];
+                 e < x.row_start[static_cast<std::size_t>(r) + 1]; ++e) {
+                const double v = x.row_value[e];
+                const double* br = b.row(x.row_index[e]);
+                for (std::size_t l = 0; l < L; ++l) out[l] += v * br[l];
+            }
+            for (std::size_t l = 0; l < L; ++l) out[l] -= mub[l];
+        },
+        par);
     return y;
 }
 
@@ -105,16 +110,19 @@ Dense transposed_times(const Sparse& x, const std::vector<double>& mu, const Den
     ParallelOptions par;
     par.threads = threads;
     par.grain = 64;
-    parallel_for(static_cast<std::ptrdiff_t>(x.cols), [&](std::ptrdiff_t jj, int) {
-        const auto j = static_cast<std::size_t>(jj);
-        double* out = z.row(j);
-        for (std::size_t e = x.col_start[j]; e < x.col_start[j + 1]; ++e) {
-            const double v = x.col_value[e];
-            const double* qr = q.row(x.col_index[e]);
-            for (std::size_t l = 0; l < L; ++l) out[l] += v * qr[l];
-        }
-        for (std::size_t l = 0; l < L; ++l) out[l] -= mu[j] * colsum[l];
-    }, par);
+    parallel_for(
+        static_cast<std::ptrdiff_t>(x.cols),
+        [&](std::ptrdiff_t jj, int) {
+            const auto j = static_cast<std::size_t>(jj);
+            double* out = z.row(j);
+            for (std::size_t e = x.col_start[j]; e < x.col_start[j + 1]; ++e) {
+                const double v = x.col_value[e];
+                const double* qr = q.row(x.col_index[e]);
+                for (std::size_t l = 0; l < L; ++l) out[l] += v * qr[l];
+            }
+            for (std::size_t l = 0; l < L; ++l) out[l] -= mu[j] * colsum[l];
+        },
+        par);
     return z;
 }
 
@@ -156,8 +164,9 @@ std::vector<double> jacobi(Dense a, Dense& vectors) {
                 const double apq = at(p, q);
                 if (apq == 0) continue;
                 const double tau = (at(q, q) - at(p, p)) / (2 * apq);
-                const double t = std::abs(tau) > 1e150 ? 0.5 / tau
-                                                       : (tau >= 0 ? 1.0 : -1.0) / (std::abs(tau) + std::sqrt(1 + tau * tau));
+                const double t = std::abs(tau) > 1e150
+                                     ? 0.5 / tau
+                                     : (tau >= 0 ? 1.0 : -1.0) / (std::abs(tau) + std::sqrt(1 + tau * tau));
                 const double c = 1 / std::sqrt(1 + t * t), s = t * c;
                 at(p, p) -= t * apq;
                 at(q, q) += t * apq;
@@ -187,9 +196,8 @@ std::vector<double> jacobi(Dense a, Dense& vectors) {
 #endif
 /// Squared distances of the query code to the codes of models [begin, end) - integer sums, the
 /// same in both clones.
-CANONFORM_SUMMARY_CLONES void code_distances(const std::int8_t* codes, std::size_t begin,
-                                                                       std::size_t end, int dims,
-                                                                       const std::int8_t* query, std::uint32_t* out) {
+CANONFORM_SUMMARY_CLONES void code_distances(const std::int8_t* codes, std::size_t begin, std::size_t end,
+                                             int dims, const std::int8_t* query, std::uint32_t* out) {
     for (std::size_t m = begin; m < end; ++m) {
         const std::int8_t* c = codes + m * static_cast<std::size_t>(dims);
         std::int32_t s = 0;
@@ -216,12 +224,14 @@ std::vector<int> view_orbits(const std::vector<std::vector<int>>& maps, int view
                              std::to_string(views) + " views");
         for (int i = 0; i < views; ++i) {
             const int j = m[static_cast<std::size_t>(i)];
-            if (j < 0 || j >= views) throw InputError("Summary search: a rotation map names a view out of range");
+            if (j < 0 || j >= views)
+                throw InputError("Summary search: a rotation map names a view out of range");
             const int a = find(i), b = find(j);
             if (a != b) parent[static_cast<std::size_t>(std::max(a, b))] = std::min(a, b);
         }
     }
-    std::vector<int> orbit(static_cast<std::size_t>(views), -1), id_of_root(static_cast<std::size_t>(views), -1);
+    std::vector<int> orbit(static_cast<std::size_t>(views), -1),
+        id_of_root(static_cast<std::size_t>(views), -1);
     int n = 0;
     for (int i = 0; i < views; ++i) {
         const int r = find(i);
@@ -232,8 +242,9 @@ std::vector<int> view_orbits(const std::vector<std::vector<int>>& maps, int view
     return orbit;
 }
 
-Summary SummarySearch::summarise(const std::vector<views::Histogram>& views, const std::vector<int>& orbit_of_view,
-                                 int orbit_count, int words, const SummaryOptions& options) {
+Summary SummarySearch::summarise(const std::vector<views::Histogram>& views,
+                                 const std::vector<int>& orbit_of_view, int orbit_count, int words,
+                                 const SummaryOptions& options) {
     if (orbit_of_view.size() != views.size())
         throw InputError("Summary search: " + std::to_string(views.size()) + " views, orbits for " +
                          std::to_string(orbit_of_view.size()));
@@ -273,7 +284,8 @@ SummarySearch SummarySearch::train(const std::vector<Summary>& sample, std::uint
                                    const SummaryOptions& o, int threads) {
     if (sample.empty()) throw InputError("Summary search: no models to train the projection on");
     if (o.dims < 16 || o.dims > 256 || o.dims % 16 != 0)
-        throw InputError("Summary search: dims " + std::to_string(o.dims) + " (a multiple of 16 from 16 to 256)");
+        throw InputError("Summary search: dims " + std::to_string(o.dims) +
+                         " (a multiple of 16 from 16 to 256)");
     if (o.iterations < 0 || o.iterations > 20) throw InputError("Summary search: iterations from 0 to 20");
     if (summary_dims == 0) throw InputError("Summary search: summaries of no coordinates");
     const Sparse x = make_sparse(sample, summary_dims);
@@ -281,7 +293,8 @@ SummarySearch SummarySearch::train(const std::vector<Summary>& sample, std::uint
     const std::size_t L = std::min<std::size_t>(static_cast<std::size_t>(o.dims) + 16, D);
     std::vector<double> mu(D, 0.0);
     for (std::size_t r = 0; r < S; ++r)
-        for (std::size_t e = x.row_start[r]; e < x.row_start[r + 1]; ++e) mu[x.row_index[e]] += x.row_value[e];
+        for (std::size_t e = x.row_start[r]; e < x.row_start[r + 1]; ++e)
+            mu[x.row_index[e]] += x.row_value[e];
     for (double& m : mu) m /= static_cast<double>(S);
 
     Dense omega(D, L);
@@ -311,7 +324,8 @@ SummarySearch SummarySearch::train(const std::vector<Summary>& sample, std::uint
     const std::vector<double> lambda = jacobi(m, v);
     std::vector<std::size_t> order(L);
     std::iota(order.begin(), order.end(), std::size_t{0});
-    std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return lambda[a] > lambda[b]; });
+    std::stable_sort(order.begin(), order.end(),
+                     [&](std::size_t a, std::size_t b) { return lambda[a] > lambda[b]; });
 
     SummarySearch out;
     out.options_ = o;
@@ -373,7 +387,8 @@ void SummarySearch::encode(const Summary& s, std::int8_t* out) const {
     const auto dims = static_cast<std::size_t>(dims_);
     float acc[256] = {};
     for (std::size_t e = 0; e < s.index.size(); ++e) {
-        if (s.index[e] >= summary_dims_) throw InputError("Summary search: a summary coordinate out of range");
+        if (s.index[e] >= summary_dims_)
+            throw InputError("Summary search: a summary coordinate out of range");
         const float val = static_cast<float>(s.value[e]);
         const float* a = axes_.data() + static_cast<std::size_t>(s.index[e]) * dims;
         for (std::size_t k = 0; k < dims; ++k) acc[k] += val * a[k];
@@ -388,11 +403,13 @@ void SummarySearch::encode(const Summary& s, std::int8_t* out) const {
 
 void SummarySearch::set_codes(std::vector<std::int8_t> codes) {
     if (dims_ <= 0 || codes.size() % static_cast<std::size_t>(dims_) != 0)
-        throw InputError("Summary search: codes that are not whole models of " + std::to_string(dims_) + " bytes");
+        throw InputError("Summary search: codes that are not whole models of " + std::to_string(dims_) +
+                         " bytes");
     codes_ = std::move(codes);
 }
 
-std::vector<std::uint32_t> SummarySearch::nearest(const std::int8_t* query, std::size_t count, int threads) const {
+std::vector<std::uint32_t> SummarySearch::nearest(const std::int8_t* query, std::size_t count,
+                                                  int threads) const {
     const std::size_t n = size();
     count = std::min(count, n);
     if (count == 0) return {};
@@ -405,22 +422,27 @@ std::vector<std::uint32_t> SummarySearch::nearest(const std::int8_t* query, std:
     par.grain = 8;
     const int workers = parallel_workers(static_cast<std::ptrdiff_t>(blocks), par);
     std::vector<std::priority_queue<std::uint64_t>> heaps(static_cast<std::size_t>(workers));
-    std::vector<std::vector<std::uint32_t>> scratch(static_cast<std::size_t>(workers), std::vector<std::uint32_t>(kBlock));
-    parallel_for(static_cast<std::ptrdiff_t>(blocks), [&](std::ptrdiff_t b, int w) {
-        const std::size_t begin = static_cast<std::size_t>(b) * kBlock, end = std::min(n, begin + kBlock);
-        std::uint32_t* d = scratch[static_cast<std::size_t>(w)].data();
-        code_distances(codes_.data(), begin, end, dims_, query, d);
-        auto& heap = heaps[static_cast<std::size_t>(w)];
-        for (std::size_t m = begin; m < end; ++m) {
-            const std::uint64_t key = (static_cast<std::uint64_t>(d[m - begin]) << 32) | static_cast<std::uint64_t>(m);
-            if (heap.size() < count) {
-                heap.push(key);
-            } else if (key < heap.top()) {
-                heap.pop();
-                heap.push(key);
+    std::vector<std::vector<std::uint32_t>> scratch(static_cast<std::size_t>(workers),
+                                                    std::vector<std::uint32_t>(kBlock));
+    parallel_for(
+        static_cast<std::ptrdiff_t>(blocks),
+        [&](std::ptrdiff_t b, int w) {
+            const std::size_t begin = static_cast<std::size_t>(b) * kBlock, end = std::min(n, begin + kBlock);
+            std::uint32_t* d = scratch[static_cast<std::size_t>(w)].data();
+            code_distances(codes_.data(), begin, end, dims_, query, d);
+            auto& heap = heaps[static_cast<std::size_t>(w)];
+            for (std::size_t m = begin; m < end; ++m) {
+                const std::uint64_t key =
+                    (static_cast<std::uint64_t>(d[m - begin]) << 32) | static_cast<std::uint64_t>(m);
+                if (heap.size() < count) {
+                    heap.push(key);
+                } else if (key < heap.top()) {
+                    heap.pop();
+                    heap.push(key);
+                }
             }
-        }
-    }, par);
+        },
+        par);
     std::vector<std::uint64_t> keys;
     for (auto& h : heaps)
         while (!h.empty()) {

@@ -49,12 +49,12 @@ namespace canonform::retrieval {
 
 /// How the first pass is made.
 struct SummaryOptions {
-    int dims = 64;              ///< bytes per model: projected dimensions (a multiple of 16, 16 to 256)
-    bool orbits = true;         ///< one histogram per rotation orbit of the views (else one over all views)
-    bool sqrt_counts = true;    ///< square roots of the summed counts (the Hellinger map)
-    int sample = 8192;          ///< models the axes are trained on (evenly spaced; all if fewer)
-    int iterations = 3;         ///< subspace iterations of the range finder
-    std::uint64_t seed = 1;     ///< seed of Omega
+    int dims = 64;            ///< bytes per model: projected dimensions (a multiple of 16, 16 to 256)
+    bool orbits = true;       ///< one histogram per rotation orbit of the views (else one over all views)
+    bool sqrt_counts = true;  ///< square roots of the summed counts (the Hellinger map)
+    int sample = 8192;        ///< models the axes are trained on (evenly spaced; all if fewer)
+    int iterations = 3;       ///< subspace iterations of the range finder
+    std::uint64_t seed = 1;   ///< seed of Omega
 };
 
 /// A model's summary before projection: non-zero coordinates, indices ascending.
@@ -90,8 +90,9 @@ public:
     float scale() const { return scale_; }
 
     /// The summary of one model's V view histograms (orbits: view_orbits() of the same maps).
-    static Summary summarise(const std::vector<views::Histogram>& views, const std::vector<int>& orbit_of_view,
-                             int orbit_count, int words, const SummaryOptions& options);
+    static Summary summarise(const std::vector<views::Histogram>& views,
+                             const std::vector<int>& orbit_of_view, int orbit_count, int words,
+                             const SummaryOptions& options);
     /// The code of a summary: dims() signed bytes written to `out`.
     void encode(const Summary& s, std::int8_t* out) const;
 

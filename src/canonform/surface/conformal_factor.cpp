@@ -69,18 +69,19 @@ ConformalFactorResult conformal_factor(const Eigen::MatrixXd& V0, const Eigen::M
         Eigen::MatrixXd x = Eigen::MatrixXd::Zero(n - 1, 1);
         const numerics::PcgReport rep = amg.pcg(Eigen::MatrixXd(rhs.tail(n - 1)), x, 1e-10, 500);
         if (!rep.converged)
-            throw NumericalError("conformal factor: the multigrid solve did not converge (is the mesh "
-                                 "free of degenerate triangles?)");
+            throw NumericalError(
+                "conformal factor: the multigrid solve did not converge (is the mesh "
+                "free of degenerate triangles?)");
         phi.tail(n - 1) = x.col(0);
     } else {
         numerics::SparseCholesky solver;
         if (!solver.compute(Lr))
-            throw NumericalError("conformal factor: the Cholesky factorisation of the cotangent Laplacian "
-                                 "failed (is the mesh connected and free of degenerate triangles?)");
+            throw NumericalError(
+                "conformal factor: the Cholesky factorisation of the cotangent Laplacian "
+                "failed (is the mesh connected and free of degenerate triangles?)");
         report_progress(options.progress, 0.7, "conformal factor: solving");
         phi.tail(n - 1) = solver.solve(Eigen::MatrixXd(rhs.tail(n - 1)));
-        if (!solver.ok())
-            throw NumericalError("conformal factor: the linear solve failed");
+        if (!solver.ok()) throw NumericalError("conformal factor: the linear solve failed");
         r.ordering = solver.ordering();
     }
     if (!phi.allFinite())
@@ -101,8 +102,8 @@ ConformalFactorResult conformal_factor(const Eigen::MatrixXd& V0, const Eigen::M
     phi.array() -= A.dot(phi) / A.sum();
     r.raw = phi;
     const double lo = phi.minCoeff(), hi = phi.maxCoeff();
-    r.normalized = hi > lo ? Eigen::VectorXd((phi.array() - lo) / (hi - lo))
-                           : Eigen::VectorXd::Constant(n, 0.5);
+    r.normalized =
+        hi > lo ? Eigen::VectorXd((phi.array() - lo) / (hi - lo)) : Eigen::VectorXd::Constant(n, 0.5);
     report_progress(options.progress, 1.0, "conformal factor: done");
     return r;
 }

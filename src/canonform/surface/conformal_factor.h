@@ -25,9 +25,9 @@
 // (NumericalError otherwise).
 #pragma once
 
-#include "canonform/numerics/algebraic_multigrid.h"
 #include "canonform/common/errors.h"
 #include "canonform/common/parameters.h"
+#include "canonform/numerics/algebraic_multigrid.h"
 
 #include <Eigen/Core>
 
@@ -39,11 +39,11 @@ namespace canonform::surface {
 struct ConformalFactorOptions {
     double residual_tolerance = 1e-6;  ///< max ||L phi - rhs||_inf / ||rhs||_inf accepted
     numerics::LinearSolver linear_solver = numerics::LinearSolver::Auto;  ///< how eq. (7) is solved
-    bool validate = true;              ///< run validate_mesh() first (InputError on bad input)
+    bool validate = true;  ///< run validate_mesh() first (InputError on bad input)
     /// Boundary vertices (#V flags, MeshReport::boundary) when the caller validated the mesh
     /// itself; empty = found from F (or taken from validate_mesh's report).
     std::vector<bool> boundary;
-    ProgressFn progress;               ///< optional progress callback
+    ProgressFn progress;  ///< optional progress callback
 };
 
 /// Result of conformal_factor().

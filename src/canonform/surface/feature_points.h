@@ -35,10 +35,10 @@ enum class FeatureFill {
 
 /// Options of feature_points().
 struct FeaturePointOptions {
-    int ring = 2;                     ///< k of the k-ring neighbourhood (the paper: 2; 1 and 3 also studied)
+    int ring = 2;  ///< k of the k-ring neighbourhood (the paper: 2; 1 and 3 also studied)
     FeatureFill fill = FeatureFill::None;
-    std::uint64_t seed = 0;           ///< seed of the random fill
-    int count = -1;                   ///< target count; -1 means ceil(sqrt(#V)); more than #V is refused
+    std::uint64_t seed = 0;  ///< seed of the random fill
+    int count = -1;          ///< target count; -1 means ceil(sqrt(#V)); more than #V is refused
 };
 
 /// The parameters of FeaturePointOptions a user sets - ring, fill, seed - with their defaults from
@@ -54,7 +54,8 @@ struct FeaturePoints {
 };
 
 /// Vertices that are strict maxima of `phi` (#V) over their k-ring in the graph `adjacency`.
-std::vector<int> local_maxima(const numerics::VertexAdjacency& adjacency, const Eigen::VectorXd& phi, int ring);
+std::vector<int> local_maxima(const numerics::VertexAdjacency& adjacency, const Eigen::VectorXd& phi,
+                              int ring);
 
 /// Feature points of a mesh with vertex adjacency `adjacency` and conformal factor `phi` (#V).
 FeaturePoints feature_points(const numerics::VertexAdjacency& adjacency, const Eigen::VectorXd& phi,

@@ -20,7 +20,9 @@ namespace {
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kPi = 3.14159265358979323846;
 
-double cross2(const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return a.x() * b.y() - a.y() * b.x(); }
+double cross2(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+    return a.x() * b.y() - a.y() * b.x();
+}
 
 /// Faces incident to each vertex, CSR.
 struct VertexFaces {
@@ -52,7 +54,7 @@ int face_across(const VertexFaces& vf, const Eigen::MatrixXi& F, int p, int q, i
 double triangle_update(double tA, double tB, double la, double lb, double dot) {
     const double edge = std::min(tA + la, tB + lb);
     const double uu = la * la, vv = lb * lb;
-    const double det = uu * vv - dot * dot;  // |(A-C) x (B-C)|^2
+    const double det = uu * vv - dot * dot;     // |(A-C) x (B-C)|^2
     if (!(det > 1e-24 * uu * vv)) return edge;  // degenerate triangle
     // Unknown p = T_C - tA; relative values t = (0, delta). With Q = G^-1 (G the Gram matrix of
     // A - C, B - C), |n| = 1 reads  (1'Q1) p^2 - 2 (1'Q t) p + t'Q t - 1 = 0; multiplied by det:
@@ -133,8 +135,8 @@ FastMarching::FastMarching(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, b
                     const double x = (dp * dp - dq * dq + L * L) / (2.0 * L);
                     const double h = std::sqrt(std::max(dp * dp - x * x, 0.0));
                     const Eigen::Vector2d d2 = p2 + x * e + h * nrm;
-                    const bool inside = d2.dot(a2) > 0.0 && d2.dot(b2) > 0.0 && cross2(a2, d2) > 0.0 &&
-                                        cross2(d2, b2) > 0.0;
+                    const bool inside =
+                        d2.dot(a2) > 0.0 && d2.dot(b2) > 0.0 && cross2(a2, d2) > 0.0 && cross2(d2, b2) > 0.0;
                     if (inside) {
                         // Found: split into (C, A, D) and (C, D, B).
                         const double ld = d2.norm();
@@ -237,9 +239,12 @@ Eigen::MatrixXd all_pairs_geodesic_distances(const Eigen::MatrixXd& V, const Eig
     par.stage = "geodesic distances";
     std::vector<FastMarching::Workspace> workspaces(static_cast<size_t>(parallel_workers(n, par)));
     report_progress(options.progress, 0.0, par.stage);
-    parallel_for(n, [&](std::ptrdiff_t s, int worker) {
-        fm.distances_from(static_cast<int>(s), D.col(s), workspaces[static_cast<size_t>(worker)]);
-    }, par);
+    parallel_for(
+        n,
+        [&](std::ptrdiff_t s, int worker) {
+            fm.distances_from(static_cast<int>(s), D.col(s), workspaces[static_cast<size_t>(worker)]);
+        },
+        par);
 
     // Symmetrise in place, in blocks for cache locality: D_ij = D_ji = (d(i,j) + d(j,i)) / 2.
     constexpr int kBlock = 64;

@@ -89,15 +89,15 @@ private:
     /// One directed update stencil, stored in the list of its source vertex `self`: the target
     /// C, the other triangle vertex (real or unfolded), and the planar geometry relative to C.
     struct Stencil {
-        int target;         ///< C, the vertex updated
-        int other;          ///< the triangle's third vertex (w)
-        double len_self;    ///< |self - C|
-        double len_other;   ///< |other - C|
-        double dot;         ///< (self - C) . (other - C)
+        int target;        ///< C, the vertex updated
+        int other;         ///< the triangle's third vertex (w)
+        double len_self;   ///< |self - C|
+        double len_other;  ///< |other - C|
+        double dot;        ///< (self - C) . (other - C)
     };
 
     int n_ = 0;
-    std::vector<int> offsets_;       ///< stencils of vertex v: stencils_[offsets_[v] .. offsets_[v+1])
+    std::vector<int> offsets_;  ///< stencils of vertex v: stencils_[offsets_[v] .. offsets_[v+1])
     std::vector<Stencil> stencils_;
     Stats stats_;
 };

@@ -20,7 +20,9 @@ namespace {
 
 /// Union-find over vertices (components of the faces' vertex sets).
 struct Components {
-    explicit Components(int n) : parent(static_cast<size_t>(n)) { std::iota(parent.begin(), parent.end(), 0); }
+    explicit Components(int n) : parent(static_cast<size_t>(n)) {
+        std::iota(parent.begin(), parent.end(), 0);
+    }
     int find(int v) {
         while (parent[static_cast<size_t>(v)] != v) {
             parent[static_cast<size_t>(v)] = parent[static_cast<size_t>(parent[static_cast<size_t>(v)])];
@@ -50,18 +52,22 @@ struct PointHash {
     }
 };
 
-const char* plural(int n, const char* one, const char* many) { return n == 1 ? one : many; }
+const char* plural(int n, const char* one, const char* many) {
+    return n == 1 ? one : many;
+}
 
 }  // namespace
 
 bool MeshRepair::changed() const {
-    return merged_vertices || degenerate_faces || duplicate_faces || removed_components || unreferenced_vertices;
+    return merged_vertices || degenerate_faces || duplicate_faces || removed_components ||
+           unreferenced_vertices;
 }
 
 std::string MeshRepair::summary() const {
     std::ostringstream s;
     const auto in_v = vertex_source.size() + static_cast<size_t>(merged_vertices + unreferenced_vertices);
-    const auto in_f = face_source.size() + static_cast<size_t>(degenerate_faces + duplicate_faces + component_faces);
+    const auto in_f =
+        face_source.size() + static_cast<size_t>(degenerate_faces + duplicate_faces + component_faces);
     if (!changed()) {
         s << "repair: nothing to repair (" << mesh.V.rows() << " vertices, " << mesh.F.rows() << " faces)";
         return s.str();
@@ -70,30 +76,41 @@ std::string MeshRepair::summary() const {
     auto add = [&](int n, const std::string& text) {
         if (n) parts.push_back(std::to_string(n) + " " + text);
     };
-    add(merged_vertices, std::string(plural(merged_vertices, "duplicate vertex", "duplicate vertices")) + " merged");
-    add(degenerate_faces, std::string(plural(degenerate_faces, "zero-area or repeated-vertex face", "zero-area or repeated-vertex faces")) + " removed");
-    add(duplicate_faces, std::string(plural(duplicate_faces, "duplicate face", "duplicate faces")) + " removed");
+    add(merged_vertices,
+        std::string(plural(merged_vertices, "duplicate vertex", "duplicate vertices")) + " merged");
+    add(degenerate_faces, std::string(plural(degenerate_faces, "zero-area or repeated-vertex face",
+                                             "zero-area or repeated-vertex faces")) +
+                              " removed");
+    add(duplicate_faces,
+        std::string(plural(duplicate_faces, "duplicate face", "duplicate faces")) + " removed");
     if (removed_components)
         parts.push_back(std::to_string(removed_components) + " smaller " +
-                        plural(removed_components, "component", "components") + " (" + std::to_string(component_faces) +
-                        " faces) removed");
-    add(unreferenced_vertices, std::string(plural(unreferenced_vertices, "unreferenced vertex", "unreferenced vertices")) + " dropped");
+                        plural(removed_components, "component", "components") + " (" +
+                        std::to_string(component_faces) + " faces) removed");
+    add(unreferenced_vertices,
+        std::string(plural(unreferenced_vertices, "unreferenced vertex", "unreferenced vertices")) +
+            " dropped");
     s << "repair: ";
     for (size_t k = 0; k < parts.size(); ++k) s << (k ? ", " : "") << parts[k];
-    s << ": " << in_v << " -> " << mesh.V.rows() << " vertices, " << in_f << " -> " << mesh.F.rows() << " faces";
+    s << ": " << in_v << " -> " << mesh.V.rows() << " vertices, " << in_f << " -> " << mesh.F.rows()
+      << " faces";
     return s.str();
 }
 
 Parameter repair_parameter() {
     return Parameter::flag("repair")
         .label("Repair the mesh first")
-        .help("repair the mesh first: merge duplicate vertices, remove zero-area and duplicate faces, keep the largest "
-              "component, drop unreferenced vertices, and say what changed; off (default): refuse such a mesh, naming "
-              "the problem");
+        .help(
+            "repair the mesh first: merge duplicate vertices, remove zero-area and duplicate faces, keep the "
+            "largest "
+            "component, drop unreferenced vertices, and say what changed; off (default): refuse such a mesh, "
+            "naming "
+            "the problem");
 }
 
 MeshRepair repair_mesh(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const MeshRepairOptions& options) {
-    if (V.cols() != 3 || (F.size() && F.cols() != 3)) throw InputError("repair needs #V x 3 vertices and #F x 3 faces");
+    if (V.cols() != 3 || (F.size() && F.cols() != 3))
+        throw InputError("repair needs #V x 3 vertices and #F x 3 faces");
     const int n = static_cast<int>(V.rows());
     for (Eigen::Index f = 0; f < F.rows(); ++f)
         for (int c = 0; c < 3; ++c)
@@ -128,9 +145,11 @@ MeshRepair repair_mesh(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const
                                       rep[static_cast<size_t>(F(f, 2))]};
         bool bad = t[0] == t[1] || t[1] == t[2] || t[0] == t[2];
         if (!bad && diag > 0 && std::isfinite(diag)) {
-            const Eigen::Vector3d e1 = (V.row(t[1]) - V.row(t[0])) / diag, e2 = (V.row(t[2]) - V.row(t[0])) / diag;
+            const Eigen::Vector3d e1 = (V.row(t[1]) - V.row(t[0])) / diag,
+                                  e2 = (V.row(t[2]) - V.row(t[0])) / diag;
             const double area = 0.5 * e1.cross(e2).norm();
-            bad = std::isfinite(area) && !(area > options.degenerate_area);  // NaN stays for validation to name
+            bad =
+                std::isfinite(area) && !(area > options.degenerate_area);  // NaN stays for validation to name
         } else if (!bad && diag == 0) {
             bad = true;  // every vertex at one point
         }
@@ -173,7 +192,7 @@ MeshRepair repair_mesh(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const
             cc.join(t[1], t[2]);
         }
         std::unordered_map<int, int> count;  // root -> faces
-        std::vector<int> order;               // roots in order of their first face
+        std::vector<int> order;              // roots in order of their first face
         for (const auto& t : faces) {
             const int root = cc.find(t[0]);
             if (count[root]++ == 0) order.push_back(root);
@@ -182,7 +201,8 @@ MeshRepair repair_mesh(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const
         for (int root : order)
             if (count[root] > count[best]) best = root;
         r.removed_components = static_cast<int>(order.size()) - 1;
-        keep_faces(&r.component_faces, [&cc, best](const std::array<int, 3>& t) { return cc.find(t[0]) == best; });
+        keep_faces(&r.component_faces,
+                   [&cc, best](const std::array<int, 3>& t) { return cc.find(t[0]) == best; });
     }
 
     // 5. Unreferenced vertices (merged ones included) dropped; order kept.
@@ -203,7 +223,8 @@ MeshRepair repair_mesh(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const
     r.mesh.F.resize(static_cast<Eigen::Index>(faces.size()), 3);
     for (size_t k = 0; k < faces.size(); ++k)
         for (int c = 0; c < 3; ++c)
-            r.mesh.F(static_cast<Eigen::Index>(k), c) = index[static_cast<size_t>(faces[k][static_cast<size_t>(c)])];
+            r.mesh.F(static_cast<Eigen::Index>(k), c) =
+                index[static_cast<size_t>(faces[k][static_cast<size_t>(c)])];
     r.face_source = std::move(source);
     return r;
 }

@@ -31,8 +31,8 @@ namespace canonform::surface {
 
 /// Options of repair_mesh().
 struct MeshRepairOptions {
-    double degenerate_area = 1e-14;     ///< as ValidationOptions::degenerate_area
-    bool keep_largest_component = true; ///< step 4
+    double degenerate_area = 1e-14;      ///< as ValidationOptions::degenerate_area
+    bool keep_largest_component = true;  ///< step 4
 };
 
 /// What repair_mesh() did.
@@ -57,6 +57,7 @@ struct MeshRepair {
 Parameter repair_parameter();
 
 /// Repairs V (#V x 3) and F (#F x 3, indices in [0, #V): InputError otherwise) by the steps above.
-MeshRepair repair_mesh(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const MeshRepairOptions& options = {});
+MeshRepair repair_mesh(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
+                       const MeshRepairOptions& options = {});
 
 }  // namespace canonform::surface

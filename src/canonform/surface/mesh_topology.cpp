@@ -121,7 +121,8 @@ MeshReport run_checks(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const 
     }
     if (F.rows() == 0) {
         std::ostringstream msg;
-        msg << "the mesh has " << V.rows() << " vertices and no faces (a point cloud): a triangle mesh is needed";
+        msg << "the mesh has " << V.rows()
+            << " vertices and no faces (a point cloud): a triangle mesh is needed";
         problem("point_cloud", msg);
         return r;
     }
@@ -151,14 +152,16 @@ MeshReport run_checks(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const 
     if (first_bad >= 0) {
         std::ostringstream msg;
         msg << "face indices out of range: face " << first_bad << " is (" << F(first_bad, 0) << ", "
-            << F(first_bad, 1) << ", " << F(first_bad, 2) << "), but they must lie in [0, " << V.rows() - 1 << "]";
+            << F(first_bad, 1) << ", " << F(first_bad, 2) << "), but they must lie in [0, " << V.rows() - 1
+            << "]";
         if (out_of_range > 1) msg << " (" << out_of_range << " faces in all)";
         problem("index_out_of_range", msg);
         return r;  // nothing below may read F
     }
     if (V.rows() < options.min_vertices) {
         std::ostringstream msg;
-        msg << "the mesh has only " << V.rows() << " vertices; at least " << options.min_vertices << " are needed";
+        msg << "the mesh has only " << V.rows() << " vertices; at least " << options.min_vertices
+            << " are needed";
         problem("too_few_vertices", msg);
     }
     // Geometry, on finite coordinates only.
@@ -255,8 +258,10 @@ MeshReport run_checks(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const 
 
 }  // namespace
 
-MeshReport validate_mesh(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const ValidationOptions& options) {
-    return run_checks(V, F, options, [](const char*, const std::string& message) { throw InputError(message); });
+MeshReport validate_mesh(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
+                         const ValidationOptions& options) {
+    return run_checks(V, F, options,
+                      [](const char*, const std::string& message) { throw InputError(message); });
 }
 
 std::vector<MeshProblem> mesh_problems(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
@@ -269,7 +274,8 @@ std::vector<MeshProblem> mesh_problems(const Eigen::MatrixXd& V, const Eigen::Ma
     return found;
 }
 
-double mean_relative_edge_change(const Eigen::MatrixXd& V0, const Eigen::MatrixXd& V1, const Eigen::MatrixXi& E) {
+double mean_relative_edge_change(const Eigen::MatrixXd& V0, const Eigen::MatrixXd& V1,
+                                 const Eigen::MatrixXi& E) {
     double change = 0;
     for (Eigen::Index e = 0; e < E.rows(); ++e) {
         const double d0 = (V0.row(E(e, 0)) - V0.row(E(e, 1))).norm();

@@ -2,8 +2,8 @@
 // canonform: combinatorial helpers on an indexed triangle mesh (V #V x 3, F #F x 3).
 //
 // Undirected edge list, boundary vertices (adjacency and components of the edge graph are in
-// canonform/numerics/graph.h), and validate_mesh(), which turns every kind of bad input into an InputError naming the problem.
-// Used by every algorithm of the core; no geometry beyond what validation needs.
+// canonform/numerics/graph.h), and validate_mesh(), which turns every kind of bad input into an InputError
+// naming the problem. Used by every algorithm of the core; no geometry beyond what validation needs.
 #pragma once
 
 #include "canonform/numerics/graph.h"
@@ -36,10 +36,11 @@ struct MeshReport {
 
 /// Options of validate_mesh(): which conditions are errors.
 struct ValidationOptions {
-    int min_vertices = 10;              ///< fewer vertices is an error
+    int min_vertices = 10;  ///< fewer vertices is an error
     bool require_single_component = true;
-    double degenerate_area = 1e-14;     ///< a face with area below this * (bbox diagonal)^2 is degenerate
-    double max_coordinate = 1e250;      ///< larger |coordinates| are an error (sums and squares must not overflow)
+    double degenerate_area = 1e-14;  ///< a face with area below this * (bbox diagonal)^2 is degenerate
+    double max_coordinate =
+        1e250;  ///< larger |coordinates| are an error (sums and squares must not overflow)
 };
 
 /// Checks a triangle mesh and throws InputError with a message naming the first problem found:
@@ -54,7 +55,7 @@ MeshReport validate_mesh(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
 
 /// One problem validate_mesh() would refuse a mesh for.
 struct MeshProblem {
-    std::string kind;     ///< "non_finite", "index_out_of_range", "degenerate_faces", "non_manifold_edges", ...
+    std::string kind;  ///< "non_finite", "index_out_of_range", "degenerate_faces", "non_manifold_edges", ...
     std::string message;  ///< validate_mesh()'s message for it
 };
 
@@ -68,6 +69,7 @@ std::vector<MeshProblem> mesh_problems(const Eigen::MatrixXd& V, const Eigen::Ma
 
 /// Mean over the edges E (#E x 2) of |d1 - d0| / d0, the relative change of each edge's length
 /// from the embedding V0 to V1 (both #V x 3; 0 without edges).
-double mean_relative_edge_change(const Eigen::MatrixXd& V0, const Eigen::MatrixXd& V1, const Eigen::MatrixXi& E);
+double mean_relative_edge_change(const Eigen::MatrixXd& V0, const Eigen::MatrixXd& V1,
+                                 const Eigen::MatrixXi& E);
 
 }  // namespace canonform::surface

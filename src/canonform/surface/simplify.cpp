@@ -8,13 +8,13 @@
 
 #include "canonform/common/errors.h"
 
-#include <vcg/complex/complex.h>
 #include <vcg/complex/algorithms/clean.h>
 #include <vcg/complex/algorithms/local_optimization.h>
 #include <vcg/complex/algorithms/local_optimization/tri_edge_collapse_quadric.h>
 #include <vcg/complex/algorithms/update/bounding.h>
 #include <vcg/complex/algorithms/update/normal.h>
 #include <vcg/complex/algorithms/update/topology.h>
+#include <vcg/complex/complex.h>
 #include <vcg/simplex/face/component_ep.h>
 
 #include <string>
@@ -62,8 +62,8 @@ public:
 Mesh simplify_mesh(const Mesh& mesh, int target_vertices) {
     if (target_vertices < 10) throw InputError("the simplification target must be at least 10 vertices");
     if (target_vertices >= mesh.V.rows())
-        throw InputError("the mesh has " + std::to_string(mesh.V.rows()) + " vertices, not more than the target " +
-                         std::to_string(target_vertices));
+        throw InputError("the mesh has " + std::to_string(mesh.V.rows()) +
+                         " vertices, not more than the target " + std::to_string(target_vertices));
     if (mesh.F.rows() == 0) throw InputError("cannot simplify a point cloud");
     // vcglib's edge collapse keeps state in function-local statics (the quadric table pointer
     // above, TriEdgeCollapse::GlobalMark() and statistics): one simplification at a time
@@ -72,7 +72,8 @@ Mesh simplify_mesh(const Mesh& mesh, int target_vertices) {
     std::lock_guard<std::mutex> lock(one_at_a_time);
     SMesh m;
     auto vi = vcg::tri::Allocator<SMesh>::AddVertices(m, static_cast<size_t>(mesh.V.rows()));
-    for (Eigen::Index k = 0; k < mesh.V.rows(); ++k, ++vi) vi->P() = vcg::Point3d(mesh.V(k, 0), mesh.V(k, 1), mesh.V(k, 2));
+    for (Eigen::Index k = 0; k < mesh.V.rows(); ++k, ++vi)
+        vi->P() = vcg::Point3d(mesh.V(k, 0), mesh.V(k, 1), mesh.V(k, 2));
     auto fi = vcg::tri::Allocator<SMesh>::AddFaces(m, static_cast<size_t>(mesh.F.rows()));
     for (Eigen::Index f = 0; f < mesh.F.rows(); ++f, ++fi)
         for (int c = 0; c < 3; ++c) fi->V(c) = &m.vert[static_cast<size_t>(mesh.F(f, c))];
@@ -91,7 +92,8 @@ Mesh simplify_mesh(const Mesh& mesh, int target_vertices) {
     zero.SetZero();
     QuadricTemp td(m.vert, zero);
     QHelper::TDp() = &td;
-    const auto target_faces = static_cast<int>(static_cast<double>(mesh.F.rows()) * target_vertices / mesh.V.rows());
+    const auto target_faces =
+        static_cast<int>(static_cast<double>(mesh.F.rows()) * target_vertices / mesh.V.rows());
     vcg::LocalOptimization<SMesh> session(m, &pp);
     session.Init<Collapse>();
     session.SetTargetSimplices(target_faces);
@@ -108,7 +110,8 @@ Mesh simplify_mesh(const Mesh& mesh, int target_vertices) {
         for (int c = 0; c < 3; ++c) out.V(k, c) = m.vert[static_cast<size_t>(k)].P()[c];
     out.F.resize(m.fn, 3);
     for (int f = 0; f < m.fn; ++f)
-        for (int c = 0; c < 3; ++c) out.F(f, c) = static_cast<int>(m.face[static_cast<size_t>(f)].V(c) - &m.vert[0]);
+        for (int c = 0; c < 3; ++c)
+            out.F(f, c) = static_cast<int>(m.face[static_cast<size_t>(f)].V(c) - &m.vert[0]);
     return out;
 }
 

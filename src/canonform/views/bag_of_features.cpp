@@ -27,11 +27,12 @@ void check_histogram(const Histogram& h, const char* which, std::size_t view) {
     int last = -1;
     for (const auto& e : h) {
         if (e.first <= last)
-            throw InputError(std::string("Bag of features: histogram of view ") + std::to_string(view) + " of " +
-                             which + " is not sorted by strictly increasing word (or has a negative word).");
+            throw InputError(std::string("Bag of features: histogram of view ") + std::to_string(view) +
+                             " of " + which +
+                             " is not sorted by strictly increasing word (or has a negative word).");
         if (!(e.second > 0) || !std::isfinite(e.second))
-            throw InputError(std::string("Bag of features: histogram of view ") + std::to_string(view) + " of " +
-                             which + " has a non-positive or non-finite count.");
+            throw InputError(std::string("Bag of features: histogram of view ") + std::to_string(view) +
+                             " of " + which + " has a non-positive or non-finite count.");
         last = e.first;
     }
 }
@@ -41,12 +42,13 @@ void check_maps(const std::vector<std::vector<int>>& maps, std::size_t views) {
     for (std::size_t r = 0; r < maps.size(); ++r) {
         if (maps[r].size() != views)
             throw InputError("Clock matching: rotation map " + std::to_string(r) + " has " +
-                             std::to_string(maps[r].size()) + " entries, the models have " + std::to_string(views) +
-                             " views.");
+                             std::to_string(maps[r].size()) + " entries, the models have " +
+                             std::to_string(views) + " views.");
         for (int j : maps[r])
             if (j < 0 || static_cast<std::size_t>(j) >= views)
-                throw InputError("Clock matching: rotation map " + std::to_string(r) + " has the view index " +
-                                 std::to_string(j) + ", outside [0, " + std::to_string(views) + ").");
+                throw InputError("Clock matching: rotation map " + std::to_string(r) +
+                                 " has the view index " + std::to_string(j) + ", outside [0, " +
+                                 std::to_string(views) + ").");
     }
 }
 
@@ -75,8 +77,10 @@ double view_distance(const Histogram& a, const Histogram& b) {
     double inter = 0, sa = 0, sb = 0;
     std::size_t i = 0, j = 0;
     while (i < a.size() && j < b.size()) {
-        if (a[i].first < b[j].first) sa += a[i++].second;
-        else if (b[j].first < a[i].first) sb += b[j++].second;
+        if (a[i].first < b[j].first)
+            sa += a[i++].second;
+        else if (b[j].first < a[i].first)
+            sb += b[j++].second;
         else {
             inter += std::min(a[i].second, b[j].second);
             sa += a[i++].second;
@@ -91,8 +95,8 @@ double view_distance(const Histogram& a, const Histogram& b) {
 double clock_matching_distance(const std::vector<Histogram>& a, const std::vector<Histogram>& b,
                                const std::vector<std::vector<int>>& maps) {
     if (a.size() != b.size())
-        throw InputError("Clock matching: the models have different view counts (" + std::to_string(a.size()) +
-                         " and " + std::to_string(b.size()) + ").");
+        throw InputError("Clock matching: the models have different view counts (" +
+                         std::to_string(a.size()) + " and " + std::to_string(b.size()) + ").");
     if (a.empty()) throw InputError("Clock matching: the models have no views.");
     check_maps(maps, a.size());
     for (std::size_t i = 0; i < a.size(); ++i) {
@@ -102,7 +106,8 @@ double clock_matching_distance(const std::vector<Histogram>& a, const std::vecto
     double best = std::numeric_limits<double>::infinity();
     for (const auto& m : maps) {
         double s = 0;
-        for (std::size_t i = 0; i < a.size(); ++i) s += view_distance(a[i], b[static_cast<std::size_t>(m[i])]);
+        for (std::size_t i = 0; i < a.size(); ++i)
+            s += view_distance(a[i], b[static_cast<std::size_t>(m[i])]);
         best = std::min(best, s);
     }
     return best;

@@ -61,7 +61,7 @@ Eigen::MatrixXf distance_matrix(const std::vector<std::vector<Histogram>>& model
 /// floats as distance_matrix() (a row block of a sharded run; mirror the blocks to get the matrix).
 /// Throws InputError like distance_matrix() and on a row range outside [0, N].
 Eigen::MatrixXf distance_rows(const std::vector<std::vector<Histogram>>& models,
-                              const std::vector<std::vector<int>>& maps, std::size_t row_begin, std::size_t row_end,
-                              int threads = 0);
+                              const std::vector<std::vector<int>>& maps, std::size_t row_begin,
+                              std::size_t row_end, int threads = 0);
 
 }  // namespace canonform::views

@@ -20,8 +20,8 @@ using detail::total;
 
 // The distinct (i, j) pairs used by the maps, and per rotation the pair index of each view.
 struct PairPlan {
-    std::vector<std::vector<int>> partners;   // partners[i] = distinct j's of view i
-    std::vector<std::vector<int>> pair_of;    // pair_of[r][i] = index into the flat pair list
+    std::vector<std::vector<int>> partners;  // partners[i] = distinct j's of view i
+    std::vector<std::vector<int>> pair_of;   // pair_of[r][i] = index into the flat pair list
     int pairs = 0;
 };
 
@@ -41,7 +41,8 @@ PairPlan plan_pairs(const std::vector<std::vector<int>>& maps, std::size_t views
     for (std::size_t r = 0; r < maps.size(); ++r)
         for (std::size_t i = 0; i < views; ++i) {
             const auto& q = p.partners[i];
-            p.pair_of[r][i] = base[i] + static_cast<int>(std::lower_bound(q.begin(), q.end(), maps[r][i]) - q.begin());
+            p.pair_of[r][i] =
+                base[i] + static_cast<int>(std::lower_bound(q.begin(), q.end(), maps[r][i]) - q.begin());
         }
     return p;
 }
@@ -98,22 +99,25 @@ double clock_dense(const DenseModel& A, const std::vector<Histogram>& B, const s
 }  // namespace
 
 Eigen::MatrixXf distance_rows(const std::vector<std::vector<Histogram>>& models,
-                              const std::vector<std::vector<int>>& maps, std::size_t row_begin, std::size_t row_end,
-                              int threads) {
+                              const std::vector<std::vector<int>>& maps, std::size_t row_begin,
+                              std::size_t row_end, int threads) {
     const std::size_t n = models.size();
     if (row_begin > row_end || row_end > n)
-        throw InputError("Distance matrix: rows [" + std::to_string(row_begin) + ", " + std::to_string(row_end) +
-                         ") are outside the " + std::to_string(n) + " models.");
-    Eigen::MatrixXf D = Eigen::MatrixXf::Zero(static_cast<Eigen::Index>(row_end - row_begin), static_cast<Eigen::Index>(n));
+        throw InputError("Distance matrix: rows [" + std::to_string(row_begin) + ", " +
+                         std::to_string(row_end) + ") are outside the " + std::to_string(n) + " models.");
+    Eigen::MatrixXf D =
+        Eigen::MatrixXf::Zero(static_cast<Eigen::Index>(row_end - row_begin), static_cast<Eigen::Index>(n));
     if (n == 0) return D;
     const std::size_t views = models[0].size();
     if (views == 0) throw InputError("Distance matrix: model 0 has no views.");
     int width = 0;
     for (std::size_t m = 0; m < n; ++m) {
         if (models[m].size() != views)
-            throw InputError("Distance matrix: model " + std::to_string(m) + " has " + std::to_string(models[m].size()) +
-                             " views, model 0 has " + std::to_string(views) + ".");
-        for (std::size_t i = 0; i < views; ++i) check_histogram(models[m][i], ("model " + std::to_string(m)).c_str(), i);
+            throw InputError("Distance matrix: model " + std::to_string(m) + " has " +
+                             std::to_string(models[m].size()) + " views, model 0 has " +
+                             std::to_string(views) + ".");
+        for (std::size_t i = 0; i < views; ++i)
+            check_histogram(models[m][i], ("model " + std::to_string(m)).c_str(), i);
         width = std::max(width, max_word(models[m]) + 1);
     }
     check_maps(maps, views);
@@ -129,15 +133,18 @@ Eigen::MatrixXf distance_rows(const std::vector<std::vector<Histogram>>& models,
     const int workers = parallel_workers(rows, par);
     std::vector<DenseModel> dense(static_cast<std::size_t>(workers));
     std::vector<std::vector<double>> scratch(static_cast<std::size_t>(workers));
-    parallel_for(rows, [&](std::ptrdiff_t row, int worker) {
-        const auto r = row_begin + static_cast<std::size_t>(row);
-        if (r + 1 >= n) return;
-        DenseModel& A = dense[static_cast<std::size_t>(worker)];
-        densify(models[r], std::max(width, 1), A);
-        for (std::size_t c = r + 1; c < n; ++c)
-            D(static_cast<Eigen::Index>(row), static_cast<Eigen::Index>(c)) = static_cast<float>(
-                clock_dense(A, models[c], sums[c], plan, scratch[static_cast<std::size_t>(worker)]));
-    }, par);
+    parallel_for(
+        rows,
+        [&](std::ptrdiff_t row, int worker) {
+            const auto r = row_begin + static_cast<std::size_t>(row);
+            if (r + 1 >= n) return;
+            DenseModel& A = dense[static_cast<std::size_t>(worker)];
+            densify(models[r], std::max(width, 1), A);
+            for (std::size_t c = r + 1; c < n; ++c)
+                D(static_cast<Eigen::Index>(row), static_cast<Eigen::Index>(c)) = static_cast<float>(
+                    clock_dense(A, models[c], sums[c], plan, scratch[static_cast<std::size_t>(worker)]));
+        },
+        par);
     return D;
 }
 

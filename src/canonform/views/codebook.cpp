@@ -4,8 +4,8 @@
 #include "canonform/io/files.h"
 
 #include <algorithm>
-#include <cstdint>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstring>
 #include <iterator>
@@ -30,7 +30,8 @@ void put_f32(std::string& out, float f) {
     put_u32(out, v);
 }
 std::uint32_t get_u32(const unsigned char* p) {
-    return std::uint32_t(p[0]) | (std::uint32_t(p[1]) << 8) | (std::uint32_t(p[2]) << 16) | (std::uint32_t(p[3]) << 24);
+    return std::uint32_t(p[0]) | (std::uint32_t(p[1]) << 8) | (std::uint32_t(p[2]) << 16) |
+           (std::uint32_t(p[3]) << 24);
 }
 // Words in units of 1/kWordScale as 16-bit integers: values up to kMaxWordValue fit.
 constexpr double kWordScale = 64;
@@ -38,7 +39,8 @@ constexpr float kMaxWordValue = 511.f;
 
 // Not on Windows: GCC's target_clones needs ELF's ifunc, and GCC keeps 32-byte AVX values on the
 // 16-byte-aligned stack of the Windows x64 ABI with aligned moves; the SSE2 path gives the same bits.
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(__SANITIZE_ADDRESS__) && !defined(_WIN32)
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(__SANITIZE_ADDRESS__) && \
+    !defined(_WIN32)
 #define CANONFORM_INT_CLONES __attribute__((target_clones("avx2", "default")))
 #else
 #define CANONFORM_INT_CLONES
@@ -50,8 +52,9 @@ constexpr float kMaxWordValue = 511.f;
 // instruction set - the AVX2 clone or SSE2 - gives the same answer.
 CANONFORM_INT_CLONES void nearest_of_four(const std::int16_t* __restrict x, const std::int16_t* __restrict q,
                                           const std::int64_t* __restrict qn, int words, int* best) {
-    std::int64_t score[4] = {std::numeric_limits<std::int64_t>::max(), std::numeric_limits<std::int64_t>::max(),
-                             std::numeric_limits<std::int64_t>::max(), std::numeric_limits<std::int64_t>::max()};
+    std::int64_t score[4] = {
+        std::numeric_limits<std::int64_t>::max(), std::numeric_limits<std::int64_t>::max(),
+        std::numeric_limits<std::int64_t>::max(), std::numeric_limits<std::int64_t>::max()};
     for (int r = 0; r < 4; ++r) best[r] = 0;
     for (int w = 0; w < words; ++w) {
         const std::int16_t* c = q + static_cast<std::ptrdiff_t>(w) * kDim;
@@ -64,8 +67,8 @@ CANONFORM_INT_CLONES void nearest_of_four(const std::int16_t* __restrict x, cons
             s3 += x[3 * kDim + i] * ci;
         }
         const std::int64_t n = qn[w];
-        const std::int64_t t[4] = {n - 128 * std::int64_t(s0), n - 128 * std::int64_t(s1), n - 128 * std::int64_t(s2),
-                                   n - 128 * std::int64_t(s3)};
+        const std::int64_t t[4] = {n - 128 * std::int64_t(s0), n - 128 * std::int64_t(s1),
+                                   n - 128 * std::int64_t(s2), n - 128 * std::int64_t(s3)};
         for (int r = 0; r < 4; ++r)
             if (t[r] < score[r]) {
                 score[r] = t[r];
@@ -116,9 +119,12 @@ CodebookOptions::Method parse_codebook_method(const std::string& name) {
 
 std::string codebook_method_name(CodebookOptions::Method method) {
     switch (method) {
-        case CodebookOptions::Method::KMeans: return "kmeans";
-        case CodebookOptions::Method::Lloyd: return "lloyd";
-        case CodebookOptions::Method::Random: return "random";
+        case CodebookOptions::Method::KMeans:
+            return "kmeans";
+        case CodebookOptions::Method::Lloyd:
+            return "lloyd";
+        case CodebookOptions::Method::Random:
+            return "random";
     }
     return "kmeans";
 }
@@ -147,7 +153,8 @@ std::vector<int> Codebook::assign(const DescriptorMatrix& descriptors) const {
             nearest_of_four(block.data(), qwords_.data(), qnorms_.data(), size(), best);
             for (int r = 0; r < rows; ++r) label[static_cast<size_t>(r0 + r)] = best[r];
         } else {
-            for (int r = 0; r < rows; ++r) label[static_cast<size_t>(r0 + r)] = nearest_exact(descriptors.row(r0 + r).data());
+            for (int r = 0; r < rows; ++r)
+                label[static_cast<size_t>(r0 + r)] = nearest_exact(descriptors.row(r0 + r).data());
         }
     }
     return label;
@@ -164,7 +171,8 @@ int Codebook::nearest_exact(const float* x) const {
                 const double d = double(x[i + l]) - double(c[i + l]);
                 lane[l] += d * d;
             }
-        const double d2 = ((lane[0] + lane[1]) + (lane[2] + lane[3])) + ((lane[4] + lane[5]) + (lane[6] + lane[7]));
+        const double d2 =
+            ((lane[0] + lane[1]) + (lane[2] + lane[3])) + ((lane[4] + lane[5]) + (lane[6] + lane[7]));
         if (d2 < best) {
             best = d2;
             arg = static_cast<int>(w);
@@ -186,7 +194,9 @@ void Codebook::save(const std::string& path) const {
     io::write_file_atomic(path, out);
 }
 
-Codebook Codebook::load(const std::string& path) { return parse(io::read_file(path), "Codebook file '" + path + "': "); }
+Codebook Codebook::load(const std::string& path) {
+    return parse(io::read_file(path), "Codebook file '" + path + "': ");
+}
 
 Codebook Codebook::parse(const std::string& bytes, const std::string& where) {
     const auto* p = reinterpret_cast<const unsigned char*>(bytes.data());
@@ -198,13 +208,15 @@ Codebook Codebook::parse(const std::string& bytes, const std::string& where) {
     if (std::memcmp(p, "CFCB", 4) != 0) throw InputError(where + "wrong magic (not a canonform codebook).");
     const std::uint32_t version = get_u32(p + 4), words = get_u32(p + 8), dim = get_u32(p + 12);
     if (version != kVersion)
-        throw InputError(where + "unsupported version " + std::to_string(version) + " (this build reads version 1).");
-    if (dim != kDim) throw InputError(where + "descriptor dimension " + std::to_string(dim) + ", expected 128.");
+        throw InputError(where + "unsupported version " + std::to_string(version) +
+                         " (this build reads version 1).");
+    if (dim != kDim)
+        throw InputError(where + "descriptor dimension " + std::to_string(dim) + ", expected 128.");
     if (words == 0) throw InputError(where + "zero words.");
     const std::uint64_t need = 16 + std::uint64_t(words) * kDim * 4;
     if (bytes.size() < need)
-        throw InputError(where + "truncated (" + std::to_string(bytes.size()) + " bytes, " + std::to_string(need) +
-                         " expected for " + std::to_string(words) + " words).");
+        throw InputError(where + "truncated (" + std::to_string(bytes.size()) + " bytes, " +
+                         std::to_string(need) + " expected for " + std::to_string(words) + " words).");
     if (bytes.size() > need)
         throw InputError(where + std::to_string(bytes.size() - need) + " unexpected trailing bytes.");
     DescriptorMatrix C(words, kDim);

@@ -9,9 +9,9 @@
 //
 // Training (every method draws from its own std::mt19937_64 stream seeded by `seed`; no global RNG):
 // - The training set is a seeded random sample of `sample` distinct descriptors (all of them if
-//   there are fewer, or if sample == 0). Chosen by measurement (docs/design.md, "Retrieval defaults"): on TOSCA, k-means on a
-//   100k sample scores within noise of the previous codebook (Lloyd on every descriptor); on the
-//   600 x 10k plan's 1.2 M descriptors it costs a twelfth.
+//   there are fewer, or if sample == 0). Chosen by measurement (docs/design.md, "Retrieval defaults"): on
+//   TOSCA, k-means on a 100k sample scores within noise of the previous codebook (Lloyd on every descriptor);
+//   on the 600 x 10k plan's 1.2 M descriptors it costs a twelfth.
 // - Method::KMeans (default): FAISS's k-means (faiss::Clustering with an exact L2 index; Debian's
 //   libfaiss-dev): words initialised as distinct random sample points (FAISS's own seeded choice,
 //   not k-means++), kmeans_iterations Lloyd iterations whose nearest-word search is a BLAS sgemm,
@@ -68,8 +68,8 @@ inline constexpr std::int64_t kDefaultCodebookSample = 100000;
 
 /// Options of Codebook::train().
 struct CodebookOptions {
-    int words = 1500;          ///< codebook size N_W (> 0)
-    std::uint64_t seed = 0;    ///< seed of the random stream (sample, initial words, random choice)
+    int words = 1500;        ///< codebook size N_W (> 0)
+    std::uint64_t seed = 0;  ///< seed of the random stream (sample, initial words, random choice)
     enum class Method { KMeans, Lloyd, Random };
     /// The default method: KMeans (FAISS) in a build with FAISS; Lloyd (ours) in one without it
     /// (CMake's CANONFORM_WITHOUT_FAISS, which every user of the views library sees: the Windows
@@ -105,7 +105,8 @@ public:
 
     /// train() for a caller that holds only the rows training_rows(total, options) names, in that
     /// order (e.g. read mesh by mesh from a cache): the same codebook as train() on all `total`.
-    static Codebook train_on_rows(const DescriptorMatrix& rows, std::int64_t total, const CodebookOptions& options = {});
+    static Codebook train_on_rows(const DescriptorMatrix& rows, std::int64_t total,
+                                  const CodebookOptions& options = {});
 
     /// Wraps given words (rows); throws InputError if empty or not finite.
     static Codebook from_words(DescriptorMatrix words);
@@ -134,9 +135,9 @@ private:
     int nearest_exact(const float* x) const;
 
     DescriptorMatrix words_;
-    bool quantised_ = false;             // every word in [0, 511]: qwords_ and qnorms_ are set
-    std::vector<std::int16_t> qwords_;   // round(64 word), word-major
-    std::vector<std::int64_t> qnorms_;   // |qword|^2
+    bool quantised_ = false;            // every word in [0, 511]: qwords_ and qnorms_ are set
+    std::vector<std::int16_t> qwords_;  // round(64 word), word-major
+    std::vector<std::int64_t> qnorms_;  // |qword|^2
 };
 
 }  // namespace canonform::views

@@ -21,19 +21,22 @@ namespace {
 constexpr int kDim = 128;
 
 // ---- random numbers (platform independent for a seed) ---------------------------------------------
-double uniform01(std::mt19937_64& rng) { return static_cast<double>(rng() >> 11) * (1.0 / 9007199254740992.0); }
-std::size_t uniform_index(std::mt19937_64& rng, std::size_t n) { return static_cast<std::size_t>(rng() % n); }
+double uniform01(std::mt19937_64& rng) {
+    return static_cast<double>(rng() >> 11) * (1.0 / 9007199254740992.0);
+}
+std::size_t uniform_index(std::mt19937_64& rng, std::size_t n) {
+    return static_cast<std::size_t>(rng() % n);
+}
 
 // First `k` entries of a seeded partial Fisher-Yates shuffle of 0..n-1.
 std::vector<int> sample_distinct(std::mt19937_64& rng, int n, int k) {
     std::vector<int> idx(n);
     std::iota(idx.begin(), idx.end(), 0);
-    for (int i = 0; i < k; ++i) std::swap(idx[i], idx[i + uniform_index(rng, static_cast<std::size_t>(n - i))]);
+    for (int i = 0; i < k; ++i)
+        std::swap(idx[i], idx[i + uniform_index(rng, static_cast<std::size_t>(n - i))]);
     idx.resize(k);
     return idx;
 }
-
-
 
 DescriptorMatrix kmeans_pp_seed(const DescriptorMatrix& X, int k, std::mt19937_64& rng) {
     const int n = static_cast<int>(X.rows());
@@ -52,7 +55,10 @@ DescriptorMatrix kmeans_pp_seed(const DescriptorMatrix& X, int k, std::mt19937_6
                 pick = m - 1;
                 for (int i = 0; i < m; ++i) {
                     acc += d2[i];
-                    if (acc > u && d2[i] > 0) { pick = i; break; }
+                    if (acc > u && d2[i] > 0) {
+                        pick = i;
+                        break;
+                    }
                 }
             } else {
                 pick = static_cast<int>(uniform_index(rng, static_cast<std::size_t>(m)));  // all duplicates
@@ -65,9 +71,9 @@ DescriptorMatrix kmeans_pp_seed(const DescriptorMatrix& X, int k, std::mt19937_6
     return C;
 }
 
-
 // The nearest word of every row of X and its squared distance (Codebook::assign's choice).
-void nearest_words(const DescriptorMatrix& X, const DescriptorMatrix& C, std::vector<int>& label, std::vector<float>* dist2) {
+void nearest_words(const DescriptorMatrix& X, const DescriptorMatrix& C, std::vector<int>& label,
+                   std::vector<float>* dist2) {
     label = Codebook::from_words(C).assign(X);
     if (!dist2) return;
     dist2->resize(label.size());
@@ -104,7 +110,8 @@ DescriptorMatrix lloyd(const DescriptorMatrix& X, int k, int iterations, std::mt
             if (order.empty()) {
                 order.resize(static_cast<std::size_t>(n));
                 std::iota(order.begin(), order.end(), 0);
-                std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return dist2[a] > dist2[b]; });
+                std::stable_sort(order.begin(), order.end(),
+                                 [&](int a, int b) { return dist2[a] > dist2[b]; });
             }
             C.row(c) = X.row(order[std::min(next_far++, order.size() - 1)]);
         }
@@ -115,8 +122,9 @@ DescriptorMatrix lloyd(const DescriptorMatrix& X, int k, int iterations, std::mt
 
 #ifdef CANONFORM_WITHOUT_FAISS
 DescriptorMatrix faiss_kmeans(const DescriptorMatrix&, int, int, std::uint64_t) {
-    throw InputError("Codebook: this build has no FAISS (CANONFORM_WITHOUT_FAISS: the Python wheel and the portable "
-                     "plugins leave it out), so no 'kmeans' method; use 'lloyd' (our own k-means) or 'random'.");
+    throw InputError(
+        "Codebook: this build has no FAISS (CANONFORM_WITHOUT_FAISS: the Python wheel and the portable "
+        "plugins leave it out), so no 'kmeans' method; use 'lloyd' (our own k-means) or 'random'.");
 }
 #else
 DescriptorMatrix faiss_kmeans(const DescriptorMatrix& X, int k, int iterations, std::uint64_t seed) {
@@ -131,8 +139,9 @@ DescriptorMatrix faiss_kmeans(const DescriptorMatrix& X, int k, int iterations, 
     // FAISS indices are int64_t: faiss::Index::idx_t up to 1.7.3 (bookworm), faiss::idx_t after.
     clustering.train(static_cast<std::int64_t>(X.rows()), X.data(), index);
     if (clustering.centroids.size() != static_cast<std::size_t>(k) * kDim)
-        throw NumericalError("Codebook: FAISS k-means returned " + std::to_string(clustering.centroids.size() / kDim) +
-                             " words, expected " + std::to_string(k) + ".");
+        throw NumericalError("Codebook: FAISS k-means returned " +
+                             std::to_string(clustering.centroids.size() / kDim) + " words, expected " +
+                             std::to_string(k) + ".");
     return Eigen::Map<const DescriptorMatrix>(clustering.centroids.data(), k, kDim);
 }
 #endif
@@ -144,13 +153,15 @@ namespace {
 void check_options(const CodebookOptions& options, std::int64_t total) {
     if (options.words <= 0) throw InputError("Codebook: the number of words must be positive.");
     if (options.kmeans_iterations < 0) throw InputError("Codebook: kmeans_iterations must be >= 0.");
-    if (options.sample < 0) throw InputError("Codebook: the training sample must be >= 0 (0 = every descriptor).");
+    if (options.sample < 0)
+        throw InputError("Codebook: the training sample must be >= 0 (0 = every descriptor).");
     if (total == 0) throw InputError("Codebook: no training descriptors (every view was blank?).");
     if (total > std::numeric_limits<int>::max()) throw InputError("Codebook: too many training descriptors.");
     // Never fewer words than asked for, silently: a codebook of every descriptor is not what was asked.
     if (total < options.words)
-        throw InputError("Codebook: " + std::to_string(options.words) + " words asked for, but there are only " +
-                         std::to_string(total) + " training descriptors: ask for at most " + std::to_string(total) +
+        throw InputError("Codebook: " + std::to_string(options.words) +
+                         " words asked for, but there are only " + std::to_string(total) +
+                         " training descriptors: ask for at most " + std::to_string(total) +
                          " words (--words in the canonform tool), or train on more meshes.");
 }
 
@@ -188,17 +199,19 @@ Codebook Codebook::train(const DescriptorMatrix& X, const CodebookOptions& optio
     return train_on_rows(sampled, X.rows(), options);
 }
 
-Codebook Codebook::train_on_rows(const DescriptorMatrix& S, std::int64_t total, const CodebookOptions& options) {
+Codebook Codebook::train_on_rows(const DescriptorMatrix& S, std::int64_t total,
+                                 const CodebookOptions& options) {
     check_options(options, total);
     if (!S.allFinite()) throw InputError("Codebook: a training descriptor has a non-finite value.");
     const int n = static_cast<int>(total), k = options.words;
     std::mt19937_64 rng(options.seed);
     const bool sampled = draws_sample(options, total);
     if (sampled) draw_sample(rng, n, options);  // the same draws, so that rng continues alike
-    const std::int64_t expected = sampled ? std::min<std::int64_t>(std::max<std::int64_t>(options.sample, k + 1), n) : n;
+    const std::int64_t expected =
+        sampled ? std::min<std::int64_t>(std::max<std::int64_t>(options.sample, k + 1), n) : n;
     if (static_cast<std::int64_t>(S.rows()) != expected)
-        throw InputError("Codebook: " + std::to_string(S.rows()) + " training rows given, training_rows() names " +
-                         std::to_string(expected) + ".");
+        throw InputError("Codebook: " + std::to_string(S.rows()) +
+                         " training rows given, training_rows() names " + std::to_string(expected) + ".");
     if (n == k) return from_words(S);  // exactly as many descriptors as words: each is a word
     const int m = static_cast<int>(S.rows());
 

@@ -96,8 +96,8 @@ struct Projection {
 // is given (also zero-filled), also the opposite view's image: at each covered pixel the largest
 // 1 - depth, i.e. the farthest surface of this view, stored mirrored (column c at size - 1 - c: see
 // render_depth_pair).
-void rasterize(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const Eigen::Matrix3d& C, int size, float* front,
-               float* back) {
+void rasterize(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const Eigen::Matrix3d& C, int size,
+               float* front, float* back) {
     // Project: pixel coordinates (col, row as doubles; centres at integers) and depth; per vertex
     // also the first pixel column/row at or after it and the last at or before it (ceil and floor,
     // clamped to [-1, size] - enough, as triangles are clipped to [0, size - 1] - so a triangle's
@@ -116,7 +116,9 @@ void rasterize(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const Eigen::
     std::vector<P2>& q = scratch.q;
     std::vector<double>& z = scratch.z;
     std::vector<int>&cx = scratch.cx, &fx = scratch.fx, &cy = scratch.cy, &fy = scratch.fy;
-    const auto clamp_pixel = [size](double v) { return static_cast<int>(std::min(double(size), std::max(-1.0, v))); };
+    const auto clamp_pixel = [size](double v) {
+        return static_cast<int>(std::min(double(size), std::max(-1.0, v)));
+    };
     for (Eigen::Index i = 0; i < nv; ++i) {
         const double x = C(0, 0) * V(i, 0) + C(0, 1) * V(i, 1) + C(0, 2) * V(i, 2);
         const double y = C(1, 0) * V(i, 0) + C(1, 1) * V(i, 1) + C(1, 2) * V(i, 2);
@@ -180,8 +182,8 @@ void rasterize(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const Eigen::
 
 }  // namespace
 
-DepthImage render_depth(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
-                        const Eigen::Vector3d& direction, int size) {
+DepthImage render_depth(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const Eigen::Vector3d& direction,
+                        int size) {
     check_render_input(V, F, size);
     const Eigen::Matrix3d C = camera_frame(direction);
     DepthImage img = blank_image(size);

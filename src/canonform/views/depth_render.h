@@ -61,8 +61,8 @@ Eigen::Matrix3d camera_frame(const Eigen::Vector3d& direction);
 /// direction `direction` (normalised here; must be non-zero), size x size pixels (1..8192).
 /// Throws InputError on a zero or non-finite direction, a bad size, non-finite vertices or face
 /// indices out of range. An empty F gives an all-zero image.
-DepthImage render_depth(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
-                        const Eigen::Vector3d& direction, int size = 256);
+DepthImage render_depth(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const Eigen::Vector3d& direction,
+                        int size = 256);
 
 /// The depth images seen from `direction` and from its opposite, rasterised in one pass (see the
 /// file comment): {view of direction, view of -direction}. Same arguments and errors as

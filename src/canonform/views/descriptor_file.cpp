@@ -3,7 +3,6 @@
 
 #include "canonform/io/files.h"
 
-
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -19,7 +18,9 @@ constexpr int kDim = 128;
 void put_u32(std::string& out, std::uint32_t v) {
     for (int k = 0; k < 4; ++k) out.push_back(static_cast<char>((v >> (8 * k)) & 0xFFu));
 }
-void put_i32(std::string& out, std::int32_t v) { put_u32(out, static_cast<std::uint32_t>(v)); }
+void put_i32(std::string& out, std::int32_t v) {
+    put_u32(out, static_cast<std::uint32_t>(v));
+}
 void put_f32(std::string& out, float f) {
     std::uint32_t v;
     std::memcpy(&v, &f, 4);
@@ -33,8 +34,8 @@ public:
     [[noreturn]] void fail(const std::string& what) const { throw InputError(where_ + what); }
     void need(std::uint64_t n, const char* what) const {
         if (b_.size() - pos_ < n)
-            fail(std::string("truncated while reading ") + what + " (offset " + std::to_string(pos_) + ", file has " +
-                 std::to_string(b_.size()) + " bytes).");
+            fail(std::string("truncated while reading ") + what + " (offset " + std::to_string(pos_) +
+                 ", file has " + std::to_string(b_.size()) + " bytes).");
     }
     std::uint32_t u32(const char* what) {
         need(4, what);
@@ -67,7 +68,8 @@ private:
 // The consistency rules of the header, shared by the writer and the reader.
 void validate(const ModelDescriptor& d, const std::string& where) {
     auto fail = [&](const std::string& what) { throw InputError(where + what); };
-    if (d.version != 1) fail("unsupported version " + std::to_string(d.version) + " (this build handles version 1).");
+    if (d.version != 1)
+        fail("unsupported version " + std::to_string(d.version) + " (this build handles version 1).");
     if (d.views < 1) fail("the number of views must be >= 1 (got " + std::to_string(d.views) + ").");
     if (d.image_size < 1) fail("the image size must be >= 1 (got " + std::to_string(d.image_size) + ").");
     if (d.codebook_words < 0) fail("negative codebook size.");
@@ -78,7 +80,8 @@ void validate(const ModelDescriptor& d, const std::string& where) {
     for (std::size_t v = 0; v < V; ++v)
         if (d.keypoints_per_view[v] < 0) fail("negative keypoint count of view " + std::to_string(v) + ".");
     if (d.codebook_words > 0) {
-        if (!d.raw.empty()) fail("inconsistent content: both histograms (codebook used) and raw descriptors.");
+        if (!d.raw.empty())
+            fail("inconsistent content: both histograms (codebook used) and raw descriptors.");
         if (d.histograms.size() != V)
             fail("inconsistent counts: " + std::to_string(d.histograms.size()) + " histograms for " +
                  std::to_string(V) + " views.");
@@ -90,24 +93,29 @@ void validate(const ModelDescriptor& d, const std::string& where) {
                     fail("histogram of view " + std::to_string(v) + ": word " + std::to_string(e.first) +
                          " out of order or outside [0, " + std::to_string(d.codebook_words) + ").");
                 if (!(e.second > 0) || !std::isfinite(e.second))
-                    fail("histogram of view " + std::to_string(v) + ": a count is not a finite positive number.");
+                    fail("histogram of view " + std::to_string(v) +
+                         ": a count is not a finite positive number.");
                 last = e.first;
                 sum += e.second;
             }
             if (sum != static_cast<double>(d.keypoints_per_view[v]))
                 fail("inconsistent counts: the histogram of view " + std::to_string(v) + " sums to " +
-                     std::to_string(sum) + ", the view has " + std::to_string(d.keypoints_per_view[v]) + " keypoints.");
+                     std::to_string(sum) + ", the view has " + std::to_string(d.keypoints_per_view[v]) +
+                     " keypoints.");
         }
     } else {
-        if (!d.histograms.empty()) fail("inconsistent content: histograms without a codebook size (codebook_words = 0).");
+        if (!d.histograms.empty())
+            fail("inconsistent content: histograms without a codebook size (codebook_words = 0).");
         if (d.raw.size() != V)
             fail("inconsistent counts: " + std::to_string(d.raw.size()) + " raw descriptor sets for " +
                  std::to_string(V) + " views.");
         for (std::size_t v = 0; v < V; ++v) {
             if (d.raw[v].rows() != d.keypoints_per_view[v])
-                fail("inconsistent counts: view " + std::to_string(v) + " has " + std::to_string(d.raw[v].rows()) +
-                     " descriptors and " + std::to_string(d.keypoints_per_view[v]) + " keypoints.");
-            if (!d.raw[v].allFinite()) fail("a descriptor of view " + std::to_string(v) + " has a non-finite value.");
+                fail("inconsistent counts: view " + std::to_string(v) + " has " +
+                     std::to_string(d.raw[v].rows()) + " descriptors and " +
+                     std::to_string(d.keypoints_per_view[v]) + " keypoints.");
+            if (!d.raw[v].allFinite())
+                fail("a descriptor of view " + std::to_string(v) + " has a non-finite value.");
         }
     }
 }
@@ -157,7 +165,8 @@ ModelDescriptor parse_descriptor(const std::string& bytes, const std::string& wh
     in.bytes(4, "the magic");
     ModelDescriptor d;
     const std::uint32_t version = in.u32("the version");
-    if (version != 1) in.fail("unsupported version " + std::to_string(version) + " (this build reads version 1).");
+    if (version != 1)
+        in.fail("unsupported version " + std::to_string(version) + " (this build reads version 1).");
     d.version = 1;
     const std::uint32_t L = in.u32("the source length");
     d.source = in.bytes(L, "the source string");

@@ -36,8 +36,8 @@
 // so a file it writes can always be read back.
 #pragma once
 
-#include "canonform/views/bag_of_features.h"
 #include "canonform/common/errors.h"
+#include "canonform/views/bag_of_features.h"
 
 #include <Eigen/Core>
 
@@ -48,14 +48,15 @@ namespace canonform::views {
 
 /// The descriptors of one model (see the format above).
 struct ModelDescriptor {
-    int version = 1;                        ///< format version (only 1 exists)
-    std::string source;                     ///< where the model came from (mesh path), free text
-    int views = 66;                         ///< number of views V
-    int image_size = 256;                   ///< depth image side in pixels
-    std::vector<Histogram> histograms;      ///< V histograms if a codebook was used, else empty
-    int codebook_words = 0;                 ///< size of that codebook; 0 = raw descriptors
-    std::vector<Eigen::Matrix<float, Eigen::Dynamic, 128, Eigen::RowMajor>> raw;  ///< V matrices if no codebook, else empty
-    std::vector<int> keypoints_per_view;    ///< V keypoint counts
+    int version = 1;                    ///< format version (only 1 exists)
+    std::string source;                 ///< where the model came from (mesh path), free text
+    int views = 66;                     ///< number of views V
+    int image_size = 256;               ///< depth image side in pixels
+    std::vector<Histogram> histograms;  ///< V histograms if a codebook was used, else empty
+    int codebook_words = 0;             ///< size of that codebook; 0 = raw descriptors
+    std::vector<Eigen::Matrix<float, Eigen::Dynamic, 128, Eigen::RowMajor>>
+        raw;                              ///< V matrices if no codebook, else empty
+    std::vector<int> keypoints_per_view;  ///< V keypoint counts
 };
 
 /// Writes `d` to `path` (format above, atomic). Throws InputError if `d` is inconsistent or the

@@ -29,7 +29,8 @@ SiftFeatures opencv_sift_features(const std::vector<float>& image, int size, con
 /// the octave and layer it carries). OpenCV builds its pyramid from the smallest octave given
 /// (-1: the doubled image, whose 0.25-pixel offset is added to every position then). Row i
 /// describes keypoints[i]; OpenCV must keep every keypoint (NumericalError otherwise).
-SiftDescriptors opencv_descriptors_at(const std::vector<float>& image, int size, const std::vector<SiftKeypoint>& keypoints,
+SiftDescriptors opencv_descriptors_at(const std::vector<float>& image, int size,
+                                      const std::vector<SiftKeypoint>& keypoints,
                                       const SiftOptions& options = {});
 
 }  // namespace canonform::views

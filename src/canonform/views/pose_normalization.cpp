@@ -14,8 +14,10 @@ namespace canonform::views {
 namespace {
 
 void validate(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F) {
-    if (V.cols() != 3 || V.rows() < 3) throw InputError("pose normalisation needs a #V x 3 vertex matrix with at least 3 vertices");
-    if (F.rows() == 0 || F.cols() != 3) throw InputError("pose normalisation needs a mesh with faces (#F x 3)");
+    if (V.cols() != 3 || V.rows() < 3)
+        throw InputError("pose normalisation needs a #V x 3 vertex matrix with at least 3 vertices");
+    if (F.rows() == 0 || F.cols() != 3)
+        throw InputError("pose normalisation needs a mesh with faces (#F x 3)");
     if (!V.allFinite()) throw InputError("the mesh has non-finite vertex coordinates");
     if (F.minCoeff() < 0 || F.maxCoeff() >= V.rows()) throw InputError("a face index is out of range");
 }
@@ -41,8 +43,8 @@ Eigen::Matrix3d small_rotation(const Eigen::Vector3d& x) {
     const double s = 1.0 / (w * w + a * a + b * b + c * c);
     Eigen::Matrix3d R;
     R << 1.0 - 2.0 * s * (b * b + c * c), 2.0 * s * (a * b - c * w), 2.0 * s * (a * c + b * w),
-         2.0 * s * (a * b + c * w), 1.0 - 2.0 * s * (a * a + c * c), 2.0 * s * (b * c - a * w),
-         2.0 * s * (a * c - b * w), 2.0 * s * (b * c + a * w), 1.0 - 2.0 * s * (a * a + b * b);
+        2.0 * s * (a * b + c * w), 1.0 - 2.0 * s * (a * a + c * c), 2.0 * s * (b * c - a * w),
+        2.0 * s * (a * c - b * w), 2.0 * s * (b * c + a * w), 1.0 - 2.0 * s * (a * a + b * b);
     return R;
 }
 
@@ -94,7 +96,9 @@ double aabb_volume(const Eigen::MatrixXd& X, const Eigen::Matrix3d& R) {
 }
 
 // Uniform in [0, 1) from the raw 64-bit output (platform independent, unlike the distributions).
-double uniform01(std::mt19937_64& g) { return static_cast<double>(g() >> 11) * 0x1.0p-53; }
+double uniform01(std::mt19937_64& g) {
+    return static_cast<double>(g() >> 11) * 0x1.0p-53;
+}
 
 Eigen::Matrix3d random_rotation(std::mt19937_64& g) {
     Eigen::Vector4d q;
@@ -113,10 +117,13 @@ struct RectCost {
     Eigen::ArrayXd x, y, z;
     double inv_area;
     RectCost(const Eigen::Matrix3Xd& A, double inv_area_)
-        : x(A.row(0).transpose().array()), y(A.row(1).transpose().array()), z(A.row(2).transpose().array()),
+        : x(A.row(0).transpose().array()),
+          y(A.row(1).transpose().array()),
+          z(A.row(2).transpose().array()),
           inv_area(inv_area_) {}
     double operator()(const Eigen::Matrix3d& Q) const {
-        const double s = ((Q(0, 0) * x + Q(0, 1) * y + Q(0, 2) * z).abs() + (Q(1, 0) * x + Q(1, 1) * y + Q(1, 2) * z).abs() +
+        const double s = ((Q(0, 0) * x + Q(0, 1) * y + Q(0, 2) * z).abs() +
+                          (Q(1, 0) * x + Q(1, 1) * y + Q(1, 2) * z).abs() +
                           (Q(2, 0) * x + Q(2, 1) * y + Q(2, 2) * z).abs())
                              .sum();
         return s * inv_area;
@@ -135,8 +142,11 @@ Eigen::Matrix3Xd binned_area_vectors(const Eigen::Matrix3Xd& A, int bins) {
             if (std::abs(a[k]) > std::abs(a[axis])) axis = k;
         const double big = std::abs(a[axis]);
         if (!(big > 0)) continue;
-        const auto cell = [&](double t) { return std::clamp(static_cast<int>((t / big + 1.0) * 0.5 * bins), 0, bins - 1); };
-        const int key = ((axis * 2 + (a[axis] < 0)) * bins + cell(a[(axis + 1) % 3])) * bins + cell(a[(axis + 2) % 3]);
+        const auto cell = [&](double t) {
+            return std::clamp(static_cast<int>((t / big + 1.0) * 0.5 * bins), 0, bins - 1);
+        };
+        const int key =
+            ((axis * 2 + (a[axis] < 0)) * bins + cell(a[(axis + 1) % 3])) * bins + cell(a[(axis + 2) % 3]);
         sum[static_cast<size_t>(key)] += a;
         used[static_cast<size_t>(key)] = 1;
     }
@@ -150,8 +160,8 @@ Eigen::Matrix3Xd binned_area_vectors(const Eigen::Matrix3Xd& A, int bins) {
 // Nelder-Mead over the rotation vector x of small_rotation(x) Q0; returns the best rotation and its
 // cost.
 // Standard coefficients (reflection 1, expansion 2, contraction 1/2, shrink 1/2).
-std::pair<Eigen::Matrix3d, double> nelder_mead(const RectCost& cost, const Eigen::Matrix3d& Q0,
-                                               double step, int max_evals, double ftol, double xtol) {
+std::pair<Eigen::Matrix3d, double> nelder_mead(const RectCost& cost, const Eigen::Matrix3d& Q0, double step,
+                                               int max_evals, double ftol, double xtol) {
     auto f = [&](const Eigen::Vector3d& x) { return cost(small_rotation(x) * Q0); };
     std::array<Eigen::Vector3d, 4> s;
     std::array<double, 4> fv{};
@@ -178,8 +188,10 @@ std::pair<Eigen::Matrix3d, double> nelder_mead(const RectCost& cost, const Eigen
             const Eigen::Vector3d xe = cen + 2.0 * (cen - s[hi]);
             const double fe = f(xe);
             ++evals;
-            if (fe < fr) s[hi] = xe, fv[hi] = fe;
-            else s[hi] = xr, fv[hi] = fr;
+            if (fe < fr)
+                s[hi] = xe, fv[hi] = fe;
+            else
+                s[hi] = xr, fv[hi] = fr;
         } else if (fr < fv[nh]) {
             s[hi] = xr, fv[hi] = fr;
         } else {
@@ -221,7 +233,8 @@ constexpr Schedule kCoarse{3, 1e-4, 1e-8, false};
 // lower minimum 1e-3 rad away, so the result moved with the last bit of the input.
 constexpr Schedule kRefine{5, 1e-11, 1e-13, true};
 
-std::pair<Eigen::Matrix3d, double> minimise_from(const RectCost& cost, const Eigen::Matrix3d& Q0, const Schedule& sc) {
+std::pair<Eigen::Matrix3d, double> minimise_from(const RectCost& cost, const Eigen::Matrix3d& Q0,
+                                                 const Schedule& sc) {
     Eigen::Matrix3d Q = Q0;
     double fq = cost(Q);
     double step = 0.3;
@@ -250,7 +263,8 @@ double projected_area_ratio(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, 
     return RectCost{A, 1.0 / total}(R);
 }
 
-PoseNormalization normalize_pose(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const PoseOptions& options) {
+PoseNormalization normalize_pose(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
+                                 const PoseOptions& options) {
     validate(V, F);
     if (options.restarts < 1) throw InputError("pose normalisation needs at least one rectilinearity start");
     if (options.direction_bins < 0 || options.direction_bins > 1024)
@@ -270,7 +284,8 @@ PoseNormalization normalize_pose(const Eigen::MatrixXd& V, const Eigen::MatrixXi
     // PCA candidate.
     const Eigen::Matrix3d cov = covariance(X);
     Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(cov);
-    if (eig.info() != Eigen::Success) throw NumericalError("pose normalisation: the PCA eigen-decomposition failed");
+    if (eig.info() != Eigen::Success)
+        throw NumericalError("pose normalisation: the PCA eigen-decomposition failed");
     Eigen::Matrix3d Rpca;
     for (int k = 0; k < 3; ++k) Rpca.row(k) = eig.eigenvectors().col(2 - k).transpose();
     Rpca = canonicalize_axes(Rpca, X);

@@ -58,8 +58,8 @@ namespace canonform::views {
 
 /// Options of normalize_pose().
 struct PoseOptions {
-    int restarts = 8;         ///< rectilinearity starts (>= 1): the PCA frame + restarts-1 random
-    std::uint64_t seed = 0;   ///< seed of the random starts
+    int restarts = 8;        ///< rectilinearity starts (>= 1): the PCA frame + restarts-1 random
+    std::uint64_t seed = 0;  ///< seed of the random starts
     /// The coarse search of every start runs on the area vectors summed per direction bin (a cube
     /// map of 6 x bins x bins cells, in the PCA frame); the winner is then refined on every face.
     /// 0 = every face throughout (slower; docs/benchmarks.md, "View descriptor", has both timings).
@@ -68,12 +68,12 @@ struct PoseOptions {
 
 /// A similarity transform to the normalised pose (see apply_pose for the convention).
 struct PoseNormalization {
-    Eigen::Matrix3d R = Eigen::Matrix3d::Identity();  ///< rotation (det +1); rows = the new x, y,
-                                                      ///< z axes in input coordinates
+    Eigen::Matrix3d R = Eigen::Matrix3d::Identity();         ///< rotation (det +1); rows = the new x, y,
+                                                             ///< z axes in input coordinates
     Eigen::RowVector3d centre = Eigen::RowVector3d::Zero();  ///< vertex mean of the input
-    double scale = 1.0;              ///< 1 / largest distance of a vertex from the centre
-    double pca_cost = 0.0;           ///< selection criterion of the PCA pose: AABB volume
-    double rect_cost = 0.0;          ///< selection criterion of the rectilinearity pose: AABB volume
+    double scale = 1.0;                ///< 1 / largest distance of a vertex from the centre
+    double pca_cost = 0.0;             ///< selection criterion of the PCA pose: AABB volume
+    double rect_cost = 0.0;            ///< selection criterion of the rectilinearity pose: AABB volume
     double pca_projected_area = 0.0;   ///< P (projected area / surface area) of the PCA pose
     double rect_projected_area = 0.0;  ///< P of the rectilinearity pose (<= pca_projected_area)
     bool used_rectilinearity = false;  ///< R is the rectilinearity pose (else the PCA pose)

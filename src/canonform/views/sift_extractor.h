@@ -69,10 +69,10 @@ private:
     Settings st_;
     Workspace& ws_ = workspace();
     std::vector<SiftKeypoint> keys_;
-    std::vector<float> ring_;     // the extremum scan's DoG rows
-    std::vector<int> hits_;       // the candidates of a DoG row
-    WindowScratch window_;        // window weights
-    std::vector<float> desc_;     // 128 per keypoint
+    std::vector<float> ring_;  // the extremum scan's DoG rows
+    std::vector<int> hits_;    // the candidates of a DoG row
+    WindowScratch window_;     // window weights
+    std::vector<float> desc_;  // 128 per keypoint
 };
 
 }  // namespace sift

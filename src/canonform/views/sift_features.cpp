@@ -135,10 +135,10 @@ void check_options(const SiftOptions& o) {
         std::string have;
         for (const auto& n : sift_backend_names())
             if (sift_backend_available(parse_sift_backend(n))) have += (have.empty() ? "" : ", ") + n;
-        throw InputError("SIFT: the backend '" + sift_backend_name(o.backend) +
-                         "' is not part of this program (" + have +
-                         " are; opencv needs OpenCV: it is in the canonform tool and the Python package built "
-                         "from source, not in the plugins or the portable wheel).");
+        throw InputError(
+            "SIFT: the backend '" + sift_backend_name(o.backend) + "' is not part of this program (" + have +
+            " are; opencv needs OpenCV: it is in the canonform tool and the Python package built "
+            "from source, not in the plugins or the portable wheel).");
     }
 }
 

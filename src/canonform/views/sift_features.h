@@ -170,14 +170,15 @@ struct SiftFeatures {
 /// Options of sift_features(); the thresholds mean the same for both extractors (cv::SIFT::create's
 /// parameters). fine_octave and input_blur are the canonform extractor's (step 1).
 struct SiftOptions {
-    SiftBackend backend = SiftBackend::Canonform;            ///< the extractor
+    SiftBackend backend = SiftBackend::Canonform;           ///< the extractor
     double contrast_threshold = kDefaultContrastThreshold;  ///< t * octave_layers (>= 0), see step 3
-    double edge_threshold = 10;   ///< principal-curvature ratio r (> 0; Lowe and OpenCV: 10)
-    int max_features = 0;         ///< keep the strongest n keypoints; 0 = all
-    double sigma = 1.6;           ///< sigma_0, the blur of each octave's first image (> 0)
-    int octave_layers = 3;        ///< s, DoG images searched per octave (>= 1)
-    bool fine_octave = true;      ///< canonform: the approximate octave -1 (step 1)
-    double input_blur = 0.5;      ///< canonform: the blur the view is taken to have (>= 0, < sigma / 2; Lowe's 0.5)
+    double edge_threshold = 10;  ///< principal-curvature ratio r (> 0; Lowe and OpenCV: 10)
+    int max_features = 0;        ///< keep the strongest n keypoints; 0 = all
+    double sigma = 1.6;          ///< sigma_0, the blur of each octave's first image (> 0)
+    int octave_layers = 3;       ///< s, DoG images searched per octave (>= 1)
+    bool fine_octave = true;     ///< canonform: the approximate octave -1 (step 1)
+    double input_blur =
+        0.5;  ///< canonform: the blur the view is taken to have (>= 0, < sigma / 2; Lowe's 0.5)
 };
 
 /// Registers an extractor that lives in another library (opencv_sift.h's register_opencv_sift()
@@ -198,12 +199,14 @@ SiftDescriptors sift_descriptors(const std::vector<float>& image, int size, cons
 
 /// The same for an 8-bit image (gray level / 255).
 SiftFeatures sift_features(const std::vector<std::uint8_t>& gray, int size, const SiftOptions& options = {});
-SiftDescriptors sift_descriptors(const std::vector<std::uint8_t>& gray, int size, const SiftOptions& options = {});
+SiftDescriptors sift_descriptors(const std::vector<std::uint8_t>& gray, int size,
+                                 const SiftOptions& options = {});
 
 /// The same for a depth view in [0, 1] (values clamped to it), taken as 8 bits (round(255 depth))
 /// by both extractors (step 1).
 SiftFeatures depth_sift_features(const std::vector<float>& depth, int size, const SiftOptions& options = {});
-SiftDescriptors depth_sift_descriptors(const std::vector<float>& depth, int size, const SiftOptions& options = {});
+SiftDescriptors depth_sift_descriptors(const std::vector<float>& depth, int size,
+                                       const SiftOptions& options = {});
 /// The same for a depth view of size * size floats at `depth` (the caller's buffer, e.g. one kept
 /// from view to view).
 SiftFeatures depth_sift_features(const float* depth, int size, const SiftOptions& options = {});

@@ -25,7 +25,8 @@
 
 // Not on Windows: GCC's target_clones needs ELF's ifunc, and GCC keeps 32-byte AVX values on the
 // 16-byte-aligned stack of the Windows x64 ABI with aligned moves; the SSE2 path gives the same bits.
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(__SANITIZE_ADDRESS__) && !defined(_WIN32)
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(__SANITIZE_ADDRESS__) && \
+    !defined(_WIN32)
 #define CANONFORM_SIMD_CLONES __attribute__((target_clones("avx2", "default")))
 #else
 #define CANONFORM_SIMD_CLONES

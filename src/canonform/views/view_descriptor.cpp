@@ -26,7 +26,8 @@ std::vector<DepthImage> render_views(const Eigen::MatrixXd& X, const Eigen::Matr
     return images;
 }
 
-ViewSet compute_views(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const ViewDescriptorOptions& options) {
+ViewSet compute_views(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
+                      const ViewDescriptorOptions& options) {
     surface::ValidationOptions vo;
     vo.min_vertices = 4;
     vo.require_single_component = false;  // a view of several parts is still a view
@@ -59,7 +60,8 @@ ViewSet compute_views(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const 
     return s;
 }
 
-std::vector<Histogram> view_histograms(const std::vector<SiftDescriptors>& features, const Codebook& codebook) {
+std::vector<Histogram> view_histograms(const std::vector<SiftDescriptors>& features,
+                                       const Codebook& codebook) {
     std::vector<Histogram> h;
     for (const auto& f : features) h.push_back(histogram(codebook.assign(f)));
     return h;

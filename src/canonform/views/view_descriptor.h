@@ -43,14 +43,16 @@ struct ViewSet {
 
 /// Validates the mesh (InputError: empty, no faces, non-finite, degenerate faces, non-manifold
 /// edges - several components are allowed), normalises its pose and computes the 66 views.
-ViewSet compute_views(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const ViewDescriptorOptions& options = {});
+ViewSet compute_views(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
+                      const ViewDescriptorOptions& options = {});
 
 /// The 66 depth images of a posed mesh (X: #V x 3, in the unit ball), in the order of
 /// view_directions(); each of the 33 antipodal pairs rasterised in one pass (render_depth_pair).
 std::vector<DepthImage> render_views(const Eigen::MatrixXd& X, const Eigen::MatrixXi& F, int size = 256);
 
 /// One bag-of-features histogram per view (a view without keypoints gives an empty histogram).
-std::vector<Histogram> view_histograms(const std::vector<SiftDescriptors>& features, const Codebook& codebook);
+std::vector<Histogram> view_histograms(const std::vector<SiftDescriptors>& features,
+                                       const Codebook& codebook);
 inline std::vector<Histogram> view_histograms(const ViewSet& views, const Codebook& codebook) {
     return view_histograms(views.features, codebook);
 }

@@ -14,8 +14,7 @@ namespace canonform::views {
 namespace {
 
 std::vector<Eigen::Vector3d> build_view_directions() {
-    std::vector<Eigen::Vector3d> P = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0},
-                                      {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+    std::vector<Eigen::Vector3d> P = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
     // Octahedron faces (orientation is irrelevant: only the vertex set is used).
     std::vector<std::array<int, 3>> T = {{0, 2, 4}, {2, 1, 4}, {1, 3, 4}, {3, 0, 4},
                                          {2, 0, 5}, {1, 2, 5}, {3, 1, 5}, {0, 3, 5}};
@@ -80,8 +79,9 @@ std::vector<std::vector<int>> build_maps() {
                 if (dj < best_d) best_d = dj, best = static_cast<int>(j);
             }
             if (!(best_d <= 1e-9) || hit[static_cast<size_t>(best)])
-                throw NumericalError("rotation_view_maps: a cube rotation does not map the view "
-                                     "directions onto themselves");
+                throw NumericalError(
+                    "rotation_view_maps: a cube rotation does not map the view "
+                    "directions onto themselves");
             hit[static_cast<size_t>(best)] = 1;
             maps[r][i] = best;
         }

@@ -13,8 +13,9 @@ namespace canonform::views {
 /// `defaults`. sift's choices are `sift_choices`: a leading part of sift_backend_names() (the
 /// enumerators' order), e.g. builtin_sift_backend_names() for the view filter, which carries only
 /// the extractors built into this library.
-ParameterSet<ViewDescriptorOptions> view_descriptor_parameters(const ViewDescriptorOptions& defaults = {},
-                                                               const std::vector<std::string>& sift_choices = sift_backend_names());
+ParameterSet<ViewDescriptorOptions> view_descriptor_parameters(
+    const ViewDescriptorOptions& defaults = {},
+    const std::vector<std::string>& sift_choices = sift_backend_names());
 
 /// One line on each SIFT extractor of sift_backend_names() ("" for one without a description:
 /// tests/test_filter_table.cpp asks for one).
