@@ -1,10 +1,10 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: GPL-3.0-or-later
-# README command 2: sets up, builds, and runs every test (unit, property and end-to-end tests
-# through the canonform tool and the real meshlabserver) with ctest; then, unless
-# CANONFORM_SANITIZER_TESTS=0 or ctest arguments are given, the unit and end-to-end tests again
-# under AddressSanitizer + UndefinedBehaviorSanitizer with a bounded run of every fuzz target
-# (tools/sanitizer_tests.sh; its build runs niced alongside ctest).
+# README command 2: sets up, checks the style (tools/check_style.sh), builds, and runs every test
+# (unit, property and end-to-end tests through the canonform tool and the real meshlabserver) with
+# ctest; then, unless CANONFORM_SANITIZER_TESTS=0 or ctest arguments are given, the unit and
+# end-to-end tests again under AddressSanitizer + UndefinedBehaviorSanitizer with a bounded run of
+# every fuzz target (tools/sanitizer_tests.sh; its build runs niced alongside ctest).
 # The root filesystems the configured tests use (build/host_suites.txt, tests/CMakeLists.txt:
 # canonform_uses_hosts) are made at the start, alongside the build (mostly download and unpacking),
 # and the plugins built in those that have a build of their own (trixie, forky: tools/host.sh
@@ -24,6 +24,9 @@ stage() { echo "[tests] $1: $(( $(date +%s) - $2 )) s, $(( $(cpu) - $3 )) CPU s"
 
 "$here/tools/setup.sh"
 stage "set-up" "$t0" "$c0"
+# The style (tools/check_style.sh: clang-format, commit subjects); a failure fails the run at its end.
+style_rc=0
+[ $# -ne 0 ] || "$here/tools/check_style.sh" || style_rc=$?
 mkdir -p "$build"
 machine_state() {
   # What a test must not change. Python's byte-code caches are left out (an import may write them).
@@ -81,6 +84,7 @@ if [ "$san" = 1 ]; then
   stage "sanitizer tests" "$t4" "$c4"
 fi
 [ "$ctest_rc" = 0 ] || exit "$ctest_rc"
+[ "$style_rc" = 0 ] || { echo "[tests] FAILED: the style check (tools/check_style.sh, printed after the set-up)" >&2; exit 1; }
 
 machine_state > "$build/machine_state.after"
 if ! diff "$build/machine_state.before" "$build/machine_state.after" > "$build/machine_state.diff"; then

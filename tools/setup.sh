@@ -113,6 +113,11 @@ if [ "$purpose" = all ]; then
     PACKAGES+=("${WINDOWS[@]}")
   fi
 
+  # The style check (tools/check_style.sh) runs on bookworm: the tree is formatted by its clang-format.
+  if [ "$codename" = bookworm ]; then
+    PACKAGES+=(clang-format)
+  fi
+
   # The documentation's tests (tests/docs_test.py) run on bookworm: MkDocs with mkdocs-material builds
   # the site (docs/, mkdocs.yml) and headless Chromium opens it; not needed in the host root filesystems.
   if [ "$codename" = bookworm ] && [ "${CANONFORM_DOCS_TESTS:-1}" != 0 ]; then
