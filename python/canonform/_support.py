@@ -5,7 +5,7 @@ Python exceptions, paths, and calls that stop on Ctrl-C and report progress.
 Arrays in: V any float32/float64 array of shape (#V, 3), F any integer array of shape (#F, 3), any
 memory order or strides; each is handed to the library as a C-ordered float64 / int32 array (no
 copy when it is one already). Arrays out: new C-ordered numpy arrays owning their memory
-(flags.owndata), copied from the library's arrays, which are then freed.
+(flags.owndata), filled from the library's arrays, which are then freed.
 
 Errors: the library's status codes become canonform.InputError (a ValueError), NumericalError (a
 RuntimeError), Cancelled (a RuntimeError), MemoryError or RuntimeError, with the library's message

@@ -55,6 +55,17 @@ void encode_view(const views::Histogram& h, int words, std::vector<std::uint8_t>
     }
 }
 
+/// A view's entry count, a little-endian base-128 varint, read from a model that check_model()
+/// has accepted (so without bounds checks); p moves past it.
+inline std::uint32_t read_entry_count(const std::uint8_t*& p) {
+    std::uint32_t n = 0;
+    for (int shift = 0;; shift += 7) {
+        const std::uint8_t b = *p++;
+        n |= static_cast<std::uint32_t>(b & 0x7F) << shift;
+        if (!(b & 0x80)) return n;
+    }
+}
+
 bool check_model(const std::uint8_t* p, const std::uint8_t* end, int views, int words) {
     for (int v = 0; v < views; ++v) {
         std::uint32_t n = 0;
@@ -96,14 +107,7 @@ bool check_model(const std::uint8_t* p, const std::uint8_t* end, int views, int 
 void unpack(const std::uint8_t* p, int views, std::vector<views::Histogram>& out) {
     out.resize(static_cast<std::size_t>(views));
     for (int v = 0; v < views; ++v) {
-        std::uint32_t n = 0;
-        int shift = 0;
-        for (;;) {
-            const std::uint8_t b = *p++;
-            n |= static_cast<std::uint32_t>(b & 0x7F) << shift;
-            shift += 7;
-            if (!(b & 0x80)) break;
-        }
+        const std::uint32_t n = read_entry_count(p);
         views::Histogram& h = out[static_cast<std::size_t>(v)];
         h.clear();
         int w = -1;
@@ -248,14 +252,7 @@ CANONFORM_INDEX_CLONES void accumulate_model(const std::uint8_t* p, int views, c
                                              const std::uint16_t* qt, std::uint16_t* acc,
                                              std::uint32_t* msum) {
     for (int j = 0; j < views; ++j) {
-        std::uint32_t n = 0;
-        int shift = 0;
-        for (;;) {
-            const std::uint8_t b = *p++;
-            n |= static_cast<std::uint32_t>(b & 0x7F) << shift;
-            shift += 7;
-            if (!(b & 0x80)) break;
-        }
+        const std::uint32_t n = detail::read_entry_count(p);
         const int l = lane[j], start = block_start[j];
         std::uint16_t* out = acc + static_cast<std::size_t>(l) * static_cast<std::size_t>(width) + start;
         const std::uint16_t* q = qt + start;
