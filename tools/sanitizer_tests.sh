@@ -12,7 +12,7 @@
 # tools/run_tests.sh (so CI runs it); builds in ./build-san (or $CANONFORM_SAN_BUILD_DIR) only what
 # these tests need: no plugins (they run inside the non-instrumented meshlabserver; see docs/testing.md), no
 # benchmarks.
-#   tools/sanitizer_tests.sh [ctest arguments]     CANONFORM_FUZZ_SECONDS=N (default 15 per target)
+#   tools/sanitizer_tests.sh [ctest arguments]     CANONFORM_FUZZ_SECONDS=N (default 5 per target)
 #   tools/sanitizer_tests.sh --build-only          the build alone (run_tests.sh starts it, niced,
 #                                                  while ctest runs; the second call then only tests)
 set -euo pipefail
@@ -26,7 +26,7 @@ t0=$(date +%s)
 echo "[sanitizers] clang ASan+UBSan+libFuzzer build in $build (log: $log)"
 if ! { CC=clang CXX=clang++ cmake -S "$here" -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
          "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -gline-tables-only" -DCANONFORM_SANITIZE=address,undefined \
-         -DCANONFORM_FUZZ=ON -DCANONFORM_FUZZ_SECONDS="${CANONFORM_FUZZ_SECONDS:-15}" -DCANONFORM_BUILD_PLUGINS=OFF \
+         -DCANONFORM_FUZZ=ON -DCANONFORM_FUZZ_SECONDS="${CANONFORM_FUZZ_SECONDS:-5}" -DCANONFORM_BUILD_PLUGINS=OFF \
          -DCANONFORM_BUILD_BENCH=OFF -DCANONFORM_MESHLAB2022=OFF -DCANONFORM_PYTHON=OFF &&
        targets=$(cmake --build "$build" --target help | grep -oE '(canonform_tests|canonform_plycheck|canonform|fuzz_[a-z_]+)$' | sort -u) &&
        cmake --build "$build" -j"$(nproc)" --target $targets; } > "$log" 2>&1; then
@@ -44,8 +44,9 @@ export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=1:strict_strin
 export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
 export LSAN_OPTIONS=${LSAN_OPTIONS:-suppressions=$here/tests/sanitizer_suppressions.txt:print_suppressions=0}
 # Also left out: the tests that run no C++ of ours (layout, licence lines, a Python script): the same
-# there as in the plain build.
-SLOW='^(Experiment\.(ASeed|Writes|AMethod|Fused)|ShardedRun\.|CollectionIndex\.|cli\.end_to_end$|cli\.sharded$|slurm\.|layout\.rules$|licence\.spdx$|tools\.paired_queries$)'
+# there as in the plain build; and the timing printouts (names with Timing), which only print
+# seconds, meaningless under the sanitizers.
+SLOW='^(Experiment\.(ASeed|Writes|AMethod|Fused)|ShardedRun\.|CollectionIndex\.|cli\.end_to_end$|cli\.sharded$|slurm\.|layout\.rules$|licence\.spdx$|tools\.paired_queries$)|Timing'
 if [ $# -eq 0 ]; then set -- -E "$SLOW"; fi
 ctest --output-on-failure -j"$(nproc)" "$@"
 echo "[sanitizers] tests in $(( $(date +%s) - t1 )) s"
