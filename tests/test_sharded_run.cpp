@@ -220,7 +220,11 @@ TEST(ShardedRun, NeighbourEvaluationGivesTheMatrixMeasuresWithoutTheMatrix) {
     p.blocks = 3;
     p.evaluation = "neighbours";
     init_sharded_run(p);
-    fs::copy(one + "/cache", run + "/cache", fs::copy_options::recursive);  // the features, computed once
+    // the features, computed once, entry by entry into the cache folder the run made (MinGW's
+    // std::filesystem::copy refuses a folder onto an existing one: "File exists")
+    fs::create_directories(run + "/cache");
+    for (const auto& e : fs::directory_iterator(one + "/cache"))
+        fs::copy(e.path(), fs::path(run + "/cache") / e.path().filename(), fs::copy_options::recursive);
     const ShardedRun r(run, 2);
     EXPECT_EQ(r.parts(Stage::Index), 1);
     EXPECT_THROW(r.run(Stage::Index), InputError);  // needs the histograms first

@@ -14,7 +14,8 @@
 #                              alone (the `plugins` target), configured without OpenCV or FAISS,
 #                              the tool or the tests (also CANONFORM_PLUGINS_ONLY=1)
 #   tools/build.sh --windows   the Windows build (docs/windows.md): canonform.dll (the C API),
-#                              canonform.exe, the release zip and the Windows tests' programs
+#                              canonform.exe, the release zip, the wheel (py3-none-win_amd64) and
+#                              the Windows tests' programs
 #                              cross-built with MinGW-w64
 #                              (cmake/mingw-w64-x86_64.cmake) in build/windows (or
 #                              $CANONFORM_WINDOWS_BUILD_DIR; more CMake arguments in
@@ -82,8 +83,8 @@ case "$mode" in
     targets=(plugins) ;;
   windows)
     # (cmake/mingw-w64-x86_64.cmake sets what Windows leaves out: OpenCV, FAISS, Qt, the plugins)
-    opts=(--toolchain "$here/cmake/mingw-w64-x86_64.cmake" ${CANONFORM_WINDOWS_CMAKE_ARGS:-})
-    targets=(canonform canonform_tests canonform_c canonform_c_api_test windows_zip) ;;
+    opts=(--toolchain "$here/cmake/mingw-w64-x86_64.cmake" -DCANONFORM_PYTHON=ON ${CANONFORM_WINDOWS_CMAKE_ARGS:-})
+    targets=(canonform canonform_tests canonform_c canonform_c_api_test windows_zip windows_wheel) ;;
 esac
 echo "[build] configuring$([ "$configure_only" = 1 ] || echo " and building${targets[*]:+ ${targets[*]}}") in $build (log: $log)"
 step() {

@@ -4,6 +4,7 @@
 
     wheel_build.py OUT_DIR --package PKG_DIR --tool CANONFORM --scripts DIR... --tag TAG
                    --flavour NAME PLUGIN.so PLUGIN.so [--flavour ...]
+    wheel_build.py OUT_DIR --windows --package PKG_DIR --tool canonform.exe
 
 PKG_DIR: the Python package the build assembled (BUILD/python/canonform: the modules, _version.py,
 __init__.pyi, py.typed, lib/libcanonform.so). CANONFORM: the tool. Each --flavour: a plugin folder
@@ -24,6 +25,12 @@ name (pymeshlab2022.2, ...) and its two plugins. Writes OUT_DIR/canonform-VERSIO
 One copy of each library serves all of them. The zip's bytes depend only on the files (sorted
 names, fixed time stamps: the newest input's, modes 755 for programs and libraries, 644 else).
 Prints the wheel's path.
+
+--windows (the MinGW-w64 build, tools/build.sh --windows: target windows_wheel) writes
+OUT_DIR/canonform-VERSION-py3-none-win_amd64.whl: the same package files, canonform/lib/canonform.dll
+and canonform/bin/canonform.exe, as built (linked statically against the C and C++ runtime, they
+import only Windows system DLLs: tests/windows/imports_test.py), no plugins (MeshLab's Windows
+plugins need MSVC).
 """
 import argparse
 import base64
@@ -47,12 +54,12 @@ def record_hash(data):
     return "sha256=" + base64.urlsafe_b64encode(hashlib.sha256(data).digest()).rstrip(b"=").decode()
 
 
-def metadata(version):
+def metadata(version, system="POSIX :: Linux"):
     description = open(os.path.join(HERE, "docs", "python.md"), encoding="utf-8").read()
     return (f"Metadata-Version: 2.1\nName: canonform\nVersion: {version}\nSummary: {SUMMARY}\n"
             "License: GPL-3.0-or-later\nRequires-Python: >=3.9\nRequires-Dist: numpy\n"
             "Classifier: Programming Language :: Python :: 3\nClassifier: Programming Language :: C++\n"
-            "Classifier: Operating System :: POSIX :: Linux\nClassifier: Topic :: Scientific/Engineering\n"
+            f"Classifier: Operating System :: {system}\nClassifier: Topic :: Scientific/Engineering\n"
             "Description-Content-Type: text/markdown\n\n" + description)
 
 
@@ -62,13 +69,19 @@ def main():
     ap.add_argument("--package", required=True)
     ap.add_argument("--tool", required=True)
     ap.add_argument("--scripts", nargs="+", default=[])
-    ap.add_argument("--tag", default="py3-none-manylinux_2_31_x86_64")
+    ap.add_argument("--tag", default=None, help="default: py3-none-manylinux_2_31_x86_64 (win_amd64 with --windows)")
+    ap.add_argument("--windows", action="store_true", help="the Windows wheel: canonform.dll and canonform.exe")
     ap.add_argument("--flavour", nargs=3, action="append", default=[], metavar=("NAME", "PLUGIN", "PLUGIN"))
     a = ap.parse_args()
+    if a.windows and (a.flavour or a.scripts):
+        ap.error("--windows: no plugins (MeshLab's Windows plugins need MSVC)")
+    if a.tag is None:
+        a.tag = "py3-none-win_amd64" if a.windows else "py3-none-manylinux_2_31_x86_64"
     ns = {}
     exec(open(os.path.join(a.package, "_version.py"), encoding="utf-8").read(), ns)
     version = ns["__version__"]
-    lib_name = "libcanonform.so"
+    lib_name = "canonform.dll" if a.windows else "libcanonform.so"
+    tool_name = "canonform.exe" if a.windows else "canonform"
     inputs = [os.path.join(a.package, "lib", lib_name), a.tool] + [p for f in a.flavour for p in f[1:]]
     epoch = max(int(os.stat(p).st_mtime) for p in inputs)
 
@@ -76,13 +89,19 @@ def main():
         pkg = os.path.join(stage, "canonform")
         shutil.copytree(a.package, pkg, ignore=shutil.ignore_patterns("__pycache__", "lib"))
         libdir = os.path.join(pkg, "lib")
-        binaries = [(inputs[0], os.path.join(libdir, lib_name)), (a.tool, os.path.join(pkg, "bin", "canonform"))]
+        binaries = [(inputs[0], os.path.join(libdir, lib_name)), (a.tool, os.path.join(pkg, "bin", tool_name))]
         for name, *plugins in a.flavour:
             binaries += [(p, os.path.join(pkg, "plugins", name, os.path.basename(p))) for p in plugins]
-        portable_bundle.bundle(binaries, libdir, portable_bundle.DEFAULT_ALLOWED, "canonform/lib",
-                               log=lambda line: print(line, file=sys.stderr))
+        if a.windows:  # nothing to bundle: they import only system DLLs
+            for src, dst in binaries:
+                os.makedirs(os.path.dirname(dst), exist_ok=True)
+                shutil.copyfile(src, dst)
+        else:
+            portable_bundle.bundle(binaries, libdir, portable_bundle.DEFAULT_ALLOWED, "canonform/lib",
+                                   log=lambda line: print(line, file=sys.stderr))
         scripts = os.path.join(pkg, "plugins", "scripts")
-        os.makedirs(scripts, exist_ok=True)
+        if a.scripts:
+            os.makedirs(scripts, exist_ok=True)
         for d in a.scripts:
             for f in sorted(os.listdir(d)):
                 if f.endswith(".mlx"):
@@ -90,7 +109,7 @@ def main():
         info = f"canonform-{version}.dist-info"
         os.makedirs(os.path.join(stage, info))
         extra = {
-            "METADATA": metadata(version),
+            "METADATA": metadata(version, "Microsoft :: Windows" if a.windows else "POSIX :: Linux"),
             "WHEEL": f"Wheel-Version: 1.0\nGenerator: canonform tools/wheel_build.py\nRoot-Is-Purelib: false\nTag: {a.tag}\n",
             "entry_points.txt": "[console_scripts]\ncanonform = canonform._cli:main\n",
             "LICENSE": open(os.path.join(HERE, "LICENSE"), encoding="utf-8").read(),
@@ -113,7 +132,7 @@ def main():
             for name in files:
                 path = os.path.join(stage, name)
                 data = open(path, "rb").read()
-                executable = data[:4] == b"\x7fELF"
+                executable = data[:4] == b"\x7fELF" or data[:2] == b"MZ"  # ELF or PE (.exe, .dll)
                 add(name, data, 0o755 if executable else 0o644)
                 record.append(f"{name},{record_hash(data)},{len(data)}")
             record.append(f"{info}/RECORD,,")
