@@ -46,6 +46,22 @@ MODULES = ["__init__.py", "__init__.pyi", "py.typed", "_version.py", "_library.p
            "_views.py", "_retrieval.py", "_cli.py", "pymeshlab.py"]
 
 
+def record_check(z, info):
+    """A wheel's RECORD (zipfile z, dist-info folder info) as pip reads it: the names it lists, and
+    those whose sha256 or size is wrong or that the wheel lacks."""
+    names = set(z.namelist())
+    rows = list(csv.reader(io.StringIO(z.read(f"{info}/RECORD").decode()))) if f"{info}/RECORD" in names else []
+    bad = []
+    for r in rows:
+        if r[0] == f"{info}/RECORD":
+            continue
+        data = z.read(r[0]) if r[0] in names else None
+        digest = "sha256=" + base64.urlsafe_b64encode(hashlib.sha256(data).digest()).rstrip(b"=").decode() if data is not None else ""
+        if data is None or r[1] != digest or r[2] != str(len(data)):
+            bad.append(r[0])
+    return [r[0] for r in rows], bad
+
+
 def main(argv):
     report = Report()
     wheel = Path(argv[0])
@@ -75,16 +91,7 @@ def main(argv):
            "entry_points.txt: the console script canonform")
 
     # RECORD: every file once, sizes and hashes as pip checks them
-    rows = list(csv.reader(io.StringIO(read(f"{info}/RECORD")))) if f"{info}/RECORD" in names else []
-    listed = [r[0] for r in rows]
-    bad = []
-    for r in rows:
-        if r[0] == f"{info}/RECORD":
-            continue
-        data = z.read(r[0]) if r[0] in names else None
-        digest = "sha256=" + base64.urlsafe_b64encode(hashlib.sha256(data).digest()).rstrip(b"=").decode() if data is not None else ""
-        if data is None or r[1] != digest or r[2] != str(len(data)):
-            bad.append(r[0])
+    listed, bad = record_check(z, info)
     expect(sorted(listed) == sorted(names) and len(set(listed)) == len(listed) and not bad,
            f"RECORD lists the {len(names)} files once each, with their sizes and sha256 ({len(bad)} wrong)")
 

@@ -8,8 +8,6 @@ canonform.exe where they are. (The DLL through the C API under Wine: windows.c_a
 
 usage: wheel_test.py WHEEL SOURCE_DIR canonform.dll canonform.exe
 """
-import base64
-import hashlib
 import importlib.util
 import os
 import sys
@@ -18,31 +16,25 @@ import zipfile
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.dont_write_bytecode = True  # no __pycache__ in the source tree
-sys.path.insert(0, HERE)
+sys.path[:0] = [os.path.dirname(HERE), HERE]  # tests/ first: its wheel_test, not this one
 import imports_test  # noqa: E402
-failures = 0
-
-
-def check(what, ok):
-    global failures
-    print(f"{'PASS' if ok else 'FAIL'}: {what}")
-    if not ok:
-        failures += 1
-
-
-def record_hash(data):
-    return "sha256=" + base64.urlsafe_b64encode(hashlib.sha256(data).digest()).rstrip(b"=").decode()
+from check_report import Report  # noqa: E402
+from wheel_test import record_check  # noqa: E402
 
 
 def main():
     wheel, source, dll, exe = sys.argv[1:5]
+    report = Report()
+
+    def check(what, ok):
+        report.check(ok, what)
     check(f"{os.path.basename(wheel)} is tagged py3-none-win_amd64", wheel.endswith("-py3-none-win_amd64.whl"))
     z = zipfile.ZipFile(wheel)
     names = z.namelist()
     info = [n for n in names if n.endswith(".dist-info/WHEEL")]
     check("one .dist-info with a WHEEL file", len(info) == 1)
     if len(info) != 1:
-        return 1
+        return report.exit_code()
     dist = info[0].rsplit("/", 1)[0]
     meta = z.read(f"{dist}/WHEEL").decode()
     check("WHEEL: Tag py3-none-win_amd64, not purelib",
@@ -51,10 +43,8 @@ def main():
           "canonform = canonform._cli:main" in z.read(f"{dist}/entry_points.txt").decode())
     check("METADATA names Windows", "Operating System :: Microsoft :: Windows" in z.read(f"{dist}/METADATA").decode())
 
-    rows = [r.split(",") for r in z.read(f"{dist}/RECORD").decode().splitlines() if r]
-    recorded = {r[0]: r for r in rows}
-    check("RECORD lists every file of the wheel once", sorted(recorded) == sorted(names) and len(rows) == len(names))
-    bad = [n for n, h, size in rows if n != f"{dist}/RECORD" and (h != record_hash(z.read(n)) or int(size) != len(z.read(n)))]
+    listed, bad = record_check(z, dist)
+    check("RECORD lists every file of the wheel once", sorted(set(listed)) == sorted(names) and len(listed) == len(names))
     check(f"RECORD: every hash and size right ({', '.join(bad) or 'all'})", not bad)
 
     pkg_src = os.path.join(source, "python", "canonform")
@@ -93,8 +83,7 @@ def main():
         finally:
             cli.sys.platform = platform
         check(f"the console script runs {os.path.relpath(tool, tmp)} on Windows, which the wheel holds", os.path.isfile(tool))
-    print(f"{failures} failure(s)")
-    return 1 if failures else 0
+    return report.exit_code()
 
 
 if __name__ == "__main__":
