@@ -216,7 +216,8 @@ have_deb_src_for() {
 # Adds a deb-src entry for suite $1 (main component, same archive and keyring) in
 # sources.list.d/canonform-deb-src[-SUITE].sources. Debian's testing and unstable Release files
 # can be past their Valid-Until date on a mirror snapshot: for those suites the entry says
-# Check-Valid-Until: no (for that entry only).
+# Check-Valid-Until: no (for that entry only), unless the suite is the machine's own: apt refuses
+# two entries for one archive and suite that disagree on it, and the machine's own entry decides.
 add_deb_src() {
   local suite=$1 file uri keyring
   file=/etc/apt/sources.list.d/canonform-deb-src-$suite.sources
@@ -230,7 +231,7 @@ add_deb_src() {
     echo "Suites: $suite"
     echo "Components: main"
     [ -n "$keyring" ] && echo "Signed-By: $keyring"
-    case "$suite" in forky|sid|testing|unstable) echo "Check-Valid-Until: no" ;; esac
+    case "$suite" in forky|sid|testing|unstable) [ "$suite" = "$codename" ] || echo "Check-Valid-Until: no" ;; esac
   } | $SUDO tee "$file" >/dev/null
   apt_updated=0
 }
