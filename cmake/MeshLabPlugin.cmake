@@ -20,13 +20,15 @@ set(CANONFORM_PLUGIN_INSTALL_DIR "lib/x86_64-linux-gnu/meshlab/plugins" CACHE ST
     "Plugin directory relative to the install prefix (where Debian's MeshLab looks: /usr/<this>)")
 
 # canonform_meshlab_flavour(NAME COMMON target API 2020|2022|2025 SCALAR float|double VERSION v
-#                           DIR dir [INSTALLED] [NO_TWIN] [NO_PLUGINS])
+#                           DIR dir [INSTALLED] [NO_TWIN] [NO_PLUGINS] [OBJECTS_OF flavour])
 # NO_TWIN: no WRONG_PRECISION twin for this flavour (the portable flavours, cmake/MeshLabPortable.cmake).
 # NO_PLUGINS: no plugins at all, only its MeshSet (src/CMakeLists.txt) for the pymeshlab harness.
+# OBJECTS_OF: a flavour of the same headers and precision that differs only in its version string;
+# its plugins' objects are this one's too (only the plugin class is compiled again).
 function(canonform_meshlab_flavour name)
-  cmake_parse_arguments(F "INSTALLED;NO_TWIN;NO_PLUGINS" "COMMON;API;SCALAR;VERSION;DIR" "" ${ARGN})
+  cmake_parse_arguments(F "INSTALLED;NO_TWIN;NO_PLUGINS" "COMMON;API;SCALAR;VERSION;DIR;OBJECTS_OF" "" ${ARGN})
   set_property(GLOBAL APPEND PROPERTY CANONFORM_MESHLAB_FLAVOURS ${name})
-  foreach(k COMMON API SCALAR VERSION DIR INSTALLED NO_TWIN NO_PLUGINS)
+  foreach(k COMMON API SCALAR VERSION DIR INSTALLED NO_TWIN NO_PLUGINS OBJECTS_OF)
     set_property(GLOBAL PROPERTY CANONFORM_FLAVOUR_${name}_${k} "${F_${k}}")
   endforeach()
 endfunction()
@@ -38,24 +40,30 @@ function(canonform_flavour_get var name key)
   set(${var} "${v}" PARENT_SCOPE)
 endfunction()
 
-# canonform_add_meshlab_plugin(NAME SOURCES ... LIBRARIES ... [SCRIPTS ...] [INCLUDE_DIRS ...]
-#                              [WRONG_PRECISION])
+# canonform_add_meshlab_plugin(NAME PLUGIN_CLASS ... SOURCES ... LIBRARIES ... [SCRIPTS ...]
+#                              [INCLUDE_DIRS ...] [WRONG_PRECISION])
 # Compiles plugin NAME (lib<NAME>.so) for every flavour: target NAME for the installed MeshLab,
-# NAME_<flavour> for the others; the adapter of the flavour's API is added to SOURCES. The
-# installed MeshLab's plugin and SCRIPTS (.mlx, for 2020.09's meshlabserver) are installed in
-# component `plugins` (what tools/package.sh puts in the Debian package).
-# WRONG_PRECISION: for API 2022 and 2025 also a twin compiled for the other precision (and that
-# precision's version string), target NAME_<flavour>_wrong_precision in <DIR>/../wrong_precision:
-# what a plugin built for the other host is to this one; the tests check that MeshLab's plugin
-# manager refuses it, with its message. It is never applied.
+# NAME_<flavour> for the others; the adapter of the flavour's API is linked in. The installed
+# MeshLab's plugin and SCRIPTS (.mlx, for 2020.09's meshlabserver) are installed in component
+# `plugins` (what tools/package.sh puts in the Debian package).
+# PLUGIN_CLASS: the sources of the Qt plugin class (its .cpp includes its moc output, so that the
+# class's MeshLab headers are compiled once). Only they depend on the flavour's version string (the
+# class's getMLVersion(), from MeshLab's MESHLAB_PLUGIN_IID_EXPORTER), so only they are compiled
+# for each plugin target; SOURCES are compiled once per flavour (object library NAME_<flavour>_objects,
+# shared with an OBJECTS_OF flavour), the adapter once per flavour for every plugin
+# (canonform_meshlab_glue_<flavour>).
+# WRONG_PRECISION: for API 2022 and 2025 also a twin whose plugin class is compiled for the other
+# precision (and that precision's version string), target NAME_<flavour>_wrong_precision in
+# <DIR>/../wrong_precision: what a plugin built for the other host is to this one; the tests check
+# that MeshLab's plugin manager refuses it, with its message. It is never applied.
 function(canonform_add_meshlab_plugin name)
-  cmake_parse_arguments(P "WRONG_PRECISION" "" "SOURCES;LIBRARIES;SCRIPTS;INCLUDE_DIRS" ${ARGN})
+  cmake_parse_arguments(P "WRONG_PRECISION" "" "PLUGIN_CLASS;SOURCES;LIBRARIES;SCRIPTS;INCLUDE_DIRS" ${ARGN})
   set(glue "${PROJECT_SOURCE_DIR}/src/canonform/meshlab")  # the MeshLab glue both plugins share
   set(glue_headers "${glue}/meshlab_adapter.h" "${glue}/meshlab_adapter_common.h" "${glue}/vcg_bridge.h"
                    "${glue}/meshlab_document.h")
   get_property(flavours GLOBAL PROPERTY CANONFORM_MESHLAB_FLAVOURS)
   foreach(f ${flavours})
-    foreach(k COMMON API SCALAR VERSION DIR INSTALLED NO_TWIN NO_PLUGINS)
+    foreach(k COMMON API SCALAR VERSION DIR INSTALLED NO_TWIN NO_PLUGINS OBJECTS_OF)
       canonform_flavour_get(${k} ${f} ${k})
     endforeach()
     if(NO_PLUGINS)
@@ -71,12 +79,33 @@ function(canonform_add_meshlab_plugin name)
     else()
       set(target ${name}_${f})
     endif()
+    # The objects that do not depend on the version string: compiled with the COMMON of the flavour
+    # they belong to (OBJECTS_OF's, if given).
+    set(key ${f})
+    set(key_common ${COMMON})
+    if(OBJECTS_OF)
+      set(key ${OBJECTS_OF})
+      canonform_flavour_get(key_common ${OBJECTS_OF} COMMON)
+    endif()
+    set(glue_target canonform_meshlab_glue_${key})
+    if(NOT TARGET ${glue_target})
+      add_library(${glue_target} OBJECT ${adapter} ${glue_headers})
+      set_target_properties(${glue_target} PROPERTIES POSITION_INDEPENDENT_CODE ON)
+      target_link_libraries(${glue_target} PRIVATE ${key_common} canonform::filter_table canonform::warnings)
+    endif()
+    set(objects ${name}_${key}_objects)
+    if(NOT TARGET ${objects})
+      add_library(${objects} OBJECT ${P_SOURCES})
+      set_target_properties(${objects} PROPERTIES POSITION_INDEPENDENT_CODE ON)
+      target_include_directories(${objects} PRIVATE "${CMAKE_CURRENT_SOURCE_DIR}" ${P_INCLUDE_DIRS})
+      target_link_libraries(${objects} PRIVATE ${key_common} canonform::filter_table ${P_LIBRARIES} canonform::warnings)
+    endif()
     set(variants ${target})
     if(P_WRONG_PRECISION AND NOT API EQUAL 2020 AND NOT NO_TWIN)
       list(APPEND variants ${target}_wrong_precision)
     endif()
     foreach(t ${variants})
-      add_library(${t} MODULE ${P_SOURCES} ${adapter} ${glue_headers})
+      add_library(${t} MODULE ${P_PLUGIN_CLASS} $<TARGET_OBJECTS:${objects}> $<TARGET_OBJECTS:${glue_target}>)
       set_target_properties(${t} PROPERTIES AUTOMOC ON PREFIX "lib" OUTPUT_NAME ${name})
       target_include_directories(${t} PRIVATE "${CMAKE_CURRENT_SOURCE_DIR}" ${P_INCLUDE_DIRS})
       target_link_libraries(${t} PRIVATE ${COMMON} canonform::filter_table ${P_LIBRARIES} canonform::warnings)
@@ -86,8 +115,8 @@ function(canonform_add_meshlab_plugin name)
     set_property(GLOBAL APPEND PROPERTY CANONFORM_FLAVOUR_${f}_PLUGINS ${target})
     if(TARGET ${target}_wrong_precision)
       # The definitions are given again after the library's: the compiler takes the last -D. The
-      # plugin's own code then disagrees with the library it links about Scalarm, so it is not
-      # linked with --no-undefined (the plugin manager refuses it before any of that is called).
+      # plugin class then disagrees with the objects it links about Scalarm, so it is not linked
+      # with --no-undefined (the plugin manager refuses it before any of that is called).
       string(REGEX REPLACE "d$" "" float_version "${VERSION}")
       if(SCALAR STREQUAL "double")
         set(other float)

@@ -41,9 +41,10 @@
 
 set(CANONFORM_PORTABLE_FLAVOURS pymeshlab2022 pymeshlab2023 pymeshlab2025 meshlab2025)
 
-# canonform_portable_flavour(NAME SOURCE_VERSION headers' release VERSION version string SCALAR s)
+# canonform_portable_flavour(NAME SOURCE_VERSION headers' release VERSION version string SCALAR s
+#                            [OBJECTS_OF flavour])
 function(canonform_portable_flavour name)
-  cmake_parse_arguments(P "" "SOURCE_VERSION;VERSION;SCALAR" "" ${ARGN})
+  cmake_parse_arguments(P "" "SOURCE_VERSION;VERSION;SCALAR;OBJECTS_OF" "" ${ARGN})
   set(lib "${CANONFORM_PORTABLE_COMMON_${name}}")
   if(NOT EXISTS "${lib}")
     message(FATAL_ERROR "CANONFORM_PORTABLE_COMMON_${name}: no libmeshlab-common.so given for the ${name} flavour "
@@ -61,14 +62,20 @@ function(canonform_portable_flavour name)
   target_compile_definitions(${t} INTERFACE MESHLAB_VERSION=${P_VERSION} MESHLAB_SCALAR=${P_SCALAR}
                                             CANONFORM_MESHLAB_API=${api})
   target_link_libraries(${t} INTERFACE Qt5::Core Qt5::Gui Qt5::Widgets Qt5::OpenGL Qt5::Xml Qt5::Network Eigen3::Eigen)
+  set(objects_of "")
+  if(P_OBJECTS_OF)
+    set(objects_of OBJECTS_OF ${P_OBJECTS_OF})
+  endif()
   canonform_meshlab_flavour(${name} COMMON ${t} API ${api} SCALAR ${P_SCALAR} VERSION ${P_VERSION}
-                            DIR "${CMAKE_BINARY_DIR}/portable/${name}" NO_TWIN)
+                            DIR "${CMAKE_BINARY_DIR}/portable/${name}" NO_TWIN ${objects_of})
   message(STATUS "canonform: portable ${name}: MeshLab ${P_SOURCE_VERSION} headers, ${P_SCALAR}, version ${P_VERSION}, "
                  "linked against ${lib}")
 endfunction()
 
 find_package(Qt5 5.15 COMPONENTS Core Gui Widgets OpenGL Xml Network REQUIRED)
 canonform_portable_flavour(pymeshlab2022 SOURCE_VERSION 2022.02 VERSION 2022.02d SCALAR double)
-canonform_portable_flavour(pymeshlab2023 SOURCE_VERSION 2025.07 VERSION 2023.12d SCALAR double)
+# pymeshlab2023's plugins differ from pymeshlab2025's only in the version string: the same objects
+# apart from the plugin classes (cmake/MeshLabPlugin.cmake: OBJECTS_OF).
+canonform_portable_flavour(pymeshlab2023 SOURCE_VERSION 2025.07 VERSION 2023.12d SCALAR double OBJECTS_OF pymeshlab2025)
 canonform_portable_flavour(pymeshlab2025 SOURCE_VERSION 2025.07 VERSION 2025.07d SCALAR double)
 canonform_portable_flavour(meshlab2025 SOURCE_VERSION 2025.07 VERSION 2025.07 SCALAR float)

@@ -8,3 +8,6 @@ FilterCanonicalPlugin::FilterCanonicalPlugin()
                         &canonform::meshlab::apply_filter_action) {}
 
 MESHLAB_PLUGIN_NAME_EXPORTER(FilterCanonicalPlugin)
+
+// The class's moc output, in this translation unit (cmake/MeshLabPlugin.cmake: PLUGIN_CLASS).
+#include "moc_filter_canonical.cpp"

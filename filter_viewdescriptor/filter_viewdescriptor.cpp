@@ -8,3 +8,6 @@ FilterViewDescriptorPlugin::FilterViewDescriptorPlugin()
                         &canonform::meshlab::apply_view_action) {}
 
 MESHLAB_PLUGIN_NAME_EXPORTER(FilterViewDescriptorPlugin)
+
+// The class's moc output, in this translation unit (cmake/MeshLabPlugin.cmake: PLUGIN_CLASS).
+#include "moc_filter_viewdescriptor.cpp"
