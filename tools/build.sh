@@ -25,8 +25,9 @@
 # Everything, on bookworm, also has, unless set to 0: CANONFORM_MESHLAB2022 and CANONFORM_MESHLAB2025,
 # both plugins for pymeshlab 2022.2 / 2025.7 (double, build/pymeshlab2022/ and build/pymeshlab2025/)
 # with meshlab-common built here and the pymeshlab harness; and, as root, CANONFORM_HOSTS, the tests
-# in trixie's and forky's real MeshLab (tools/host.sh), and with them the portable archives' tests
-# (tests/CMakeLists.txt: portable.*; CANONFORM_CMAKE_ARGS=-DCANONFORM_PORTABLE_TESTS=OFF skips them);
+# in trixie's real MeshLab (tools/host.sh; forky's too with CANONFORM_CMAKE_ARGS=-DCANONFORM_HOST_FORKY=ON),
+# and with them the portable archives' tests, forky's MeshLab among them (tests/CMakeLists.txt:
+# portable.*; CANONFORM_CMAKE_ARGS=-DCANONFORM_PORTABLE_TESTS=OFF skips them);
 # and CANONFORM_DOCS_TESTS, the documentation's tests (MkDocs site, Chromium, examples). Elsewhere
 # these are off unless set to 1. CANONFORM_PYTHON=0 leaves out the Python module (python/).
 # CANONFORM_WINDOWS=1 adds the Windows build's tests (ctest -L windows: a MinGW-w64 cross build and

@@ -27,6 +27,8 @@ targets=()
 for f in "${flavours[@]}"; do targets+=("filter_canonical_$f" "filter_viewdescriptor_$f"); done
 for host in "$@"; do
   [ "$host" = wheel ] && targets+=(canonform_c canonform canonform_python)
+  # not archived: the runner the test portable.forky starts Debian forky's MeshLab 2025.07 with
+  [ "$host" = meshlab2025 ] && targets+=(canonform-meshlab)
 done
 mkdir -p "$build" "$out"
 build=$(realpath "$build") out=$(realpath "$out")

@@ -7,8 +7,9 @@
 # every fuzz target (tools/sanitizer_tests.sh; its build runs niced alongside ctest).
 # The root filesystems the configured tests use (build/host_suites.txt, tests/CMakeLists.txt:
 # canonform_uses_hosts) are made at the start, alongside the build (mostly download and unpacking),
-# and the plugins built in those that have a build of their own (trixie, forky: tools/host.sh
-# --prepare); ctest's tests wait for what they need (tools/host.sh's locks).
+# and the plugins built in those that have a build of their own (trixie; forky with
+# -DCANONFORM_HOST_FORKY=ON: tools/host.sh --prepare); ctest's tests wait for what they need
+# (tools/host.sh's locks).
 # The tests leave the machine as they found it: after the set-up (which may install packages), the
 # MeshLab plugin folder, /usr/local and the dpkg database are listed, and listed again at the end;
 # any difference fails the run. Each stage's wall time and CPU time (user + system, of every process

@@ -4,8 +4,9 @@
 # not built on: Debian forky as `apt install meshlab` leaves it (tools/host.sh forky-bare: newer
 # glibc, GCC and Qt, and none of the libraries the archives bundle).
 #  (a) forky's own MeshLab 2025.07 (float) loads the meshlab2025.07 archive through
-#      canonform-meshlab (the forky host build's runner, tools/host.sh forky) and runs all five
-#      filters; it refuses the pymeshlab archives' plugins with MeshLab's precision message.
+#      canonform-meshlab (the portable build's, linked against forky's libmeshlab-common.so) and
+#      runs all five filters; it refuses the pymeshlab archives' plugins with MeshLab's precision
+#      message.
 #  (b) For pymeshlab 2022.2, 2023.12 and 2025.7: a double meshlab-common of that release, compiled on
 #      bookworm (2023.12: MeshLab 2025.07's source as "2023.12d", cmake/MeshLabFromSource.cmake
 #      ALSO_AS) is copied in with the pymeshlab harness, laid out as pymeshlab's wheel lays itself
@@ -13,17 +14,18 @@
 #      that release's archive and refuses the other archives' plugins with MeshLab's messages.
 # Each archive's bundled libraries are the ones the process loads (LD_DEBUG), and the results
 # equal those of today's builds to 1e-6 relative (tests/portable_compare.py): the bookworm build's
-# plugins in its harness for 2022.2 and 2025.7 (and 2025.7's for the 2023.12 stand-in), the forky
-# host's packaged plugins for the float archive.
-#   portable_test.sh SOURCE_DIR BUILD_DIR CANONFORM WORKDIR
+# plugins in its harness for 2022.2 and 2025.7 (and 2025.7's for the 2023.12 stand-in), FLOAT_HOST's
+# packaged plugins (tools/host.sh: trixie's MeshLab 2022.02 or forky's 2025.07, both float) through
+# its canonform-meshlab for the float archive.
+#   portable_test.sh SOURCE_DIR BUILD_DIR CANONFORM WORKDIR [FLOAT_HOST (default trixie)]
 set -u
-src=$(realpath "$1"); build=$(realpath "$2"); cf=$(realpath "$3"); work=$4
+src=$(realpath "$1"); build=$(realpath "$2"); cf=$(realpath "$3"); work=$4 float_host=${5:-trixie}
 . "$(dirname "$0")/lib.sh"
 rm -rf "$work"; mkdir -p "$work"; cd "$work" || exit 1
 work=$(pwd)
 version=$(sed -n 's/^CMAKE_PROJECT_VERSION:STATIC=//p' "$build/CMakeCache.txt")
 bare() { "$src/tools/host.sh" forky-bare "$@"; }
-forky() { CANONFORM_HOST_PREPARE=0 "$src/tools/host.sh" forky "$@"; }
+today() { CANONFORM_HOST_PREPARE=0 "$src/tools/host.sh" "$float_host" "$@"; }
 archive() { echo "$build/portable/canonform-plugins-$version-$1-linux-x86_64.tar.gz"; }
 
 echo "the portable archives in Debian forky with only MeshLab installed"
@@ -113,7 +115,7 @@ for h in pymeshlab2022.2 pymeshlab2023.12 pymeshlab2025.7; do
 done
 
 # (a) MeshLab 2025.07 (float): forky's packaged MeshLab through canonform-meshlab ------------------------
-runner=$src/build/hosts/forky/build/apps/canonform-meshlab/canonform-meshlab
+runner=$build/portable/build/apps/canonform-meshlab/canonform-meshlab
 d=${dir[meshlab2025.07]}
 plugins=(--plugin "$d/libfilter_canonical.so" --plugin "$d/libfilter_viewdescriptor.so")
 declare -A params=(
@@ -133,7 +135,7 @@ for k in cf fp ecf geo dv; do
     test "$rc" -eq 0 -a -s "archive_$k.ply"
   [ "$k" = dv ] && extra=(--param "output_file=$work/today_dv.cfvd")
   # shellcheck disable=SC2086
-  forky "$runner" fig.ply "today_$k.ply" ${params[$k]} "${extra[@]}" --json "today_$k.json" > /dev/null 2> "today_$k.log"
+  today canonform-meshlab fig.ply "today_$k.ply" ${params[$k]} "${extra[@]}" --json "today_$k.json" > /dev/null 2> "today_$k.log"
 done
 loaded=$(cat "$work"/float_*.ld.* 2>/dev/null | grep -oE "calling init: [^ ]*canonform\.libs/[^ ]*" | sed 's|.*/||' | sort -u)
 check "meshlab2025.07: MeshLab loaded each bundled library from the archive" test "$loaded" = "$(ls "$d/canonform.libs" 2>/dev/null | sort)"
@@ -146,6 +148,6 @@ pairs=()
 for k in cf fp ecf geo dv; do pairs+=("today_$k.json:archive_$k.json" "today_$k.ply:archive_$k.ply"); done
 /usr/bin/python3 "$src/tests/portable_compare.py" --rel 1e-6 "${pairs[@]}" today_dv.cfvd:archive_dv.cfvd > compare-float.txt 2>&1
 sed 's/^/  /' compare-float.txt | grep -v "passed,"
-check "meshlab2025.07 archive's results = forky's packaged build's to 1e-6 relative ($(tail -n 1 compare-float.txt))" \
+check "meshlab2025.07 archive's results = $float_host's packaged build's to 1e-6 relative ($(tail -n 1 compare-float.txt))" \
   grep -q ' 0 failed$' compare-float.txt
 finish
