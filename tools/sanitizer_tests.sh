@@ -7,8 +7,10 @@
 # (SLOW below: the retrieval experiment's full runs, sharded runs, the collection index, the tool's
 # end-to-end and sharded runs, Slurm): under the sanitizers they took most of the stage's time, and
 # the code they run is run there by smaller tests too (the experiment's bad-collection and NaN-form
-# tests, the stages' unit tests, the tool's bad-input commands). With arguments, they go to ctest as
-# given. Called by
+# tests, the stages' unit tests, the tool's bad-input commands); so are the tests that repeat one
+# computation over sizes, classes or poses (the procedural figure at three targets and in every
+# class and pose, multigrid's steps on a mesh 4x finer): the procedural and multigrid tests left in
+# run the same code once. With arguments, they go to ctest as given. Called by
 # tools/run_tests.sh (so CI runs it); builds in ./build-san (or $CANONFORM_SAN_BUILD_DIR) only what
 # these tests need: no plugins (they run inside the non-instrumented meshlabserver; see docs/testing.md), no
 # benchmarks.
@@ -47,6 +49,7 @@ export LSAN_OPTIONS=${LSAN_OPTIONS:-suppressions=$here/tests/sanitizer_suppressi
 # there as in the plain build; and the timing printouts (names with Timing), which only print
 # seconds, meaningless under the sanitizers.
 SLOW='^(Experiment\.(ASeed|Writes|AMethod|Fused)|ShardedRun\.|CollectionIndex\.|cli\.end_to_end$|cli\.sharded$|slurm\.|layout\.rules$|licence\.spdx$|tools\.paired_queries$)|Timing'
+SLOW+='|^ProceduralFigure\.ValidAndRepeatableAtOtherTargets$|^ProceduralFigureClasses\.(EveryClassIsClean|RandomPoses)|^AlgebraicMultigrid\.CgStepsDoNotGrowWithTheMesh$'
 if [ $# -eq 0 ]; then set -- -E "$SLOW"; fi
 ctest --output-on-failure -j"$(nproc)" "$@"
 echo "[sanitizers] tests in $(( $(date +%s) - t1 )) s"
