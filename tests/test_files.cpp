@@ -15,30 +15,11 @@
 
 using namespace canonform;
 namespace fs = std::filesystem;
-
-namespace {
-
-/// A fresh folder under the test's temporary directory.
-std::string scratch(const std::string& name) {
-    const fs::path p = fs::temp_directory_path() / ("canonform_test_" + name);
-    fs::remove_all(p);
-    fs::create_directories(p);
-    return p.string();
-}
-
-std::string message_of(const std::function<void()>& f) {
-    try {
-        f();
-    } catch (const std::exception& e) {
-        return e.what();
-    }
-    return "";
-}
-
-}  // namespace
+using canonform::test::message_of;
+using canonform::test::scratch_dir;
 
 TEST(Files, AtomicWriteReadBackAndNoTemporaryLeft) {
-    const std::string d = scratch("files");
+    const std::string d = scratch_dir("files");
     io::write_file_atomic(d + "/a.bin", std::string("x\0y", 3));
     EXPECT_EQ(io::read_file(d + "/a.bin"), std::string("x\0y", 3));
     EXPECT_EQ(std::distance(fs::directory_iterator(d), fs::directory_iterator()), 1);
@@ -47,13 +28,13 @@ TEST(Files, AtomicWriteReadBackAndNoTemporaryLeft) {
 }
 
 TEST(Files, ReadNamesTheRealCause) {
-    const std::string d = scratch("causes");
+    const std::string d = scratch_dir("causes");
     EXPECT_NE(message_of([&] { io::read_file(d + "/missing"); }).find("no such file"), std::string::npos);
     EXPECT_NE(message_of([&] { io::read_file(d); }).find("is a folder"), std::string::npos);
 }
 
 TEST(Files, FoldersAndExtensionsOfOddPaths) {
-    const std::string d = scratch("v1.2");
+    const std::string d = scratch_dir("v1.2");
     io::make_directories(d + "/x/y");
     EXPECT_TRUE(fs::is_directory(d + "/x/y"));
     EXPECT_EQ(io::lower_extension(d + "/D"), "");  // the folder's dot is not an extension
@@ -75,7 +56,7 @@ TEST(Csv, CellsRowsAndLabels) {
     ASSERT_EQ(rows.size(), 2u);
     EXPECT_EQ(rows[0], (std::vector<std::string>{"a", "b", "", "c"}));
     EXPECT_EQ(rows[1], (std::vector<std::string>{"d"}));
-    const std::string d = scratch("labels");
+    const std::string d = scratch_dir("labels");
     io::write_file_atomic(d + "/l.csv", "path,class\noff/a,b.off,cat\nonly_class\n");
     const auto labels = io::read_labels(d + "/l.csv");
     ASSERT_EQ(labels.size(), 2u);
@@ -86,7 +67,7 @@ TEST(Csv, CellsRowsAndLabels) {
 }
 
 TEST(DistanceMatrixFile, BinaryAndCsvRoundTripAndRefusals) {
-    const std::string d = scratch("matrix");
+    const std::string d = scratch_dir("matrix");
     Eigen::MatrixXf D(3, 3);
     D << 0, 1.5f, 2, 1.5f, 0, 0.25f, 2, 0.25f, 0;
     io::write_distance_matrix(D, d + "/D.bin", d + "/D.csv");
@@ -103,7 +84,7 @@ TEST(DistanceMatrixFile, BinaryAndCsvRoundTripAndRefusals) {
 
 TEST(Files, EveryReaderSaysAFolderIsAFolder) {
     // Issue 11: a folder given as a matrix or labels file was "truncated, 0 bytes".
-    const std::string d = scratch("folder_inputs");
+    const std::string d = scratch_dir("folder_inputs");
     io::make_directories(d + "/D.bin");
     io::make_directories(d + "/D.csv");
     io::make_directories(d + "/labels.csv");

@@ -7,6 +7,7 @@
 #include "canonform/procedural/procedural_meshes.h"
 
 #include "canonical_filter_table.h"
+#include "test_util.h"
 
 #include <gtest/gtest.h>
 
@@ -18,17 +19,9 @@ using namespace canonform;
 using namespace canonform::numerics;
 using namespace canonform::canonical;
 using namespace canonform::procedural;
+using canonform::test::message_of;
 
 namespace {
-
-std::string message_of(const std::function<void()>& f) {
-    try {
-        f();
-    } catch (const std::exception& e) {
-        return e.what();
-    }
-    return "";
-}
 
 /// A toy method: the mesh scaled by `scale` about its centroid.
 CanonicalMethod toy_method() {
