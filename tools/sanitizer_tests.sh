@@ -9,11 +9,11 @@
 # the code they run is run there by smaller tests too (the experiment's bad-collection and NaN-form
 # tests, the stages' unit tests, the tool's bad-input commands); so are the tests that repeat one
 # computation over sizes, classes or poses (the procedural figure at three targets and in every
-# class and pose, multigrid's steps on a mesh 4x finer): the procedural and multigrid tests left in
-# run the same code once. With arguments, they go to ctest as given. Called by
-# tools/run_tests.sh (so CI runs it); builds in ./build-san (or $CANONFORM_SAN_BUILD_DIR) only what
-# these tests need: no plugins (they run inside the non-instrumented meshlabserver; see docs/testing.md), no
-# benchmarks.
+# class and pose, the figure's checks at 10000 vertices as well as 2000, multigrid's steps on a mesh
+# 4x finer): the procedural and multigrid tests left in run the same code once. With arguments,
+# they go to ctest as given. Called by tools/run_tests.sh (so CI runs it); builds in ./build-san
+# (or $CANONFORM_SAN_BUILD_DIR) only what these tests need: no plugins (they run inside the
+# non-instrumented meshlabserver; see docs/testing.md), no benchmarks.
 #   tools/sanitizer_tests.sh [ctest arguments]     CANONFORM_FUZZ_SECONDS=N (default 5 per target)
 #   tools/sanitizer_tests.sh --build-only          the build alone (run_tests.sh starts it, niced,
 #                                                  while ctest runs; the second call then only tests)
@@ -29,7 +29,7 @@ echo "[sanitizers] clang ASan+UBSan+libFuzzer build in $build (log: $log)"
 if ! { CC=clang CXX=clang++ cmake -S "$here" -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
          "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -gline-tables-only" -DCANONFORM_SANITIZE=address,undefined \
          -DCANONFORM_FUZZ=ON -DCANONFORM_FUZZ_SECONDS="${CANONFORM_FUZZ_SECONDS:-5}" -DCANONFORM_BUILD_PLUGINS=OFF \
-         -DCANONFORM_BUILD_BENCH=OFF -DCANONFORM_MESHLAB2022=OFF -DCANONFORM_PYTHON=OFF &&
+         -DCANONFORM_BUILD_BENCH=OFF -DCANONFORM_MESHLAB2022=OFF -DCANONFORM_PYTHON=OFF -DCANONFORM_UNITY_BUILD=ON &&
        targets=$(cmake --build "$build" --target help | grep -oE '(canonform_tests|canonform_plycheck|canonform|fuzz_[a-z_]+)$' | sort -u) &&
        cmake --build "$build" -j"$(nproc)" --target $targets; } > "$log" 2>&1; then
   grep -E -B2 -A8 "error|Error" "$log" | head -80
@@ -50,6 +50,7 @@ export LSAN_OPTIONS=${LSAN_OPTIONS:-suppressions=$here/tests/sanitizer_suppressi
 # seconds, meaningless under the sanitizers.
 SLOW='^(Experiment\.(ASeed|Writes|AMethod|Fused)|ShardedRun\.|CollectionIndex\.|cli\.end_to_end$|cli\.sharded$|slurm\.|layout\.rules$|licence\.spdx$|tools\.paired_queries$)|Timing'
 SLOW+='|^ProceduralFigure\.ValidAndRepeatableAtOtherTargets$|^ProceduralFigureClasses\.(EveryClassIsClean|RandomPoses)|^AlgebraicMultigrid\.CgStepsDoNotGrowWithTheMesh$'
+SLOW+='|^Targets/ProceduralFigureAtTarget\..*/10000$'
 if [ $# -eq 0 ]; then set -- -E "$SLOW"; fi
 ctest --output-on-failure -j"$(nproc)" "$@"
 echo "[sanitizers] tests in $(( $(date +%s) - t1 )) s"
