@@ -146,9 +146,10 @@ declare -A positional=([conformal]="fig.off out.ply" [features]="fig.off out.ply
 for cmd in conformal features canonical simplify generate picture views codebook descriptor distance retrieve evaluate grid \
            slurm index query; do
   # Options with a numeric type in the command's --help (CLI11 prints INT, UINT or FLOAT).
-  for opt in $("$cf" $cmd --help 2>/dev/null | grep -oE '^ +(-[a-z], ?)?--[a-z-]+(, ?--[a-z-]+)? (INT|UINT|FLOAT)' | grep -oE -- '--[a-z-]+' | sort -u); do
+  help=$("$cf" $cmd --help 2>/dev/null)
+  for opt in $(grep -oE '^ +(-[a-z], ?)?--[a-z-]+(, ?--[a-z-]+)? (INT|UINT|FLOAT)' <<< "$help" | grep -oE -- '--[a-z-]+' | sort -u); do
     # A method parameter is checked by the method that takes it: use the first method its help names.
-    method=$("$cf" $cmd --help | grep -A3 -- "$opt" | grep -oE 'default: [a-z-]+ ' | head -1 | cut -d' ' -f2)
+    method=$(grep -A3 -- "$opt" <<< "$help" | grep -oE 'default: [a-z-]+ ' | head -1 | cut -d' ' -f2)
     margs=""; [ -n "$method" ] && margs="--method $method"
     for value in nan -1 1e300; do
       "$cf" $cmd ${positional[$cmd]} $margs $opt $value > err.txt 2>&1
