@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "canonform/retrieval/experiment.h"
 
+#include "canonform/common/elapsed.h"
 #include "canonform/common/parallel.h"
 #include "canonform/io/csv.h"
 #include "canonform/io/distance_matrix_file.h"
@@ -29,10 +30,7 @@ namespace canonform::retrieval {
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
-double since(Clock::time_point t0) {
-    return std::chrono::duration<double>(Clock::now() - t0).count();
-}
+using Clock = SteadyClock;
 
 /// Seeded vertex noise: every coordinate moves by N(0, (sigma * mean edge length)^2).
 void add_noise(Mesh& m, double sigma, std::uint64_t seed) {
@@ -306,7 +304,7 @@ MethodOutcome Experiment::run_method(const canonical::MethodSpec& spec) const {
     // 1. Per mesh, in parallel: canonical form and the SIFT features of its views (cached).
     auto t0 = Clock::now();
     const std::vector<MeshFeatures> results = features(spec);
-    out.forms_seconds = since(t0);
+    out.forms_seconds = seconds_since(t0);
     std::vector<size_t> good;
     std::ostringstream failures;
     for (size_t k = 0; k < models_.size(); ++k) {
@@ -333,7 +331,7 @@ MethodOutcome Experiment::run_method(const canonical::MethodSpec& spec) const {
     t0 = Clock::now();
     const views::Codebook cb = codebook(spec, results, good);
     cb.save(dir + "/codebook.bin");  // the queries of an indexed collection (collection_index.h) need it
-    out.codebook_seconds = since(t0);
+    out.codebook_seconds = seconds_since(t0);
 
     // 3. Descriptors, distances, measures.
     t0 = Clock::now();
@@ -344,7 +342,7 @@ MethodOutcome Experiment::run_method(const canonical::MethodSpec& spec) const {
         hist.push_back(std::move(d.histograms));
     }
     const Eigen::MatrixXf D = views::distance_matrix(hist, views::rotation_view_maps(), o.threads);
-    out.distances_seconds = since(t0);
+    out.distances_seconds = seconds_since(t0);
     finish_method(out, good, D);
     return out;
 }
@@ -365,7 +363,7 @@ void Experiment::finish_method(MethodOutcome& out, const std::vector<size_t>& go
         out.no_measures =
             "no class has more than two models among the " + std::to_string(good.size()) +
             " meshes that succeeded: the measures need three; the distances are in distances.bin";
-    out.distances_seconds += since(t0);
+    out.distances_seconds += seconds_since(t0);
     finish_measures(out, good, nlohmann::ordered_json::object());
 }
 
@@ -404,7 +402,7 @@ void Experiment::finish_measures(MethodOutcome& out, const std::vector<size_t>& 
                                    {"pose_consistency_pairs", out.pose_consistency_pairs}};
     for (const auto& [key, value] : extra.items()) more[key] = value;
     write_measures(o, dir, method, js, more, out);
-    out.distances_seconds += since(t0);
+    out.distances_seconds += seconds_since(t0);
     // The timings apart from the measures, so that metrics.json is equal for equal inputs.
     const nlohmann::ordered_json timings = {{"method", method},
                                             {"seconds",
@@ -485,7 +483,7 @@ MethodOutcome Experiment::run_fused(const FusedSpec& fused) const {
         out.evaluation = evaluate(D.cast<double>(), labels);
     else
         out.no_measures = "no class has more than two models: the measures need three";
-    out.distances_seconds = since(t0);
+    out.distances_seconds = seconds_since(t0);
     nlohmann::ordered_json js;
     js["method"] = out.label;
     js["base"] = "fused";

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "canonform/retrieval/sharded_run.h"
 
+#include "canonform/common/elapsed.h"
 #include "canonform/common/parallel.h"
 #include "canonform/io/files.h"
 #include "canonform/retrieval/collection_index.h"
@@ -18,10 +19,7 @@ namespace canonform::retrieval {
 namespace {
 
 using Json = nlohmann::ordered_json;
-using Clock = std::chrono::steady_clock;
-double since(Clock::time_point t0) {
-    return std::chrono::duration<double>(Clock::now() - t0).count();
-}
+using Clock = SteadyClock;
 
 const Stage kStages[] = {Stage::Features, Stage::Codebook,  Stage::Histograms,
                          Stage::Index,    Stage::Distances, Stage::Merge};
@@ -310,7 +308,7 @@ bool ShardedRun::run(Stage s, int index) const {
                 merge(m);
                 break;
         }
-        m["seconds"] = since(t0);
+        m["seconds"] = seconds_since(t0);
         write_json(marker(s, index) + ".json", m);
     } catch (const std::exception& e) {
         io::write_file_atomic(failed, std::string(e.what()) + "\n");
@@ -397,7 +395,7 @@ void ShardedRun::features(int shard, Json& m) const {
                     m["outputs"].push_back(relative(run_, p));
             }
         }
-        methods[spec.folder()] = {{"meshes", meshes}, {"seconds", since(t0)}};
+        methods[spec.folder()] = {{"meshes", meshes}, {"seconds", seconds_since(t0)}};
     }
     m["methods"] = methods;
 }

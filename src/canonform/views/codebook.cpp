@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "canonform/views/codebook.h"
 
+#include "canonform/io/byte_order.h"
 #include "canonform/io/files.h"
 
 #include <algorithm>
@@ -18,21 +19,9 @@ namespace canonform::views {
 namespace {
 
 constexpr std::uint32_t kVersion = 1;
-constexpr int kDim = 128;
-
-// ---- little-endian helpers ------------------------------------------------------------------------
-void put_u32(std::string& out, std::uint32_t v) {
-    for (int k = 0; k < 4; ++k) out.push_back(static_cast<char>((v >> (8 * k)) & 0xFFu));
-}
-void put_f32(std::string& out, float f) {
-    std::uint32_t v;
-    std::memcpy(&v, &f, 4);
-    put_u32(out, v);
-}
-std::uint32_t get_u32(const unsigned char* p) {
-    return std::uint32_t(p[0]) | (std::uint32_t(p[1]) << 8) | (std::uint32_t(p[2]) << 16) |
-           (std::uint32_t(p[3]) << 24);
-}
+using io::get_u32;
+using io::put_f32;
+using io::put_u32;
 // Words in units of 1/kWordScale as 16-bit integers: values up to kMaxWordValue fit.
 constexpr double kWordScale = 64;
 constexpr float kMaxWordValue = 511.f;
@@ -57,14 +46,14 @@ CANONFORM_INT_CLONES void nearest_of_four(const std::int16_t* __restrict x, cons
         std::numeric_limits<std::int64_t>::max(), std::numeric_limits<std::int64_t>::max()};
     for (int r = 0; r < 4; ++r) best[r] = 0;
     for (int w = 0; w < words; ++w) {
-        const std::int16_t* c = q + static_cast<std::ptrdiff_t>(w) * kDim;
+        const std::int16_t* c = q + static_cast<std::ptrdiff_t>(w) * kDescriptorSize;
         int s0 = 0, s1 = 0, s2 = 0, s3 = 0;
-        for (int i = 0; i < kDim; ++i) {
+        for (int i = 0; i < kDescriptorSize; ++i) {
             const int ci = c[i];
             s0 += x[i] * ci;
-            s1 += x[kDim + i] * ci;
-            s2 += x[2 * kDim + i] * ci;
-            s3 += x[3 * kDim + i] * ci;
+            s1 += x[kDescriptorSize + i] * ci;
+            s2 += x[2 * kDescriptorSize + i] * ci;
+            s3 += x[3 * kDescriptorSize + i] * ci;
         }
         const std::int64_t n = qn[w];
         const std::int64_t t[4] = {n - 128 * std::int64_t(s0), n - 128 * std::int64_t(s1),
@@ -99,9 +88,9 @@ Codebook Codebook::from_words(DescriptorMatrix words) {
         cb.qnorms_.resize(static_cast<size_t>(cb.words_.rows()));
         for (Eigen::Index r = 0; r < cb.words_.rows(); ++r) {
             std::int64_t n = 0;
-            for (int c = 0; c < kDim; ++c) {
+            for (int c = 0; c < kDescriptorSize; ++c) {
                 const auto q = static_cast<std::int16_t>(std::lround(double(cb.words_(r, c)) * kWordScale));
-                cb.qwords_[static_cast<size_t>(r * kDim + c)] = q;
+                cb.qwords_[static_cast<size_t>(r * kDescriptorSize + c)] = q;
                 n += std::int64_t(q) * q;
             }
             cb.qnorms_[static_cast<size_t>(r)] = n;
@@ -133,22 +122,23 @@ std::vector<int> Codebook::assign(const DescriptorMatrix& descriptors) const {
     if (words_.rows() == 0) throw InputError("Codebook: assign() on an empty codebook.");
     const Eigen::Index n = descriptors.rows();
     std::vector<int> label(static_cast<size_t>(n), 0);
-    std::vector<std::int16_t> block(4 * kDim);
+    std::vector<std::int16_t> block(4 * kDescriptorSize);
     for (Eigen::Index r0 = 0; r0 < n; r0 += 4) {
         const int rows = static_cast<int>(std::min<Eigen::Index>(4, n - r0));
         bool integral = quantised_;
         for (int r = 0; r < rows && integral; ++r)
-            for (int c = 0; c < kDim; ++c) {
+            for (int c = 0; c < kDescriptorSize; ++c) {
                 const float v = descriptors(r0 + r, c);
                 if (!(v >= 0.f && v <= 255.f && v == std::floor(v))) {
                     integral = false;
                     break;
                 }
-                block[static_cast<size_t>(r * kDim + c)] = static_cast<std::int16_t>(v);
+                block[static_cast<size_t>(r * kDescriptorSize + c)] = static_cast<std::int16_t>(v);
             }
         if (integral) {
             for (int r = rows; r < 4; ++r)  // (a short last block: copies of its first row)
-                std::copy(block.begin(), block.begin() + kDim, block.begin() + r * kDim);
+                std::copy(block.begin(), block.begin() + kDescriptorSize,
+                          block.begin() + r * kDescriptorSize);
             int best[4];
             nearest_of_four(block.data(), qwords_.data(), qnorms_.data(), size(), best);
             for (int r = 0; r < rows; ++r) label[static_cast<size_t>(r0 + r)] = best[r];
@@ -166,7 +156,7 @@ int Codebook::nearest_exact(const float* x) const {
     for (Eigen::Index w = 0; w < words_.rows(); ++w) {
         const float* c = words_.row(w).data();
         double lane[8] = {0, 0, 0, 0, 0, 0, 0, 0};  // eight partial sums in a fixed order
-        for (int i = 0; i < kDim; i += 8)
+        for (int i = 0; i < kDescriptorSize; i += 8)
             for (int l = 0; l < 8; ++l) {
                 const double d = double(x[i + l]) - double(c[i + l]);
                 lane[l] += d * d;
@@ -188,9 +178,9 @@ void Codebook::save(const std::string& path) const {
     out.append("CFCB", 4);
     put_u32(out, kVersion);
     put_u32(out, static_cast<std::uint32_t>(words_.rows()));
-    put_u32(out, kDim);
+    put_u32(out, kDescriptorSize);
     for (Eigen::Index r = 0; r < words_.rows(); ++r)
-        for (int c = 0; c < kDim; ++c) put_f32(out, words_(r, c));
+        for (int c = 0; c < kDescriptorSize; ++c) put_f32(out, words_(r, c));
     io::write_file_atomic(path, out);
 }
 
@@ -210,19 +200,19 @@ Codebook Codebook::parse(const std::string& bytes, const std::string& where) {
     if (version != kVersion)
         throw InputError(where + "unsupported version " + std::to_string(version) +
                          " (this build reads version 1).");
-    if (dim != kDim)
+    if (dim != kDescriptorSize)
         throw InputError(where + "descriptor dimension " + std::to_string(dim) + ", expected 128.");
     if (words == 0) throw InputError(where + "zero words.");
-    const std::uint64_t need = 16 + std::uint64_t(words) * kDim * 4;
+    const std::uint64_t need = 16 + std::uint64_t(words) * kDescriptorSize * 4;
     if (bytes.size() < need)
         throw InputError(where + "truncated (" + std::to_string(bytes.size()) + " bytes, " +
                          std::to_string(need) + " expected for " + std::to_string(words) + " words).");
     if (bytes.size() > need)
         throw InputError(where + std::to_string(bytes.size() - need) + " unexpected trailing bytes.");
-    DescriptorMatrix C(words, kDim);
+    DescriptorMatrix C(words, kDescriptorSize);
     const unsigned char* q = p + 16;
     for (std::uint32_t r = 0; r < words; ++r)
-        for (int c = 0; c < kDim; ++c, q += 4) C(r, c) = get_f32(q);
+        for (int c = 0; c < kDescriptorSize; ++c, q += 4) C(r, c) = get_f32(q);
     if (!C.allFinite()) throw InputError(where + "a word has a non-finite value.");
     return from_words(std::move(C));
 }

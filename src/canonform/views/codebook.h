@@ -60,8 +60,10 @@
 
 namespace canonform::views {
 
+/// Values per SIFT descriptor (Lowe Sec. 6.1: 4 x 4 cells x 8 orientations).
+constexpr int kDescriptorSize = 128;
 /// n x 128 descriptors, one per row.
-using DescriptorMatrix = Eigen::Matrix<float, Eigen::Dynamic, 128, Eigen::RowMajor>;
+using DescriptorMatrix = Eigen::Matrix<float, Eigen::Dynamic, kDescriptorSize, Eigen::RowMajor>;
 
 /// Default training sample (descriptors); chosen by measurement (docs/design.md, "Retrieval defaults").
 inline constexpr std::int64_t kDefaultCodebookSample = 100000;

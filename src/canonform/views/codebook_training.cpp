@@ -18,8 +18,6 @@
 namespace canonform::views {
 namespace {
 
-constexpr int kDim = 128;
-
 // ---- random numbers (platform independent for a seed) ---------------------------------------------
 double uniform01(std::mt19937_64& rng) {
     return static_cast<double>(rng() >> 11) * (1.0 / 9007199254740992.0);
@@ -42,9 +40,9 @@ DescriptorMatrix kmeans_pp_seed(const DescriptorMatrix& X, int k, std::mt19937_6
     const int n = static_cast<int>(X.rows());
     const int m = std::min(n, 20 * k);
     std::vector<int> subset = sample_distinct(rng, n, m);
-    DescriptorMatrix S(m, kDim);
+    DescriptorMatrix S(m, kDescriptorSize);
     for (int i = 0; i < m; ++i) S.row(i) = X.row(subset[i]);
-    DescriptorMatrix C(k, kDim);
+    DescriptorMatrix C(k, kDescriptorSize);
     Eigen::VectorXd d2 = Eigen::VectorXd::Constant(m, std::numeric_limits<double>::infinity());
     int pick = static_cast<int>(uniform_index(rng, static_cast<std::size_t>(m)));
     for (int c = 0; c < k; ++c) {
@@ -94,7 +92,7 @@ DescriptorMatrix lloyd(const DescriptorMatrix& X, int k, int iterations, std::mt
         nearest_words(X, C, label, &dist2);
         if (label == previous) break;
         // New means, accumulated sequentially (deterministic).
-        Eigen::MatrixXd sum = Eigen::MatrixXd::Zero(k, kDim);
+        Eigen::MatrixXd sum = Eigen::MatrixXd::Zero(k, kDescriptorSize);
         std::vector<int> count(static_cast<std::size_t>(k), 0);
         for (int i = 0; i < n; ++i) {
             sum.row(label[i]) += X.row(i).cast<double>();
@@ -134,15 +132,15 @@ DescriptorMatrix faiss_kmeans(const DescriptorMatrix& X, int k, int iterations, 
     cp.verbose = false;
     cp.min_points_per_centroid = 1;  // no warning for small inputs (n > k is guaranteed)
     cp.max_points_per_centroid = std::numeric_limits<int>::max() / 2;  // we sample ourselves
-    faiss::Clustering clustering(kDim, k, cp);
-    faiss::IndexFlatL2 index(kDim);
+    faiss::Clustering clustering(kDescriptorSize, k, cp);
+    faiss::IndexFlatL2 index(kDescriptorSize);
     // FAISS indices are int64_t: faiss::Index::idx_t up to 1.7.3 (bookworm), faiss::idx_t after.
     clustering.train(static_cast<std::int64_t>(X.rows()), X.data(), index);
-    if (clustering.centroids.size() != static_cast<std::size_t>(k) * kDim)
+    if (clustering.centroids.size() != static_cast<std::size_t>(k) * kDescriptorSize)
         throw NumericalError("Codebook: FAISS k-means returned " +
-                             std::to_string(clustering.centroids.size() / kDim) + " words, expected " +
-                             std::to_string(k) + ".");
-    return Eigen::Map<const DescriptorMatrix>(clustering.centroids.data(), k, kDim);
+                             std::to_string(clustering.centroids.size() / kDescriptorSize) +
+                             " words, expected " + std::to_string(k) + ".");
+    return Eigen::Map<const DescriptorMatrix>(clustering.centroids.data(), k, kDescriptorSize);
 }
 #endif
 
@@ -194,7 +192,7 @@ Codebook Codebook::train(const DescriptorMatrix& X, const CodebookOptions& optio
     if (!X.allFinite()) throw InputError("Codebook: a training descriptor has a non-finite value.");
     if (!draws_sample(options, X.rows())) return train_on_rows(X, X.rows(), options);
     const std::vector<int> pick = training_rows(X.rows(), options);
-    DescriptorMatrix sampled(static_cast<Eigen::Index>(pick.size()), kDim);
+    DescriptorMatrix sampled(static_cast<Eigen::Index>(pick.size()), kDescriptorSize);
     for (std::size_t i = 0; i < pick.size(); ++i) sampled.row(static_cast<Eigen::Index>(i)) = X.row(pick[i]);
     return train_on_rows(sampled, X.rows(), options);
 }
@@ -218,7 +216,7 @@ Codebook Codebook::train_on_rows(const DescriptorMatrix& S, std::int64_t total,
     switch (options.method) {
         case CodebookOptions::Method::Random: {
             const std::vector<int> pick = sample_distinct(rng, m, k);
-            DescriptorMatrix C(k, kDim);
+            DescriptorMatrix C(k, kDescriptorSize);
             for (int i = 0; i < k; ++i) C.row(i) = S.row(pick[i]);
             return from_words(std::move(C));
         }
@@ -227,7 +225,7 @@ Codebook Codebook::train_on_rows(const DescriptorMatrix& S, std::int64_t total,
         case CodebookOptions::Method::KMeans:
             if (options.kmeans_iterations == 0) {  // FAISS's initialisation alone: random sample points
                 const std::vector<int> pick = sample_distinct(rng, m, k);
-                DescriptorMatrix C(k, kDim);
+                DescriptorMatrix C(k, kDescriptorSize);
                 for (int i = 0; i < k; ++i) C.row(i) = S.row(pick[i]);
                 return from_words(std::move(C));
             }

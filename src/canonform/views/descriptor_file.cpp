@@ -1,7 +1,9 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "canonform/views/descriptor_file.h"
 
+#include "canonform/io/byte_order.h"
 #include "canonform/io/files.h"
+#include "canonform/views/codebook.h"
 
 #include <cmath>
 #include <cstdint>
@@ -13,19 +15,9 @@
 namespace canonform::views {
 namespace {
 
-constexpr int kDim = 128;
-
-void put_u32(std::string& out, std::uint32_t v) {
-    for (int k = 0; k < 4; ++k) out.push_back(static_cast<char>((v >> (8 * k)) & 0xFFu));
-}
-void put_i32(std::string& out, std::int32_t v) {
-    put_u32(out, static_cast<std::uint32_t>(v));
-}
-void put_f32(std::string& out, float f) {
-    std::uint32_t v;
-    std::memcpy(&v, &f, 4);
-    put_u32(out, v);
-}
+using io::put_f32;
+using io::put_i32;
+using io::put_u32;
 
 // Bounded little-endian reader; every read past the end throws "truncated".
 class Reader {
@@ -147,7 +139,7 @@ void write_descriptor(const std::string& path, const ModelDescriptor& d) {
         for (const auto& m : d.raw) {
             put_u32(out, static_cast<std::uint32_t>(m.rows()));
             for (Eigen::Index r = 0; r < m.rows(); ++r)
-                for (int c = 0; c < kDim; ++c) put_f32(out, m(r, c));
+                for (int c = 0; c < kDescriptorSize; ++c) put_f32(out, m(r, c));
         }
     }
 
@@ -202,10 +194,10 @@ ModelDescriptor parse_descriptor(const std::string& bytes, const std::string& wh
             if (static_cast<std::int64_t>(rows) != d.keypoints_per_view[v])
                 in.fail("inconsistent counts: view " + std::to_string(v) + " has " + std::to_string(rows) +
                         " descriptors and " + std::to_string(d.keypoints_per_view[v]) + " keypoints.");
-            in.need(4ull * kDim * rows, "the descriptors");
-            d.raw[v].resize(rows, kDim);
+            in.need(4ull * kDescriptorSize * rows, "the descriptors");
+            d.raw[v].resize(rows, kDescriptorSize);
             for (std::uint32_t r = 0; r < rows; ++r)
-                for (int c = 0; c < kDim; ++c) d.raw[v](r, c) = in.f32("the descriptors");
+                for (int c = 0; c < kDescriptorSize; ++c) d.raw[v](r, c) = in.f32("the descriptors");
         }
     }
     if (in.remaining() != 0) in.fail(std::to_string(in.remaining()) + " unexpected trailing bytes.");

@@ -12,7 +12,6 @@ namespace sift {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr float kClip = 0.2f;  // Lowe Sec. 6.1
 
 }  // namespace

@@ -14,7 +14,6 @@ namespace sift {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr int kOrientationBins = 36;       // Lowe Sec. 5
 constexpr double kOrientationSigma = 1.5;  // sigma_w / sigma, Lowe Sec. 5
 constexpr double kOrientationRadius = 3;   // window radius / sigma_w (ours)

@@ -12,6 +12,7 @@
 namespace canonform::views {
 namespace sift {
 
+constexpr double kPi = 3.14159265358979323846;
 constexpr int kGrid = 4;         // descriptor bins per side, Lowe Sec. 6.1
 constexpr int kAngles = 8;       // descriptor orientation bins, Lowe Sec. 6.1
 constexpr double kBinWidth = 3;  // descriptor bin width / sigma (VLFeat's documented magnification)
