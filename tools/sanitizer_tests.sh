@@ -14,6 +14,8 @@
 # they go to ctest as given. Called by tools/run_tests.sh (so CI runs it); builds in ./build-san
 # (or $CANONFORM_SAN_BUILD_DIR) only what these tests need: no plugins (they run inside the
 # non-instrumented meshlabserver; see docs/testing.md), no benchmarks.
+# Every target in batches of source files (CMAKE_UNITY_BUILD), the library's too: its objects here
+# serve only these tests (the plain build keeps one object per library source).
 #   tools/sanitizer_tests.sh [ctest arguments]     CANONFORM_FUZZ_SECONDS=N (default 5 per target)
 #   tools/sanitizer_tests.sh --build-only          the build alone (run_tests.sh starts it, niced,
 #                                                  while ctest runs; the second call then only tests)
@@ -29,7 +31,8 @@ echo "[sanitizers] clang ASan+UBSan+libFuzzer build in $build (log: $log)"
 if ! { CC=clang CXX=clang++ cmake -S "$here" -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
          "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -gline-tables-only" -DCANONFORM_SANITIZE=address,undefined \
          -DCANONFORM_FUZZ=ON -DCANONFORM_FUZZ_SECONDS="${CANONFORM_FUZZ_SECONDS:-5}" -DCANONFORM_BUILD_PLUGINS=OFF \
-         -DCANONFORM_BUILD_BENCH=OFF -DCANONFORM_MESHLAB2022=OFF -DCANONFORM_PYTHON=OFF -DCANONFORM_UNITY_BUILD=ON &&
+         -DCANONFORM_BUILD_BENCH=OFF -DCANONFORM_MESHLAB2022=OFF -DCANONFORM_PYTHON=OFF -DCANONFORM_UNITY_BUILD=ON \
+         -DCMAKE_UNITY_BUILD=ON &&
        targets=$(cmake --build "$build" --target help | grep -oE '(canonform_tests|canonform_plycheck|canonform|fuzz_[a-z_]+)$' | sort -u) &&
        cmake --build "$build" -j"$(nproc)" --target $targets; } > "$log" 2>&1; then
   grep -E -B2 -A8 "error|Error" "$log" | head -80
