@@ -31,8 +31,7 @@ echo "[sanitizers] clang ASan+UBSan+libFuzzer build in $build (log: $log)"
 if ! { CC=clang CXX=clang++ cmake -S "$here" -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
          "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -gline-tables-only" -DCANONFORM_SANITIZE=address,undefined \
          -DCANONFORM_FUZZ=ON -DCANONFORM_FUZZ_SECONDS="${CANONFORM_FUZZ_SECONDS:-5}" -DCANONFORM_BUILD_PLUGINS=OFF \
-         -DCANONFORM_BUILD_BENCH=OFF -DCANONFORM_MESHLAB2022=OFF -DCANONFORM_PYTHON=OFF -DCANONFORM_UNITY_BUILD=ON \
-         -DCMAKE_UNITY_BUILD=ON &&
+         -DCANONFORM_BUILD_BENCH=OFF -DCANONFORM_MESHLAB2022=OFF -DCANONFORM_PYTHON=OFF -DCMAKE_UNITY_BUILD=ON &&
        targets=$(cmake --build "$build" --target help | grep -oE '(canonform_tests|canonform_plycheck|canonform|fuzz_[a-z_]+)$' | sort -u) &&
        cmake --build "$build" -j"$(nproc)" --target $targets; } > "$log" 2>&1; then
   grep -E -B2 -A8 "error|Error" "$log" | head -80
