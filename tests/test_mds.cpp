@@ -1,5 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"  // GCC 12 false positive inside Eigen
+#if !defined(__clang__)  // GCC 12 false positive inside Eigen (no such warning in clang)
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#endif
 
 #include "canonform/numerics/mds.h"
 #include "canonform/numerics/rigid_alignment.h"

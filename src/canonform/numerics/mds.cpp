@@ -1,7 +1,9 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // GCC 12 reports a false -Wmaybe-uninitialized inside Eigen's tridiagonalisation (Eigen/Core's
 // matrix-vector kernels) when Eigen is not a system include, as in standalone g++ -I builds.
+#if !defined(__clang__)  // (no such warning in clang)
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#endif
 
 #include "canonform/numerics/mds.h"
 

@@ -4,7 +4,9 @@
 #include <mutex>
 
 // vcglib's quadric code trips GCC 12's -Wmaybe-uninitialized inside its own headers.
+#if !defined(__clang__)  // (no such warning in clang)
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#endif
 
 #include "canonform/common/errors.h"
 

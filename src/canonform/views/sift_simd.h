@@ -19,8 +19,10 @@
 #include <xmmintrin.h>
 #endif
 
-#if defined(__GNUC__) && !defined(__clang__)
-#pragma GCC diagnostic ignored "-Wpsabi"  // (the 8-float helpers are inlined: no call passes a v8f)
+// The 8-float helpers are inlined: no call passes a v8f between code built for different targets.
+// (clang, which never makes the clones below, says so too from -O2, for the helpers' signatures.)
+#if defined(__GNUC__)
+#pragma GCC diagnostic ignored "-Wpsabi"
 #endif
 
 // Not on Windows: GCC's target_clones needs ELF's ifunc, and GCC keeps 32-byte AVX values on the
