@@ -10,7 +10,8 @@
 # tests, the stages' unit tests, the tool's bad-input commands); so are the tests that repeat one
 # computation over sizes, classes or poses (the procedural figure at three targets and in every
 # class and pose, the figure's checks at 10000 vertices as well as 2000, multigrid's steps on a mesh
-# 4x finer): the procedural and multigrid tests left in run the same code once. With arguments,
+# 4x finer, the pose searches over four and six figures): the procedural, multigrid and pose tests
+# left in run the same code once. With arguments,
 # they go to ctest as given. Called by tools/run_tests.sh (so CI runs it); builds in ./build-san
 # (or $CANONFORM_SAN_BUILD_DIR) only what these tests need: no plugins (they run inside the
 # non-instrumented meshlabserver; see docs/testing.md), no benchmarks.
@@ -55,7 +56,7 @@ export LSAN_OPTIONS=${LSAN_OPTIONS:-suppressions=$here/tests/sanitizer_suppressi
 # seconds, meaningless under the sanitizers.
 SLOW='^(Experiment\.(ASeed|Writes|AMethod|Fused)|ShardedRun\.|CollectionIndex\.|cli\.end_to_end$|cli\.sharded$|slurm\.|layout\.rules$|licence\.spdx$|tools\.paired_queries$)|Timing'
 SLOW+='|^ProceduralFigure\.ValidAndRepeatableAtOtherTargets$|^ProceduralFigureClasses\.(EveryClassIsClean|RandomPoses)|^AlgebraicMultigrid\.CgStepsDoNotGrowWithTheMesh$'
-SLOW+='|^Targets/ProceduralFigureAtTarget\..*/10000$'
+SLOW+='|^Targets/ProceduralFigureAtTarget\..*/10000$|^PoseNormalization\.(BinnedCoarseSearchFindsTheSameRectilinearity|FigureIsInvariantToSimilarityTransforms)$'
 if [ $# -eq 0 ]; then set -- -E "$SLOW"; fi
 ctest --output-on-failure -j"$(nproc)" "$@"
 echo "[sanitizers] tests in $(( $(date +%s) - t1 )) s"
