@@ -1,27 +1,38 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // canonform: little-endian integers and floats in byte strings, the byte order of the binary files
-// the views area writes and reads (codebooks, descriptor files), whatever the machine's.
+// the library writes and reads (binary PLY and STL meshes, codebooks, descriptor files), whatever
+// the machine's.
 #pragma once
 
 #include <cstdint>
 #include <cstring>
 #include <string>
+#include <type_traits>
 
 namespace canonform::io {
 
-/// Appends v as 4 bytes, least significant first.
+/// Appends the bytes of v (an integer in two's complement, or the IEEE 754 bits of a float or a
+/// double), least significant first.
+template <class T>
+inline void put_le(std::string& out, T v) {
+    static_assert(std::is_arithmetic_v<T> &&
+                  (sizeof(T) == 1 || sizeof(T) == 2 || sizeof(T) == 4 || sizeof(T) == 8));
+    using Bits = std::conditional_t<
+        sizeof(T) == 1, std::uint8_t,
+        std::conditional_t<sizeof(T) == 2, std::uint16_t,
+                           std::conditional_t<sizeof(T) == 4, std::uint32_t, std::uint64_t>>>;
+    Bits b;
+    std::memcpy(&b, &v, sizeof(T));
+    for (std::size_t k = 0; k < sizeof(T); ++k) out.push_back(static_cast<char>((b >> (8 * k)) & 0xFFu));
+}
 inline void put_u32(std::string& out, std::uint32_t v) {
-    for (int k = 0; k < 4; ++k) out.push_back(static_cast<char>((v >> (8 * k)) & 0xFFu));
+    put_le(out, v);
 }
-/// Appends v in two's complement as 4 bytes, least significant first.
 inline void put_i32(std::string& out, std::int32_t v) {
-    put_u32(out, static_cast<std::uint32_t>(v));
+    put_le(out, v);
 }
-/// Appends the IEEE 754 bits of f as 4 bytes, least significant first.
 inline void put_f32(std::string& out, float f) {
-    std::uint32_t v;
-    std::memcpy(&v, &f, 4);
-    put_u32(out, v);
+    put_le(out, f);
 }
 /// The 4 bytes at p, least significant first (the caller checks that they exist).
 inline std::uint32_t get_u32(const unsigned char* p) {

@@ -2,6 +2,7 @@
 #include "canonform/io/mesh_io.h"
 
 #include "canonform/common/errors.h"
+#include "canonform/io/byte_order.h"
 
 #include <Eigen/Geometry>
 
@@ -656,11 +657,9 @@ MeshFile parse_ply(const std::string& bytes, const std::string& name, const Read
 
 // --- STL ---------------------------------------------------------------------------------------------
 
+/// The 4 bytes of b at `at`, least significant first (the caller checks that they exist).
 std::uint32_t le32(const std::string& b, std::size_t at) {
-    std::uint32_t v = 0;
-    for (int k = 3; k >= 0; --k)
-        v = (v << 8) | static_cast<unsigned char>(b[at + static_cast<std::size_t>(k)]);
-    return v;
+    return get_u32(reinterpret_cast<const unsigned char*>(b.data()) + at);
 }
 
 /// Merges STL's per-face vertices with equal coordinates (in order of first use).
@@ -783,12 +782,6 @@ MeshFile parse_stl(const std::string& bytes, const std::string& name) {
 
 void put(std::string& out, const void* p, std::size_t n) {
     out.append(static_cast<const char*>(p), n);
-}
-template <class T>
-void put_le(std::string& out, T v) {  // x86 and every platform we build on are little-endian
-    unsigned char b[sizeof(T)];
-    std::memcpy(b, &v, sizeof(T));
-    put(out, b, sizeof(T));
 }
 
 std::string number(double x) {
