@@ -3,6 +3,7 @@
 
 #include "canonform/common/errors.h"
 #include "canonform/io/byte_order.h"
+#include "canonform/io/mesh_io_detail.h"
 
 #include <Eigen/Geometry>
 
@@ -20,10 +21,7 @@
 #include <vector>
 
 namespace canonform::io {
-
-namespace {
-
-using u64 = unsigned long long;
+namespace detail {
 
 [[noreturn]] void fail(const std::string& name, const std::string& what) {
     throw InputError("cannot read '" + name + "': " + what);
@@ -36,8 +34,6 @@ std::string quoted(std::string_view text) {
     return "'" + s + (text.size() > 60 ? "...'" : "'");
 }
 
-/// Refuses a count a header claims that the `available` bytes after it cannot hold at
-/// `min_bytes` bytes per item; the check comes before any allocation.
 void check_claim(const std::string& name, u64 count, const std::string& what, u64 min_bytes, u64 available) {
     if (min_bytes > 0 && count > available / min_bytes) {
         std::ostringstream m;
@@ -61,55 +57,6 @@ bool is_space(char c) {
     return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\f' || c == '\v';
 }
 
-/// The lines of a text, without their end-of-line characters, numbered from 1.
-class Lines {
-public:
-    explicit Lines(const std::string& text) : s_(text) {}
-    bool next(std::string_view* line) {
-        if (pos_ >= s_.size()) return false;
-        std::size_t end = s_.find('\n', pos_);
-        if (end == std::string::npos) end = s_.size();
-        *line = std::string_view(s_).substr(pos_, end - pos_);
-        if (!line->empty() && line->back() == '\r') line->remove_suffix(1);
-        pos_ = end + 1;
-        ++number_;
-        return true;
-    }
-    long number() const { return number_; }
-    /// "on line N" of the line last read (`what`: "line", "header line").
-    std::string where(const char* what = "line") const {
-        return std::string("on ") + what + " " + std::to_string(number_);
-    }
-    u64 remaining() const { return pos_ >= s_.size() ? 0 : s_.size() - pos_; }
-
-private:
-    const std::string& s_;
-    std::size_t pos_ = 0;
-    long number_ = 0;
-};
-
-/// Whitespace-separated tokens of a text.
-class Tokens {
-public:
-    explicit Tokens(std::string_view text) : rest_(text) {}
-    bool next(std::string_view* token) {
-        std::size_t k = 0;
-        while (k < rest_.size() && is_space(rest_[k])) ++k;
-        rest_.remove_prefix(k);
-        if (rest_.empty()) return false;
-        k = 0;
-        while (k < rest_.size() && !is_space(rest_[k])) ++k;
-        *token = rest_.substr(0, k);
-        rest_.remove_prefix(k);
-        return true;
-    }
-
-private:
-    std::string_view rest_;
-};
-
-/// Reads lines until one holds a token: the line in *line, its first token in *keyword, the tokens after it
-/// in *rest. False at the end of the text.
 bool next_statement(Lines& lines, std::string_view* line, Tokens* rest, std::string_view* keyword) {
     while (lines.next(line)) {
         *rest = Tokens(*line);
@@ -151,76 +98,11 @@ bool parse_integer(std::string_view t, long long* v) {
     return r.ec == std::errc() && r.ptr == t.data() + t.size();
 }
 
-/// The faces of a file as read: every vertex index is checked against the vertex count before any
-/// use. An index out of range is an error naming it, or, with ReadOptions::drop_bad_faces, drops
-/// its face (counted; the first one's message kept).
-class FaceList {
-public:
-    FaceList(const std::string& name, const ReadOptions& options)
-        : name_(name), drop_(options.drop_bad_faces) {}
-
-    /// Starts a polygon.
-    void start() {
-        poly_.clear();
-        given_ = 0;
-        bad_ = false;
-    }
-    /// A vertex index of the polygon (0-based), in [0, vertices) or refused with the message why()
-    /// (dropped with it; the message is made only then).
-    template <class Why>
-    void index(long long zero_based, long long vertices, const Why& why) {
-        ++given_;
-        if (zero_based < 0 || zero_based >= vertices) {
-            if (!drop_) fail(name_, why());
-            if (!bad_ && first_dropped_.empty()) first_dropped_ = why();
-            bad_ = true;
-            return;
-        }
-        poly_.push_back(static_cast<int>(zero_based));
-    }
-    /// Vertex indices given so far (a dropped index counts).
-    std::size_t size() const { return given_; }
-    /// Ends the polygon: its fan triangulation is kept, unless it had an index out of range.
-    void finish() {
-        if (bad_) {
-            ++dropped_;
-            return;
-        }
-        for (std::size_t k = 1; k + 1 < poly_.size(); ++k)
-            F_.insert(F_.end(), {poly_[0], poly_[k], poly_[k + 1]});
-    }
-    void reserve(std::size_t n) { F_.reserve(n); }
-
-    /// The mesh of the vertices `v` (x y z per vertex), these faces and per-vertex `quality`.
-    MeshFile assemble(std::vector<double>& v, std::vector<double>* quality = nullptr) {
-        MeshFile r;
-        const auto nv = static_cast<Eigen::Index>(v.size() / 3),
-                   nf = static_cast<Eigen::Index>(F_.size() / 3);
-        r.mesh.V = Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>>(v.data(), nv, 3);
-        r.mesh.F = Eigen::Map<Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor>>(F_.data(), nf, 3);
-        if (quality && !quality->empty()) r.quality = Eigen::Map<Eigen::VectorXd>(quality->data(), nv);
-        r.dropped_faces = dropped_;
-        r.first_dropped = first_dropped_;
-        return r;
-    }
-
-private:
-    const std::string& name_;
-    bool drop_;
-    std::vector<int> F_, poly_;
-    std::size_t given_ = 0;
-    bool bad_ = false;
-    long long dropped_ = 0;
-    std::string first_dropped_;
-};
-
-/// The message for an index out of range of OFF and PLY (0-based indices).
 std::string out_of_range(long long index, long long vertices, const std::string& where) {
     return "face index " + std::to_string(index) + " " + where + " is out of range: the file has " +
            std::to_string(vertices) + " vertices (indices 0 to " + std::to_string(vertices - 1) + ")";
 }
 
-/// Appends the fan triangulation of a polygon (no index checks: the polygon's are made here).
 void add_polygon(std::vector<int>& F, const std::vector<int>& poly) {
     for (std::size_t k = 1; k + 1 < poly.size(); ++k) F.insert(F.end(), {poly[0], poly[k], poly[k + 1]});
 }
@@ -235,6 +117,8 @@ MeshFile assemble(std::vector<double>& v, std::vector<int>& f) {
 
 // --- OFF ---------------------------------------------------------------------------------------------
 
+namespace {
+
 /// The next line with content (comments '#...' and blank lines skipped), trimmed.
 bool content_line(Lines& lines, std::string_view* line) {
     while (lines.next(line)) {
@@ -246,6 +130,8 @@ bool content_line(Lines& lines, std::string_view* line) {
     }
     return false;
 }
+
+}  // namespace
 
 MeshFile parse_off(const std::string& bytes, const std::string& name, const ReadOptions& options) {
     Lines lines(bytes);
@@ -367,416 +253,9 @@ MeshFile parse_obj(const std::string& bytes, const std::string& name, const Read
     return F.assemble(V);
 }
 
-// --- PLY ---------------------------------------------------------------------------------------------
+}  // namespace detail
 
-enum class PlyType { Int8, UInt8, Int16, UInt16, Int32, UInt32, Float32, Float64 };
-
-bool ply_type(std::string_view t, PlyType* type) {
-    static const std::pair<const char*, PlyType> names[] = {
-        {"char", PlyType::Int8},      {"int8", PlyType::Int8},       {"uchar", PlyType::UInt8},
-        {"uint8", PlyType::UInt8},    {"short", PlyType::Int16},     {"int16", PlyType::Int16},
-        {"ushort", PlyType::UInt16},  {"uint16", PlyType::UInt16},   {"int", PlyType::Int32},
-        {"int32", PlyType::Int32},    {"uint", PlyType::UInt32},     {"uint32", PlyType::UInt32},
-        {"float", PlyType::Float32},  {"float32", PlyType::Float32}, {"double", PlyType::Float64},
-        {"float64", PlyType::Float64}};
-    for (const auto& [n, ty] : names)
-        if (t == n) {
-            *type = ty;
-            return true;
-        }
-    return false;
-}
-
-int ply_size(PlyType t) {
-    switch (t) {
-        case PlyType::Int8:
-        case PlyType::UInt8:
-            return 1;
-        case PlyType::Int16:
-        case PlyType::UInt16:
-            return 2;
-        case PlyType::Int32:
-        case PlyType::UInt32:
-        case PlyType::Float32:
-            return 4;
-        case PlyType::Float64:
-            return 8;
-    }
-    return 1;
-}
-
-struct PlyProperty {
-    std::string name;
-    PlyType type = PlyType::Float32;
-    bool list = false;
-    PlyType count_type = PlyType::UInt8;
-};
-
-struct PlyElement {
-    std::string name;
-    u64 count = 0;
-    std::vector<PlyProperty> properties;
-};
-
-enum class PlyFormat { Ascii, BinaryLittle, BinaryBig };
-
-/// Reads the values of a PLY body, ASCII or binary, with bounds checks.
-class PlyData {
-public:
-    PlyData(const std::string& bytes, std::size_t start, PlyFormat format, const std::string& name)
-        : b_(bytes),
-          pos_(start),
-          format_(format),
-          name_(name),
-          tokens_(std::string_view(bytes).substr(start)) {}
-
-    double value(PlyType type, const char* what) {
-        if (format_ == PlyFormat::Ascii) {
-            std::string_view t;
-            if (!tokens_.next(&t)) fail(name_, std::string("truncated: the data ends while reading ") + what);
-            double v = 0;
-            if (!parse_double(t, &v)) fail(name_, std::string("bad number ") + quoted(t) + " in " + what);
-            return v;
-        }
-        const int n = ply_size(type);
-        if (b_.size() - pos_ < static_cast<u64>(n))
-            fail(name_, std::string("truncated: the data ends at byte ") + std::to_string(b_.size()) +
-                            " while reading " + what);
-        unsigned char raw[8];
-        for (int k = 0; k < n; ++k)
-            raw[k] = static_cast<unsigned char>(
-                b_[pos_ + static_cast<std::size_t>(format_ == PlyFormat::BinaryBig ? n - 1 - k : k)]);
-        pos_ += static_cast<std::size_t>(n);
-        std::uint64_t u = 0;
-        for (int k = n - 1; k >= 0; --k) u = (u << 8) | raw[k];
-        switch (type) {
-            case PlyType::Int8:
-                return static_cast<std::int8_t>(u);
-            case PlyType::UInt8:
-                return static_cast<std::uint8_t>(u);
-            case PlyType::Int16:
-                return static_cast<std::int16_t>(u);
-            case PlyType::UInt16:
-                return static_cast<std::uint16_t>(u);
-            case PlyType::Int32:
-                return static_cast<std::int32_t>(u);
-            case PlyType::UInt32:
-                return static_cast<std::uint32_t>(u);
-            case PlyType::Float32: {
-                const auto w = static_cast<std::uint32_t>(u);
-                float f;
-                std::memcpy(&f, &w, 4);
-                return f;
-            }
-            case PlyType::Float64: {
-                double d;
-                std::memcpy(&d, &u, 8);
-                return d;
-            }
-        }
-        return 0;
-    }
-    /// A list's entry count, checked against what is left of the file.
-    long long list_count(const PlyProperty& p, const char* what) {
-        const double c = value(p.count_type, what);
-        if (!(c >= 0) || !std::isfinite(c) || c != std::floor(c))
-            fail(name_, std::string("bad list length in ") + what);
-        const u64 min_each = format_ == PlyFormat::Ascii ? 2 : static_cast<u64>(ply_size(p.type));
-        const u64 left = format_ == PlyFormat::Ascii ? b_.size() - pos_ + 1 : b_.size() - pos_;
-        if (c > static_cast<double>(left / min_each)) {
-            // The count as written, whatever its size (an ASCII count is read as a double: the
-            // fuzzer's 2.2e25 has no u64, and converting it was undefined behaviour).
-            char claimed[400];
-            std::snprintf(claimed, sizeof claimed, "%.0f", c);
-            fail(name_,
-                 "a list in " + std::string(what) + " claims " + claimed +
-                     " entries, more than the rest of the file holds: the file lies (truncated or corrupt)");
-        }
-        return static_cast<long long>(c);
-    }
-
-private:
-    const std::string& b_;
-    std::size_t pos_;
-    PlyFormat format_;
-    const std::string& name_;
-    Tokens tokens_;
-};
-
-MeshFile parse_ply(const std::string& bytes, const std::string& name, const ReadOptions& options) {
-    Lines lines(bytes);
-    std::string_view line, token;
-    if (!lines.next(&line) || line != "ply") {
-        if (line.substr(0, 3) == "OFF")
-            fail(name, "not a PLY file: it starts like an OFF file (name it .off)");
-        fail(name, "not a PLY file (it does not start with 'ply')");
-    }
-    PlyFormat format = PlyFormat::Ascii;
-    bool have_format = false, ended = false;
-    std::vector<PlyElement> elements;
-    std::size_t header_end = 0;
-    Tokens t(line);
-    while (next_statement(lines, &line, &t, &token)) {
-        const std::string where = " " + lines.where("header line");
-        if (token == "end_header") {
-            ended = true;
-            header_end = bytes.size() - static_cast<std::size_t>(lines.remaining());
-            break;
-        }
-        if (token == "comment" || token == "obj_info") continue;
-        if (token == "format") {
-            std::string_view f;
-            t.next(&f);
-            if (f == "ascii")
-                format = PlyFormat::Ascii;
-            else if (f == "binary_little_endian")
-                format = PlyFormat::BinaryLittle;
-            else if (f == "binary_big_endian")
-                format = PlyFormat::BinaryBig;
-            else
-                fail(name, "unknown PLY format " + quoted(f) + where);
-            have_format = true;
-        } else if (token == "element") {
-            PlyElement e;
-            std::string_view n, c;
-            long long count = 0;
-            if (!t.next(&n) || !t.next(&c) || !parse_integer(c, &count) || count < 0)
-                fail(name, "bad element line" + where + ": " + quoted(line));
-            e.name = std::string(n);
-            e.count = static_cast<u64>(count);
-            elements.push_back(e);
-        } else if (token == "property") {
-            if (elements.empty()) fail(name, "a property before any element" + where);
-            PlyProperty p;
-            std::string_view a, b, c;
-            if (!t.next(&a)) fail(name, "bad property line" + where);
-            if (a == "list") {
-                p.list = true;
-                if (!t.next(&b) || !t.next(&c) || !ply_type(b, &p.count_type) || !ply_type(c, &p.type) ||
-                    !t.next(&a))
-                    fail(name, "bad list property" + where + ": " + quoted(line));
-                if (p.count_type == PlyType::Float32 || p.count_type == PlyType::Float64)
-                    fail(name, "a list length of floating-point type" + where);
-                p.name = std::string(a);
-            } else {
-                if (!ply_type(a, &p.type) || !t.next(&b))
-                    fail(name, "bad property line" + where + ": " + quoted(line));
-                p.name = std::string(b);
-            }
-            elements.back().properties.push_back(p);
-        } else {
-            fail(name, "unknown PLY header line " + quoted(line) + where);
-        }
-    }
-    if (!ended) fail(name, "truncated: the PLY header has no end_header line");
-    if (!have_format) fail(name, "the PLY header has no format line");
-
-    // Where the mesh is: vertex x, y, z (and quality), face vertex_indices.
-    const PlyElement* vertex = nullptr;
-    const PlyElement* face = nullptr;
-    for (const auto& e : elements) {
-        if (e.name == "vertex" && !vertex) vertex = &e;
-        if (e.name == "face" && !face) face = &e;
-    }
-    if (!vertex) fail(name, "the PLY header has no vertex element");
-    auto find = [](const PlyElement& e, std::initializer_list<const char*> names, bool list) -> int {
-        for (std::size_t k = 0; k < e.properties.size(); ++k)
-            for (const char* n : names)
-                if (e.properties[k].name == n && e.properties[k].list == list) return static_cast<int>(k);
-        return -1;
-    };
-    const int px = find(*vertex, {"x"}, false), py = find(*vertex, {"y"}, false),
-              pz = find(*vertex, {"z"}, false);
-    if (px < 0 || py < 0 || pz < 0) fail(name, "the vertex element has no x, y and z properties");
-    const int pq = find(*vertex, {"quality"}, false);
-    const int pf = face ? find(*face, {"vertex_indices", "vertex_index"}, true) : -1;
-    if (face && face->count > 0 && pf < 0) fail(name, "the face element has no vertex_indices list");
-
-    // Every count against the size of the data before anything is allocated.
-    const u64 available = bytes.size() - header_end + (format == PlyFormat::Ascii ? 1 : 0);
-    u64 used = 0;
-    for (const auto& e : elements) {
-        u64 each = 0;
-        for (const auto& p : e.properties)
-            each +=
-                format == PlyFormat::Ascii ? 2 : static_cast<u64>(ply_size(p.list ? p.count_type : p.type));
-        if (each == 0) continue;
-        check_claim(name, e.count, "'" + e.name + "' elements", each, available - used);
-        used += e.count * each;
-    }
-    check_index_range(name, vertex->count, "vertices");
-    const auto nv = static_cast<long long>(vertex->count);
-
-    std::vector<double> V, Q;
-    FaceList F(name, options);
-    V.reserve(3 * vertex->count);
-    if (pq >= 0) Q.reserve(vertex->count);
-    PlyData data(bytes, header_end, format, name);
-    for (const auto& e : elements) {
-        if (e.properties.empty()) continue;
-        const bool is_vertex = &e == vertex, is_face = &e == face;
-        const std::string what = "'" + e.name + "' elements";
-        for (u64 k = 0; k < e.count; ++k) {
-            double x[3] = {0, 0, 0};
-            for (std::size_t p = 0; p < e.properties.size(); ++p) {
-                const PlyProperty& prop = e.properties[p];
-                if (!prop.list) {
-                    const double v = data.value(prop.type, what.c_str());
-                    if (is_vertex) {
-                        const int ip = static_cast<int>(p);
-                        if (ip == px) x[0] = v;
-                        if (ip == py) x[1] = v;
-                        if (ip == pz) x[2] = v;
-                        if (ip == pq) Q.push_back(v);
-                    }
-                    continue;
-                }
-                const long long n = data.list_count(prop, what.c_str());
-                const bool indices = is_face && static_cast<int>(p) == pf;
-                if (indices && n < 3)
-                    fail(name, "face " + std::to_string(k) + " has " + std::to_string(n) +
-                                   " vertices (at least 3)");
-                if (indices) F.start();
-                for (long long c = 0; c < n; ++c) {
-                    const double v = data.value(prop.type, what.c_str());
-                    if (!indices) continue;
-                    if (v != std::floor(v) || !(std::abs(v) < 9e18))
-                        fail(name,
-                             "face " + std::to_string(k) + " has a vertex index that is not a whole number");
-                    F.index(static_cast<long long>(v), nv, [&] {
-                        return out_of_range(static_cast<long long>(v), nv, "in face " + std::to_string(k));
-                    });
-                }
-                if (indices) F.finish();
-            }
-            if (is_vertex) V.insert(V.end(), {x[0], x[1], x[2]});
-        }
-    }
-    return F.assemble(V, pq >= 0 ? &Q : nullptr);
-}
-
-// --- STL ---------------------------------------------------------------------------------------------
-
-/// The 4 bytes of b at `at`, least significant first (the caller checks that they exist).
-std::uint32_t le32(const std::string& b, std::size_t at) {
-    return get_u32(reinterpret_cast<const unsigned char*>(b.data()) + at);
-}
-
-/// Merges STL's per-face vertices with equal coordinates (in order of first use).
-class VertexMerger {
-public:
-    int add(const double p[3]) {
-        Key k;
-        for (int c = 0; c < 3; ++c) {
-            const double x = p[c] == 0 ? 0.0 : p[c];  // -0 and +0 are one point
-            std::memcpy(&k.bits[c], &x, 8);
-        }
-        const auto [it, inserted] = index_.emplace(k, static_cast<int>(V.size() / 3));
-        if (inserted) V.insert(V.end(), {p[0], p[1], p[2]});
-        return it->second;
-    }
-    std::vector<double> V;
-
-private:
-    struct Key {
-        std::uint64_t bits[3];
-        bool operator==(const Key& o) const {
-            return bits[0] == o.bits[0] && bits[1] == o.bits[1] && bits[2] == o.bits[2];
-        }
-    };
-    struct Hash {
-        std::size_t operator()(const Key& k) const {
-            std::uint64_t h = 1469598103934665603ULL;
-            for (auto b : k.bits) h = (h ^ b) * 1099511628211ULL;
-            return static_cast<std::size_t>(h ^ (h >> 29));
-        }
-    };
-    std::unordered_map<Key, int, Hash> index_;
-};
-
-MeshFile parse_stl_binary(const std::string& bytes, const std::string& name, u64 n) {
-    VertexMerger merge;
-    std::vector<int> F;
-    F.reserve(3 * n);
-    for (u64 t = 0; t < n; ++t) {
-        const std::size_t at = 84 + 50 * static_cast<std::size_t>(t) + 12;  // after the normal
-        for (int c = 0; c < 3; ++c) {
-            double p[3];
-            for (int d = 0; d < 3; ++d) {
-                const std::uint32_t w = le32(bytes, at + static_cast<std::size_t>(12 * c + 4 * d));
-                float f;
-                std::memcpy(&f, &w, 4);
-                p[d] = f;
-            }
-            F.push_back(merge.add(p));
-        }
-    }
-    (void)name;
-    return assemble(merge.V, F);
-}
-
-MeshFile parse_stl_ascii(const std::string& bytes, const std::string& name) {
-    Lines lines(bytes);
-    std::string_view line, token;
-    VertexMerger merge;
-    std::vector<int> F, poly;
-    bool in_loop = false, solid = false;
-    Tokens t(line);
-    while (next_statement(lines, &line, &t, &token)) {
-        const auto where = [&lines] { return " " + lines.where(); };  // (made only for a message)
-        if (token == "solid") {
-            solid = true;
-        } else if (!solid) {
-            fail(name, "not an ASCII STL file: the first word is " + quoted(token) + " (expected 'solid')");
-        } else if (token == "outer") {
-            if (in_loop) fail(name, "'outer loop' inside a loop" + where());
-            in_loop = true;
-            poly.clear();
-        } else if (token == "vertex") {
-            if (!in_loop) fail(name, "a vertex outside 'outer loop ... endloop'" + where());
-            double p[3];
-            for (double& c : p)
-                if (!t.next(&token) || !parse_double(token, &c))
-                    fail(name, "bad vertex" + where() + ": " + quoted(line));
-            poly.push_back(merge.add(p));
-            if (merge.V.size() / 3 > static_cast<std::size_t>(std::numeric_limits<int>::max()))
-                fail(name, "more vertices than this program handles");
-        } else if (token == "endloop") {
-            if (!in_loop) fail(name, "'endloop' without 'outer loop'" + where());
-            if (poly.size() < 3)
-                fail(name,
-                     "a facet of " + std::to_string(poly.size()) + " vertices" + where() + " (at least 3)");
-            add_polygon(F, poly);
-            in_loop = false;
-        } else if (token != "facet" && token != "endfacet" && token != "endsolid") {
-            fail(name, "unexpected " + quoted(token) + where() +
-                           " (an ASCII STL file has solid, facet, outer loop, "
-                           "vertex, endloop, endfacet, endsolid)");
-        }
-    }
-    if (!solid) fail(name, "not an STL file (empty)");
-    if (in_loop) fail(name, "truncated: the file ends inside a facet");
-    return assemble(merge.V, F);
-}
-
-MeshFile parse_stl(const std::string& bytes, const std::string& name) {
-    if (bytes.size() >= 84) {
-        const u64 n = le32(bytes, 80);
-        if (84 + 50 * n == bytes.size()) return parse_stl_binary(bytes, name, n);
-    }
-    std::size_t k = 0;
-    while (k < bytes.size() && is_space(bytes[k])) ++k;
-    if (bytes.compare(k, 5, "solid") == 0 && (k + 5 == bytes.size() || is_space(bytes[k + 5])))
-        return parse_stl_ascii(bytes, name);
-    if (bytes.size() < 84)
-        fail(name, "not an STL file: " + std::to_string(bytes.size()) +
-                       " bytes, too short for a binary STL (84 bytes or more) and no 'solid' keyword");
-    const u64 n = le32(bytes, 80);
-    std::ostringstream m;
-    m << "the binary STL header claims " << n << " triangles (" << 84 + 50 * n << " bytes), but the file has "
-      << bytes.size() << " bytes: the header lies (a truncated or corrupt file)";
-    fail(name, m.str());
-}
+namespace {
 
 // --- writers -----------------------------------------------------------------------------------------
 
@@ -842,18 +321,18 @@ MeshFormat output_mesh_format(const std::string& path) {
 
 MeshFile parse_mesh(const std::string& bytes, MeshFormat format, const std::string& name,
                     const ReadOptions& options) {
-    if (bytes.empty()) fail(name, "the file is empty");
+    if (bytes.empty()) detail::fail(name, "the file is empty");
     switch (format) {
         case MeshFormat::Off:
-            return parse_off(bytes, name, options);
+            return detail::parse_off(bytes, name, options);
         case MeshFormat::Ply:
-            return parse_ply(bytes, name, options);
+            return detail::parse_ply(bytes, name, options);
         case MeshFormat::Obj:
-            return parse_obj(bytes, name, options);
+            return detail::parse_obj(bytes, name, options);
         case MeshFormat::Stl:
-            return parse_stl(bytes, name);  // no indices in STL
+            return detail::parse_stl(bytes, name);  // no indices in STL
     }
-    fail(name, "unknown format");
+    detail::fail(name, "unknown format");
 }
 
 MeshFile read_mesh_file(const std::string& path, const ReadOptions& options) {
@@ -958,5 +437,4 @@ void write_ply(const std::string& path, const Eigen::MatrixXd& V, const Eigen::M
                          " name; write it as " + format_name(f) + " (write_mesh) or name it .ply");
     write_file_atomic(path, format_mesh(MeshFormat::Ply, V, F, quality, colors, path));
 }
-
 }  // namespace canonform::io
