@@ -30,8 +30,6 @@ namespace canonform::retrieval {
 
 namespace {
 
-using Clock = SteadyClock;
-
 /// Seeded vertex noise: every coordinate moves by N(0, (sigma * mean edge length)^2).
 void add_noise(Mesh& m, double sigma, std::uint64_t seed) {
     const Eigen::MatrixXi E = surface::unique_edges(m.F);
@@ -302,7 +300,7 @@ MethodOutcome Experiment::run_method(const canonical::MethodSpec& spec) const {
     io::make_directories(dir + "/descriptors");
 
     // 1. Per mesh, in parallel: canonical form and the SIFT features of its views (cached).
-    auto t0 = Clock::now();
+    auto t0 = SteadyClock::now();
     const std::vector<MeshFeatures> results = features(spec);
     out.forms_seconds = seconds_since(t0);
     std::vector<size_t> good;
@@ -328,13 +326,13 @@ MethodOutcome Experiment::run_method(const canonical::MethodSpec& spec) const {
         throw InputError(method + ": fewer than three meshes succeeded; see " + dir + "/failures.txt");
 
     // 2. Codebook.
-    t0 = Clock::now();
+    t0 = SteadyClock::now();
     const views::Codebook cb = codebook(spec, results, good);
     cb.save(dir + "/codebook.bin");  // the queries of an indexed collection (collection_index.h) need it
     out.codebook_seconds = seconds_since(t0);
 
     // 3. Descriptors, distances, measures.
-    t0 = Clock::now();
+    t0 = SteadyClock::now();
     std::vector<std::vector<views::Histogram>> hist;
     for (size_t k : good) {
         views::ModelDescriptor d = views::make_descriptor(results[k].features, &cb, models_[k].path);
@@ -349,7 +347,7 @@ MethodOutcome Experiment::run_method(const canonical::MethodSpec& spec) const {
 
 void Experiment::finish_method(MethodOutcome& out, const std::vector<size_t>& good,
                                const Eigen::MatrixXf& D) const {
-    const auto t0 = Clock::now();
+    const auto t0 = SteadyClock::now();
     std::vector<std::string> labels;
     for (size_t k : good) labels.push_back(models_[k].label);
     io::write_distance_matrix(D, out.folder + "/distances.bin", out.folder + "/distances.csv");
@@ -376,7 +374,7 @@ void Experiment::finish_method(MethodOutcome& out, const std::vector<size_t>& go
 void Experiment::finish_measures(MethodOutcome& out, const std::vector<size_t>& good,
                                  const nlohmann::ordered_json& extra) const {
     const ExperimentOptions& o = options_;
-    const auto t0 = Clock::now();
+    const auto t0 = SteadyClock::now();
     const canonical::MethodSpec& spec = out.spec;
     const std::string method = spec.folder();
     const std::string& dir = out.folder;
@@ -421,7 +419,7 @@ std::vector<MethodOutcome> Experiment::run() const {
 
 MethodOutcome Experiment::run_fused(const FusedSpec& fused) const {
     const ExperimentOptions& o = options_;
-    const auto t0 = Clock::now();
+    const auto t0 = SteadyClock::now();
     std::vector<std::string> folders;
     for (const std::string& m : fused.members) folders.push_back(canonical::parse_method_spec(m).folder());
     MethodOutcome out;

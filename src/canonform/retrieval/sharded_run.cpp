@@ -19,7 +19,6 @@ namespace canonform::retrieval {
 namespace {
 
 using Json = nlohmann::ordered_json;
-using Clock = SteadyClock;
 
 const Stage kStages[] = {Stage::Features, Stage::Codebook,  Stage::Histograms,
                          Stage::Index,    Stage::Distances, Stage::Merge};
@@ -282,7 +281,7 @@ bool ShardedRun::run(Stage s, int index) const {
     }
     const std::string failed = marker(s, index) + ".failed";
     io::make_directories(run_ + "/stages");
-    const auto t0 = Clock::now();
+    const auto t0 = SteadyClock::now();
     Json m;
     m["stage"] = stage_name(s);
     m["index"] = index;
@@ -368,7 +367,7 @@ void ShardedRun::features(int shard, Json& m) const {
         std::vector<MeshFeatures> r(end - begin);
         ParallelOptions par;
         par.threads = plan_.experiment.threads;
-        const auto t0 = Clock::now();
+        const auto t0 = SteadyClock::now();
         parallel_for(
             static_cast<std::ptrdiff_t>(end - begin),
             [&](std::ptrdiff_t k, int) {
