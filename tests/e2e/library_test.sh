@@ -17,8 +17,8 @@ jobs=$(nproc)
 
 echo "the core library alone, installed, used by another project"
 # In CMake's unity batches (CMAKE_UNITY_BUILD, a switch any user may set): the test is about
-# configuring, installing and finding the package, and the batches halve the build's CPU seconds
-# (144 -> 86 on 2 cores). The forms below are still compared with the tool's byte for byte.
+# configuring, installing and finding the package, and the batches cost less CPU (docs/testing.md).
+# The forms below are still compared with the tool's byte for byte.
 cmake -S "$src" -B core -DCMAKE_BUILD_TYPE=Release -DCANONFORM_PLUGINS=OFF -DCANONFORM_VIEWS=OFF \
   -DCANONFORM_RETRIEVAL=OFF -DCANONFORM_WITHOUT_TBB=ON -DCANONFORM_MESHLAB2022=OFF -DCANONFORM_MESHLAB2025=OFF \
   -DCANONFORM_HOSTS=OFF -DCMAKE_UNITY_BUILD=ON -DCMAKE_INSTALL_PREFIX="$work/prefix" > core_configure.log 2>&1
