@@ -6,6 +6,15 @@
 //
 // Meshes in: OFF, PLY, OBJ or STL; meshes out: binary PLY, written atomically. Exit status: 0 ok,
 // 1 bad input or failure (a message on stderr names the problem), 2 usage error.
+//
+// One or two programs from this file (apps/CMakeLists.txt). Where the whole tool links Qt, OpenCV
+// or FAISS (with OpenBLAS and libgomp) - a Linux build from source - it is `canonform-full`, and
+// `canonform` (built with CANONFORM_TOOL_LEAN) has only the commands on one mesh that need the core
+// - check, conformal, features, canonical, simplify, generate - and --version, and hands every
+// other command to `canonform-full` beside it (execv, the same arguments). So these commands start
+// without loading those libraries, most of the whole tool's start-up (docs/benchmarks.md, "The
+// tool's start-up and idle threads"); the others pay one lean start more. Elsewhere (the wheel,
+// Windows) the whole tool links none of them and is `canonform` alone.
 #include "cli.h"
 
 #ifdef CANONFORM_HAVE_OPENCV_SIFT
@@ -15,6 +24,14 @@
 
 #include <cstring>
 #include <iostream>
+#ifdef CANONFORM_TOOL_LEAN
+#include <cerrno>
+#include <climits>
+#include <cstdlib>
+#include <string>
+
+#include <unistd.h>
+#endif
 
 namespace {
 
@@ -26,7 +43,14 @@ struct Command {
     AddCommand* add;
 };
 
-/// Every command, in the order of `canonform --help`. A new command: one line here.
+/// Every command, in the order of `canonform --help`. A new command: one line here (and in the
+/// lean list too if it needs only the core).
+#ifdef CANONFORM_TOOL_LEAN
+const Command kCommands[] = {
+    {"check", add_check},         {"conformal", add_conformal}, {"features", add_features},
+    {"canonical", add_canonical}, {"simplify", add_simplify},   {"generate", add_generate},
+};
+#else
 const Command kCommands[] = {
     {"check", add_check},
     {"conformal", add_conformal},
@@ -49,6 +73,7 @@ const Command kCommands[] = {
     {"index", add_index},
     {"query", add_query},
 };
+#endif
 
 bool known(const char* name) {
     for (const Command& c : kCommands)
@@ -56,9 +81,51 @@ bool known(const char* name) {
     return false;
 }
 
+#ifdef CANONFORM_TOOL_LEAN
+/// Runs `canonform-full`, the program beside this one, in place of this process with the same
+/// arguments. Returns only on failure (exit status 1; the message names the program looked for).
+///
+/// First, unless the user has set them, the two settings that make the idle thread pools of the
+/// whole tool's libraries sleep. OpenBLAS (linked through FAISS and OpenCV) starts its workers while
+/// it is loaded, and by default each spins on sched_yield for 2^28 cycles (about 0.1 s) whenever it
+/// waits for work - at start-up and after every BLAS call - which in a command without BLAS
+/// (`descriptor`, ...) is CPU time thrown away. OPENBLAS_THREAD_TIMEOUT=4 (its smallest timeout,
+/// 2^4 cycles) makes them sleep at once; the number of BLAS threads stays, so the codebook's k-means
+/// keeps every core. OMP_WAIT_POLICY=PASSIVE does the same for libgomp's workers between parallel
+/// regions. Both are read when the libraries are loaded, so they must be in the environment before
+/// canonform-full starts. Results do not change.
+int run_full(char** argv) {
+    setenv("OPENBLAS_THREAD_TIMEOUT", "4", 0);
+    setenv("OMP_WAIT_POLICY", "PASSIVE", 0);
+    char self[PATH_MAX];
+    const ssize_t n = readlink("/proc/self/exe", self, sizeof self - 1);
+    if (n <= 0) {
+        std::cerr << "canonform: cannot find the folder of this program, where canonform-full is "
+                  << "(/proc/self/exe: " << std::strerror(errno) << ")\n";
+        return 1;
+    }
+    std::string path(self, static_cast<size_t>(n));
+    path = path.substr(0, path.find_last_of('/') + 1) + "canonform-full";
+    execv(path.c_str(), argv);
+    const int error = errno;
+    if (error == ENOENT)
+        std::cerr << "canonform: "
+                  << (argv[1] ? "'" + std::string(argv[1]) + "' is a command of " : std::string())
+                  << "canonform-full, which is missing (" << path
+                  << "): install both programs of the tool (tools/install.sh)\n";
+    else
+        std::cerr << "canonform: cannot run " << path << ": " << std::strerror(error) << "\n";
+    return 1;
+}
+#endif
+
 }  // namespace
 
 int main(int argc, char** argv) {
+#ifdef CANONFORM_TOOL_LEAN
+    // Everything but the lean commands and --version: the whole tool (its help lists every command).
+    if (argc < 2 || (std::strcmp(argv[1], "--version") != 0 && !known(argv[1]))) return run_full(argv);
+#endif
 #ifdef CANONFORM_HAVE_OPENCV_SIFT
     canonform::views::register_opencv_sift();  // `--sift opencv` (the plugins carry only the built-in
                                                // extractor)

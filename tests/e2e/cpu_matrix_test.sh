@@ -30,6 +30,12 @@ case "$mode" in
 esac
 . "$(dirname "$0")/lib.sh"
 
+# Where the tool is two programs, canonform runs canonform-full for the commands beyond the one-mesh
+# core ones (apps/canonform/main.cpp); under qemu-x86_64 that exec would run natively, so those
+# commands call canonform-full directly.
+cff=$(dirname "$cf")/canonform-full
+[ -x "$cff" ] || cff=$cf
+
 # run_all DIR RUNNER...: every compared output of the tool into DIR, the tool started by RUNNER
 run_all() {
   local out=$1; shift
@@ -41,14 +47,14 @@ run_all() {
   for m in geodesic-ls geodesic-classical geodesic-fast; do
     "$@" "$cf" canonical in/S.ply "$out/$m.ply" --method "$m" "${t[@]}" || return 1
   done &&
-  "$@" "$cf" descriptor in/A.ply "$out/A.cfvd" --codebook in/cb.bin > /dev/null &&
-  "$@" "$cf" descriptor in/S.ply "$out/S.cfvd" --codebook in/cb.bin > /dev/null &&
-  "$@" "$cf" distance "$out/distances.bin" "$out/A.cfvd" "$out/S.cfvd" --threads 2 > /dev/null &&
+  "$@" "$cff" descriptor in/A.ply "$out/A.cfvd" --codebook in/cb.bin > /dev/null &&
+  "$@" "$cff" descriptor in/S.ply "$out/S.cfvd" --codebook in/cb.bin > /dev/null &&
+  "$@" "$cff" distance "$out/distances.bin" "$out/A.cfvd" "$out/S.cfvd" --threads 2 > /dev/null &&
   # The collection index (first pass trained and coded) and a two-stage query (first pass forced
   # by --candidates), on a copy of the native run folder; the query's timings left out.
   rm -rf "$out.run" && cp -r in/run "$out.run" &&
-  "$@" "$cf" index "$out.run" 2> /dev/null && cp "$out.run/none/index.cfci" "$out/index.cfci" &&
-  "$@" "$cf" query "$out.run" in/S.ply --top 3 --candidates 3 --json --threads 2 |
+  "$@" "$cff" index "$out.run" 2> /dev/null && cp "$out.run/none/index.cfci" "$out/index.cfci" &&
+  "$@" "$cff" query "$out.run" in/S.ply --top 3 --candidates 3 --json --threads 2 |
     /usr/bin/python3 -c 'import json, sys; j = json.load(sys.stdin); [j.pop(k) for k in ("describe_seconds", "search_seconds")]; print(json.dumps(j))' > "$out/query.json"
 }
 
