@@ -4,11 +4,12 @@
 // exact top 10, latency on one core, index memory and build time. Prints one JSON line per stage.
 //
 //   canonform_bench_query synthetic REAL [--models 100000] [--queries 1000] [--candidates 250,500,...]
-//       [--latency-queries 20] [--threads 2] [--truth FILE] [--truth-budget S] [--first-query F] [--save DIR]
-//       [--noise 0.1,0.5]
+//       [--latency-queries 20] [--latency-candidates 1000,2000] [--threads 2] [--truth FILE]
+//       [--truth-budget S] [--first-query F] [--save DIR] [--noise 0.1,0.5]
 //       [--dims 64] [--no-orbits] [--no-sqrt] [--seed 1]
 //   canonform_bench_query collection METHOD_FOLDER... [--candidates 10,20,...] [--dims 64] [--no-orbits]
 //   [--no-sqrt] canonform_bench_query noise REAL [--candidates 30,50,70 (noise levels in %)]
+//   canonform_bench_query rerank INDEX_FILE [--queries 20] [--threads 2] [--dump FILE]
 //
 // synthetic: an index of --models models made from the real histograms of REAL (a method folder
 // of a retrieval run: models.csv, descriptors/, codebook.bin) with noise, so that no model is a
@@ -21,8 +22,9 @@
 // are --queries further such models (not in the index; --first-query F skips the first F). Their exact top 10
 // (exhaustive, --threads threads; cached in --truth) is the reference for the recall of the two-stage query
 // at each candidate count. Latency: --latency-queries of them on one thread, exhaustive and two-stage
-// alternating, medians of wall and thread CPU seconds. --truth keeps the exact answers for later
-// runs; --truth-budget bounds the seconds spent computing them (the recall then says over how many). With
+// alternating, medians of wall and thread CPU seconds (--latency-candidates: two-stage at each count, with
+// the first pass and the rerank timed apart). --truth keeps the exact answers for later runs; --truth-budget
+// bounds the seconds spent computing them (the recall then says over how many). With
 // --save the index is written there, freed, and read back: the memory of the loaded index is measured on its
 // own. collection: the index of each real method folder; every member is a query; recall@10 against the
 // exhaustive top 10 at each candidate count (the first pass forced on by the count).
@@ -207,7 +209,7 @@ struct Args {
     double truth_budget = 0;
     long first_query = 0;
     int threads = 2;
-    std::string truth, save, candidates;
+    std::string truth, save, candidates, latency_candidates, dump;
     double lo = 0.1, hi = 0.5;
     std::uint64_t seed = 1;
     retrieval::SummaryOptions summary;
@@ -521,6 +523,45 @@ int synthetic(const Args& a) {
             median(ec) / std::max(1e-9, median(tc)));
         std::fflush(stdout);
     }
+    // Two-stage latency per candidate count (--latency-candidates): the counts in turn, their order
+    // reversed every other query; the first pass and the rerank (clock matching of the candidates)
+    // timed apart as well.
+    if (!a.latency_candidates.empty()) {
+        const std::vector<std::size_t> counts = parse_list(a.latency_candidates);
+        const std::size_t L = std::min<std::size_t>(Q, static_cast<std::size_t>(a.latency_queries));
+        std::vector<std::vector<double>> tw(counts.size()), tc(counts.size()), fc(counts.size()),
+            rc(counts.size());
+        for (std::size_t q = 0; q < L; ++q)
+            for (std::size_t t = 0; t < counts.size(); ++t) {
+                const std::size_t i = q % 2 == 0 ? t : counts.size() - 1 - t;
+                retrieval::SearchOptions two;
+                two.threads = 1;
+                two.candidates = counts[i];
+                const auto t0 = Clock::now();
+                const double c0 = thread_cpu();
+                const auto got = x.search(queries[q], 10, two);
+                tw[i].push_back(since(t0));
+                tc[i].push_back(thread_cpu() - c0);
+                if (got.size() != 10) return 1;
+                const double c1 = thread_cpu();
+                const auto code = x.code(queries[q]);
+                const auto cand = x.first_pass().nearest(code.data(), counts[i], 1);
+                const double c2 = thread_cpu();
+                const auto d = x.distances(queries[q], cand, 1);
+                rc[i].push_back(thread_cpu() - c2);
+                fc[i].push_back(c2 - c1);
+            }
+        for (std::size_t i = 0; i < counts.size(); ++i) {
+            std::printf(
+                "{\"stage\": \"latency_by_candidates\", \"models\": %zu, \"threads\": 1, \"queries\": %zu, "
+                "\"candidates\": %zu, \"two_stage_median_s\": %.4f, \"two_stage_median_cpu_s\": %.4f, "
+                "\"first_pass_median_cpu_s\": %.4f, \"rerank_median_cpu_s\": %.4f, "
+                "\"rerank_cpu_us_per_candidate\": %.3f}\n",
+                N, L, counts[i], median(tw[i]), median(tc[i]), median(fc[i]), median(rc[i]),
+                1e6 * median(rc[i]) / double(counts[i]));
+            std::fflush(stdout);
+        }
+    }
     // Two-stage latency with the histograms' pages out of the page cache (a mapped index just
     // loaded: each query reads its candidates from the disk).
     if (!a.save.empty()) {
@@ -550,6 +591,44 @@ int synthetic(const Args& a) {
     return 0;
 }
 
+/// Clock matching alone over a saved index (rerank INDEX_FILE): --queries members (evenly spaced)
+/// as queries against every model on one thread, without and with `self`; CPU microseconds per
+/// model, medians. With --dump FILE every distance is written (per query: N floats without, then
+/// N with `self`), to compare two builds bit for bit; --threads T checks that T threads give the
+/// same floats.
+int rerank(const Args& a) {
+    const retrieval::CollectionIndex x = retrieval::CollectionIndex::load(a.inputs.at(0), false);
+    const std::size_t N = x.size(), Q = std::min<std::size_t>(N, static_cast<std::size_t>(a.queries));
+    std::vector<double> plain, own;
+    std::string out;
+    bool threads_equal = true;
+    for (std::size_t k = 0; k < Q; ++k) {
+        const std::size_t m = k * N / Q;
+        const auto h = x.histograms(m);
+        double c0 = thread_cpu();
+        const std::vector<float> d = x.distances(h, 1);
+        plain.push_back(1e6 * (thread_cpu() - c0) / double(N));
+        c0 = thread_cpu();
+        const std::vector<float> e = x.distances(h, 1, static_cast<std::ptrdiff_t>(m));
+        own.push_back(1e6 * (thread_cpu() - c0) / double(N));
+        if (a.threads != 1)
+            threads_equal = threads_equal && x.distances(h, a.threads) == d &&
+                            x.distances(h, a.threads, static_cast<std::ptrdiff_t>(m)) == e;
+        if (!a.dump.empty()) {
+            out.append(reinterpret_cast<const char*>(d.data()), d.size() * sizeof(float));
+            out.append(reinterpret_cast<const char*>(e.data()), e.size() * sizeof(float));
+        }
+    }
+    if (!a.dump.empty()) io::write_file_atomic(a.dump, out);
+    std::printf(
+        "{\"stage\": \"rerank\", \"models\": %zu, \"queries\": %zu, \"threads\": 1, "
+        "\"cpu_us_per_model_median\": %.3f, \"self_cpu_us_per_model_median\": %.3f, \"threads_checked\": %d, "
+        "\"threads_equal\": %s}\n",
+        N, Q, median(plain), median(own), a.threads, threads_equal ? "true" : "false");
+    std::fflush(stdout);
+    return threads_equal ? 0 : 1;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -571,6 +650,10 @@ int main(int argc, char** argv) {
             a.models = std::stol(value());
         else if (o == "--queries")
             a.queries = std::stol(value());
+        else if (o == "--latency-candidates")
+            a.latency_candidates = value();
+        else if (o == "--dump")
+            a.dump = value();
         else if (o == "--latency-queries")
             a.latency_queries = std::stol(value());
         else if (o == "--threads")
@@ -610,6 +693,7 @@ int main(int argc, char** argv) {
     if (a.mode == "synthetic") return synthetic(a);
     if (a.mode == "collection") return collection(a);
     if (a.mode == "noise") return noise(a);
+    if (a.mode == "rerank") return rerank(a);
     std::fprintf(stderr, "unknown mode %s\n", a.mode.c_str());
     return 2;
 }
