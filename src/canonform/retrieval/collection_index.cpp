@@ -211,24 +211,28 @@ template <int R>
 inline const std::uint8_t* accumulate_view(const std::uint8_t* p, std::uint32_t n, const std::uint16_t* qt,
                                            int width, std::uint16_t* out, std::uint32_t* sum) {
     Lanes a[R] = {};
-    std::uint32_t s = 0;
+    const Lanes ones = Lanes{} + 1;
+    std::uint32_t more = 0;  // keypoints beyond one per entry
     int w = -1;
     for (std::uint32_t e = 0; e < n; ++e) {
         const std::uint32_t b = *p++;
-        std::uint16_t c = 1;
+        Lanes cv = ones;  // nine entries in ten have count 1
         if (b < 240) {
             w += static_cast<int>(b) + 1;
-        } else if (b < 255) {
-            c = static_cast<std::uint16_t>(b - 238);
-            w += *p++ + 1;
         } else {
-            w += p[0] | (p[1] << 8);
-            c = static_cast<std::uint16_t>(p[2] | (p[3] << 8));
-            p += 4;
+            std::uint16_t c;
+            if (b < 255) {
+                c = static_cast<std::uint16_t>(b - 238);
+                w += *p++ + 1;
+            } else {
+                w += p[0] | (p[1] << 8);
+                c = static_cast<std::uint16_t>(p[2] | (p[3] << 8));
+                p += 4;
+            }
+            more += c - 1u;
+            cv = Lanes{} + c;
         }
         const std::uint16_t* q = qt + static_cast<std::size_t>(w) * static_cast<std::size_t>(width);
-        s += c;
-        const Lanes cv = Lanes{} + c;
         for (int k = 0; k < R; ++k) {
             Lanes qk;
             std::memcpy(&qk, q + 16 * k, 32);
@@ -236,7 +240,7 @@ inline const std::uint8_t* accumulate_view(const std::uint8_t* p, std::uint32_t 
         }
     }
     for (int k = 0; k < R; ++k) std::memcpy(out + 16 * k, &a[k], 32);
-    *sum = s;
+    *sum = n + more;
     return p;
 }
 
@@ -290,10 +294,13 @@ CANONFORM_INDEX_CLONES void pair_distances(const std::uint16_t* acc, int width, 
                 acc + static_cast<std::size_t>(a) * static_cast<std::size_t>(width) + start;
             const double* qs = qsum + start;
             double* d = out + blocks[b].base + (a - start) * size;
+            // bag_of_features.cpp clamps 1 - inter / max to [0, 1]: here the intersection is an
+            // integer at most the larger sum, so the quotient is in [0, 1] already (rounding is
+            // monotone) and the clamp never acts.
             for (int l = 0; l < size; ++l) {
                 const double m = qs[l] > ms ? qs[l] : ms;
                 const double x = 1.0 - static_cast<double>(row[l]) / (m > 0 ? m : 1.0);
-                d[l] = m > 0 ? (x < 0 ? 0.0 : (x > 1 ? 1.0 : x)) : 0.0;
+                d[l] = m > 0 ? x : 0.0;
             }
         }
     }
