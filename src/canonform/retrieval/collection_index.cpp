@@ -202,21 +202,33 @@ struct Scratch {
     std::vector<double> pair, rot;
 };
 
-/// 16 lanes of 16-bit counts (one AVX2 register; two SSE2 ones in the default build).
+/// 16 and 32 lanes of 16-bit counts (one AVX2 register, and one AVX-512 or two AVX2 registers;
+/// two and four SSE2 ones in the default build).
 typedef std::uint16_t Lanes __attribute__((vector_size(32)));
+typedef std::uint16_t Lanes2 __attribute__((vector_size(64)));
+#if defined(_WIN32)  // no 64-byte stack alignment to count on (below): 16 lanes at a time
+constexpr bool kPairedLanes = false;
+#else
+constexpr bool kPairedLanes = true;
+#endif
 
-/// One view's entries, decoded, accumulated over R registers of lanes from `q0` on: per entry
-/// (word w, count c) acc += min(query counts of w, c) - the hot loop. Returns the bytes after it.
+/// One view's entries, decoded, accumulated over R registers of 16 lanes (in pairs, and one alone
+/// if R is odd) from `q0` on: per entry (word w, count c) acc += min(query counts of w, c) - the
+/// hot loop. Returns the bytes after it.
 template <int R>
 inline const std::uint8_t* accumulate_view(const std::uint8_t* p, std::uint32_t n, const std::uint16_t* qt,
                                            int width, std::uint16_t* out, std::uint32_t* sum) {
-    Lanes a[R] = {};
+    constexpr int P = kPairedLanes ? R / 2 : 0, S = R - 2 * P;  // pairs, single registers
+    Lanes2 a[P > 0 ? P : 1] = {};
+    Lanes h[S > 0 ? S : 1] = {};
+    const Lanes2 ones2 = Lanes2{} + 1;
     const Lanes ones = Lanes{} + 1;
     std::uint32_t more = 0;  // keypoints beyond one per entry
     int w = -1;
     for (std::uint32_t e = 0; e < n; ++e) {
         const std::uint32_t b = *p++;
-        Lanes cv = ones;  // nine entries in ten have count 1
+        Lanes2 cv2 = ones2;  // nine entries in ten have count 1
+        Lanes cv = ones;
         if (b < 240) {
             w += static_cast<int>(b) + 1;
         } else {
@@ -230,16 +242,23 @@ inline const std::uint8_t* accumulate_view(const std::uint8_t* p, std::uint32_t 
                 p += 4;
             }
             more += c - 1u;
+            cv2 = Lanes2{} + c;
             cv = Lanes{} + c;
         }
         const std::uint16_t* q = qt + static_cast<std::size_t>(w) * static_cast<std::size_t>(width);
-        for (int k = 0; k < R; ++k) {
+        for (int k = 0; k < P; ++k) {
+            Lanes2 qk;
+            std::memcpy(&qk, q + 32 * k, 64);
+            a[k] += qk < cv2 ? qk : cv2;
+        }
+        for (int k = 0; k < S; ++k) {
             Lanes qk;
-            std::memcpy(&qk, q + 16 * k, 32);
-            a[k] += qk < cv ? qk : cv;
+            std::memcpy(&qk, q + 32 * P + 16 * k, 32);
+            h[k] += qk < cv ? qk : cv;
         }
     }
-    for (int k = 0; k < R; ++k) std::memcpy(out + 16 * k, &a[k], 32);
+    for (int k = 0; k < P; ++k) std::memcpy(out + 32 * k, &a[k], 64);
+    for (int k = 0; k < S; ++k) std::memcpy(out + 32 * P + 16 * k, &h[k], 32);
     *sum = n + more;
     return p;
 }
@@ -247,7 +266,7 @@ inline const std::uint8_t* accumulate_view(const std::uint8_t* p, std::uint32_t 
 #if defined(_WIN32)  // no ifunc for target_clones, and no 32-byte stack alignment for AVX (codebook.cpp)
 #define CANONFORM_INDEX_CLONES
 #else
-#define CANONFORM_INDEX_CLONES __attribute__((target_clones("avx2", "default")))
+#define CANONFORM_INDEX_CLONES __attribute__((target_clones("arch=x86-64-v4", "avx2", "default")))
 #endif
 /// Decodes the model's V views and accumulates each over its block's lanes (qt: the query's
 /// counts from the block's first lane on) into the row of its lane; msum[lane] = its keypoints.
@@ -307,7 +326,7 @@ CANONFORM_INDEX_CLONES void pair_distances(const std::uint16_t* acc, int width, 
 }
 
 constexpr int kCubeRotations = 24;
-constexpr int kPrefetchLines = 8;  // of a candidate's bytes (about 2.4 kB on real collections)
+constexpr int kPrefetchLines = 64;  // at most, of a candidate's bytes (about 2.4 kB on real collections)
 
 /// The smallest of the 24 rotation sums: per rotation the sum of its pairs' distances over the
 /// views in order (as distance_matrix()), the rotations side by side in registers (the same
@@ -560,11 +579,13 @@ std::vector<float> CollectionIndex::distances(const std::vector<views::Histogram
         static_cast<std::ptrdiff_t>(models.size()),
         [&](std::ptrdiff_t k, int worker) {
             const std::uint32_t m = models[static_cast<std::size_t>(k)];
-            // The next model's first lines on their way while this one is scored (candidates are
+            // The next model's bytes on their way while this one is scored (candidates are
             // scattered; a hint only: no fault, no effect on the result).
             if (static_cast<std::size_t>(k) + 1 < models.size()) {
-                const std::uint8_t* next = base + offsets_[models[static_cast<std::size_t>(k) + 1]];
-                for (int line = 0; line < kPrefetchLines; ++line) __builtin_prefetch(next + 64 * line);
+                const std::uint32_t n = models[static_cast<std::size_t>(k) + 1];
+                const std::uint64_t from = offsets_[n] & ~std::uint64_t{63},
+                                    to = std::min(offsets_[n + 1], from + 64 * kPrefetchLines);
+                for (std::uint64_t at = from; at < to; at += 64) __builtin_prefetch(base + at);
             }
             out[static_cast<std::size_t>(k)] = score(model_bytes(m), views_, q, plan, block_start,
                                                      self >= 0 && static_cast<std::ptrdiff_t>(m) < self,
