@@ -300,8 +300,8 @@ CANONFORM_INDEX_CLONES void accumulate_model(const std::uint8_t* p, int views, c
 }
 
 /// bag_of_features.cpp's view distance of every pair of each orbit block, side by side:
-/// 1 - inter / max(sums), clamped to [0, 1], 0 if both views are empty - divisions and min/max,
-/// rounded the same in every lane width.
+/// 1 - inter / max(sums), 0 if both views are empty - divisions and min/max, rounded the same in
+/// every lane width.
 CANONFORM_INDEX_CLONES void pair_distances(const std::uint16_t* acc, int width, const double* qsum,
                                            const std::uint32_t* msum, const Plan::Block* blocks, int count,
                                            double* out) {

@@ -20,12 +20,15 @@
 //   is refused (InputError).
 // - Per model, the intersections of all 66 query views with each model view are accumulated at
 //   once, word by word, from the query's histograms transposed (word -> 66 counts): exact integer
-//   sums (the same values as the float sums of distance_matrix()), in SIMD lanes; then d() and
-//   the rotation sums in double. The matrix computes D(A, B) with the earlier model as A, summing
-//   over A's views in order; a query that names its own place in the collection (`self`) gets
-//   exactly the matrix's value for every model: for models before it the sums run over the
-//   model's views (the matrix's order), otherwise over the query's. Without `self` the sums run
-//   over the query's views (equal to the matrix's up to the last bit of the double sum).
+//   sums (the same values as the float sums of distance_matrix()), in SIMD lanes (16 or 32 at a
+//   time: AVX-512, AVX2 or SSE2 code chosen at run time, the same integers); then d() and the 24
+//   rotation sums in double, side by side (each rotation's sum in view order: the same bits on
+//   every path); the next candidate's bytes are prefetched. The matrix computes D(A, B) with the
+//   earlier model as A, summing over A's views in order; a query that names its own place in the
+//   collection (`self`) gets exactly the matrix's value for every model: for models before it the
+//   sums run over the model's views (the matrix's order), otherwise over the query's. Without
+//   `self` the sums run over the query's views (equal to the matrix's up to the last bit of the
+//   double sum).
 // - Models are scored in parallel (parallel_for), the K smallest kept (ties by model order).
 // - Two stages (summary_search.h): the first pass's `candidates` nearest codes, then their exact
 //   distances, the K smallest kept. The distances returned are exact; a model the first pass
