@@ -265,6 +265,9 @@ inline const std::uint8_t* accumulate_view(const std::uint8_t* p, std::uint32_t 
 
 #if defined(_WIN32)  // no ifunc for target_clones, and no 32-byte stack alignment for AVX (codebook.cpp)
 #define CANONFORM_INDEX_CLONES
+#elif defined(__GNUC__) && !defined(__clang__) && __GNUC__ < 11  // GCC 10 (bullseye: the portable
+// build and the wheel) knows no arch=x86-64-v4; the avx2 clone gives the same integers
+#define CANONFORM_INDEX_CLONES __attribute__((target_clones("avx2", "default")))
 #else
 #define CANONFORM_INDEX_CLONES __attribute__((target_clones("arch=x86-64-v4", "avx2", "default")))
 #endif
