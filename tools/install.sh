@@ -21,7 +21,7 @@ done
 plugins=("$build"/meshlab/plugins/*.so)
 [ -f "${plugins[0]}" ] || { echo "$0: no plugins in $build/meshlab/plugins: build first (tools/build.sh)" >&2; exit 1; }
 # the tool: canonform, and canonform-full where the build makes it (canonform runs it, from the same
-# folder, for every command beyond the one-mesh core ones: apps/canonform/main.cpp)
+# folder, for every command beyond its own: apps/canonform/main.cpp)
 tool=("$build/apps/canonform")
 [ -x "$build/apps/canonform-full" ] && tool+=("$build/apps/canonform-full")
 if [ -z "$prefix" ]; then

@@ -34,6 +34,13 @@ struct ExitStatus {
     int code;
 };
 
+/// Thrown by a command of the lean program (CANONFORM_TOOL_LEAN, main.cpp), before any work, for a
+/// call that needs a library only canonform-full links (`descriptor --sift opencv`): main() then
+/// runs canonform-full with the same arguments. `what`: the options that need it ("--sift opencv").
+struct RunFull {
+    std::string what;
+};
+
 /// Progress on stderr. On a terminal, one line rewritten in place; otherwise (a log file, a pipe)
 /// one whole line per update, at most one every kLogInterval seconds (CANONFORM_PROGRESS_INTERVAL
 /// overrides it; 0: every update), and the last one if any was written or the work took that long
@@ -159,7 +166,8 @@ retrieval::ExperimentOptions finish_experiment_options(const ExperimentArgs& arg
 /// A command: adds its subcommand (options, defaults, help, callback) to the app.
 using AddCommand = void(CLI::App& app);
 
-// The commands, in mesh_commands.cpp, views_commands.cpp and retrieval_commands.cpp.
+// The commands, in mesh_commands.cpp, picture_command.cpp, views_commands.cpp,
+// descriptor_commands.cpp, retrieval_commands.cpp and sharded_commands.cpp.
 AddCommand add_check, add_conformal, add_features, add_canonical, add_simplify, add_generate,
     add_picture,                                             // one mesh
     add_views, add_codebook, add_descriptor, add_distance,   // views

@@ -9,12 +9,13 @@
 //
 // One or two programs from this file (apps/CMakeLists.txt). Where the whole tool links Qt, OpenCV
 // or FAISS (with OpenBLAS and libgomp) - a Linux build from source - it is `canonform-full`, and
-// `canonform` (built with CANONFORM_TOOL_LEAN) has only the commands on one mesh that need the core
-// - check, conformal, features, canonical, simplify, generate - and --version, and hands every
-// other command to `canonform-full` beside it (execv, the same arguments). So these commands start
-// without loading those libraries, most of the whole tool's start-up (docs/benchmarks.md, "The
-// tool's start-up and idle threads"); the others pay one lean start more. Elsewhere (the wheel,
-// Windows) the whole tool links none of them and is `canonform` alone.
+// `canonform` (built with CANONFORM_TOOL_LEAN) has only the commands that need the core and the
+// views area (Eigen alone) - check, conformal, features, canonical, simplify, generate, descriptor,
+// distance - and --version, and hands every other command to `canonform-full` beside it (execv,
+// the same arguments), as well as `descriptor --sift opencv` (a command throws RunFull). So these
+// commands start without loading those libraries, most of the whole tool's start-up
+// (docs/benchmarks.md, "The tool's start-up and idle threads"); the others pay one lean start more.
+// Elsewhere (the wheel, Windows) the whole tool links none of them and is `canonform` alone.
 #include "cli.h"
 
 #ifdef CANONFORM_HAVE_OPENCV_SIFT
@@ -44,11 +45,12 @@ struct Command {
 };
 
 /// Every command, in the order of `canonform --help`. A new command: one line here (and in the
-/// lean list too if it needs only the core).
+/// lean list too if it needs only the core and the views area).
 #ifdef CANONFORM_TOOL_LEAN
 const Command kCommands[] = {
     {"check", add_check},         {"conformal", add_conformal}, {"features", add_features},
-    {"canonical", add_canonical}, {"simplify", add_simplify},   {"generate", add_generate},
+    {"canonical", add_canonical}, {"simplify", add_simplify},   {"descriptor", add_descriptor},
+    {"distance", add_distance},   {"generate", add_generate},
 };
 #else
 const Command kCommands[] = {
@@ -83,7 +85,9 @@ bool known(const char* name) {
 
 #ifdef CANONFORM_TOOL_LEAN
 /// Runs `canonform-full`, the program beside this one, in place of this process with the same
-/// arguments. Returns only on failure (exit status 1; the message names the program looked for).
+/// arguments, for a command it alone has or for a call of a lean command that needs it (`needs`:
+/// the options that do, RunFull). Returns only on failure (exit status 1; the message names the
+/// program looked for).
 ///
 /// First, unless the user has set them, the two settings that make the idle thread pools of the
 /// whole tool's libraries sleep. OpenBLAS (linked through FAISS and OpenCV) starts its workers while
@@ -94,7 +98,7 @@ bool known(const char* name) {
 /// keeps every core. OMP_WAIT_POLICY=PASSIVE does the same for libgomp's workers between parallel
 /// regions. Both are read when the libraries are loaded, so they must be in the environment before
 /// canonform-full starts. Results do not change.
-int run_full(char** argv) {
+int run_full(char** argv, const std::string& needs = "") {
     setenv("OPENBLAS_THREAD_TIMEOUT", "4", 0);
     setenv("OMP_WAIT_POLICY", "PASSIVE", 0);
     char self[PATH_MAX];
@@ -110,7 +114,9 @@ int run_full(char** argv) {
     const int error = errno;
     if (error == ENOENT)
         std::cerr << "canonform: "
-                  << (argv[1] ? "'" + std::string(argv[1]) + "' is a command of " : std::string())
+                  << (!needs.empty() ? "'" + std::string(argv[1]) + " " + needs + "' needs "
+                      : argv[1]      ? "'" + std::string(argv[1]) + "' is a command of "
+                                     : std::string())
                   << "canonform-full, which is missing (" << path
                   << "): install both programs of the tool (tools/install.sh)\n";
     else
@@ -158,6 +164,10 @@ int main(int argc, char** argv) {
         return 2;
     } catch (const ExitStatus& e) {
         return e.code;
+#ifdef CANONFORM_TOOL_LEAN
+    } catch (const RunFull& e) {
+        return run_full(argv, e.what);
+#endif
     } catch (const UsageError& e) {
         std::cerr << "canonform " << command << ": " << e.what() << "\n";
         return 2;

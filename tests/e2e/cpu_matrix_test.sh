@@ -30,9 +30,9 @@ case "$mode" in
 esac
 . "$(dirname "$0")/lib.sh"
 
-# Where the tool is two programs, canonform runs canonform-full for the commands beyond the one-mesh
-# core ones (apps/canonform/main.cpp); under qemu-x86_64 that exec would run natively, so those
-# commands call canonform-full directly.
+# Where the tool is two programs, canonform runs canonform-full for the commands beyond its own
+# (the core ones, descriptor and distance: apps/canonform/main.cpp); under qemu-x86_64 that exec
+# would run natively, so those commands call canonform-full directly.
 cff=$(dirname "$cf")/canonform-full
 [ -x "$cff" ] || cff=$cf
 
@@ -47,9 +47,9 @@ run_all() {
   for m in geodesic-ls geodesic-classical geodesic-fast; do
     "$@" "$cf" canonical in/S.ply "$out/$m.ply" --method "$m" "${t[@]}" || return 1
   done &&
-  "$@" "$cff" descriptor in/A.ply "$out/A.cfvd" --codebook in/cb.bin > /dev/null &&
-  "$@" "$cff" descriptor in/S.ply "$out/S.cfvd" --codebook in/cb.bin > /dev/null &&
-  "$@" "$cff" distance "$out/distances.bin" "$out/A.cfvd" "$out/S.cfvd" --threads 2 > /dev/null &&
+  "$@" "$cf" descriptor in/A.ply "$out/A.cfvd" --codebook in/cb.bin > /dev/null &&
+  "$@" "$cf" descriptor in/S.ply "$out/S.cfvd" --codebook in/cb.bin > /dev/null &&
+  "$@" "$cf" distance "$out/distances.bin" "$out/A.cfvd" "$out/S.cfvd" --threads 2 > /dev/null &&
   # The collection index (first pass trained and coded) and a two-stage query (first pass forced
   # by --candidates), on a copy of the native run folder; the query's timings left out.
   rm -rf "$out.run" && cp -r in/run "$out.run" &&
