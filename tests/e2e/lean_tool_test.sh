@@ -39,15 +39,16 @@ same_failure() {
 }
 same_failure "an unknown command" 2 frobnicate
 
-# descriptor and distance in both programs: the same bytes (a codebook of random training
-# descriptors, the cheapest), the same messages for bad input.
-"$cf" generate fig2.ply --vertices 800 --pose 2 > /dev/null
-"$cff" codebook cb.bin fig.ply --words 20 --training random > /dev/null 2>&1
+# descriptor and distance in both programs: the same bytes (views of 128 pixels, a codebook of
+# random training descriptors: the cheapest; the second mesh is the canonical form above), the same
+# messages for bad input.
+small=(--image-size 128)
+"$cff" codebook cb.bin fig.ply --words 20 --training random "${small[@]}" > /dev/null 2>&1
 for p in lean full; do
   prog=$cf; [ $p = full ] && prog=$cff
-  "$prog" descriptor fig.ply $p.cfvd --codebook cb.bin &&
-    "$prog" descriptor fig2.ply ${p}2.cfvd --codebook cb.bin --image-size 128 &&
-    "$prog" descriptor fig.ply ${p}_raw.cfvd --image-size 128 &&
+  "$prog" descriptor fig.ply $p.cfvd --codebook cb.bin "${small[@]}" &&
+    "$prog" descriptor lean.ply ${p}2.cfvd --codebook cb.bin "${small[@]}" &&
+    "$prog" descriptor fig.ply ${p}_raw.cfvd "${small[@]}" &&
     "$prog" distance $p.bin $p.cfvd ${p}2.cfvd --threads 2 2> /dev/null
 done
 check "descriptor: the same bytes from both programs" cmp -s lean.cfvd full.cfvd
@@ -64,11 +65,9 @@ check "bad input: nothing written" test ! -e x.cfvd -a ! -e x.bin
 
 # `--sift opencv`: canonform runs canonform-full for it, which has it where the build has OpenCV
 # (and otherwise says the extractor is not part of the program).
-if "$cff" descriptor fig.ply full_cv.cfvd --codebook cb.bin --sift opencv --image-size 128 2> cv.err; then
-  "$cf" descriptor fig.ply lean_cv.cfvd --codebook cb.bin --sift opencv --image-size 128
-  "$cf" descriptor fig.ply lean_cv2.cfvd --codebook cb.bin --sift=opencv --image-size 128
-  check "--sift opencv through canonform: the same bytes" cmp -s lean_cv.cfvd full_cv.cfvd
-  check "--sift=opencv through canonform: the same bytes" cmp -s lean_cv2.cfvd full_cv.cfvd
+if "$cff" descriptor fig.ply full_cv.cfvd --codebook cb.bin --sift opencv "${small[@]}" 2> cv.err; then
+  "$cf" descriptor fig.ply lean_cv.cfvd --codebook cb.bin --sift=opencv "${small[@]}"
+  check "--sift=opencv through canonform: the same bytes" cmp -s lean_cv.cfvd full_cv.cfvd
 else
   echo "  (canonform-full has no OpenCV SIFT: $(head -1 cv.err))"
   same_failure "--sift opencv where the build has no OpenCV" 1 descriptor fig.ply x.cfvd --sift opencv
@@ -97,10 +96,11 @@ check "canonform-full started with OMP_WAIT_POLICY=PASSIVE OPENBLAS_THREAD_TIMEO
 got=$(OPENBLAS_THREAD_TIMEOUT=10 environ_of_full)
 check "a setting of the user's is kept (got: $got)" test "$got" = "OMP_WAIT_POLICY=PASSIVE OPENBLAS_THREAD_TIMEOUT=10 "
 
-# Without canonform-full: its commands, and `descriptor --sift opencv`, fail with a message that
-# names it; the lean program's own commands still run, descriptor and distance too.
+# Without canonform-full: its commands, and `descriptor --sift opencv` in either form, fail with a
+# message that names it; the lean program's own commands still run, descriptor and distance too.
 mkdir alone && cp "$cf" alone/canonform
-for args in "views fig.ply views_out" "descriptor fig.ply fig.cfvd --sift opencv"; do
+for args in "views fig.ply views_out" "descriptor fig.ply fig.cfvd --sift opencv" \
+  "descriptor fig.ply fig.cfvd --sift=opencv"; do
   read -r -a a <<< "$args"
   alone/canonform "${a[@]}" > /dev/null 2> alone.err
   status=$?
@@ -109,7 +109,7 @@ for args in "views fig.ply views_out" "descriptor fig.ply fig.cfvd --sift opencv
 done
 check "without canonform-full: nothing written" test ! -e fig.cfvd -a ! -e views_out
 check "without canonform-full: the core commands run" alone/canonform canonical fig.ply alone.ply --quiet
-alone/canonform descriptor fig.ply alone.cfvd --codebook cb.bin &&
+alone/canonform descriptor fig.ply alone.cfvd --codebook cb.bin "${small[@]}" &&
   alone/canonform distance alone.bin alone.cfvd full2.cfvd --threads 2 2> /dev/null
 same_files() { cmp -s "$1" "$2" && cmp -s "$3" "$4"; }
 check "without canonform-full: descriptor and distance run, the same bytes" \
