@@ -69,18 +69,32 @@ SiftFeatures Extractor::run() {
     const Rect box{box_.x0, box_.y0, std::min(box_.x1 + 1, n), std::min(box_.y1 + 1, n)};
     ws_.shifted.resize(static_cast<size_t>(n) *
                        static_cast<size_t>(n));  // (read only over `box`, written below)
-    for (int y = box.y0; y < box.y1; ++y) {
-        float* r = ws_.shifted.data() + static_cast<size_t>(y) * static_cast<size_t>(n);
-        const float* v = y < size_ ? image_ + static_cast<size_t>(y) * static_cast<size_t>(size_) : nullptr;
-        const float* u = y > 0 ? image_ + static_cast<size_t>(y - 1) * static_cast<size_t>(size_) : nullptr;
-        for (int x = box.x0; x < box.x1; ++x) {
-            const auto h = [&](const float* row) {  // along the row: 0.75 row[x] + 0.25 row[x - 1]
-                if (!row) return 0.f;
-                const float here = x < size_ ? row[x] : 0.f, left = x > 0 ? row[x - 1] : 0.f;
-                return 0.75f * here + 0.25f * left;
-            };
-            r[x] = 0.75f * h(v) + 0.25f * h(u);
+    // Per view row, along it h[x] = 0.75 row[x] + 0.25 row[x - 1] over the box's columns (a row or
+    // column outside the view is 0), kept for the next row; then r[x] = 0.75 h_y[x] + 0.25 h_(y-1)[x].
+    const int bw = box.width();
+    const size_t cols = static_cast<size_t>(bw);
+    std::vector<float>& buf = ws_.shift_rows;
+    buf.resize(3 * cols + 1);
+    float* line = buf.data();  // view columns box.x0 - 1 .. box.x1 - 1
+    float* hu = line + cols + 1;
+    float* hv = hu + cols;
+    const int c0 = std::max(0, box.x0 - 1), c1 = std::min(size_, box.x1);  // the columns in the view
+    const auto along = [&](int yy, float* h) {
+        if (yy < 0 || yy >= size_) {
+            std::fill(h, h + cols, 0.f);
+            return;
         }
+        const float* row = image_ + static_cast<size_t>(yy) * static_cast<size_t>(size_);
+        std::fill(line, line + (cols + 1), 0.f);
+        std::copy(row + c0, row + c1, line + (c0 - (box.x0 - 1)));
+        for (size_t k = 0; k < cols; ++k) h[k] = 0.75f * line[k + 1] + 0.25f * line[k];
+    };
+    along(box.y0 - 1, hu);
+    for (int y = box.y0; y < box.y1; ++y) {
+        along(y, hv);
+        float* r = ws_.shifted.data() + static_cast<size_t>(y) * static_cast<size_t>(n) + box.x0;
+        for (size_t k = 0; k < cols; ++k) r[k] = 0.75f * hv[k] + 0.25f * hu[k];
+        std::swap(hu, hv);
     }
     Plane grid;
     grid.data = ws_.shifted.data();

@@ -58,7 +58,8 @@ struct Workspace {
     std::unique_ptr<float[]> temp;
     size_t temp_size = 0;
     float* temp_for(size_t n);
-    std::vector<float> shifted;  // the view on the doubled image's grid (the extractor's octave 0 input)
+    std::vector<float> shifted;     // the view on the doubled image's grid (the extractor's octave 0 input)
+    std::vector<float> shift_rows;  // a view row and two interpolated rows, for `shifted`
 };
 
 // This thread's workspace.
