@@ -110,6 +110,32 @@ ImageScan scan_image(const float* v, int size) {
     return r;
 }
 
+// The 8-bit view of depth_sift_features: image[i] = round(255 clamp(depth[i], 0, 1)) / 255 as the
+// truncation of x + 0.5 (exact, see there), NaN for NaN. Four lanes at a time (sift_simd.h: one
+// AVX2 instruction in the AVX2 clone, two SSE2 ones elsewhere), each doing the scalar tail's
+// operations in its order: float to double (exact), std::clamp's choices, * 255, + 0.5, truncation to
+// int, to float, / 255.
+typedef double v4d __attribute__((vector_size(32)));
+CANONFORM_SIMD_CLONES void to_gray_levels(const float* depth, float* image, size_t n) {
+    const v4d zero = {0.0, 0.0, 0.0, 0.0}, one = {1.0, 1.0, 1.0, 1.0};
+    const v4d k255 = {255.0, 255.0, 255.0, 255.0}, half = {0.5, 0.5, 0.5, 0.5};
+    const v4f nan = splat4(std::numeric_limits<float>::quiet_NaN());
+    size_t i = 0;
+    for (; i + 4 <= n; i += 4) {
+        const v4f f = load4(depth + i);
+        const v4i ok = f == f;  // not NaN
+        const v4d v = __builtin_convertvector(select4(ok, f, splat4(0.f)), v4d);
+        const v4d x = k255 * (v < zero ? zero : (one < v ? one : v));
+        const v4f g = __builtin_convertvector(__builtin_convertvector(x + half, v4i), v4f) / splat4(255.f);
+        store4(image + i, select4(ok, g, nan));
+    }
+    for (; i < n; ++i) {
+        const double x = 255.0 * std::clamp(static_cast<double>(depth[i]), 0.0, 1.0);
+        image[i] = x == x ? static_cast<float>(static_cast<int>(x + 0.5)) / 255.f
+                          : std::numeric_limits<float>::quiet_NaN();
+    }
+}
+
 void check_size(size_t have, int size, const char* unit) {
     if (size <= 0)
         throw InputError("SIFT: the image size must be positive (got " + std::to_string(size) + ").");
@@ -191,11 +217,7 @@ SiftFeatures depth_sift_features(const float* depth, int size, const SiftOptions
     const size_t n = static_cast<size_t>(size) * static_cast<size_t>(size);
     thread_local std::vector<float> image;
     image.resize(n);
-    for (size_t i = 0; i < n; ++i) {
-        const double x = 255.0 * std::clamp(static_cast<double>(depth[i]), 0.0, 1.0);
-        image[i] = x == x ? static_cast<float>(static_cast<int>(x + 0.5)) / 255.f
-                          : std::numeric_limits<float>::quiet_NaN();
-    }
+    to_gray_levels(depth, image.data(), n);
     return sift_features(image, size, options);
 }
 
