@@ -33,12 +33,35 @@ void narrow(double a, double b, double& lo, double& hi) {
 
 }  // namespace
 
-void describe(const Plane& L, const Candidate& k, double angle, WindowScratch& scratch, float* out) {
+void describe_window(const Plane& L, const Candidate& k, WindowScratch& scratch) {
     const double w = kBinWidth * k.sigma;             // spatial bin width (octave pixels)
     const double half = (kGrid / 2.0 + 0.5) * w;      // half the grid plus half a bin
     const double radius = half * 1.4142135623730951;  // the rotated square's circumradius
-    const Rect win = window(L, k, radius);
-    const int x0 = win.x0, x1 = win.x1, y0 = win.y0, y1 = win.y1;
+    scratch.win = window(L, k, radius);
+    const int x0 = scratch.win.x0, x1 = scratch.win.x1, y0 = scratch.win.y0, y1 = scratch.win.y1;
+    if (x0 > x1 || y0 > y1) return;
+    const size_t nx = static_cast<size_t>(x1 - x0 + 1), ny = static_cast<size_t>(y1 - y0 + 1);
+    scratch.wx.resize(nx + 16);
+    scratch.wy.resize(ny);
+    const double sigma_w = 0.5 * kGrid * w;  // half the grid's width (Lowe)
+    const double inv = -1.0 / (2.0 * sigma_w * sigma_w);
+    // Only the sampled columns and rows (every p-th, aligned on the keypoint's sample) are read.
+    const int p = sample_step(k.sigma);
+    const size_t sx = static_cast<size_t>(align_up(x0, k.X, p) - x0),
+                 sy = static_cast<size_t>(align_up(y0, k.Y, p) - y0), step = static_cast<size_t>(p);
+    for (size_t i = sx; i < nx + 16; i += step) {
+        const double d = double(x0 + static_cast<int>(i) - k.X) - double(k.fx);
+        scratch.wx[i] = static_cast<float>(numerics::portable_exp(d * d * inv));
+    }
+    for (size_t i = sy; i < ny; i += step) {
+        const double d = double(y0 + static_cast<int>(i) - k.Y) - double(k.fy);
+        scratch.wy[i] = static_cast<float>(numerics::portable_exp(d * d * inv));
+    }
+}
+
+void describe(const Plane& L, const Candidate& k, double angle, const WindowScratch& scratch, float* out) {
+    const double w = kBinWidth * k.sigma;  // spatial bin width (octave pixels)
+    const int x0 = scratch.win.x0, x1 = scratch.win.x1, y0 = scratch.win.y0, y1 = scratch.win.y1;
     // Histogram with a border of one bin on every side (rows and columns -1..4) for the spread.
     constexpr int kSide = kGrid + 2;
     float hist[kSide * kSide * kAngles] = {};
@@ -47,19 +70,6 @@ void describe(const Plane& L, const Candidate& k, double angle, WindowScratch& s
         numerics::portable_sincos(angle, sd, cd);
         const float c = static_cast<float>(cd / w), s = static_cast<float>(sd / w);
         const float centre = static_cast<float>(kGrid / 2.0 - 0.5);  // bin centres at 0..3
-        const size_t nx = static_cast<size_t>(x1 - x0 + 1), ny = static_cast<size_t>(y1 - y0 + 1);
-        scratch.wx.resize(nx + 16);
-        scratch.wy.resize(ny);
-        const double sigma_w = 0.5 * kGrid * w;  // half the grid's width (Lowe)
-        const double inv = -1.0 / (2.0 * sigma_w * sigma_w);
-        for (size_t i = 0; i < nx + 16; ++i) {
-            const double d = double(x0 + static_cast<int>(i) - k.X) - double(k.fx);
-            scratch.wx[i] = static_cast<float>(numerics::portable_exp(d * d * inv));
-        }
-        for (size_t i = 0; i < ny; ++i) {
-            const double d = double(y0 + static_cast<int>(i) - k.Y) - double(k.fy);
-            scratch.wy[i] = static_cast<float>(numerics::portable_exp(d * d * inv));
-        }
         const float to_bin = static_cast<float>(kAngles / (2 * kPi));
         const float a0 = static_cast<float>(angle);
         const float two_pi = static_cast<float>(2 * kPi);

@@ -221,8 +221,9 @@ void Extractor::octave(int o, std::vector<Plane>& g, int label, float offset) {
     for (const Candidate& c : found) {
         const Plane& L = G(c.layer);
         orientations(L, c, angles);
+        if (!angles.empty()) describe_window(L, c, described_);
         for (double a : angles) {
-            describe(L, c, a, window_, d.data());
+            describe(L, c, a, described_, d.data());
             SiftKeypoint k = c.key;
             double deg = a * (180.0 / kPi);
             if (deg >= 360.0) deg -= 360.0;
@@ -318,12 +319,16 @@ void Extractor::orientations(const Plane& L, const Candidate& c, std::vector<dou
     window_.wy.resize(ny);
     window_.dy2.resize(ny);
     const double inv = -1.0 / (2.0 * sw * sw);
-    for (size_t i = 0; i < nx + 16; ++i) {  // (more for the last block of four samples)
+    // Only the sampled columns and rows (every p-th, aligned on the keypoint's sample) are read.
+    const int p = sample_step(c.sigma);
+    const size_t sx = static_cast<size_t>(align_up(x0, c.X, p) - x0),
+                 sy = static_cast<size_t>(align_up(y0, c.Y, p) - y0), step = static_cast<size_t>(p);
+    for (size_t i = sx; i < nx + 16; i += step) {  // (more for the last block of four samples)
         const double d = double(x0 + static_cast<int>(i) - c.X) - double(c.fx);
         window_.dx2[i] = static_cast<float>(d * d);
         window_.wx[i] = static_cast<float>(numerics::portable_exp(d * d * inv));
     }
-    for (size_t i = 0; i < ny; ++i) {
+    for (size_t i = sy; i < ny; i += step) {
         const double d = double(y0 + static_cast<int>(i) - c.Y) - double(c.fy);
         window_.dy2[i] = static_cast<float>(d * d);
         window_.wy[i] = static_cast<float>(numerics::portable_exp(d * d * inv));
@@ -332,7 +337,6 @@ void Extractor::orientations(const Plane& L, const Candidate& c, std::vector<dou
     float hist[kOrientationBins] = {};
     const float to_bin = static_cast<float>(kOrientationBins / (2 * kPi));
     alignas(16) float wv[4], bv[4];
-    const int p = sample_step(c.sigma);
     for (int y = align_up(y0, c.Y, p); y <= y1; y += p) {
         const float* up = L.row(y - 1);
         const float* mid = L.row(y);

@@ -41,14 +41,20 @@ inline int align_up(int v, int origin, int p) {
     return origin + (d >= 0 ? (d + p - 1) / p : -((-d) / p)) * p;
 }
 
-// Window weights of the orientation and descriptor steps, kept from one keypoint to the next.
+// Window weights of the orientation and descriptor steps, kept from one keypoint to the next (only
+// the sampled columns and rows are computed). win: describe_window()'s window.
 struct WindowScratch {
     std::vector<float> wx, wy, dx2, dy2;
+    Rect win;
 };
 
+// The descriptor window of keypoint k in its Gaussian image L and its Gaussian weights, into scratch:
+// the same for each of the keypoint's orientations (sift_descriptor.cpp).
+void describe_window(const Plane& L, const Candidate& k, WindowScratch& scratch);
+
 // Lowe Sec. 6.1: the 128 values of keypoint k with orientation `angle` (radians) in its Gaussian
-// image L (sift_descriptor.cpp).
-void describe(const Plane& L, const Candidate& k, double angle, WindowScratch& scratch, float* out);
+// image L, with describe_window()'s window and weights of k (sift_descriptor.cpp).
+void describe(const Plane& L, const Candidate& k, double angle, const WindowScratch& scratch, float* out);
 
 // The canonform extractor of one view (image values in [0, 1], 0 outside `box`, its non-zero pixels).
 class Extractor {
@@ -72,7 +78,8 @@ private:
     std::vector<SiftKeypoint> keys_;
     std::vector<float> ring_;  // the extremum scan's DoG rows
     std::vector<int> hits_;    // the candidates of a DoG row
-    WindowScratch window_;     // window weights
+    WindowScratch window_;     // the orientation window's weights
+    WindowScratch described_;  // the descriptor window's weights
     std::vector<float> desc_;  // 128 per keypoint
 };
 
