@@ -91,10 +91,12 @@ CANONFORM_SIMD_CLONES void convolve_line(const float* c, float* o, int n, const 
     }
 }
 
-// o[i] = k0 r0[i] + k1 (m1[i] + p1[i]) + ... over rows r0, m_j = row -j, p_j = row +j, where a
+// o[i] = k0 r0[i] + k1 (m1[i] + p1[i]) + ... over rows r0 = at[0], m_j = at[-j], p_j = at[j], where a
 // null row is 0 and its terms are left out (adding 0 changes no sum).
-CANONFORM_SIMD_CLONES void convolve_rows(const float* const* minus, const float* const* plus,
-                                         const float* centre, float* o, int n, const float* taps, int R) {
+CANONFORM_SIMD_CLONES void convolve_rows(const float* const* at, float* o, int n, const float* taps, int R) {
+    const float* const centre = at[0];
+    const float* const* const plus = at;
+    const auto minus = [at](int j) { return at[-j]; };
     int i = 0;
     const v8f zero = splat8(0.f);
     for (; i + 32 <= n; i += 32) {
@@ -107,7 +109,7 @@ CANONFORM_SIMD_CLONES void convolve_rows(const float* const* minus, const float*
             a3 = k0 * load8(centre + i + 24);
         }
         for (int j = 1; j <= R; ++j) {
-            const float* m = minus[j];
+            const float* m = minus(j);
             const float* p = plus[j];
             const v8f kj = splat8(taps[j]);
             if (m && p) {
@@ -131,7 +133,7 @@ CANONFORM_SIMD_CLONES void convolve_rows(const float* const* minus, const float*
     for (; i + 8 <= n; i += 8) {
         v8f a = centre ? splat8(taps[0]) * load8(centre + i) : zero;
         for (int j = 1; j <= R; ++j) {
-            const float* m = minus[j];
+            const float* m = minus(j);
             const float* p = plus[j];
             if (m && p)
                 a += splat8(taps[j]) * (load8(m + i) + load8(p + i));
@@ -143,7 +145,7 @@ CANONFORM_SIMD_CLONES void convolve_rows(const float* const* minus, const float*
     for (; i < n; ++i) {
         float a = centre ? taps[0] * centre[i] : 0.f;
         for (int j = 1; j <= R; ++j) {
-            const float* m = minus[j];
+            const float* m = minus(j);
             const float* p = plus[j];
             if (m && p)
                 a += taps[j] * (m[i] + p[i]);
@@ -184,13 +186,13 @@ void blur(const Plane& in, Plane& out, const Kernel& k, Workspace& ws) {
     auto trow = [&](int yy) -> const float* {
         return (yy >= ty0 && yy < ty1) ? temp + static_cast<size_t>(yy - ty0) * tstride : nullptr;
     };
-    std::vector<const float*> minus(static_cast<size_t>(R) + 1), plus(static_cast<size_t>(R) + 1);
+    // The temp rows y - R .. y + R of every output row y, set up once: rows[R + y - O.y0 + d] is row y + d.
+    std::vector<const float*>& rows = ws.rows;
+    rows.resize(static_cast<size_t>(O.height() + 2 * R));
+    for (int yy = O.y0 - R; yy < O.y1 + R; ++yy) rows[static_cast<size_t>(yy - (O.y0 - R))] = trow(yy);
     for (int y = O.y0; y < O.y1; ++y) {
-        for (int j = 1; j <= R; ++j) {
-            minus[static_cast<size_t>(j)] = trow(y - j);
-            plus[static_cast<size_t>(j)] = trow(y + j);
-        }
-        convolve_rows(minus.data(), plus.data(), trow(y), out.row(y) + O.x0, n, taps, R);
+        const float* const* at = rows.data() + (y - O.y0 + R);
+        convolve_rows(at, out.row(y) + O.x0, n, taps, R);
     }
 }
 

@@ -51,6 +51,7 @@ Kernel gaussian_kernel(double sigma);
 // few hundred kilobytes each).
 struct Workspace {
     std::vector<float> line;
+    std::vector<const float*> rows;  // the blur's rows for its vertical pass
     // Planes in two banks (octave o uses bank o % 2, so octave o - 1's planes stay readable).
     std::vector<std::unique_ptr<float[]>> planes[2];
     std::vector<size_t> plane_sizes[2];
