@@ -214,6 +214,10 @@ void gaussian_octave(int o, const Rect& obj, const Plane& source, double input_b
         p.stride = frame.width();
         p.support = obj.grown(support_radius(layer_sigma(st, i)));
     }
+    // The last image enters only the top DoG image, which is read (by the extremum scan and the fit
+    // of the highest searched layer, count - 3) within image count - 4's support: it is computed
+    // there only. A pixel's value does not depend on the rectangle it is computed in (blur).
+    if (count >= 4) g[static_cast<size_t>(count - 1)].support = g[static_cast<size_t>(count - 4)].support;
     Plane& first = g[0];
     if (o == 0) {
         // The input (0 outside it) blurred from input_blur to sigma0.

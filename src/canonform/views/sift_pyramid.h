@@ -86,7 +86,8 @@ double layer_sigma(const Settings& st, int j);
 // box `obj` (octave pixels) grown by each image's support radius. Octave 0 blurs `source` (0 outside
 // its support, blur input_blur) to sigma_0; a later octave takes every second pixel of every second
 // row of `source`, the previous octave's image j = layers (2 sigma_0). Each later image is the
-// previous one blurred by sqrt(sigma_j^2 - sigma_(j-1)^2).
+// previous one blurred by sqrt(sigma_j^2 - sigma_(j-1)^2). The last image (j = layers + 2) is
+// computed only over image layers - 1's support, where it is read.
 void gaussian_octave(int o, const Rect& obj, const Plane& source, double input_blur, const Settings& st,
                      Workspace& ws, std::vector<Plane>& g);
 
