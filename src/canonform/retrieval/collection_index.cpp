@@ -633,7 +633,7 @@ bool CollectionIndex::two_stage(const SearchOptions& o) const {
 }
 
 std::size_t CollectionIndex::default_candidates(std::size_t k) const {
-    return std::min(size(), std::max<std::size_t>(2000, 40 * k));
+    return std::min(size(), std::max({std::size_t{2000}, 40 * k, size() / 100}));
 }
 
 std::vector<std::int8_t> CollectionIndex::code(const std::vector<views::Histogram>& query) const {

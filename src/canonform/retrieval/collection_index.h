@@ -150,8 +150,9 @@ public:
     /// Whether search() with these options uses the first pass: not `exact`, the index has one,
     /// and it holds more than kTwoStageAbove models or `candidates` was given.
     bool two_stage(const SearchOptions& options) const;
-    /// The first pass's candidates for a top-`k` query when none are given: the larger of 2000
-    /// and 40 k (recall against the candidate count: docs/scale.md), at most the collection.
+    /// The first pass's candidates for a top-`k` query when none are given: the largest of 2000,
+    /// 40 k and 1% of the collection (recall against the candidate count at 10^5 and 10^6 models:
+    /// docs/scale.md), at most the collection.
     std::size_t default_candidates(std::size_t k) const;
     /// The `k` nearest models: two_stage() ? the exact distances of the first pass's candidates :
     /// top(); nearest first, ties by lower model index, distances exact either way.
