@@ -6,8 +6,8 @@
 //   canonform_bench_query synthetic REAL [--models 100000] [--queries 1000] [--candidates 250,500,...]
 //       [--latency-queries 20] [--latency-candidates 1000,2000] [--threads 2] [--truth FILE]
 //       [--truth-budget S] [--first-query F] [--save DIR] [--noise 0.1,0.5]
-//       [--dims 64] [--no-orbits] [--no-sqrt] [--seed 1]
-//   canonform_bench_query collection METHOD_FOLDER... [--candidates 10,20,...] [--dims 64] [--no-orbits]
+//       [--dims 128] [--no-orbits] [--no-sqrt] [--seed 1]
+//   canonform_bench_query collection METHOD_FOLDER... [--candidates 10,20,...] [--dims 128] [--no-orbits]
 //   [--no-sqrt] canonform_bench_query noise REAL [--candidates 30,50,70 (noise levels in %)]
 //   canonform_bench_query rerank INDEX_FILE [--queries 20] [--threads 2] [--dump FILE]
 //

@@ -37,7 +37,7 @@ case $mode in
     work=$(mktemp -d)
     trap 'rm -rf "$work"' EXIT
     run "$here/bench/results/$name.jsonl" synthetic "$real" --models "$models" --queries "$queries" \
-      --candidates 250,500,1000,2000,4000 --latency-queries 20 --threads 2 --save "$work" "$@"
+      --candidates 250,500,750,1000,1500,2000,4000 --latency-queries 20 --threads 2 --save "$work" "$@"
     ;;
   collections)
     run "$here/bench/results/bench_query_collections.jsonl" collection "$@" --candidates 10,15,20,30,50,100,150,200 --threads 2

@@ -242,6 +242,8 @@ TEST(CollectionIndex, TwoStageQueriesReturnExactDistancesAndFindTheExactTopTen) 
     EXPECT_EQ(x.first_pass().size(), 600u);
     // Small collections are searched exhaustively unless candidates are given.
     EXPECT_FALSE(x.two_stage({}));
+    // The default candidate count never exceeds the collection.
+    EXPECT_EQ(x.default_candidates(10), 600u);
     SearchOptions all;
     all.candidates = 600;
     EXPECT_TRUE(x.two_stage(all));
@@ -284,10 +286,11 @@ TEST(CollectionIndex, TwoStageQueriesReturnExactDistancesAndFindTheExactTopTen) 
             back[static_cast<std::size_t>(i)] =
                 models[m][static_cast<std::size_t>(maps[rotation[m]][static_cast<std::size_t>(i)])];
         EXPECT_EQ(x.code(back), x.code(models[m])) << m;
+        const auto d = static_cast<std::size_t>(x.first_pass().dims());
         EXPECT_EQ(x.code(models[m]),
                   std::vector<std::int8_t>(
-                      x.first_pass().codes().begin() + static_cast<std::ptrdiff_t>(m * 64),
-                      x.first_pass().codes().begin() + static_cast<std::ptrdiff_t>(m * 64 + 64)));
+                      x.first_pass().codes().begin() + static_cast<std::ptrdiff_t>(m * d),
+                      x.first_pass().codes().begin() + static_cast<std::ptrdiff_t>(m * d + d)));
     }
 }
 

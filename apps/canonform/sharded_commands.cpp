@@ -416,10 +416,10 @@ void add_query(CLI::App& app) {
         ->check(CLI::Range(0, 1024));
     c->add_flag("--json", a->json, "print the answers as JSON");
     c->add_flag("--exact", a->exact, "exhaustive clock matching over every model (no first pass)");
-    c->add_option(
-         "--candidates", a->candidates,
-         "first-pass candidates that clock matching ranks (0: automatic, max(2000, 40 K, N / 100); a number "
-         "uses the first pass at any size)")
+    c->add_option("--candidates", a->candidates,
+                  "first-pass candidates that clock matching ranks (0: automatic, " +
+                      retrieval::CollectionIndex::default_candidates_rule() +
+                      " for N models; a number uses the first pass at any size)")
         ->check(CLI::Range(0, 100000000));
     add_repair_flag(c, a->repair);
     c->callback([a] {

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // Writes every filter of both plugins and every canonical-form method of the registry, with all
-// their parameters, as JSON: `canonform_params [OUT.json]` (without OUT.json: on stdout). The documentation's
+// their parameters, and the indexed query's defaults (collection_index.h), as JSON:
+// `canonform_params [OUT.json]` (without OUT.json: on stdout). The documentation's
 // filter and pymeshlab pages are generated from it (tools/docs/generate.py), so they say what the filter
 // tables (filter_canonical/canonical_filter_table.cpp, filter_viewdescriptor/view_filter_table.cpp)
 // and the method registry (src/canonform/canonical/method_registry.cpp) say, and nothing else.
@@ -9,6 +10,7 @@
 
 #include "canonform/canonical/method_registry.h"
 #include "canonform/common/version.h"
+#include "canonform/retrieval/collection_index.h"
 
 #include <nlohmann/json.hpp>
 
@@ -150,6 +152,12 @@ int main(int argc, char** argv) {
         {{"plugin", "filter_canonical"}, {"filters", filters(canonform::meshlab::filter_table())}},
         {{"plugin", "filter_viewdescriptor"}, {"filters", filters(canonform::meshlab::view_filter_table())}}};
     j["methods"] = methods();
+    using canonform::retrieval::CollectionIndex;
+    j["query"] = {{"two_stage_above", CollectionIndex::kTwoStageAbove},
+                  {"candidates_min", CollectionIndex::kCandidatesMin},
+                  {"candidates_per_k", CollectionIndex::kCandidatesPerK},
+                  {"candidates_share", CollectionIndex::kCandidatesShare},
+                  {"code_bytes", canonform::retrieval::SummaryOptions{}.dims}};
     if (argc == 2) {
         std::ofstream out(argv[1]);
         out << j.dump(1) << "\n";

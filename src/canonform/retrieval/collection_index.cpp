@@ -632,8 +632,13 @@ bool CollectionIndex::two_stage(const SearchOptions& o) const {
     return !o.exact && first_.trained() && (size() > kTwoStageAbove || o.candidates > 0);
 }
 
+std::string CollectionIndex::default_candidates_rule() {
+    return "max(" + std::to_string(kCandidatesMin) + ", " + std::to_string(kCandidatesPerK) + " K, N / " +
+           std::to_string(kCandidatesShare) + ")";
+}
+
 std::size_t CollectionIndex::default_candidates(std::size_t k) const {
-    return std::min(size(), std::max({std::size_t{2000}, 40 * k, size() / 100}));
+    return std::min(size(), std::max({kCandidatesMin, kCandidatesPerK * k, size() / kCandidatesShare}));
 }
 
 std::vector<std::int8_t> CollectionIndex::code(const std::vector<views::Histogram>& query) const {

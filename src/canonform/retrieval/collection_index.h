@@ -150,9 +150,13 @@ public:
     /// Whether search() with these options uses the first pass: not `exact`, the index has one,
     /// and it holds more than kTwoStageAbove models or `candidates` was given.
     bool two_stage(const SearchOptions& options) const;
-    /// The first pass's candidates for a top-`k` query when none are given: the largest of 2000,
-    /// 40 k and 1% of the collection (recall against the candidate count at 10^5 and 10^6 models:
-    /// docs/scale.md), at most the collection.
+    /// The default candidate count of a top-k query over N models: the largest of kCandidatesMin,
+    /// kCandidatesPerK x k and N / kCandidatesShare, at most N (recall against the candidate count
+    /// at 10^5 and 10^6 models: docs/scale.md).
+    static constexpr std::size_t kCandidatesMin = 1000, kCandidatesPerK = 40, kCandidatesShare = 200;
+    /// That rule in words, for help texts ("max(1000, 40 K, N / 200)").
+    static std::string default_candidates_rule();
+    /// The first pass's candidates for a top-`k` query when none are given (the rule above).
     std::size_t default_candidates(std::size_t k) const;
     /// The `k` nearest models: two_stage() ? the exact distances of the first pass's candidates :
     /// top(); nearest first, ties by lower model index, distances exact either way.

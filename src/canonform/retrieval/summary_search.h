@@ -49,7 +49,7 @@ namespace canonform::retrieval {
 
 /// How the first pass is made.
 struct SummaryOptions {
-    int dims = 64;            ///< bytes per model: projected dimensions (a multiple of 16, 16 to 256)
+    int dims = 128;           ///< bytes per model: projected dimensions (a multiple of 16, 16 to 256)
     bool orbits = true;       ///< one histogram per rotation orbit of the views (else one over all views)
     bool sqrt_counts = true;  ///< square roots of the summed counts (the Hellinger map)
     int sample = 8192;        ///< models the axes are trained on (evenly spaced; all if fewer)
