@@ -134,6 +134,8 @@ void unpack(const std::uint8_t* p, int views, std::vector<views::Histogram>& out
 
 namespace {
 
+constexpr int kCubeRotations = 24;  // views::rotation_view_maps()
+
 /// Where clock matching's view pairs are. The rotations move a view only within its orbit
 /// (summary_search.h: four orbits of 6, 12, 24 and 24 views), so the pairs any rotation uses are
 /// the orbit-by-orbit blocks of the 66 x 66 pairs: 1332. Each orbit owns a block of lanes that
@@ -153,14 +155,15 @@ struct Plan {
     std::vector<int> registers;  // per view: its block's registers of 16 lanes
     std::vector<Block> blocks;
     int pairs = 0;
-    std::vector<int> pair_of, pair_of_model;
-    int rotations = 0;
+    std::vector<int> pair_of, pair_of_model;  // views x kCubeRotations
 };
 
 Plan make_plan(const std::vector<std::vector<int>>& maps, int views) {
     Plan p;
     const auto R = maps.size();
-    p.rotations = static_cast<int>(R);
+    if (R != kCubeRotations)
+        throw InputError("Collection index: " + std::to_string(R) + " rotation maps, not the cube's " +
+                         std::to_string(kCubeRotations));
     int count = 0;
     const std::vector<int> orbit = view_orbits(maps, views, &count);
     p.lane.resize(static_cast<std::size_t>(views));
@@ -199,7 +202,7 @@ Plan make_plan(const std::vector<std::vector<int>>& maps, int views) {
 struct Scratch {
     std::vector<std::uint16_t> acc;   // width x width: a row per lane
     std::vector<std::uint32_t> msum;  // per lane
-    std::vector<double> pair, rot;
+    std::vector<double> pair;
 };
 
 /// 16 and 32 lanes of 16-bit counts (one AVX2 register, and one AVX-512 or two AVX2 registers;
@@ -328,7 +331,6 @@ CANONFORM_INDEX_CLONES void pair_distances(const std::uint16_t* acc, int width, 
     }
 }
 
-constexpr int kCubeRotations = 24;
 constexpr int kPrefetchLines = 64;  // at most, of a candidate's bytes (about 2.4 kB on real collections)
 
 /// The smallest of the 24 rotation sums: per rotation the sum of its pairs' distances over the
@@ -361,24 +363,12 @@ float score(const std::uint8_t* p, int V, const Query& q, const Plan& plan,
     s.acc.resize(width * width);
     s.msum.resize(width);
     s.pair.resize(static_cast<std::size_t>(plan.pairs));
-    s.rot.resize(static_cast<std::size_t>(plan.rotations));
     accumulate_model(p, V, plan.lane.data(), plan.registers.data(), block_start.data(), plan.width, q.qt,
                      s.acc.data(), s.msum.data());
     pair_distances(s.acc.data(), plan.width, q.qsum.data(), s.msum.data(), plan.blocks.data(),
                    static_cast<int>(plan.blocks.size()), s.pair.data());
     const std::vector<int>& pair_of = model_order ? plan.pair_of_model : plan.pair_of;
-    if (plan.rotations == kCubeRotations)
-        return static_cast<float>(smallest_rotation_sum(s.pair.data(), pair_of.data(), V));
-    // Per rotation the sum over views in view order (as distance_matrix()), rotations side by side.
-    std::fill(s.rot.begin(), s.rot.end(), 0.0);
-    const auto R = static_cast<std::size_t>(plan.rotations);
-    for (int v = 0; v < V; ++v) {
-        const int* po = pair_of.data() + static_cast<std::size_t>(v) * R;
-        for (std::size_t r = 0; r < R; ++r) s.rot[r] += s.pair[static_cast<std::size_t>(po[r])];
-    }
-    double best = std::numeric_limits<double>::infinity();
-    for (double v : s.rot) best = std::min(best, v);
-    return static_cast<float>(best);
+    return static_cast<float>(smallest_rotation_sum(s.pair.data(), pair_of.data(), V));
 }
 
 }  // namespace
