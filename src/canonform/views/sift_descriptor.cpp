@@ -49,13 +49,16 @@ void describe_window(const Plane& L, const Candidate& k, WindowScratch& scratch)
     const int p = sample_step(k.sigma);
     const size_t sx = static_cast<size_t>(align_up(x0, k.X, p) - x0),
                  sy = static_cast<size_t>(align_up(y0, k.Y, p) - y0), step = static_cast<size_t>(p);
-    for (size_t i = sx; i < nx + 16; i += step) {
-        const double d = double(x0 + static_cast<int>(i) - k.X) - double(k.fx);
-        scratch.wx[i] = static_cast<float>(numerics::portable_exp(d * d * inv));
-    }
-    for (size_t i = sy; i < ny; i += step) {
-        const double d = double(y0 + static_cast<int>(i) - k.Y) - double(k.fy);
-        scratch.wy[i] = static_cast<float>(numerics::portable_exp(d * d * inv));
+    sampled_weights(x0, k.X, k.fx, sx, nx + 16, step, inv, scratch.wx.data());
+    sampled_weights(y0, k.Y, k.fy, sy, ny, step, inv, scratch.wy.data());
+}
+
+void sampled_weights(int lo, int centre, float frac, size_t first, size_t count, size_t step, double inv,
+                     float* w, float* d2) {
+    for (size_t i = first; i < count; i += step) {
+        const double d = double(lo + static_cast<int>(i) - centre) - double(frac);
+        w[i] = static_cast<float>(numerics::portable_exp(d * d * inv));
+        if (d2) d2[i] = static_cast<float>(d * d);
     }
 }
 

@@ -323,16 +323,9 @@ void Extractor::orientations(const Plane& L, const Candidate& c, std::vector<dou
     const int p = sample_step(c.sigma);
     const size_t sx = static_cast<size_t>(align_up(x0, c.X, p) - x0),
                  sy = static_cast<size_t>(align_up(y0, c.Y, p) - y0), step = static_cast<size_t>(p);
-    for (size_t i = sx; i < nx + 16; i += step) {  // (more for the last block of four samples)
-        const double d = double(x0 + static_cast<int>(i) - c.X) - double(c.fx);
-        window_.dx2[i] = static_cast<float>(d * d);
-        window_.wx[i] = static_cast<float>(numerics::portable_exp(d * d * inv));
-    }
-    for (size_t i = sy; i < ny; i += step) {
-        const double d = double(y0 + static_cast<int>(i) - c.Y) - double(c.fy);
-        window_.dy2[i] = static_cast<float>(d * d);
-        window_.wy[i] = static_cast<float>(numerics::portable_exp(d * d * inv));
-    }
+    // (nx + 16: more for the last block of four samples)
+    sampled_weights(x0, c.X, c.fx, sx, nx + 16, step, inv, window_.wx.data(), window_.dx2.data());
+    sampled_weights(y0, c.Y, c.fy, sy, ny, step, inv, window_.wy.data(), window_.dy2.data());
     const float r2 = static_cast<float>(radius * radius);
     float hist[kOrientationBins] = {};
     const float to_bin = static_cast<float>(kOrientationBins / (2 * kPi));

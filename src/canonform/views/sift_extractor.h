@@ -41,6 +41,12 @@ inline int align_up(int v, int origin, int p) {
     return origin + (d >= 0 ? (d + p - 1) / p : -((-d) / p)) * p;
 }
 
+// Gaussian weights exp(d^2 inv) of a window's sampled offsets along one axis: for i = first,
+// first + step, ... below count, d = lo + i - centre - frac (in double: the pixel's offset from
+// the keypoint) into w[i], and d^2 into d2[i] if d2 is given (the orientation and descriptor steps).
+void sampled_weights(int lo, int centre, float frac, size_t first, size_t count, size_t step, double inv,
+                     float* w, float* d2 = nullptr);
+
 // Window weights of the orientation and descriptor steps, kept from one keypoint to the next (only
 // the sampled columns and rows are computed). win: describe_window()'s window.
 struct WindowScratch {
