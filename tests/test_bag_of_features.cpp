@@ -201,7 +201,7 @@ TEST(BagOfFeatures, ClockMatchingRejectsBadInput) {
 }
 
 TEST(BagOfFeatures, DistanceMatrixMatchesPairwiseAndThreads) {
-    const int V = 66, N = 9;
+    const int V = 66, N = 17;  // 136 pairs: two workers (one per 64 pairs) when two threads are asked
     const auto maps = synthetic_maps(V);
     std::mt19937_64 rng(21);
     std::vector<std::vector<Histogram>> models;

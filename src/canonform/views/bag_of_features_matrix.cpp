@@ -126,9 +126,15 @@ Eigen::MatrixXf distance_rows(const std::vector<std::vector<Histogram>>& models,
     for (std::size_t m = 0; m < n; ++m)
         for (std::size_t i = 0; i < views; ++i) sums[m][i] = total(models[m][i]);
 
-    // Rows in parallel (row r computes the pairs (r, c > r)); dense scratch per worker.
+    // Rows in parallel (row r computes the pairs (r, c > r)); dense scratch per worker. A worker
+    // only for every kPairsPerWorker pairs: a pair costs tens of microseconds, starting a thread
+    // about as much as a few pairs, so a handful of models is compared on the calling thread.
+    constexpr std::size_t kPairsPerWorker = 64;
+    std::size_t pairs = 0;
+    for (std::size_t r = row_begin; r < row_end; ++r) pairs += n - r - 1;
     ParallelOptions par;
-    par.threads = threads;
+    par.threads = static_cast<int>(std::min<std::size_t>(static_cast<std::size_t>(thread_count(threads)),
+                                                         std::max<std::size_t>(1, pairs / kPairsPerWorker)));
     const auto rows = static_cast<std::ptrdiff_t>(row_end - row_begin);
     const int workers = parallel_workers(rows, par);
     std::vector<DenseModel> dense(static_cast<std::size_t>(workers));
