@@ -387,7 +387,7 @@ class Generator:
             first = lat["first_pass_median_s"]
             per_candidate = max(0.0, lat["two_stage_median_cpu_s"] - first) / lat["candidates"]
         q = self.params["query"]
-        rule = f"max({q['candidates_min']}, {q['candidates_per_k']} K, N / {q['candidates_share']})"
+        rule = q["candidates_rule"]
 
         def candidates(N, k=10):
             return min(N, max(q["candidates_min"], q["candidates_per_k"] * k, N // q["candidates_share"]))

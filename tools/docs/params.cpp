@@ -157,6 +157,7 @@ int main(int argc, char** argv) {
                   {"candidates_min", CollectionIndex::kCandidatesMin},
                   {"candidates_per_k", CollectionIndex::kCandidatesPerK},
                   {"candidates_share", CollectionIndex::kCandidatesShare},
+                  {"candidates_rule", CollectionIndex::default_candidates_rule()},
                   {"code_bytes", canonform::retrieval::SummaryOptions{}.dims}};
     if (argc == 2) {
         std::ofstream out(argv[1]);
