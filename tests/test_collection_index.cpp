@@ -280,6 +280,7 @@ TEST(CollectionIndex, TwoStageQueriesReturnExactDistancesAndFindTheExactTopTen) 
     // The first pass does not see the rotation clock matching undoes: each model's code is that
     // of its views put back in the prototype's order.
     const auto maps = views::rotation_view_maps();
+    const std::vector<std::int8_t> codes = x.first_pass().codes();
     for (std::size_t m = 0; m < 20; ++m) {
         std::vector<views::Histogram> back(66);
         for (int i = 0; i < 66; ++i)
@@ -288,10 +289,46 @@ TEST(CollectionIndex, TwoStageQueriesReturnExactDistancesAndFindTheExactTopTen) 
         EXPECT_EQ(x.code(back), x.code(models[m])) << m;
         const auto d = static_cast<std::size_t>(x.first_pass().dims());
         EXPECT_EQ(x.code(models[m]),
-                  std::vector<std::int8_t>(
-                      x.first_pass().codes().begin() + static_cast<std::ptrdiff_t>(m * d),
-                      x.first_pass().codes().begin() + static_cast<std::ptrdiff_t>(m * d + d)));
+                  std::vector<std::int8_t>(codes.begin() + static_cast<std::ptrdiff_t>(m * d),
+                                           codes.begin() + static_cast<std::ptrdiff_t>(m * d + d)));
     }
+}
+
+TEST(CollectionIndex, TopQueriesThatGiveUpFarModelsAnswerAsSortingEveryDistance) {
+    // Twelve prototypes: a query's own prototype is near, the others far, so most models are
+    // given up part way through their views; copies make ties, which go to the lower model.
+    auto models = random_models(500, 200, 21);
+    for (std::size_t m = 0; m < 60; ++m) models[440 + m] = models[m * 7];
+    const CollectionIndex x = CollectionIndex::build(numbered(500, "m"), numbered(500, "c"), models,
+                                                     random_codebook(200, 3), "none");
+    auto queries = random_models(6, 200, 22);
+    queries.push_back(models[7]);  // a member with copies of itself
+    for (std::size_t q = 0; q < queries.size(); ++q)
+        for (const std::ptrdiff_t self : {std::ptrdiff_t{-1}, std::ptrdiff_t{250}})
+            for (const std::size_t k : {1u, 3u, 10u, 40u, 500u}) {
+                const std::vector<float> d = x.distances(queries[q], 1, self);
+                std::vector<std::size_t> order(d.size());
+                std::iota(order.begin(), order.end(), std::size_t{0});
+                std::stable_sort(order.begin(), order.end(),
+                                 [&](std::size_t a, std::size_t b) { return d[a] < d[b]; });
+                for (const int threads : {1, 2}) {
+                    SearchOptions o;
+                    o.exact = true;
+                    o.threads = threads;
+                    o.self = self;
+                    const auto got = x.search(queries[q], k, o);
+                    ASSERT_EQ(got.size(), k);
+                    for (std::size_t r = 0; r < k; ++r) {
+                        EXPECT_EQ(got[r].model, order[r]) << q << " " << self << " " << k << " " << r;
+                        EXPECT_EQ(got[r].distance, d[order[r]]);
+                    }
+                    // The same through the first pass with every model a candidate.
+                    o.exact = false;
+                    o.candidates = 500;
+                    const auto two = x.search(queries[q], k, o);
+                    for (std::size_t r = 0; r < k; ++r) EXPECT_EQ(two[r].model, order[r]);
+                }
+            }
 }
 
 TEST(SummarySearch, TheViewsFallIntoFourOrbitsOfTheCubeRotations) {
@@ -350,6 +387,55 @@ TEST(SummarySearch, TheFirstAxisFollowsAPlantedDirectionAndTiesGoToTheLowerModel
     EXPECT_THROW(SummarySearch::train({}, 300, o), InputError);
     o.dims = 20;
     EXPECT_THROW(SummarySearch::train(sample, 300, o), InputError);
+}
+
+TEST(SummarySearch, NearestCodesAreTheSmallestWholeDistancesWhateverTheSplit) {
+    // nearest() reads every model's leading prefix_dims() bytes and the rest of a few: its answer
+    // is that of sorting the whole distances, ties by the lower model, for any width and threads.
+    std::mt19937_64 g(9);
+    for (const int dims : {16, 48, 64, 128, 256}) {
+        SummaryOptions o;
+        o.dims = dims;
+        SummarySearch s =
+            SummarySearch::from_parts(o, static_cast<std::uint32_t>(dims),
+                                      std::vector<float>(static_cast<std::size_t>(dims * dims), 0.f),
+                                      std::vector<float>(static_cast<std::size_t>(dims), 0.f), 1.f);
+        const std::size_t n = 9000;
+        std::vector<std::int8_t> codes(n * static_cast<std::size_t>(dims));
+        for (std::size_t m = 0; m < n; ++m)
+            for (int k = 0; k < dims; ++k)  // narrow codes tie often; some models span the range
+                codes[m * static_cast<std::size_t>(dims) + static_cast<std::size_t>(k)] =
+                    static_cast<std::int8_t>(m % 5 == 0 ? static_cast<int>(g() % 255) - 127
+                                                        : static_cast<int>(g() % 5) - 2);
+        for (int k = 0; k < dims; ++k) {  // the extremes a file can hold: distance dims x 255^2
+            codes[static_cast<std::size_t>(dims + k)] = -128;
+            codes[static_cast<std::size_t>(2 * dims + k)] = 127;
+        }
+        s.set_codes(codes);
+        ASSERT_EQ(s.size(), n);
+        EXPECT_EQ(s.codes(), codes);
+        for (const std::size_t from : {0u, 997u, 2u}) {
+            const std::int8_t* q = codes.data() + from * static_cast<std::size_t>(dims);
+            std::vector<std::pair<std::uint32_t, std::uint32_t>> all;
+            for (std::size_t m = 0; m < n; ++m) {
+                std::uint32_t d = 0;
+                for (int k = 0; k < dims; ++k) {
+                    const int e =
+                        q[k] - codes[m * static_cast<std::size_t>(dims) + static_cast<std::size_t>(k)];
+                    d += static_cast<std::uint32_t>(e * e);
+                }
+                all.emplace_back(d, static_cast<std::uint32_t>(m));
+            }
+            std::sort(all.begin(), all.end());
+            for (const std::size_t count : {1u, 37u, 1000u, 9000u})
+                for (const int threads : {1, 2}) {
+                    const auto got = s.nearest(q, count, threads);
+                    ASSERT_EQ(got.size(), count);
+                    for (std::size_t r = 0; r < count; ++r)
+                        ASSERT_EQ(got[r], all[r].second) << dims << " " << count << " " << r;
+                }
+        }
+    }
 }
 
 TEST(CollectionIndex, ReadsVersionOneFilesAndAnswersExhaustively) {

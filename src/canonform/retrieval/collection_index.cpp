@@ -150,9 +150,10 @@ struct Plan {
     struct Block {
         int start = 0, size = 0, base = 0;  // lanes [start, start + size), distances at base
     };
-    int width = 0;               // lanes
-    std::vector<int> lane;       // per view
-    std::vector<int> registers;  // per view: its block's registers of 16 lanes
+    int width = 0;                                      // lanes
+    std::vector<int> lane;                              // per view
+    std::vector<int> registers;                         // per view: its block's registers of 16 lanes
+    std::vector<int> view_start, view_size, view_base;  // per view: its block's start, size, base
     std::vector<Block> blocks;
     int pairs = 0;
     std::vector<int> pair_of, pair_of_model;  // views x kCubeRotations
@@ -181,6 +182,12 @@ Plan make_plan(const std::vector<std::vector<int>>& maps, int views) {
         p.width += 16 * regs;
         p.pairs += b.size * b.size;
         p.blocks.push_back(b);
+    }
+    for (int v = 0; v < views; ++v) {
+        const Plan::Block& b = p.blocks[static_cast<std::size_t>(orbit[static_cast<std::size_t>(v)])];
+        p.view_start.push_back(b.start);
+        p.view_size.push_back(b.size);
+        p.view_base.push_back(b.base);
     }
     auto pair = [&](int query_view, int model_view) {
         const Plan::Block& b =
@@ -274,61 +281,77 @@ inline const std::uint8_t* accumulate_view(const std::uint8_t* p, std::uint32_t 
 #else
 #define CANONFORM_INDEX_CLONES __attribute__((target_clones("arch=x86-64-v4", "avx2", "default")))
 #endif
-/// Decodes the model's V views and accumulates each over its block's lanes (qt: the query's
-/// counts from the block's first lane on) into the row of its lane; msum[lane] = its keypoints.
-CANONFORM_INDEX_CLONES void accumulate_model(const std::uint8_t* p, int views, const int* lane,
-                                             const int* registers, const int* block_start, int width,
-                                             const std::uint16_t* qt, std::uint16_t* acc,
-                                             std::uint32_t* msum) {
+
+/// What score_views() reads and writes: the plan's arrays, the query's, the scratch rows.
+struct ViewWork {
+    const int* lane;           // per view
+    const int* registers;      // per view
+    const int* block_start;    // per view: its block's first lane
+    const int* block_size;     // per view: its block's lanes
+    const int* block_base;     // per view: its block's first pair
+    const int* pair_of_model;  // views x kCubeRotations (Plan::pair_of_model)
+    int width;
+    const std::uint16_t* qt;
+    const double* qsum;
+    std::uint16_t* acc;
+    std::uint32_t* msum;
+    double* pair;
+    double* rot;  // kCubeRotations partial sums over the model's views in order
+};
+
+/// Decodes the model's views in order and, per view, accumulates its intersections over its
+/// block's lanes (qt: the query's counts from the block's first lane on) into the row of its lane
+/// (msum[lane]: its keypoints), computes that row's pair distances (bag_of_features.cpp's
+/// 1 - inter / max(sums), 0 if both views are empty: divisions and min/max, rounded the same in
+/// every lane width) and adds them to the rotations' sums over the model's views in order. After
+/// each view from `check_from` on, if every rotation's partial sum exceeds `bound` the model is
+/// given up (false): the sums only grow. True when every view was scored.
+CANONFORM_INDEX_CLONES bool score_views(const std::uint8_t* p, int views, const ViewWork& k, double bound,
+                                        int check_from) {
+    double rot[kCubeRotations] = {};
     for (int j = 0; j < views; ++j) {
         const std::uint32_t n = detail::read_entry_count(p);
-        const int l = lane[j], start = block_start[j];
-        std::uint16_t* out = acc + static_cast<std::size_t>(l) * static_cast<std::size_t>(width) + start;
-        const std::uint16_t* q = qt + start;
-        switch (registers[j]) {
+        const int l = k.lane[j], start = k.block_start[j], size = k.block_size[j];
+        std::uint16_t* out = k.acc + static_cast<std::size_t>(l) * static_cast<std::size_t>(k.width) + start;
+        const std::uint16_t* q = k.qt + start;
+        switch (k.registers[j]) {
             case 1:
-                p = accumulate_view<1>(p, n, q, width, out, &msum[l]);
+                p = accumulate_view<1>(p, n, q, k.width, out, &k.msum[l]);
                 break;
             case 2:
-                p = accumulate_view<2>(p, n, q, width, out, &msum[l]);
+                p = accumulate_view<2>(p, n, q, k.width, out, &k.msum[l]);
                 break;
             case 3:
-                p = accumulate_view<3>(p, n, q, width, out, &msum[l]);
+                p = accumulate_view<3>(p, n, q, k.width, out, &k.msum[l]);
                 break;
             case 4:
-                p = accumulate_view<4>(p, n, q, width, out, &msum[l]);
+                p = accumulate_view<4>(p, n, q, k.width, out, &k.msum[l]);
                 break;
             default:
-                p = accumulate_view<5>(p, n, q, width, out, &msum[l]);
+                p = accumulate_view<5>(p, n, q, k.width, out, &k.msum[l]);
                 break;
         }
-    }
-}
-
-/// bag_of_features.cpp's view distance of every pair of each orbit block, side by side:
-/// 1 - inter / max(sums), 0 if both views are empty - divisions and min/max, rounded the same in
-/// every lane width.
-CANONFORM_INDEX_CLONES void pair_distances(const std::uint16_t* acc, int width, const double* qsum,
-                                           const std::uint32_t* msum, const Plan::Block* blocks, int count,
-                                           double* out) {
-    for (int b = 0; b < count; ++b) {
-        const int start = blocks[b].start, size = blocks[b].size;
-        for (int a = start; a < start + size; ++a) {
-            const double ms = msum[a];
-            const std::uint16_t* row =
-                acc + static_cast<std::size_t>(a) * static_cast<std::size_t>(width) + start;
-            const double* qs = qsum + start;
-            double* d = out + blocks[b].base + (a - start) * size;
-            // bag_of_features.cpp clamps 1 - inter / max to [0, 1]: here the intersection is an
-            // integer at most the larger sum, so the quotient is in [0, 1] already (rounding is
-            // monotone) and the clamp never acts.
-            for (int l = 0; l < size; ++l) {
-                const double m = qs[l] > ms ? qs[l] : ms;
-                const double x = 1.0 - static_cast<double>(row[l]) / (m > 0 ? m : 1.0);
-                d[l] = m > 0 ? x : 0.0;
-            }
+        // bag_of_features.cpp clamps 1 - inter / max to [0, 1]: here the intersection is an
+        // integer at most the larger sum, so the quotient is in [0, 1] already (rounding is
+        // monotone) and the clamp never acts.
+        const double ms = k.msum[l];
+        const double* qs = k.qsum + start;
+        double* d = k.pair + k.block_base[j] + (l - start) * size;
+        for (int x = 0; x < size; ++x) {
+            const double m = qs[x] > ms ? qs[x] : ms;
+            const double v = 1.0 - static_cast<double>(out[x]) / (m > 0 ? m : 1.0);
+            d[x] = m > 0 ? v : 0.0;
+        }
+        const int* po = k.pair_of_model + static_cast<std::size_t>(j) * kCubeRotations;
+        for (int r = 0; r < kCubeRotations; ++r) rot[r] += k.pair[po[r]];
+        if (j >= check_from) {
+            double least = rot[0];
+            for (int r = 1; r < kCubeRotations; ++r) least = rot[r] < least ? rot[r] : least;
+            if (least > bound) return false;
         }
     }
+    for (int r = 0; r < kCubeRotations; ++r) k.rot[r] = rot[r];
+    return true;
 }
 
 constexpr int kPrefetchLines = 64;  // at most, of a candidate's bytes (about 2.4 kB on real collections)
@@ -355,20 +378,36 @@ struct Query {
     std::vector<double> qsum;  // width
 };
 
-/// Clock-matching distance of the query to model `m` (bytes at `p`); `model_order`: the
-/// rotation sums over the model's views (the matrix's order when the model comes first).
-float score(const std::uint8_t* p, int V, const Query& q, const Plan& plan,
-            const std::vector<int>& block_start, bool model_order, Scratch& s) {
+/// Clock-matching distance of the query to the model whose bytes are at `p`; `model_order`: the
+/// rotation sums over the model's views (the matrix's order when the model comes first), else
+/// over the query's. +infinity if the model was given up: every rotation's sum over its first
+/// views exceeded `bound` (so does its distance, up to the last bits of the sums' order).
+float score(const std::uint8_t* p, int V, const Query& q, const Plan& plan, bool model_order, double bound,
+            Scratch& s) {
     const auto width = static_cast<std::size_t>(plan.width);
     s.acc.resize(width * width);
     s.msum.resize(width);
     s.pair.resize(static_cast<std::size_t>(plan.pairs));
-    accumulate_model(p, V, plan.lane.data(), plan.registers.data(), block_start.data(), plan.width, q.qt,
-                     s.acc.data(), s.msum.data());
-    pair_distances(s.acc.data(), plan.width, q.qsum.data(), s.msum.data(), plan.blocks.data(),
-                   static_cast<int>(plan.blocks.size()), s.pair.data());
-    const std::vector<int>& pair_of = model_order ? plan.pair_of_model : plan.pair_of;
-    return static_cast<float>(smallest_rotation_sum(s.pair.data(), pair_of.data(), V));
+    double rot[kCubeRotations];
+    const ViewWork k{plan.lane.data(),
+                     plan.registers.data(),
+                     plan.view_start.data(),
+                     plan.view_size.data(),
+                     plan.view_base.data(),
+                     plan.pair_of_model.data(),
+                     plan.width,
+                     q.qt,
+                     q.qsum.data(),
+                     s.acc.data(),
+                     s.msum.data(),
+                     s.pair.data(),
+                     rot};
+    // The first views' sums are too small to exceed any useful bound: no checks before them.
+    constexpr int kCheckFrom = 16;
+    if (!score_views(p, V, k, bound, bound < std::numeric_limits<double>::infinity() ? kCheckFrom : V))
+        return std::numeric_limits<float>::infinity();
+    if (model_order) return static_cast<float>(*std::min_element(rot, rot + kCubeRotations));
+    return static_cast<float>(smallest_rotation_sum(s.pair.data(), plan.pair_of.data(), V));
 }
 
 }  // namespace
@@ -453,17 +492,20 @@ void CollectionIndex::train_first_pass(const SummaryOptions& options, int thread
     first_ = SummarySearch::train(sample, dims, options, threads);
     sample.clear();
     std::vector<std::int8_t> codes(n * static_cast<std::size_t>(first_.dims()));
+    std::vector<std::vector<std::int8_t>> code(
+        static_cast<std::size_t>(workers), std::vector<std::int8_t>(static_cast<std::size_t>(first_.dims())));
     parallel_for(
         static_cast<std::ptrdiff_t>(n),
         [&](std::ptrdiff_t k, int w) {
             auto& h = scratch[static_cast<std::size_t>(w)];
             detail::unpack(model_bytes(static_cast<std::size_t>(k)), views_, h);
+            std::int8_t* c = code[static_cast<std::size_t>(w)].data();
             first_.encode(
-                SummarySearch::summarise(h, orbit_of_view_, orbit_count_, codebook_.size(), options),
-                codes.data() + static_cast<std::size_t>(k) * static_cast<std::size_t>(first_.dims()));
+                SummarySearch::summarise(h, orbit_of_view_, orbit_count_, codebook_.size(), options), c);
+            SummarySearch::put_split(codes.data(), n, first_.dims(), static_cast<std::size_t>(k), c);
         },
         par);
-    first_.set_codes(std::move(codes));
+    first_.set_split_codes(std::move(codes));
 }
 
 CollectionIndex CollectionIndex::build(const std::vector<std::string>& names,
@@ -549,14 +591,14 @@ std::vector<float> CollectionIndex::distances(const std::vector<views::Histogram
 std::vector<float> CollectionIndex::distances(const std::vector<views::Histogram>& query,
                                               const std::vector<std::uint32_t>& models, int threads,
                                               std::ptrdiff_t self) const {
+    return scores(query, models, threads, self, 0);
+}
+
+std::vector<float> CollectionIndex::scores(const std::vector<views::Histogram>& query,
+                                           const std::vector<std::uint32_t>& models, int threads,
+                                           std::ptrdiff_t self, std::size_t keep) const {
     const Plan plan = plan_for(views_);
     const Query q = transpose_query(query, views_, codebook_.size(), plan);
-    std::vector<int> block_start(static_cast<std::size_t>(views_));  // per view: its block's first lane
-    for (const Plan::Block& b : plan.blocks)
-        for (int v = 0; v < views_; ++v)
-            if (plan.lane[static_cast<std::size_t>(v)] >= b.start &&
-                plan.lane[static_cast<std::size_t>(v)] < b.start + b.size)
-                block_start[static_cast<std::size_t>(v)] = b.start;
     for (std::uint32_t m : models)
         if (m >= size())
             throw InputError("Collection index: model " + std::to_string(m) + " of " +
@@ -567,6 +609,11 @@ std::vector<float> CollectionIndex::distances(const std::vector<views::Histogram
     par.grain = 256;
     const int workers = parallel_workers(static_cast<std::ptrdiff_t>(models.size()), par);
     std::vector<Scratch> scratch(static_cast<std::size_t>(workers));
+    // Per worker its `keep` smallest (distance, model) so far, a max-heap: a model whose distance
+    // exceeds the largest of them cannot be among the `keep` smallest of all (that worker's
+    // `keep` are smaller), so it is given up as soon as its partial sums show it.
+    typedef std::pair<float, std::uint32_t> Kept;
+    std::vector<std::vector<Kept>> kept(static_cast<std::size_t>(keep > 0 ? workers : 0));
     const std::uint8_t* base = mapped_ ? mapped_.get() : data_.data();
     parallel_for(
         static_cast<std::ptrdiff_t>(models.size()),
@@ -580,9 +627,30 @@ std::vector<float> CollectionIndex::distances(const std::vector<views::Histogram
                                     to = std::min(offsets_[n + 1], from + 64 * kPrefetchLines);
                 for (std::uint64_t at = from; at < to; at += 64) __builtin_prefetch(base + at);
             }
-            out[static_cast<std::size_t>(k)] = score(model_bytes(m), views_, q, plan, block_start,
-                                                     self >= 0 && static_cast<std::ptrdiff_t>(m) < self,
-                                                     scratch[static_cast<std::size_t>(worker)]);
+            double bound = std::numeric_limits<double>::infinity();
+            std::vector<Kept>* heap = keep > 0 ? &kept[static_cast<std::size_t>(worker)] : nullptr;
+            if (heap && heap->size() == keep)
+                // Given up only if the partial sums exceed the next float above the largest kept
+                // by a margin larger than the sums' rounding in another order (66 terms: about
+                // 1.5e-14 of the sum): the exact distance then rounds above it.
+                bound = static_cast<double>(
+                            std::nextafter(heap->front().first, std::numeric_limits<float>::infinity())) *
+                        (1 + 1e-12);
+            const float d =
+                score(model_bytes(m), views_, q, plan, self >= 0 && static_cast<std::ptrdiff_t>(m) < self,
+                      bound, scratch[static_cast<std::size_t>(worker)]);
+            out[static_cast<std::size_t>(k)] = d;
+            if (heap) {
+                const Kept e{d, m};
+                if (heap->size() < keep) {
+                    heap->push_back(e);
+                    std::push_heap(heap->begin(), heap->end());
+                } else if (e < heap->front()) {
+                    std::pop_heap(heap->begin(), heap->end());
+                    heap->back() = e;
+                    std::push_heap(heap->begin(), heap->end());
+                }
+            }
         },
         par);
     return out;
@@ -656,7 +724,7 @@ std::vector<IndexMatch> CollectionIndex::search(const std::vector<views::Histogr
         models.resize(size());
         std::iota(models.begin(), models.end(), 0u);
     }
-    const std::vector<float> d = distances(query, models, o.threads, o.self);
+    const std::vector<float> d = scores(query, models, o.threads, o.self, std::min(k, models.size()));
     return smallest(d, models, k, names_, classes_);
 }
 

@@ -29,7 +29,12 @@
 //   sums run over the model's views (the matrix's order), otherwise over the query's. Without
 //   `self` the sums run over the query's views (equal to the matrix's up to the last bit of the
 //   double sum).
-// - Models are scored in parallel (parallel_for), the K smallest kept (ties by model order).
+// - Models are scored in parallel (parallel_for), the K smallest kept (ties by model order). A
+//   top-K query gives a model up part way: the rotations' sums over the model's first views
+//   (model order) only grow, so once every one of them exceeds the largest of the K distances its
+//   worker holds (with a margin above the last bits of the sums' order and the float rounding) the
+//   model cannot be among the K nearest; the answer is that of scoring every model to the end.
+//   The two-stage query scores its candidates nearest code first, so the K held are near early.
 // - Two stages (summary_search.h): the first pass's `candidates` nearest codes, then their exact
 //   distances, the K smallest kept. The distances returned are exact; a model the first pass
 //   misses is missing from the answer (recall measured in bench/bench_query.cpp, docs/scale.md).
@@ -177,6 +182,11 @@ private:
     std::shared_ptr<std::atomic<std::uint8_t>[]> checked_;  // per mapped model: checked already
     /// The bytes of model m (a mapped model checked on first use: InputError if damaged).
     const std::uint8_t* model_bytes(std::size_t m) const;
+    /// distances(); with `keep` > 0 only the `keep` smallest are certain: a model found farther
+    /// than them early in its clock matching is given up (+infinity).
+    std::vector<float> scores(const std::vector<views::Histogram>& query,
+                              const std::vector<std::uint32_t>& models, int threads, std::ptrdiff_t self,
+                              std::size_t keep) const;
     SummarySearch first_;
     std::vector<int> orbit_of_view_;
     int orbit_count_ = 0;

@@ -286,9 +286,15 @@ private:
         in.read(offset.data(), d * sizeof(float));
         in.read(axes.data(), axes.size() * sizeof(float));
         x.first_ = SummarySearch::from_parts(so, sdims, std::move(axes), std::move(offset), scale);
-        std::vector<std::int8_t> codes(n * d);
-        in.read(codes.data(), codes.size());
-        x.first_.set_codes(std::move(codes));
+        // Read in blocks straight into the layout the first pass reads (no second copy of N codes).
+        std::vector<std::int8_t> split(n * d), block(4096 * d);
+        for (std::size_t m = 0; m < n; m += 4096) {
+            const std::size_t count = std::min<std::size_t>(4096, n - m);
+            in.read(block.data(), count * d);
+            for (std::size_t k = 0; k < count; ++k)
+                SummarySearch::put_split(split.data(), n, so.dims, m + k, block.data() + k * d);
+        }
+        x.first_.set_split_codes(std::move(split));
     }
 };
 

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <numeric>
 #include <string>
@@ -191,21 +192,84 @@ std::vector<double> jacobi(Dense a, Dense& vectors) {
 
 #if defined(_WIN32)  // no ifunc for target_clones, and no 32-byte stack alignment for AVX (codebook.cpp)
 #define CANONFORM_SUMMARY_CLONES
-#else
+#elif defined(__GNUC__) && !defined(__clang__) && __GNUC__ < 11  // GCC 10 knows no arch=x86-64-v4
 #define CANONFORM_SUMMARY_CLONES __attribute__((target_clones("avx2", "default")))
+#else
+#define CANONFORM_SUMMARY_CLONES __attribute__((target_clones("arch=x86-64-v4", "avx2", "default")))
 #endif
-/// Squared distances of the query code to the codes of models [begin, end) - integer sums, the
-/// same in both clones.
-CANONFORM_SUMMARY_CLONES void code_distances(const std::int8_t* codes, std::size_t begin, std::size_t end,
-                                             int dims, const std::int8_t* query, std::uint32_t* out) {
-    for (std::size_t m = begin; m < end; ++m) {
-        const std::int8_t* c = codes + m * static_cast<std::size_t>(dims);
-        std::int32_t s = 0;
-        for (int k = 0; k < dims; ++k) {
-            const std::int32_t d = static_cast<std::int32_t>(query[k]) - static_cast<std::int32_t>(c[k]);
-            s += d * d;
-        }
-        out[m - begin] = static_cast<std::uint32_t>(s);
+
+constexpr int kMaxDims = 256;  // SummaryOptions::dims at most
+
+/// The squared distance of D code bytes at `c` to the query's (widened to 16 bits, in registers:
+/// the restrict qualifiers tell that no write moves them) - an integer sum, the same in every clone.
+template <int D>
+inline std::uint32_t squared_distance(const std::int8_t* __restrict c, const std::int16_t* __restrict q,
+                                      int dims) {
+    const int n = D > 0 ? D : dims;
+    std::int32_t s = 0;
+    for (int k = 0; k < n; ++k) {
+        const auto d = static_cast<std::int16_t>(q[k] - c[k]);  // |d| <= 255
+        s += static_cast<std::int32_t>(d) * static_cast<std::int32_t>(d);
+    }
+    return static_cast<std::uint32_t>(s);
+}
+
+template <int D>
+inline void prefix_distances_of(const std::int8_t* __restrict codes, std::size_t count,
+                                const std::int16_t* __restrict q, int dims, std::uint32_t* __restrict out) {
+    const std::size_t stride = static_cast<std::size_t>(D > 0 ? D : dims);
+    for (std::size_t m = 0; m < count; ++m) out[m] = squared_distance<D>(codes + m * stride, q, dims);
+}
+
+/// Squared distances of the query code's first `dims` bytes to `count` codes of `dims` bytes
+/// stored one after another.
+CANONFORM_SUMMARY_CLONES void prefix_distances(const std::int8_t* codes, std::size_t count, int dims,
+                                               const std::int8_t* query, std::uint32_t* out) {
+    alignas(64) std::int16_t q[kMaxDims];
+    for (int k = 0; k < dims; ++k) q[k] = query[k];
+    switch (dims) {
+        case 16:
+            return prefix_distances_of<16>(codes, count, q, dims, out);
+        case 32:
+            return prefix_distances_of<32>(codes, count, q, dims, out);
+        case 64:
+            return prefix_distances_of<64>(codes, count, q, dims, out);
+        default:
+            return prefix_distances_of<0>(codes, count, q, dims, out);
+    }
+}
+
+template <int D>
+inline void add_rest_of(const std::int8_t* __restrict rest, const std::uint32_t* __restrict models,
+                        std::size_t count, const std::int16_t* __restrict q, int dims,
+                        std::uint32_t* __restrict out) {
+    const std::size_t stride = static_cast<std::size_t>(D > 0 ? D : dims);
+    for (std::size_t i = 0; i < count; ++i) {
+        if (i + 4 < count) __builtin_prefetch(rest + models[i + 4] * stride);  // a hint only
+        out[i] += squared_distance<D>(rest + models[i] * stride, q, dims);
+    }
+}
+
+/// Adds to out[i] the squared distance of the query's `dims` bytes at `query` to the `dims` bytes
+/// of model models[i] in `rest` (a code of `dims` bytes per model).
+CANONFORM_SUMMARY_CLONES void add_rest(const std::int8_t* rest, const std::uint32_t* models,
+                                       std::size_t count, int dims, const std::int8_t* query,
+                                       std::uint32_t* out) {
+    alignas(64) std::int16_t q[kMaxDims];
+    for (int k = 0; k < dims; ++k) q[k] = query[k];
+    switch (dims) {
+        case 32:
+            return add_rest_of<32>(rest, models, count, q, dims, out);
+        case 48:
+            return add_rest_of<48>(rest, models, count, q, dims, out);
+        case 64:
+            return add_rest_of<64>(rest, models, count, q, dims, out);
+        case 96:
+            return add_rest_of<96>(rest, models, count, q, dims, out);
+        case 192:
+            return add_rest_of<192>(rest, models, count, q, dims, out);
+        default:
+            return add_rest_of<0>(rest, models, count, q, dims, out);
     }
 }
 
@@ -401,11 +465,40 @@ void SummarySearch::encode(const Summary& s, std::int8_t* out) const {
     }
 }
 
+void SummarySearch::put_split(std::int8_t* split, std::size_t n, int dims, std::size_t m,
+                              const std::int8_t* code) {
+    const auto d = static_cast<std::size_t>(dims), p = static_cast<std::size_t>(prefix_dims(dims));
+    std::memcpy(split + m * p, code, p);
+    std::memcpy(split + n * p + m * (d - p), code + p, d - p);
+}
+
+void SummarySearch::set_split_codes(std::vector<std::int8_t> split) {
+    if (dims_ <= 0 || split.size() % static_cast<std::size_t>(dims_) != 0)
+        throw InputError("Summary search: codes that are not whole models of " + std::to_string(dims_) +
+                         " bytes");
+    size_ = split.size() / static_cast<std::size_t>(dims_);
+    codes_ = std::move(split);
+}
+
 void SummarySearch::set_codes(std::vector<std::int8_t> codes) {
     if (dims_ <= 0 || codes.size() % static_cast<std::size_t>(dims_) != 0)
         throw InputError("Summary search: codes that are not whole models of " + std::to_string(dims_) +
                          " bytes");
-    codes_ = std::move(codes);
+    const std::size_t n = codes.size() / static_cast<std::size_t>(dims_);
+    std::vector<std::int8_t> split(codes.size());
+    for (std::size_t m = 0; m < n; ++m)
+        put_split(split.data(), n, dims_, m, codes.data() + m * static_cast<std::size_t>(dims_));
+    set_split_codes(std::move(split));
+}
+
+std::vector<std::int8_t> SummarySearch::codes() const {
+    const auto d = static_cast<std::size_t>(dims_), p = static_cast<std::size_t>(prefix_dims(dims_));
+    std::vector<std::int8_t> out(codes_.size());
+    for (std::size_t m = 0; m < size_; ++m) {
+        std::memcpy(out.data() + m * d, codes_.data() + m * p, p);
+        std::memcpy(out.data() + m * d + p, codes_.data() + size_ * p + m * (d - p), d - p);
+    }
+    return out;
 }
 
 std::vector<std::uint32_t> SummarySearch::nearest(const std::int8_t* query, std::size_t count,
@@ -413,32 +506,77 @@ std::vector<std::uint32_t> SummarySearch::nearest(const std::int8_t* query, std:
     const std::size_t n = size();
     count = std::min(count, n);
     if (count == 0) return {};
-    // Per block of models the distances, then per worker the keys (distance, model) below its
-    // bound: when 2 x count are held, the count smallest are kept (nth_element) and the largest of
-    // them becomes the bound. A key at or above the bound cannot be among the count smallest (keys
-    // are distinct), so the union's smallest are the answer whatever the split; pushing a key costs
-    // less than a heap's push and pop.
-    constexpr std::size_t kBlock = 4096;
+    // The distances over the first prefix_dims() bytes of every model first (a whole distance is at
+    // least its prefix's). An upper bound B of the count-th smallest key (distance, model): the
+    // count-th smallest whole key of the models of smallest prefix distance (at least count of them,
+    // found by a histogram). Then per block the models whose prefix key is at most B get their whole
+    // distance, and per worker the keys below its bound are held: when 2 x count are held, the count
+    // smallest are kept (nth_element) and the largest of them becomes the bound. A key above B or at
+    // or above a bound cannot be among the count smallest (keys are distinct), so the union's
+    // smallest are the answer whatever the split; pushing a key costs less than a heap's push and pop.
+    constexpr std::size_t kBlock = 4096, kSeedShare = 4;
     const std::size_t blocks = (n + kBlock - 1) / kBlock;
     ParallelOptions par;
     par.threads = threads;
     par.grain = 8;
     const int workers = parallel_workers(static_cast<std::ptrdiff_t>(blocks), par);
+    const int p = prefix_dims(dims_), r = dims_ - p;
+    const std::int8_t* rest = codes_.data() + n * static_cast<std::size_t>(p);
+    std::vector<std::uint32_t> prefix(n);
+    parallel_for(
+        static_cast<std::ptrdiff_t>(blocks),
+        [&](std::ptrdiff_t b, int) {
+            const std::size_t begin = static_cast<std::size_t>(b) * kBlock, end = std::min(n, begin + kBlock);
+            prefix_distances(codes_.data() + begin * static_cast<std::size_t>(p), end - begin, p, query,
+                             prefix.data() + begin);
+        },
+        par);
+    auto key_of = [](std::uint32_t d, std::size_t m) {
+        return (static_cast<std::uint64_t>(d) << 32) | static_cast<std::uint64_t>(m);
+    };
+    std::uint64_t bound = std::numeric_limits<std::uint64_t>::max();
+    if (count < n) {
+        int shift = 0;
+        while ((static_cast<std::uint32_t>(p) * 255u * 255u >> shift) >= 65536u) ++shift;
+        std::vector<std::uint32_t> histogram(65536);
+        for (std::uint32_t d : prefix) ++histogram[d >> shift];
+        std::uint32_t last = 0;
+        const std::size_t want = std::min(n, kSeedShare * count);
+        for (std::size_t held = 0; (held += histogram[last]) < want;) ++last;
+        std::vector<std::uint32_t> seed, whole;
+        for (std::size_t m = 0; m < n; ++m)
+            if ((prefix[m] >> shift) <= last) {
+                seed.push_back(static_cast<std::uint32_t>(m));
+                whole.push_back(prefix[m]);
+            }
+        if (r > 0) add_rest(rest, seed.data(), seed.size(), r, query + p, whole.data());
+        std::vector<std::uint64_t> keys(seed.size());
+        for (std::size_t i = 0; i < seed.size(); ++i) keys[i] = key_of(whole[i], seed[i]);
+        std::nth_element(keys.begin(), keys.begin() + static_cast<std::ptrdiff_t>(count - 1), keys.end());
+        bound = keys[count - 1] + 1;  // keys at most B pass
+    }
     struct Best {
         std::vector<std::uint64_t> keys;
-        std::uint64_t bound = std::numeric_limits<std::uint64_t>::max();
-        std::vector<std::uint32_t> d = std::vector<std::uint32_t>(kBlock);
+        std::uint64_t bound;
+        std::vector<std::uint32_t> near = std::vector<std::uint32_t>(kBlock),
+                                   dn = std::vector<std::uint32_t>(kBlock);
     };
     std::vector<Best> best(static_cast<std::size_t>(workers));
+    for (Best& k : best) k.bound = bound;
     parallel_for(
         static_cast<std::ptrdiff_t>(blocks),
         [&](std::ptrdiff_t b, int w) {
             const std::size_t begin = static_cast<std::size_t>(b) * kBlock, end = std::min(n, begin + kBlock);
             Best& k = best[static_cast<std::size_t>(w)];
-            code_distances(codes_.data(), begin, end, dims_, query, k.d.data());
-            for (std::size_t m = begin; m < end; ++m) {
-                const std::uint64_t key =
-                    (static_cast<std::uint64_t>(k.d[m - begin]) << 32) | static_cast<std::uint64_t>(m);
+            std::size_t near = 0;
+            for (std::size_t m = begin; m < end; ++m)
+                if (key_of(prefix[m], m) < k.bound) {
+                    k.near[near] = static_cast<std::uint32_t>(m);
+                    k.dn[near++] = prefix[m];
+                }
+            if (r > 0) add_rest(rest, k.near.data(), near, r, query + p, k.dn.data());
+            for (std::size_t i = 0; i < near; ++i) {
+                const std::uint64_t key = key_of(k.dn[i], k.near[i]);
                 if (key >= k.bound) continue;
                 k.keys.push_back(key);
                 if (k.keys.size() >= 2 * count) {

@@ -32,16 +32,21 @@
 // Codes: a summary's coordinates on the axes, less the mean's, times one scale (127 / (5 sigma_1),
 // sigma_1 the spread of the sample along the first axis), rounded half away from zero and clamped
 // to [-127, 127]: `dims` signed bytes per model. The first pass ranks by the squared Euclidean
-// distance between codes in exact integer arithmetic, ties by the lower model index.
+// distance between codes in exact integer arithmetic, ties by the lower model index. The codes are
+// held split: every model's first prefix_dims() bytes (the axes of largest spread) together, the
+// rest apart; a query computes the prefix distance of every model and adds the rest's only where
+// the prefix distance is below the bound of the candidates held (a whole distance is at least its
+// prefix's): the same candidates as whole distances everywhere, from fewer bytes read.
 //
 // Portability: training uses only +, -, *, / and sqrt in double, in loops of fixed order (no BLAS,
 // whose blocking follows the CPU); a code is a float sum in a fixed order; distances are integers
-// (an AVX2 clone of the loop gives the same sums). Codes and candidates are the same bits on
-// every x86-64 CPU and for every thread count.
+// (the AVX-512 and AVX2 clones of the loops give the same sums). Codes and candidates are the same
+// bits on every x86-64 CPU and for every thread count.
 #pragma once
 
 #include "canonform/views/bag_of_features.h"
 
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -96,11 +101,20 @@ public:
     /// The code of a summary: dims() signed bytes written to `out`.
     void encode(const Summary& s, std::int8_t* out) const;
 
-    /// The codes of the collection (size N x dims()), and their count.
+    /// The codes of the collection (size N x dims(), model after model), and their count.
     void set_codes(std::vector<std::int8_t> codes);
-    const std::vector<std::int8_t>& codes() const { return codes_; }
-    std::size_t size() const { return dims_ > 0 ? codes_.size() / static_cast<std::size_t>(dims_) : 0; }
+    /// The same codes already in the layout nearest() reads (N x dims() bytes: every model's first
+    /// prefix_dims() bytes, model after model, then the other bytes of every model), as
+    /// put_split() writes them: no second copy of the codes is held.
+    void set_split_codes(std::vector<std::int8_t> split);
+    /// Writes model m's code (dims bytes) into the split layout of n models.
+    static void put_split(std::int8_t* split, std::size_t n, int dims, std::size_t m,
+                          const std::int8_t* code);
+    std::vector<std::int8_t> codes() const;
+    std::size_t size() const { return size_; }
     std::size_t bytes() const { return codes_.size() + axes_.size() * sizeof(float); }
+    /// The leading dimensions whose distances nearest() computes for every model.
+    static int prefix_dims(int dims) { return std::max(16, dims / 64 * 16); }
 
     /// The `count` models whose codes are nearest to `query` (dims() bytes), nearest first, ties
     /// by the lower model index. `threads` <= 0: every core; the answer does not depend on it.
@@ -113,6 +127,9 @@ private:
     std::vector<float> axes_;    // summary_dims x dims
     std::vector<float> offset_;  // dims: the mean summary's coordinates
     float scale_ = 1;
+    std::size_t size_ = 0;
+    // The codes split: the first prefix_dims() bytes of every model (N x P), then the rest of
+    // every model (N x (dims - P)): a query reads the prefixes of all and the rest of few.
     std::vector<std::int8_t> codes_;
 };
 
