@@ -411,7 +411,7 @@ class Generator:
             ["N x N distance matrix (CPU-hours)"] + [h(N * (N - 1) / 2 * per_pair / 3600) for N in sizes],
             ["N x N matrix on disk (float32)"] + [size(4 * N * N) for N in sizes],
             ["merge memory (matrix as float, measures in double)"] + [size(12 * N * N) for N in sizes],
-            ["instead: every model queried exhaustively through the index (CPU-hours)"]
+            ["instead: every model's top 10 found exhaustively through the index (CPU-hours)"]
             + [h(N * N * per_query_model / 3600) for N in sizes],
             ["default first-pass candidates of a top-10 query"] + [f"{candidates(N):,}" for N in sizes],
             ["or two-stage, the default candidates (CPU-hours)"] + [h(N * two_stage(N) / 3600) for N in sizes],

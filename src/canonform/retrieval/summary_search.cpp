@@ -225,7 +225,7 @@ inline void prefix_distances_of(const std::int8_t* __restrict codes, std::size_t
 /// stored one after another.
 CANONFORM_SUMMARY_CLONES void prefix_distances(const std::int8_t* codes, std::size_t count, int dims,
                                                const std::int8_t* query, std::uint32_t* out) {
-    alignas(64) std::int16_t q[kMaxDims];
+    std::int16_t q[kMaxDims];
     for (int k = 0; k < dims; ++k) q[k] = query[k];
     switch (dims) {
         case 16:
@@ -255,7 +255,7 @@ inline void add_rest_of(const std::int8_t* __restrict rest, const std::uint32_t*
 CANONFORM_SUMMARY_CLONES void add_rest(const std::int8_t* rest, const std::uint32_t* models,
                                        std::size_t count, int dims, const std::int8_t* query,
                                        std::uint32_t* out) {
-    alignas(64) std::int16_t q[kMaxDims];
+    std::int16_t q[kMaxDims];
     for (int k = 0; k < dims; ++k) q[k] = query[k];
     switch (dims) {
         case 32:
