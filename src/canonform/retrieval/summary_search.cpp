@@ -465,11 +465,25 @@ void SummarySearch::encode(const Summary& s, std::int8_t* out) const {
     }
 }
 
+namespace {
+
+/// Where model m's prefix and rest lie in the split layout of n codes of `dims` bytes.
+struct SplitAt {
+    std::size_t prefix, rest, p, r;  // offsets and lengths
+};
+SplitAt split_at(std::size_t n, int dims, std::size_t m) {
+    const auto d = static_cast<std::size_t>(dims),
+               p = static_cast<std::size_t>(SummarySearch::prefix_dims(dims));
+    return {m * p, n * p + m * (d - p), p, d - p};
+}
+
+}  // namespace
+
 void SummarySearch::put_split(std::int8_t* split, std::size_t n, int dims, std::size_t m,
                               const std::int8_t* code) {
-    const auto d = static_cast<std::size_t>(dims), p = static_cast<std::size_t>(prefix_dims(dims));
-    std::memcpy(split + m * p, code, p);
-    std::memcpy(split + n * p + m * (d - p), code + p, d - p);
+    const SplitAt at = split_at(n, dims, m);
+    std::memcpy(split + at.prefix, code, at.p);
+    std::memcpy(split + at.rest, code + at.p, at.r);
 }
 
 void SummarySearch::set_split_codes(std::vector<std::int8_t> split) {
@@ -492,11 +506,12 @@ void SummarySearch::set_codes(std::vector<std::int8_t> codes) {
 }
 
 std::vector<std::int8_t> SummarySearch::codes() const {
-    const auto d = static_cast<std::size_t>(dims_), p = static_cast<std::size_t>(prefix_dims(dims_));
+    const auto d = static_cast<std::size_t>(dims_);
     std::vector<std::int8_t> out(codes_.size());
     for (std::size_t m = 0; m < size_; ++m) {
-        std::memcpy(out.data() + m * d, codes_.data() + m * p, p);
-        std::memcpy(out.data() + m * d + p, codes_.data() + size_ * p + m * (d - p), d - p);
+        const SplitAt at = split_at(size_, dims_, m);
+        std::memcpy(out.data() + m * d, codes_.data() + at.prefix, at.p);
+        std::memcpy(out.data() + m * d + at.p, codes_.data() + at.rest, at.r);
     }
     return out;
 }
@@ -508,9 +523,10 @@ std::vector<std::uint32_t> SummarySearch::nearest(const std::int8_t* query, std:
     if (count == 0) return {};
     // The distances over the first prefix_dims() bytes of every model first (a whole distance is at
     // least its prefix's). An upper bound B of the count-th smallest key (distance, model): the
-    // count-th smallest whole key of the models of smallest prefix distance (at least count of them,
-    // found by a histogram). Then per block the models whose prefix key is at most B get their whole
-    // distance, and per worker the keys below its bound are held: when 2 x count are held, the count
+    // count-th smallest whole key of the seed, the models of smallest prefix distance (at least
+    // count of them, found by a histogram), whose count smallest keys are kept. Then per block the
+    // other models whose prefix key is at most B get their whole distance, and per worker the keys
+    // below its bound are held: when 2 x count are held, the count
     // smallest are kept (nth_element) and the largest of them becomes the bound. A key above B or at
     // or above a bound cannot be among the count smallest (keys are distinct), so the union's
     // smallest are the answer whatever the split; pushing a key costs less than a heap's push and pop.
@@ -534,27 +550,27 @@ std::vector<std::uint32_t> SummarySearch::nearest(const std::int8_t* query, std:
     auto key_of = [](std::uint32_t d, std::size_t m) {
         return (static_cast<std::uint64_t>(d) << 32) | static_cast<std::uint64_t>(m);
     };
-    std::uint64_t bound = std::numeric_limits<std::uint64_t>::max();
-    if (count < n) {
-        int shift = 0;
-        while ((static_cast<std::uint32_t>(p) * 255u * 255u >> shift) >= 65536u) ++shift;
-        std::vector<std::uint32_t> histogram(65536);
-        for (std::uint32_t d : prefix) ++histogram[d >> shift];
-        std::uint32_t last = 0;
-        const std::size_t want = std::min(n, kSeedShare * count);
-        for (std::size_t held = 0; (held += histogram[last]) < want;) ++last;
-        std::vector<std::uint32_t> seed, whole;
-        for (std::size_t m = 0; m < n; ++m)
-            if ((prefix[m] >> shift) <= last) {
-                seed.push_back(static_cast<std::uint32_t>(m));
-                whole.push_back(prefix[m]);
-            }
-        if (r > 0) add_rest(rest, seed.data(), seed.size(), r, query + p, whole.data());
-        std::vector<std::uint64_t> keys(seed.size());
-        for (std::size_t i = 0; i < seed.size(); ++i) keys[i] = key_of(whole[i], seed[i]);
-        std::nth_element(keys.begin(), keys.begin() + static_cast<std::ptrdiff_t>(count - 1), keys.end());
-        bound = keys[count - 1] + 1;  // keys at most B pass
-    }
+    // The seed: the models in the histogram's first buckets (all of them if count == n), their
+    // whole keys computed once here; the blocks below skip them.
+    int shift = 0;
+    while ((static_cast<std::uint32_t>(p) * 255u * 255u >> shift) >= 65536u) ++shift;
+    std::vector<std::uint32_t> histogram(65536);
+    for (std::uint32_t d : prefix) ++histogram[d >> shift];
+    std::uint32_t last = 0;
+    const std::size_t want = std::min(n, kSeedShare * count);
+    for (std::size_t held = 0; (held += histogram[last]) < want;) ++last;
+    std::vector<std::uint32_t> seed, whole;
+    for (std::size_t m = 0; m < n; ++m)
+        if ((prefix[m] >> shift) <= last) {
+            seed.push_back(static_cast<std::uint32_t>(m));
+            whole.push_back(prefix[m]);
+        }
+    if (r > 0) add_rest(rest, seed.data(), seed.size(), r, query + p, whole.data());
+    std::vector<std::uint64_t> keys(seed.size());
+    for (std::size_t i = 0; i < seed.size(); ++i) keys[i] = key_of(whole[i], seed[i]);
+    std::nth_element(keys.begin(), keys.begin() + static_cast<std::ptrdiff_t>(count - 1), keys.end());
+    keys.resize(count);
+    const std::uint64_t bound = keys[count - 1] + 1;  // keys at most B pass
     struct Best {
         std::vector<std::uint64_t> keys;
         std::uint64_t bound;
@@ -570,7 +586,7 @@ std::vector<std::uint32_t> SummarySearch::nearest(const std::int8_t* query, std:
             Best& k = best[static_cast<std::size_t>(w)];
             std::size_t near = 0;
             for (std::size_t m = begin; m < end; ++m)
-                if (key_of(prefix[m], m) < k.bound) {
+                if ((prefix[m] >> shift) > last && key_of(prefix[m], m) < k.bound) {
                     k.near[near] = static_cast<std::uint32_t>(m);
                     k.dn[near++] = prefix[m];
                 }
@@ -588,7 +604,6 @@ std::vector<std::uint32_t> SummarySearch::nearest(const std::int8_t* query, std:
             }
         },
         par);
-    std::vector<std::uint64_t> keys;
     for (const Best& k : best) keys.insert(keys.end(), k.keys.begin(), k.keys.end());
     if (keys.size() > count) {
         std::nth_element(keys.begin(), keys.begin() + static_cast<std::ptrdiff_t>(count - 1), keys.end());
