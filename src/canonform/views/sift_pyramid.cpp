@@ -56,28 +56,24 @@ Workspace& workspace() {
 
 namespace {
 
-// The two passes of the blur below, in blocks of 32 floats as 8-float vectors (sift_simd.h: 8-lane
-// AVX2 instructions in the AVX2 clone, pairs of 4-lane SSE2 ones elsewhere, the same bits).
+// The two passes of the blur below, in blocks of 32 floats as two 16-float vectors (sift_simd.h:
+// 16-lane AVX-512 instructions in the x86-64-v4 clone, pairs of 8-lane AVX2 ones in the AVX2 clone,
+// four 4-lane SSE2 ones elsewhere: the same bits), then 8 at a time.
 
 // o[i] = k0 c[i] + k1 (c[i-1] + c[i+1]) + ... + kR (c[i-R] + c[i+R]) for i in [0, n), summed in
 // that order (c must be readable at [-R, n + R)).
-CANONFORM_SIMD_CLONES void convolve_line(const float* c, float* o, int n, const float* taps, int R) {
+CANONFORM_BLUR_CLONES void convolve_line(const float* c, float* o, int n, const float* taps, int R) {
     int i = 0;
     for (; i + 32 <= n; i += 32) {
-        const v8f k0 = splat8(taps[0]);
-        v8f a0 = k0 * load8(c + i), a1 = k0 * load8(c + i + 8), a2 = k0 * load8(c + i + 16),
-            a3 = k0 * load8(c + i + 24);
+        const v16f k0 = splat16(taps[0]);
+        v16f a0 = k0 * load16(c + i), a1 = k0 * load16(c + i + 16);
         for (int j = 1; j <= R; ++j) {
-            const v8f kj = splat8(taps[j]);
-            a0 += kj * (load8(c + i - j) + load8(c + i + j));
-            a1 += kj * (load8(c + i + 8 - j) + load8(c + i + 8 + j));
-            a2 += kj * (load8(c + i + 16 - j) + load8(c + i + 16 + j));
-            a3 += kj * (load8(c + i + 24 - j) + load8(c + i + 24 + j));
+            const v16f kj = splat16(taps[j]);
+            a0 += kj * (load16(c + i - j) + load16(c + i + j));
+            a1 += kj * (load16(c + i + 16 - j) + load16(c + i + 16 + j));
         }
-        store8(o + i, a0);
-        store8(o + i + 8, a1);
-        store8(o + i + 16, a2);
-        store8(o + i + 24, a3);
+        store16(o + i, a0);
+        store16(o + i + 16, a1);
     }
     for (; i + 8 <= n; i += 8) {
         v8f a = splat8(taps[0]) * load8(c + i);
@@ -93,42 +89,35 @@ CANONFORM_SIMD_CLONES void convolve_line(const float* c, float* o, int n, const 
 
 // o[i] = k0 r0[i] + k1 (m1[i] + p1[i]) + ... over rows r0 = at[0], m_j = at[-j], p_j = at[j], where a
 // null row is 0 and its terms are left out (adding 0 changes no sum).
-CANONFORM_SIMD_CLONES void convolve_rows(const float* const* at, float* o, int n, const float* taps, int R) {
+CANONFORM_BLUR_CLONES void convolve_rows(const float* const* at, float* o, int n, const float* taps, int R) {
     const float* const centre = at[0];
     const float* const* const plus = at;
     const auto minus = [at](int j) { return at[-j]; };
     int i = 0;
     const v8f zero = splat8(0.f);
+    const v16f zero16 = splat16(0.f);
     for (; i + 32 <= n; i += 32) {
-        v8f a0 = zero, a1 = zero, a2 = zero, a3 = zero;
+        v16f a0 = zero16, a1 = zero16;
         if (centre) {
-            const v8f k0 = splat8(taps[0]);
-            a0 = k0 * load8(centre + i);
-            a1 = k0 * load8(centre + i + 8);
-            a2 = k0 * load8(centre + i + 16);
-            a3 = k0 * load8(centre + i + 24);
+            const v16f k0 = splat16(taps[0]);
+            a0 = k0 * load16(centre + i);
+            a1 = k0 * load16(centre + i + 16);
         }
         for (int j = 1; j <= R; ++j) {
             const float* m = minus(j);
             const float* p = plus[j];
-            const v8f kj = splat8(taps[j]);
+            const v16f kj = splat16(taps[j]);
             if (m && p) {
-                a0 += kj * (load8(m + i) + load8(p + i));
-                a1 += kj * (load8(m + i + 8) + load8(p + i + 8));
-                a2 += kj * (load8(m + i + 16) + load8(p + i + 16));
-                a3 += kj * (load8(m + i + 24) + load8(p + i + 24));
+                a0 += kj * (load16(m + i) + load16(p + i));
+                a1 += kj * (load16(m + i + 16) + load16(p + i + 16));
             } else if (m || p) {
                 const float* d = m ? m : p;
-                a0 += kj * load8(d + i);
-                a1 += kj * load8(d + i + 8);
-                a2 += kj * load8(d + i + 16);
-                a3 += kj * load8(d + i + 24);
+                a0 += kj * load16(d + i);
+                a1 += kj * load16(d + i + 16);
             }
         }
-        store8(o + i, a0);
-        store8(o + i + 8, a1);
-        store8(o + i + 16, a2);
-        store8(o + i + 24, a3);
+        store16(o + i, a0);
+        store16(o + i + 16, a1);
     }
     for (; i + 8 <= n; i += 8) {
         v8f a = centre ? splat8(taps[0]) * load8(centre + i) : zero;

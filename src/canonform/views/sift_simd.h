@@ -2,12 +2,12 @@
 // canonform: the SIFT extractor's vector helpers (private to the views area; sift_features.h says
 // why the results are the same bits on every CPU).
 //
-// 4-float and 8-float vectors of the GCC/Clang vector extension. 4 lanes are SSE2 on x86-64 (in
+// 4-, 8- and 16-float vectors of the GCC/Clang vector extension. 4 lanes are SSE2 on x86-64 (in
 // every x86-64 CPU); 8 lanes are one AVX2 instruction in a function cloned for AVX2
 // (CANONFORM_SIMD_CLONES: the clone is picked at run time) and a pair of SSE2 instructions
-// elsewhere. Each lane does exactly what the scalar code of the same loop does, in the same order
-// (no FMA: the views area is compiled with -ffp-contract=off, and AVX2 does not imply FMA), so the
-// choice changes no bit.
+// elsewhere; 16 lanes (the blur) one AVX-512 instruction in its x86-64-v4 clone. Each lane does exactly what
+// the scalar code of the same loop does, in the same order (no FMA: the views area is compiled with
+// -ffp-contract=off, and AVX2 does not imply FMA), so the choice changes no bit.
 #pragma once
 
 #include "canonform/numerics/portable_math.h"
@@ -30,8 +30,16 @@
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(__SANITIZE_ADDRESS__) && \
     !defined(_WIN32)
 #define CANONFORM_SIMD_CLONES __attribute__((target_clones("avx2", "default")))
+#if __GNUC__ >= 11  // GCC 10 (bullseye: the portable build and the wheel) knows no arch=x86-64-v4
+// The blur's clones (sift_pyramid.cpp): also AVX-512 (x86-64-v4), where a 16-float vector is one
+// instruction; the AVX2 clone takes two, the default four SSE2 ones: the same operations per lane.
+#define CANONFORM_BLUR_CLONES __attribute__((target_clones("arch=x86-64-v4", "avx2", "default")))
+#else
+#define CANONFORM_BLUR_CLONES CANONFORM_SIMD_CLONES
+#endif
 #else
 #define CANONFORM_SIMD_CLONES
+#define CANONFORM_BLUR_CLONES
 #endif
 
 namespace canonform::views {
@@ -41,6 +49,7 @@ typedef float v4f __attribute__((vector_size(16)));
 typedef int v4i __attribute__((vector_size(16)));
 typedef float v8f __attribute__((vector_size(32)));
 typedef int v8i __attribute__((vector_size(32)));
+typedef float v16f __attribute__((vector_size(64)));
 
 inline v4f load4(const float* p) {
     v4f v;
@@ -96,6 +105,17 @@ inline void store8(float* p, const v8f& v) {
 }
 inline v8f splat8(float x) {
     return v8f{x, x, x, x, x, x, x, x};
+}
+inline v16f load16(const float* p) {
+    v16f v;
+    std::memcpy(&v, p, sizeof v);
+    return v;
+}
+inline void store16(float* p, const v16f& v) {
+    std::memcpy(p, &v, sizeof v);
+}
+inline v16f splat16(float x) {
+    return v16f{} + x;
 }
 inline unsigned mask8(v8i m) {
     v4i lo, hi;
