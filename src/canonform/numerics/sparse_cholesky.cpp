@@ -7,6 +7,7 @@
 #include <Eigen/SparseCholesky>
 
 #include <cstddef>
+#include <cstring>
 
 namespace canonform::numerics {
 
@@ -124,6 +125,56 @@ void ldl_solve(const int* Lp, const int* Li, const double* Lx, const double* inv
     }
 }
 
+// Not on Windows (GCC's target_clones needs ELF's ifunc), nor in clang or sanitizer builds.
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(__SANITIZE_ADDRESS__) && \
+    !defined(_WIN32)
+#define CANONFORM_SOLVE_CLONES __attribute__((target_clones("avx2", "default")))
+#else
+#define CANONFORM_SOLVE_CLONES
+#endif
+
+typedef double v4d __attribute__((vector_size(32)));
+
+// The helpers are inlined: no call passes a v4d between code built for different targets.
+#if defined(__GNUC__)
+#pragma GCC diagnostic ignored "-Wpsabi"
+#endif
+
+inline v4d load4d(const double* p) {
+    v4d v;
+    std::memcpy(&v, p, sizeof v);
+    return v;
+}
+inline void store4d(double* p, const v4d& v) {
+    std::memcpy(p, &v, sizeof v);
+}
+
+// ldl_solve() of three columns with each row's three values in a vector of four (the fourth 0 and
+// unused): the same multiplications and subtractions per value in the same order (one AVX2
+// instruction in the AVX2 clone, two SSE2 ones elsewhere; no FMA in either), so the same bits as
+// three scalars, with a third of the instructions.
+CANONFORM_SOLVE_CLONES void ldl_solve3_in4(const int* Lp, const int* Li, const double* Lx,
+                                           const double* inverse_d, int n, double* z) {
+    for (int j = 0; j < n; ++j) {
+        const v4d a = load4d(z + static_cast<std::ptrdiff_t>(j) * 4);
+        for (int p = Lp[j]; p < Lp[j + 1]; ++p) {
+            double* zi = z + static_cast<std::ptrdiff_t>(Li[p]) * 4;
+            store4d(zi, load4d(zi) - (v4d{} + Lx[p]) * a);
+        }
+    }
+    for (int j = 0; j < n; ++j) {
+        double* zj = z + static_cast<std::ptrdiff_t>(j) * 4;
+        store4d(zj, load4d(zj) * (v4d{} + inverse_d[j]));
+    }
+    for (int j = n - 1; j >= 0; --j) {
+        double* zj = z + static_cast<std::ptrdiff_t>(j) * 4;
+        v4d a = load4d(zj);
+        for (int p = Lp[j]; p < Lp[j + 1]; ++p)
+            a -= (v4d{} + Lx[p]) * load4d(z + static_cast<std::ptrdiff_t>(Li[p]) * 4);
+        store4d(zj, a);
+    }
+}
+
 }  // namespace
 
 Eigen::MatrixXd SparseCholesky::solve(const Eigen::MatrixXd& B) const {
@@ -135,20 +186,29 @@ Eigen::MatrixXd SparseCholesky::solve(const Eigen::MatrixXd& B) const {
     const auto& L = f.ldlt.matrixL().nestedExpression();
     const int m = static_cast<int>(B.cols());
     X.resize(n, m);
-    f.z.resize(static_cast<size_t>(n) * static_cast<size_t>(m));
-    for (Eigen::Index k = 0; k < n; ++k)
-        for (int c = 0; c < m; ++c)
-            f.z[static_cast<size_t>(k * m + c)] = B(f.order[static_cast<size_t>(k)], c);
     const int* Lp = L.outerIndexPtr();
     const int* Li = L.innerIndexPtr();
     const double* Lx = L.valuePtr();
     const int nn = static_cast<int>(n);
+    if (m == 3) {  // SMACOF's three coordinates, a row in a vector of four
+        f.z.assign(static_cast<size_t>(n) * 4, 0.0);
+        for (Eigen::Index k = 0; k < n; ++k)
+            for (int c = 0; c < 3; ++c)
+                f.z[static_cast<size_t>(k * 4 + c)] = B(f.order[static_cast<size_t>(k)], c);
+        ldl_solve3_in4(Lp, Li, Lx, f.inverse_d.data(), nn, f.z.data());
+        for (Eigen::Index k = 0; k < n; ++k)
+            for (int c = 0; c < 3; ++c)
+                X(f.order[static_cast<size_t>(k)], c) = f.z[static_cast<size_t>(k * 4 + c)];
+        ok_ = X.allFinite();
+        return X;
+    }
+    f.z.resize(static_cast<size_t>(n) * static_cast<size_t>(m));
+    for (Eigen::Index k = 0; k < n; ++k)
+        for (int c = 0; c < m; ++c)
+            f.z[static_cast<size_t>(k * m + c)] = B(f.order[static_cast<size_t>(k)], c);
     switch (m) {
         case 1:
             ldl_solve<1>(Lp, Li, Lx, f.inverse_d.data(), nn, m, f.z.data());
-            break;
-        case 3:
-            ldl_solve<3>(Lp, Li, Lx, f.inverse_d.data(), nn, m, f.z.data());
             break;
         default:
             ldl_solve<0>(Lp, Li, Lx, f.inverse_d.data(), nn, m, f.z.data());
