@@ -230,8 +230,12 @@ struct Schedule {
 constexpr Schedule kCoarse{3, 1e-4, 1e-8, false};
 // Refinement: a fixed number of rounds. A stopping rule "stop when a round does not improve" was
 // decided by rounding noise (an improvement of 1e-16 or none), and an extra round often found a
-// lower minimum 1e-3 rad away, so the result moved with the last bit of the input.
-constexpr Schedule kRefine{5, 1e-11, 1e-13, true};
+// lower minimum 1e-3 rad away, so the result moved with the last bit of the input. Three rounds to
+// 1e-8 rad: a rotation that far off moves a vertex of the unit-radius mesh by 1e-8, a millionth of
+// a view's pixel; five rounds to 1e-11 (the schedule before) took twice the cost evaluations, the
+// descriptor's largest single cost after SIFT, and reached the same rotations within that
+// (docs/benchmarks.md, "View descriptor": the figures and the retrieval check).
+constexpr Schedule kRefine{3, 1e-8, 1e-11, true};
 
 std::pair<Eigen::Matrix3d, double> minimise_from(const RectCost& cost, const Eigen::Matrix3d& Q0,
                                                  const Schedule& sc) {
