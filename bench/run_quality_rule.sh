@@ -64,9 +64,10 @@ for measure, v in r["measures"].items():
     ok = v["interval"][1] >= 0
     holds = holds and ok
     print(json.dumps({"bench": "quality_rule", "old": sys.argv[3], "new": sys.argv[4], "collection": sys.argv[2],
-                      "method": r["method"], "measure": measure, "queries": r["queries"], "old_mean": v["a"],
-                      "new_mean": v["b"], "difference": v["difference"], "interval_low": v["interval"][0],
-                      "interval_high": v["interval"][1], "holds": "yes" if ok else "no"}))
+                      "method": r["method"], "measure": measure, "queries": r["queries"], "old_mean": round(v["a"], 4),
+                      "new_mean": round(v["b"], 4), "difference": round(v["difference"], 4),
+                      "interval_low": round(v["interval"][0], 4),
+                      "interval_high": round(v["interval"][1], 4), "holds": "yes" if ok else "no"}))
 sys.exit(0 if holds else 1)
 EOF
   done

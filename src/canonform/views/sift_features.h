@@ -106,9 +106,9 @@
 // order fixed by the source (no FMA contraction: the views library is compiled with
 // -ffp-contract=off). exp (Gaussian taps and weights), the gradient angles, sin / cos (the
 // keypoint's frame) and 2^x (scales) are the project's own (numerics/portable_math.h), not libm's
-// (glibc picks FMA variants of exp, sin, cos, atan2, log and pow at run time). The blur runs 8
-// lanes at a time on CPUs with AVX2 (a clone chosen at run time) and as two 4-lane SSE2 halves
-// elsewhere: each lane does the same operations in the same order either way, so the choice
+// (glibc picks FMA variants of exp, sin, cos, atan2, log and pow at run time). The blur runs 16
+// lanes at a time on CPUs with AVX-512, 8 on CPUs with AVX2 (clones chosen at run time) and 4
+// (SSE2) elsewhere: each lane does the same operations in the same order either way, so the choice
 // changes no bit (checked under qemu's CPU models, docs/cpu.md).
 //
 // Sources (views/): sift_features.cpp (this header's functions and the backend registry),
