@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "canonform/numerics/sparse_cholesky.h"
 
+#include "canonform/common/cpu_clones.h"
 #include "canonform/common/errors.h"
 
 #include <Eigen/OrderingMethods>
@@ -125,14 +126,6 @@ void ldl_solve(const int* Lp, const int* Li, const double* Lx, const double* inv
     }
 }
 
-// Not on Windows (GCC's target_clones needs ELF's ifunc), nor in clang or sanitizer builds.
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(__SANITIZE_ADDRESS__) && \
-    !defined(_WIN32)
-#define CANONFORM_SOLVE_CLONES __attribute__((target_clones("avx2", "default")))
-#else
-#define CANONFORM_SOLVE_CLONES
-#endif
-
 typedef double v4d __attribute__((vector_size(32)));
 
 // The helpers are inlined: no call passes a v4d between code built for different targets.
@@ -153,8 +146,8 @@ inline void store4d(double* p, const v4d& v) {
 // unused): the same multiplications and subtractions per value in the same order (one AVX2
 // instruction in the AVX2 clone, two SSE2 ones elsewhere; no FMA in either), so the same bits as
 // three scalars, with a third of the instructions.
-CANONFORM_SOLVE_CLONES void ldl_solve3_in4(const int* Lp, const int* Li, const double* Lx,
-                                           const double* inverse_d, int n, double* z) {
+CANONFORM_CLONES void ldl_solve3_in4(const int* Lp, const int* Li, const double* Lx, const double* inverse_d,
+                                     int n, double* z) {
     for (int j = 0; j < n; ++j) {
         const v4d a = load4d(z + static_cast<std::ptrdiff_t>(j) * 4);
         for (int p = Lp[j]; p < Lp[j + 1]; ++p) {

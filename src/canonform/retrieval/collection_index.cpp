@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "canonform/retrieval/collection_index.h"
 
+#include "canonform/common/cpu_clones.h"
 #include "canonform/common/parallel.h"
 #include "canonform/retrieval/collection_index_detail.h"
 #include "canonform/views/view_directions.h"
@@ -273,15 +274,6 @@ inline const std::uint8_t* accumulate_view(const std::uint8_t* p, std::uint32_t 
     return p;
 }
 
-#if defined(_WIN32)  // no ifunc for target_clones, and no 32-byte stack alignment for AVX (codebook.cpp)
-#define CANONFORM_INDEX_CLONES
-#elif defined(__GNUC__) && !defined(__clang__) && __GNUC__ < 11  // GCC 10 (bullseye: the portable
-// build and the wheel) knows no arch=x86-64-v4; the avx2 clone gives the same integers
-#define CANONFORM_INDEX_CLONES __attribute__((target_clones("avx2", "default")))
-#else
-#define CANONFORM_INDEX_CLONES __attribute__((target_clones("arch=x86-64-v4", "avx2", "default")))
-#endif
-
 /// What score_views() reads and writes: the plan's arrays, the query's, the scratch rows.
 struct ViewWork {
     const int* lane;           // per view
@@ -306,8 +298,8 @@ struct ViewWork {
 /// every lane width) and adds them to the rotations' sums over the model's views in order. After
 /// each view from `check_from` on, if every rotation's partial sum exceeds `bound` the model is
 /// given up (false): the sums only grow. True when every view was scored.
-CANONFORM_INDEX_CLONES bool score_views(const std::uint8_t* p, int views, const ViewWork& k, double bound,
-                                        int check_from) {
+CANONFORM_CLONES_AVX512 bool score_views(const std::uint8_t* p, int views, const ViewWork& k, double bound,
+                                         int check_from) {
     double rot[kCubeRotations] = {};
     for (int j = 0; j < views; ++j) {
         const std::uint32_t n = detail::read_entry_count(p);
@@ -359,7 +351,7 @@ constexpr int kPrefetchLines = 64;  // at most, of a candidate's bytes (about 2.
 /// The smallest of the 24 rotation sums: per rotation the sum of its pairs' distances over the
 /// views in order (as distance_matrix()), the rotations side by side in registers (the same
 /// additions in the same order as one rotation at a time).
-CANONFORM_INDEX_CLONES double smallest_rotation_sum(const double* pair, const int* pair_of, int views) {
+CANONFORM_CLONES_AVX512 double smallest_rotation_sum(const double* pair, const int* pair_of, int views) {
     double rot[kCubeRotations] = {};
     for (int v = 0; v < views; ++v) {
         const int* po = pair_of + static_cast<std::size_t>(v) * kCubeRotations;

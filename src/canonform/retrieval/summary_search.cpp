@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "canonform/retrieval/summary_search.h"
 
+#include "canonform/common/cpu_clones.h"
 #include "canonform/common/parallel.h"
 
 #include <algorithm>
@@ -190,14 +191,6 @@ std::vector<double> jacobi(Dense a, Dense& vectors) {
     return values;
 }
 
-#if defined(_WIN32)  // no ifunc for target_clones, and no 32-byte stack alignment for AVX (codebook.cpp)
-#define CANONFORM_SUMMARY_CLONES
-#elif defined(__GNUC__) && !defined(__clang__) && __GNUC__ < 11  // GCC 10 knows no arch=x86-64-v4
-#define CANONFORM_SUMMARY_CLONES __attribute__((target_clones("avx2", "default")))
-#else
-#define CANONFORM_SUMMARY_CLONES __attribute__((target_clones("arch=x86-64-v4", "avx2", "default")))
-#endif
-
 constexpr int kMaxDims = 256;  // SummaryOptions::dims at most
 
 /// The squared distance of D code bytes at `c` to the query's (widened to 16 bits, in registers:
@@ -223,8 +216,8 @@ inline void prefix_distances_of(const std::int8_t* __restrict codes, std::size_t
 
 /// Squared distances of the query code's first `dims` bytes to `count` codes of `dims` bytes
 /// stored one after another.
-CANONFORM_SUMMARY_CLONES void prefix_distances(const std::int8_t* codes, std::size_t count, int dims,
-                                               const std::int8_t* query, std::uint32_t* out) {
+CANONFORM_CLONES_AVX512 void prefix_distances(const std::int8_t* codes, std::size_t count, int dims,
+                                              const std::int8_t* query, std::uint32_t* out) {
     std::int16_t q[kMaxDims];
     for (int k = 0; k < dims; ++k) q[k] = query[k];
     switch (dims) {
@@ -252,9 +245,8 @@ inline void add_rest_of(const std::int8_t* __restrict rest, const std::uint32_t*
 
 /// Adds to out[i] the squared distance of the query's `dims` bytes at `query` to the `dims` bytes
 /// of model models[i] in `rest` (a code of `dims` bytes per model).
-CANONFORM_SUMMARY_CLONES void add_rest(const std::int8_t* rest, const std::uint32_t* models,
-                                       std::size_t count, int dims, const std::int8_t* query,
-                                       std::uint32_t* out) {
+CANONFORM_CLONES_AVX512 void add_rest(const std::int8_t* rest, const std::uint32_t* models, std::size_t count,
+                                      int dims, const std::int8_t* query, std::uint32_t* out) {
     std::int16_t q[kMaxDims];
     for (int k = 0; k < dims; ++k) q[k] = query[k];
     switch (dims) {

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "canonform/views/codebook.h"
 
+#include "canonform/common/cpu_clones.h"
 #include "canonform/io/byte_order.h"
 #include "canonform/io/files.h"
 
@@ -26,21 +27,12 @@ using io::put_u32;
 constexpr double kWordScale = 64;
 constexpr float kMaxWordValue = 511.f;
 
-// Not on Windows: GCC's target_clones needs ELF's ifunc, and GCC keeps 32-byte AVX values on the
-// 16-byte-aligned stack of the Windows x64 ABI with aligned moves; the SSE2 path gives the same bits.
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(__SANITIZE_ADDRESS__) && \
-    !defined(_WIN32)
-#define CANONFORM_INT_CLONES __attribute__((target_clones("avx2", "default")))
-#else
-#define CANONFORM_INT_CLONES
-#endif
-
 // For four descriptors x (4 x 128 integers 0-255), the index of the word q (w x 128, units of 1/64)
 // with the smallest |q|^2 - 128 x.q, that is 4096 |x - q/64|^2 - 4096 |x|^2 (ties: the lower index).
 // Integer arithmetic (no sum reaches 2^31: 128 * 255 * 32704 < 2^31), so every CPU and every
 // instruction set - the AVX2 clone or SSE2 - gives the same answer.
-CANONFORM_INT_CLONES void nearest_of_four(const std::int16_t* __restrict x, const std::int16_t* __restrict q,
-                                          const std::int64_t* __restrict qn, int words, int* best) {
+CANONFORM_CLONES void nearest_of_four(const std::int16_t* __restrict x, const std::int16_t* __restrict q,
+                                      const std::int64_t* __restrict qn, int words, int* best) {
     std::int64_t score[4] = {
         std::numeric_limits<std::int64_t>::max(), std::numeric_limits<std::int64_t>::max(),
         std::numeric_limits<std::int64_t>::max(), std::numeric_limits<std::int64_t>::max()};

@@ -116,7 +116,7 @@ ImageScan scan_image(const float* v, int size) {
 // operations in its order: float to double (exact), std::clamp's choices, * 255, + 0.5, truncation to
 // int, to float, / 255.
 typedef double v4d __attribute__((vector_size(32)));
-CANONFORM_SIMD_CLONES void to_gray_levels(const float* depth, float* image, size_t n) {
+CANONFORM_CLONES void to_gray_levels(const float* depth, float* image, size_t n) {
     const v4d zero = {0.0, 0.0, 0.0, 0.0}, one = {1.0, 1.0, 1.0, 1.0};
     const v4d k255 = {255.0, 255.0, 255.0, 255.0}, half = {0.5, 0.5, 0.5, 0.5};
     const v4f nan = splat4(std::numeric_limits<float>::quiet_NaN());

@@ -62,7 +62,7 @@ namespace {
 
 // o[i] = k0 c[i] + k1 (c[i-1] + c[i+1]) + ... + kR (c[i-R] + c[i+R]) for i in [0, n), summed in
 // that order (c must be readable at [-R, n + R)).
-CANONFORM_BLUR_CLONES void convolve_line(const float* c, float* o, int n, const float* taps, int R) {
+CANONFORM_CLONES_AVX512 void convolve_line(const float* c, float* o, int n, const float* taps, int R) {
     int i = 0;
     for (; i + 32 <= n; i += 32) {
         const v16f k0 = splat16(taps[0]);
@@ -89,7 +89,8 @@ CANONFORM_BLUR_CLONES void convolve_line(const float* c, float* o, int n, const 
 
 // o[i] = k0 r0[i] + k1 (m1[i] + p1[i]) + ... over rows r0 = at[0], m_j = at[-j], p_j = at[j], where a
 // null row is 0 and its terms are left out (adding 0 changes no sum).
-CANONFORM_BLUR_CLONES void convolve_rows(const float* const* at, float* o, int n, const float* taps, int R) {
+CANONFORM_CLONES_AVX512 void convolve_rows(const float* const* at, float* o, int n, const float* taps,
+                                           int R) {
     const float* const centre = at[0];
     const float* const* const plus = at;
     const auto minus = [at](int j) { return at[-j]; };
@@ -234,7 +235,7 @@ void gaussian_octave(int o, const Rect& obj, const Plane& source, double input_b
 // The extremum scan's two row kernels, 8 lanes at a time like the blur (comparisons and one
 // subtraction per lane: the same bits and the same candidates on every CPU).
 
-CANONFORM_SIMD_CLONES void dog_row(const float* b, const float* t, float* d, float* mx, float* mn, int w) {
+CANONFORM_CLONES void dog_row(const float* b, const float* t, float* d, float* mx, float* mn, int w) {
     int i = 0;
     for (; i + 8 <= w; i += 8) store8(d + i, load8(t + i) - load8(b + i));
     for (; i < w; ++i) d[i] = t[i] - b[i];
@@ -249,9 +250,8 @@ CANONFORM_SIMD_CLONES void dog_row(const float* b, const float* t, float* d, flo
     }
 }
 
-CANONFORM_SIMD_CLONES int row_candidates(const float* d, const float* upmax, const float* upmin,
-                                         const float* downmax, const float* downmin, int w, float pre,
-                                         int* out) {
+CANONFORM_CLONES int row_candidates(const float* d, const float* upmax, const float* upmin,
+                                    const float* downmax, const float* downmin, int w, float pre, int* out) {
     int n = 0;
     int i = 1;
     const v8f vpre = splat8(pre), vneg = splat8(-pre), vzero = splat8(0.f);

@@ -4,12 +4,14 @@
 //
 // 4-, 8- and 16-float vectors of the GCC/Clang vector extension. 4 lanes are SSE2 on x86-64 (in
 // every x86-64 CPU); 8 lanes are one AVX2 instruction in a function cloned for AVX2
-// (CANONFORM_SIMD_CLONES: the clone is picked at run time) and a pair of SSE2 instructions
-// elsewhere; 16 lanes (the blur) one AVX-512 instruction in its x86-64-v4 clone. Each lane does exactly what
-// the scalar code of the same loop does, in the same order (no FMA: the views area is compiled with
-// -ffp-contract=off, and AVX2 does not imply FMA), so the choice changes no bit.
+// (CANONFORM_CLONES, common/cpu_clones.h: the clone is picked at run time) and a pair of SSE2
+// instructions elsewhere; 16 lanes (the blur, CANONFORM_CLONES_AVX512) one AVX-512 instruction in
+// its x86-64-v4 clone. Each lane does exactly what the scalar code of the same loop does, in the
+// same order (no FMA: the views area is compiled with -ffp-contract=off, and AVX2 does not imply
+// FMA), so the choice changes no bit.
 #pragma once
 
+#include "canonform/common/cpu_clones.h"
 #include "canonform/numerics/portable_math.h"
 
 #include <cmath>
@@ -20,26 +22,9 @@
 #endif
 
 // The 8-float helpers are inlined: no call passes a v8f between code built for different targets.
-// (clang, which never makes the clones below, says so too from -O2, for the helpers' signatures.)
+// (clang, which never makes the clones, says so too from -O2, for the helpers' signatures.)
 #if defined(__GNUC__)
 #pragma GCC diagnostic ignored "-Wpsabi"
-#endif
-
-// Not on Windows: GCC's target_clones needs ELF's ifunc, and GCC keeps 32-byte AVX values on the
-// 16-byte-aligned stack of the Windows x64 ABI with aligned moves; the SSE2 path gives the same bits.
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(__SANITIZE_ADDRESS__) && \
-    !defined(_WIN32)
-#define CANONFORM_SIMD_CLONES __attribute__((target_clones("avx2", "default")))
-#if __GNUC__ >= 11  // GCC 10 (bullseye: the portable build and the wheel) knows no arch=x86-64-v4
-// The blur's clones (sift_pyramid.cpp): also AVX-512 (x86-64-v4), where a 16-float vector is one
-// instruction; the AVX2 clone takes two, the default four SSE2 ones: the same operations per lane.
-#define CANONFORM_BLUR_CLONES __attribute__((target_clones("arch=x86-64-v4", "avx2", "default")))
-#else
-#define CANONFORM_BLUR_CLONES CANONFORM_SIMD_CLONES
-#endif
-#else
-#define CANONFORM_SIMD_CLONES
-#define CANONFORM_BLUR_CLONES
 #endif
 
 namespace canonform::views {
