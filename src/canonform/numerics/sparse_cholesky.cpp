@@ -183,25 +183,19 @@ Eigen::MatrixXd SparseCholesky::solve(const Eigen::MatrixXd& B) const {
     const int* Li = L.innerIndexPtr();
     const double* Lx = L.valuePtr();
     const int nn = static_cast<int>(n);
-    if (m == 3) {  // SMACOF's three coordinates, a row in a vector of four
-        f.z.assign(static_cast<size_t>(n) * 4, 0.0);
-        for (Eigen::Index k = 0; k < n; ++k)
-            for (int c = 0; c < 3; ++c)
-                f.z[static_cast<size_t>(k * 4 + c)] = B(f.order[static_cast<size_t>(k)], c);
-        ldl_solve3_in4(Lp, Li, Lx, f.inverse_d.data(), nn, f.z.data());
-        for (Eigen::Index k = 0; k < n; ++k)
-            for (int c = 0; c < 3; ++c)
-                X(f.order[static_cast<size_t>(k)], c) = f.z[static_cast<size_t>(k * 4 + c)];
-        ok_ = X.allFinite();
-        return X;
-    }
-    f.z.resize(static_cast<size_t>(n) * static_cast<size_t>(m));
+    // The right-hand sides in elimination order, a row's m values side by side; three take a row of
+    // four (the fourth 0), as ldl_solve3_in4() reads them.
+    const int stride = m == 3 ? 4 : m;
+    f.z.resize(static_cast<size_t>(n) * static_cast<size_t>(stride));
     for (Eigen::Index k = 0; k < n; ++k)
-        for (int c = 0; c < m; ++c)
-            f.z[static_cast<size_t>(k * m + c)] = B(f.order[static_cast<size_t>(k)], c);
+        for (int c = 0; c < stride; ++c)
+            f.z[static_cast<size_t>(k * stride + c)] = c < m ? B(f.order[static_cast<size_t>(k)], c) : 0.0;
     switch (m) {
         case 1:
             ldl_solve<1>(Lp, Li, Lx, f.inverse_d.data(), nn, m, f.z.data());
+            break;
+        case 3:
+            ldl_solve3_in4(Lp, Li, Lx, f.inverse_d.data(), nn, f.z.data());
             break;
         default:
             ldl_solve<0>(Lp, Li, Lx, f.inverse_d.data(), nn, m, f.z.data());
@@ -209,7 +203,7 @@ Eigen::MatrixXd SparseCholesky::solve(const Eigen::MatrixXd& B) const {
     }
     for (Eigen::Index k = 0; k < n; ++k)
         for (int c = 0; c < m; ++c)
-            X(f.order[static_cast<size_t>(k)], c) = f.z[static_cast<size_t>(k * m + c)];
+            X(f.order[static_cast<size_t>(k)], c) = f.z[static_cast<size_t>(k * stride + c)];
     ok_ = X.allFinite();
     return X;
 }
