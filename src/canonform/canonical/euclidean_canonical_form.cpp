@@ -83,6 +83,7 @@ EuclideanCanonicalFormResult euclidean_canonical_form(const Eigen::MatrixXd& V0,
     cf_opt.validate = false;
     cf_opt.boundary = report.boundary;
     cf_opt.linear_solver = options.linear_solver;
+    cf_opt.threads = options.threads;
     if (options.progress)
         cf_opt.progress = [&](double f, const char* s) { return options.progress(0.08 * f, s); };
     const surface::ConformalFactorResult cf = surface::conformal_factor(V, F, cf_opt);
@@ -98,6 +99,7 @@ EuclideanCanonicalFormResult euclidean_canonical_form(const Eigen::MatrixXd& V0,
 
     numerics::SmacofSolverOptions solver_opt;
     solver_opt.linear_solver = options.linear_solver;
+    solver_opt.threads = options.threads;
     solver_opt.ordering = smacof_ordering(cf.ordering, fp.indices);
     const numerics::SmacofSolver solver(static_cast<int>(V.rows()),
                                         canonical_form_pairs(V, E, cf.normalized, fp.indices, options),
@@ -174,6 +176,7 @@ CanonicalMethod euclidean_method(CanonicalVariant variant) {
         EuclideanCanonicalFormOptions o = parameters.read(s);
         o.progress = c.progress;
         o.validate = c.validate;
+        o.threads = c.threads;
         EuclideanCanonicalFormResult e = euclidean_canonical_form(V, F, o);
         CanonicalForm r;
         r.V = std::move(e.V);

@@ -65,7 +65,9 @@ struct EuclideanCanonicalFormOptions {
         numerics::LinearSolver::Auto;  ///< conformal factor's and SMACOF's solver
     bool restore_scale = true;         ///< return the result in the input's units and position
     bool validate = true;              ///< run validate_mesh() first (off only if the caller just did)
-    ProgressFn progress;               ///< optional progress callback (smacof.progress is not called)
+    int threads =
+        0;  ///< threads of the multigrid solver's large sweeps (0: every core; no effect on results)
+    ProgressFn progress;  ///< optional progress callback (smacof.progress is not called)
 
     /// beta actually used: `beta` if positive, else 10 (A) or 130 (N).
     double effective_beta() const {

@@ -2,7 +2,8 @@
 // canonform: the one parallel loop of the library, on oneTBB (or std::thread without it).
 //
 // Every parallel loop (fast marching from all sources, MDS blocks, k-means assignment, the
-// distance matrix, per-mesh work in a retrieval run, the procedural generator) goes through
+// distance matrix, per-mesh work in a retrieval run, the procedural generator, the multigrid
+// solver's sweeps and products over 1M non-zeros and more) goes through
 // parallel_for(), and every "how many threads" question through thread_count(). Results never
 // depend on the number of threads: a body may only write to outputs of its own index (or to the
 // state of its own worker, combined afterwards in worker order).

@@ -2,6 +2,7 @@
 #include "canonform/numerics/algebraic_multigrid.h"
 
 #include "canonform/common/errors.h"
+#include "canonform/common/parallel.h"
 
 #include <algorithm>
 #include <cmath>
@@ -19,43 +20,86 @@ using Block = AmgPreconditioner::Block;
 
 constexpr int kManyWeakCouplings = 16;  // mesh rows have ~6 neighbours, all usually strong
 
-// y = A x for a row-major block x (#cols x k). K > 0: k known at compile time (the common k = 3).
-template <int K>
-void multiply_k(const RowSparse& A, const Block& x, Block& y) {
+// Rows of a matrix split into chunks of kChunkRows; a product or sweep over at least
+// kParallelNonZeros entries runs its chunks on every hardware thread (each row is written by one
+// chunk only, so the result does not depend on the threads), a smaller one on the calling thread
+// alone (no pool for small work: a mesh below about 140k vertices never starts one).
+constexpr Eigen::Index kChunkRows = 16384;
+constexpr Eigen::Index kParallelNonZeros = 1000000;
+
+template <class Body>
+void for_row_chunks(Eigen::Index n, Eigen::Index nonzeros, int threads, const Body& body) {
+    const Eigen::Index chunks = (n + kChunkRows - 1) / kChunkRows;
+    const auto run = [&](std::ptrdiff_t c, int) {
+        const Eigen::Index begin = static_cast<Eigen::Index>(c) * kChunkRows;
+        body(begin, std::min(n, begin + kChunkRows));
+    };
+    if (nonzeros < kParallelNonZeros || chunks < 2) {
+        for (Eigen::Index c = 0; c < chunks; ++c) run(c, 0);
+        return;
+    }
+    ParallelOptions o;
+    o.threads = threads;
+    parallel_for(chunks, run, o);
+}
+
+// How a row's sum sum_j a_ij x_j is stored: y_i = sum (Set), y_i = b_i - sum (Residual) or
+// y_i += sum (Add). The sum is formed first in every case, so the three give the bits of the
+// product followed by a separate subtraction or addition.
+enum class Store { Set, Residual, Add };
+
+// y (op)= A x for a row-major block x (#cols x k). K > 0: k known at compile time (the common k = 3).
+template <int K, Store S>
+void multiply_k(const RowSparse& A, const Block& x, Block& y, const Block* b, int threads) {
     const Eigen::Index n = A.rows(), k = K > 0 ? K : x.cols();
-    y.resize(n, k);
+    if (S != Store::Add) y.resize(n, k);
     const auto* outer = A.outerIndexPtr();
     const auto* inner = A.innerIndexPtr();
     const double* val = A.valuePtr();
     const double* xs = x.data();
+    const double* bs = b ? b->data() : nullptr;
     double* ys = y.data();
-    // Accumulate straight into y's row: no per-row buffer.
-    for (Eigen::Index i = 0; i < n; ++i) {
-        double* yi = ys + i * k;
-        for (Eigen::Index c = 0; c < k; ++c) yi[c] = 0;
-        for (auto p = outer[i]; p < outer[i + 1]; ++p) {
-            const double a = val[p];
-            const double* xj = xs + static_cast<Eigen::Index>(inner[p]) * k;
-            for (Eigen::Index c = 0; c < k; ++c) yi[c] += a * xj[c];
+    for_row_chunks(n, A.nonZeros(), threads, [&](Eigen::Index begin, Eigen::Index end) {
+        double small[K > 0 ? K : 8];
+        std::vector<double> big(K > 0 || k <= 8 ? 0 : static_cast<size_t>(k));
+        double* acc = K > 0 || k <= 8 ? small : big.data();
+        for (Eigen::Index i = begin; i < end; ++i) {
+            for (Eigen::Index c = 0; c < k; ++c) acc[c] = 0;
+            for (auto p = outer[i]; p < outer[i + 1]; ++p) {
+                const double a = val[p];
+                const double* xj = xs + static_cast<Eigen::Index>(inner[p]) * k;
+                for (Eigen::Index c = 0; c < k; ++c) acc[c] += a * xj[c];
+            }
+            double* yi = ys + i * k;
+            for (Eigen::Index c = 0; c < k; ++c) {
+                if (S == Store::Set) yi[c] = acc[c];
+                if (S == Store::Residual) yi[c] = bs[i * k + c] - acc[c];
+                if (S == Store::Add) yi[c] += acc[c];
+            }
         }
-    }
+    });
 }
 
-void multiply(const RowSparse& A, const Block& x, Block& y) {
+template <Store S>
+void multiply_store(const RowSparse& A, const Block& x, Block& y, const Block* b = nullptr, int threads = 0) {
     if (x.rows() != A.cols()) throw InputError("AMG: block size mismatch");
     if (x.cols() == 3)
-        multiply_k<3>(A, x, y);
+        multiply_k<3, S>(A, x, y, b, threads);
     else if (x.cols() == 1)
-        multiply_k<1>(A, x, y);  // the conformal factor's CG, the power iteration
+        multiply_k<1, S>(A, x, y, b, threads);  // the conformal factor's CG, the power iteration
     else
-        multiply_k<0>(A, x, y);
+        multiply_k<0, S>(A, x, y, b, threads);
 }
 
-// One Gauss-Seidel sweep on A x = b, rows in increasing (forward) or decreasing order.
+void multiply(const RowSparse& A, const Block& x, Block& y, int threads) {
+    multiply_store<Store::Set>(A, x, y, nullptr, threads);
+}
+
+// Gauss-Seidel rows [begin, end) of one sweep on A x = b, in increasing (forward) or decreasing order.
 template <int K>
-void gauss_seidel_k(const RowSparse& A, const Eigen::VectorXd& inv_diag, const Block& b, Block& x,
-                    bool forward) {
-    const Eigen::Index n = A.rows(), k = K > 0 ? K : x.cols();
+void gauss_seidel_rows(const RowSparse& A, const Eigen::VectorXd& inv_diag, const Block& b, Block& x,
+                       bool forward, Eigen::Index begin, Eigen::Index end) {
+    const Eigen::Index k = K > 0 ? K : x.cols();
     const auto* outer = A.outerIndexPtr();
     const auto* inner = A.innerIndexPtr();
     const double* val = A.valuePtr();
@@ -64,8 +108,8 @@ void gauss_seidel_k(const RowSparse& A, const Eigen::VectorXd& inv_diag, const B
     double small[K > 0 ? K : 8];
     std::vector<double> big(K > 0 || k <= 8 ? 0 : static_cast<size_t>(k));
     double* acc = K > 0 || k <= 8 ? small : big.data();
-    for (Eigen::Index t = 0; t < n; ++t) {
-        const Eigen::Index i = forward ? t : n - 1 - t;
+    for (Eigen::Index t = begin; t < end; ++t) {
+        const Eigen::Index i = forward ? t : end - 1 - (t - begin);
         for (Eigen::Index c = 0; c < k; ++c) acc[c] = bs[i * k + c];
         for (auto p = outer[i]; p < outer[i + 1]; ++p) {
             const double a = val[p];
@@ -77,14 +121,90 @@ void gauss_seidel_k(const RowSparse& A, const Eigen::VectorXd& inv_diag, const B
     }
 }
 
-void gauss_seidel(const RowSparse& A, const Eigen::VectorXd& inv_diag, const Block& b, Block& x,
-                  bool forward) {
+// Colours the row chunks of a level that is large enough to share, so that no two chunks of one
+// colour couple (no a_ij != 0 with i and j in two chunks of the same colour): greedily, chunks in
+// index order, each taking the smallest colour none of its coupled chunks has. Returns the chunks
+// sorted by colour (by index within a colour) and where each colour starts; empty for a level
+// below kParallelNonZeros entries or when every chunk needs its own colour (nothing to share).
+void colour_chunks(const RowSparse& A, std::vector<int>* order, std::vector<int>* start) {
+    order->clear();
+    start->clear();
+    const Eigen::Index n = A.rows();
+    if (A.nonZeros() < kParallelNonZeros) return;
+    const int chunks = static_cast<int>((n + kChunkRows - 1) / kChunkRows);
+    std::vector<std::vector<int>> coupled(static_cast<size_t>(chunks));
+    for (int c = 0; c < chunks; ++c) {
+        std::vector<int>& list = coupled[static_cast<size_t>(c)];
+        const Eigen::Index begin = static_cast<Eigen::Index>(c) * kChunkRows;
+        const Eigen::Index end = std::min(n, begin + kChunkRows);
+        for (Eigen::Index i = begin; i < end; ++i)
+            for (RowSparse::InnerIterator it(A, i); it; ++it) {
+                const int d = static_cast<int>(it.col() / kChunkRows);
+                if (d != c) list.push_back(d);
+            }
+        std::sort(list.begin(), list.end());
+        list.erase(std::unique(list.begin(), list.end()), list.end());
+    }
+    std::vector<int> colour(static_cast<size_t>(chunks), -1);
+    int colours = 0;
+    for (int c = 0; c < chunks; ++c) {
+        std::vector<char> taken(static_cast<size_t>(colours) + 1, 0);
+        for (const int d : coupled[static_cast<size_t>(c)])
+            if (colour[static_cast<size_t>(d)] >= 0)
+                taken[static_cast<size_t>(colour[static_cast<size_t>(d)])] = 1;
+        int q = 0;
+        while (taken[static_cast<size_t>(q)]) ++q;
+        colour[static_cast<size_t>(c)] = q;
+        colours = std::max(colours, q + 1);
+    }
+    if (colours >= chunks) return;
+    for (int q = 0; q < colours; ++q) {
+        start->push_back(static_cast<int>(order->size()));
+        for (int c = 0; c < chunks; ++c)
+            if (colour[static_cast<size_t>(c)] == q) order->push_back(c);
+    }
+    start->push_back(static_cast<int>(order->size()));
+}
+
+// One Gauss-Seidel sweep on A x = b. Rows in increasing (forward) or decreasing order; on a level
+// with coloured chunks, the chunks of one colour after another (forward: colours and rows
+// increasing; backward: the exact reverse, so a forward and a backward sweep stay a symmetric
+// smoother), the chunks of one colour on every hardware thread. Chunks of one colour do not
+// couple, so this is Gauss-Seidel in a fixed order of the rows: the same result on any number of
+// threads, and every row update still lowers the energy.
+template <int K>
+void gauss_seidel_k(const RowSparse& A, const Eigen::VectorXd& inv_diag, const std::vector<int>& order,
+                    const std::vector<int>& start, const Block& b, Block& x, bool forward, int threads) {
+    const Eigen::Index n = A.rows();
+    if (order.empty()) {
+        gauss_seidel_rows<K>(A, inv_diag, b, x, forward, 0, n);
+        return;
+    }
+    const int colours = static_cast<int>(start.size()) - 1;
+    ParallelOptions o;
+    o.threads = threads;
+    for (int s = 0; s < colours; ++s) {
+        const int q = forward ? s : colours - 1 - s;
+        const int first = start[static_cast<size_t>(q)], count = start[static_cast<size_t>(q) + 1] - first;
+        parallel_for(
+            count,
+            [&](std::ptrdiff_t t, int) {
+                const int c = order[static_cast<size_t>(first + (forward ? t : count - 1 - t))];
+                const Eigen::Index begin = static_cast<Eigen::Index>(c) * kChunkRows;
+                gauss_seidel_rows<K>(A, inv_diag, b, x, forward, begin, std::min(n, begin + kChunkRows));
+            },
+            o);
+    }
+}
+
+void gauss_seidel(const RowSparse& A, const Eigen::VectorXd& inv_diag, const std::vector<int>& order,
+                  const std::vector<int>& start, const Block& b, Block& x, bool forward, int threads) {
     if (x.cols() == 3)
-        gauss_seidel_k<3>(A, inv_diag, b, x, forward);
+        gauss_seidel_k<3>(A, inv_diag, order, start, b, x, forward, threads);
     else if (x.cols() == 1)
-        gauss_seidel_k<1>(A, inv_diag, b, x, forward);
+        gauss_seidel_k<1>(A, inv_diag, order, start, b, x, forward, threads);
     else
-        gauss_seidel_k<0>(A, inv_diag, b, x, forward);
+        gauss_seidel_k<0>(A, inv_diag, order, start, b, x, forward, threads);
 }
 
 // Sorts the columns within every row of a compressed matrix written by hand, as
@@ -246,7 +366,7 @@ std::vector<int> aggregate(const RowSparse& F, int* count) {
 }
 
 // Largest eigenvalue of D^-1 A by power iteration (fixed seed), with a 10% margin.
-double spectral_radius_estimate(const RowSparse& A, const Eigen::VectorXd& inv_diag) {
+double spectral_radius_estimate(const RowSparse& A, const Eigen::VectorXd& inv_diag, int threads) {
     std::mt19937 rng(12345);
     std::uniform_real_distribution<double> u(-1, 1);
     Block x(A.rows(), 1), y;
@@ -256,7 +376,7 @@ double spectral_radius_estimate(const RowSparse& A, const Eigen::VectorXd& inv_d
         const double nx = x.norm();
         if (!(nx > 0)) break;
         x /= nx;
-        multiply(A, x, y);
+        multiply(A, x, y, threads);
         y.col(0).array() *= inv_diag.array();
         lambda = y.norm();
         x.swap(y);
@@ -296,6 +416,7 @@ AmgPreconditioner::AmgPreconditioner(const Eigen::SparseMatrix<double>& A0, cons
                          std::to_string(options.smoothing_sweeps) + " and " +
                          std::to_string(options.max_levels) + ")");
     sweeps_ = options.smoothing_sweeps;
+    threads_ = options.threads;
     RowSparse A = A0;
     A.makeCompressed();
     // Eigen 3.4's sparse matrices have no move operations (std::move copies them): the levels are
@@ -309,6 +430,7 @@ AmgPreconditioner::AmgPreconditioner(const Eigen::SparseMatrix<double>& A0, cons
         if (!(diag.array() > 0).all() || !diag.allFinite())
             throw NumericalError("AMG: the matrix has a non-positive or non-finite diagonal entry");
         L.inv_diag = diag.cwiseInverse();
+        colour_chunks(L.A, &L.chunk_order, &L.colour_start);
         const Eigen::Index n = L.A.rows();
         if (n <= options.coarse_size || static_cast<int>(levels_.size()) >= options.max_levels) break;
         std::vector<int> weak;
@@ -332,7 +454,7 @@ AmgPreconditioner::AmgPreconditioner(const Eigen::SparseMatrix<double>& A0, cons
             const Eigen::VectorXd inv_fdiag = F.diagonal().cwiseInverse();
             if (!inv_fdiag.allFinite() || !(inv_fdiag.array() > 0).all())
                 throw NumericalError("AMG: the filtered matrix has a non-positive diagonal entry");
-            const double omega = 4.0 / (3.0 * spectral_radius_estimate(F, inv_fdiag));
+            const double omega = 4.0 / (3.0 * spectral_radius_estimate(F, inv_fdiag, options.threads));
             F = inv_fdiag.asDiagonal() * F;  // D_F^-1 F, in place of F
             RowSparse DFPt = F * Pt;
             RowSparse().swap(F);
@@ -402,23 +524,21 @@ void AmgPreconditioner::vcycle(int l, const Block& b, Block& x, bool zero_guess,
         work.residual.resize(nl);
         work.rhs.resize(nl);
         work.sol.resize(nl);
-        work.corr.resize(nl);
     }
     if (zero_guess) x.setZero(b.rows(), b.cols());
     // Pre-smoothing (forward), the coarse correction, post-smoothing (backward): symmetric.
     // (Each level stores P and R of the transfer to the next coarser level.)
-    for (int s = 0; s < sweeps_; ++s) gauss_seidel(L.A, L.inv_diag, b, x, true);
+    for (int s = 0; s < sweeps_; ++s)
+        gauss_seidel(L.A, L.inv_diag, L.chunk_order, L.colour_start, b, x, true, threads_);
     Block& r = work.residual[static_cast<size_t>(l)];
-    multiply(L.A, x, r);
-    r = b - r;
+    multiply_store<Store::Residual>(L.A, x, r, &b, threads_);  // r = b - A x
     Block& bc = work.rhs[static_cast<size_t>(l)];
     Block& xc = work.sol[static_cast<size_t>(l)];
-    multiply(L.R, r, bc);
+    multiply(L.R, r, bc, threads_);
     vcycle(l + 1, bc, xc, true, work);
-    Block& corr = work.corr[static_cast<size_t>(l)];
-    multiply(L.P, xc, corr);
-    x += corr;
-    for (int s = 0; s < sweeps_; ++s) gauss_seidel(L.A, L.inv_diag, b, x, false);
+    multiply_store<Store::Add>(L.P, xc, x, nullptr, threads_);  // x += P xc
+    for (int s = 0; s < sweeps_; ++s)
+        gauss_seidel(L.A, L.inv_diag, L.chunk_order, L.colour_start, b, x, false, threads_);
 }
 
 void AmgPreconditioner::apply(const Block& R, Block& Z) const {
@@ -451,7 +571,7 @@ PcgReport AmgPreconditioner::pcg(const Eigen::MatrixXd& B, Eigen::MatrixXd& X0, 
         throw InputError("AMG: right-hand side and guess must have the matrix's number of rows");
     Block x = X0, b = B, r, z, p, q;
     Workspace work;  // the V-cycle's vectors, allocated once for all CG steps
-    multiply(L.A, x, q);
+    multiply(L.A, x, q, threads_);
     r = b - q;
     const Eigen::ArrayXd r0 = r.colwise().norm().transpose();
     PcgReport rep;
@@ -463,7 +583,7 @@ PcgReport AmgPreconditioner::pcg(const Eigen::MatrixXd& B, Eigen::MatrixXd& X0, 
     p = z;
     Eigen::ArrayXd rz = (r.array() * z.array()).colwise().sum().transpose();
     for (int it = 1; it <= max_iterations; ++it) {
-        multiply(L.A, p, q);
+        multiply(L.A, p, q, threads_);
         const Eigen::ArrayXd pq = (p.array() * q.array()).colwise().sum().transpose();
         Eigen::ArrayXd alpha(k);
         for (Eigen::Index c = 0; c < k; ++c) alpha(c) = (pq(c) > 0 && rz(c) > 0) ? rz(c) / pq(c) : 0.0;

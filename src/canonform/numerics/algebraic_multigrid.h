@@ -15,6 +15,14 @@
 // bench/run_bench.sh; docs/benchmarks.md). A V-cycle costs a few sweeps over A (7 entries per row) per
 // level, O(N) in all, and CG with it needs a number of steps that does not grow with N.
 //
+// Departure, for threads: on a level of 1M non-zeros or more (a mesh from about 140k vertices) the
+// Gauss-Seidel sweeps visit the rows chunk by chunk (16384 rows each), the chunks coloured so that
+// no two chunks of one colour couple, one colour after another, and the chunks of a colour run on
+// every thread. That is Gauss-Seidel in another fixed order of the rows (the backward sweep its
+// exact reverse), so every property above holds and the bits do not depend on the threads; the
+// products of such levels run their row chunks on every thread too. Smaller levels keep the
+// natural order on the calling thread (no pool for small work).
+//
 // Conventions: A is symmetric positive definite (callers pin one vertex of a graph Laplacian).
 // Right-hand sides and solutions are #rows x k matrices (k columns solved together: each pass over
 // the matrix serves all k). The coarsest level (<= coarse_size rows) is solved by sparse Cholesky.
@@ -60,6 +68,9 @@ struct AmgOptions {
     int max_levels = 25;     ///< level cap
     int smoothing_sweeps =
         1;  ///< Gauss-Seidel sweeps before (forward) and after (backward) the coarse correction
+    /// Threads of the sweeps and products over 1M non-zeros or more (0: every core; smaller ones
+    /// run on the calling thread). The results do not depend on it.
+    int threads = 0;
 };
 
 /// Result of AmgPreconditioner::pcg().
@@ -98,8 +109,8 @@ public:
     /// (SMACOF: one cycle per Guttman step) so that they are not allocated again every time;
     /// each thread needs its own.
     struct Workspace {
-        Block b, x;                                   // cycle(): B and X in row-major storage
-        std::vector<Block> residual, rhs, sol, corr;  // per level
+        Block b, x;                             // cycle(): B and X in row-major storage
+        std::vector<Block> residual, rhs, sol;  // per level
     };
     /// cycle() working in `work`: the same arithmetic, no allocation after the first call.
     void cycle(const Eigen::Ref<const Eigen::MatrixXd>& B, Eigen::Ref<Eigen::MatrixXd> X, int cycles,
@@ -118,10 +129,14 @@ private:
         Eigen::VectorXd inv_diag;  // 1 / a_ii
         RowSparse P;               // prolongation to this level from the next coarser one
         RowSparse R;               // P^T
+        // Gauss-Seidel order of a level large enough to share (see the .cpp): its row chunks
+        // sorted by colour, and where each colour starts in that list; empty: rows in order.
+        std::vector<int> chunk_order, colour_start;
     };
     void vcycle(int level, const Block& b, Block& x, bool zero_guess, Workspace& work) const;
 
     std::vector<Level> levels_;
+    int threads_ = 0;
     SparseCholesky coarse_;
     int sweeps_ = 1;
 };

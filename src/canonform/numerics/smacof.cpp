@@ -221,10 +221,13 @@ SmacofSolver::SmacofSolver(int num_points, StressPairs pairs, const SmacofSolver
     }
     Vr.makeCompressed();
     multigrid_ = use_multigrid(options_.linear_solver, n_, options_.multigrid_from);
-    if (multigrid_)
-        amg_ = AmgPreconditioner(Vr);
-    else if (!factor_.compute(Vr, options_.ordering))
+    if (multigrid_) {
+        AmgOptions amg;
+        amg.threads = options_.threads;
+        amg_ = AmgPreconditioner(Vr, amg);
+    } else if (!factor_.compute(Vr, options_.ordering)) {
         throw NumericalError("SMACOF: the Cholesky factorisation of V failed");
+    }
 }
 
 double SmacofSolver::stress(const Eigen::MatrixXd& X) const {

@@ -246,6 +246,7 @@ struct SmacofSolverOptions {
     /// Direct: fill-reducing ordering of V with point 0 pinned (num_points - 1 entries, entry
     /// k = point ordering[k] + 1 eliminated k-th; see SparseCholesky::compute); empty = AMD.
     std::vector<int> ordering;
+    int threads = 0;  ///< Multigrid: threads of its large sweeps (AmgOptions::threads; no effect on results)
 };
 
 /// Weighted SMACOF for a fixed set of pairs: builds and factors V once, then iterates Guttman

@@ -64,7 +64,9 @@ ConformalFactorResult conformal_factor(const Eigen::MatrixXd& V0, const Eigen::M
     Eigen::VectorXd phi(n);
     phi(0) = 0;
     if (numerics::use_multigrid(options.linear_solver, n - 1)) {
-        const numerics::AmgPreconditioner amg(Lr);
+        numerics::AmgOptions amg_options;
+        amg_options.threads = options.threads;
+        const numerics::AmgPreconditioner amg(Lr, amg_options);
         report_progress(options.progress, 0.7, "conformal factor: solving (multigrid)");
         Eigen::MatrixXd x = Eigen::MatrixXd::Zero(n - 1, 1);
         const numerics::PcgReport rep = amg.pcg(Eigen::MatrixXd(rhs.tail(n - 1)), x, 1e-10, 500);

@@ -39,6 +39,7 @@ namespace canonform::surface {
 struct ConformalFactorOptions {
     double residual_tolerance = 1e-6;  ///< max ||L phi - rhs||_inf / ||rhs||_inf accepted
     numerics::LinearSolver linear_solver = numerics::LinearSolver::Auto;  ///< how eq. (7) is solved
+    int threads = 0;       ///< multigrid: threads of its large sweeps (0: every core; no effect on results)
     bool validate = true;  ///< run validate_mesh() first (InputError on bad input)
     /// Boundary vertices (#V flags, MeshReport::boundary) when the caller validated the mesh
     /// itself; empty = found from F (or taken from validate_mesh's report).
