@@ -42,12 +42,11 @@ bool SparseCholesky::compute(const Eigen::SparseMatrix<double>& A, const std::ve
     const int n = static_cast<int>(A.rows());
     f.order.clear();
     if (ordering.empty()) {
-        // Approximate minimum degree on the symmetric pattern (Eigen's AMDOrdering: the pattern of
-        // A + A^T from the lower triangle, with the diagonal).
-        Eigen::SparseMatrix<double> pattern;
-        pattern = A.selfadjointView<Eigen::Lower>();
+        // Approximate minimum degree on the symmetric pattern (Eigen's AMDOrdering of the
+        // self-adjoint view: the full pattern from the lower triangle, with the diagonal, built
+        // once; given a plain matrix it would form A^T + A of it again).
         Permutation inverse;
-        Eigen::AMDOrdering<int>()(pattern, inverse);
+        Eigen::AMDOrdering<int>()(A.selfadjointView<Eigen::Lower>(), inverse);
         f.order.assign(inverse.indices().data(), inverse.indices().data() + n);
     } else {
         std::vector<char> seen(static_cast<size_t>(n), 0);
