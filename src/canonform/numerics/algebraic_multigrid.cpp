@@ -557,10 +557,24 @@ void AmgPreconditioner::cycle(const Eigen::Ref<const Eigen::MatrixXd>& B, Eigen:
     const Eigen::Index n = rows();
     if (B.rows() != n || X.rows() != n || X.cols() != B.cols())
         throw InputError("AMG: right-hand side and guess must have the matrix's number of rows");
-    work.b = B;
-    work.x = X;
+    // The copies between the caller's column-major storage and the cycle's rows, in row chunks
+    // shared like the sweeps (copies: the same values on any number of threads).
+    const Eigen::Index k = B.cols();
+    work.b.resize(n, k);
+    work.x.resize(n, k);
+    const Eigen::Index nonzeros = levels_[0].A.nonZeros();
+    for_row_chunks(n, nonzeros, threads_, [&](Eigen::Index begin, Eigen::Index end) {
+        for (Eigen::Index i = begin; i < end; ++i)
+            for (Eigen::Index c = 0; c < k; ++c) {
+                work.b(i, c) = B(i, c);
+                work.x(i, c) = X(i, c);
+            }
+    });
     for (int c = 0; c < cycles; ++c) vcycle(0, work.b, work.x, false, work);
-    X = work.x;
+    for_row_chunks(n, nonzeros, threads_, [&](Eigen::Index begin, Eigen::Index end) {
+        for (Eigen::Index c = 0; c < k; ++c)
+            for (Eigen::Index i = begin; i < end; ++i) X(i, c) = work.x(i, c);
+    });
 }
 
 PcgReport AmgPreconditioner::pcg(const Eigen::MatrixXd& B, Eigen::MatrixXd& X0, double tolerance,

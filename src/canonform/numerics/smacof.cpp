@@ -3,6 +3,8 @@
 
 #include "canonform/numerics/graph.h"
 
+#include "canonform/common/parallel.h"
+
 #include <Eigen/Dense>
 
 #include <algorithm>
@@ -63,6 +65,26 @@ ParameterSet<SmacofOptions> smacof_parameters(const SmacofOptions& defaults) {
 }
 
 namespace {
+
+/// body(begin, end) over [0, n) in chunks of 65536 rows: on `threads` threads (0: every core) from
+/// 131072 rows (the multigrid's large meshes), else on the calling thread. Only for per-row work,
+/// whose values do not depend on the threads.
+template <class Body>
+void for_rows(Eigen::Index n, int threads, const Body& body) {
+    constexpr Eigen::Index kRows = 65536;
+    if (n < 2 * kRows) {
+        body(Eigen::Index(0), n);
+        return;
+    }
+    ParallelOptions o;
+    o.threads = threads;
+    parallel_for((n + kRows - 1) / kRows,
+                 [&](std::ptrdiff_t c, int) {
+                     const Eigen::Index begin = static_cast<Eigen::Index>(c) * kRows;
+                     body(begin, std::min(n, begin + kRows));
+                 },
+                 o);
+}
 
 double dot(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
     return (a.array() * b.array()).sum();
@@ -285,7 +307,12 @@ Eigen::MatrixXd SmacofSolver::guttman(const Eigen::MatrixXd& X, double* stress_o
     Y.row(0).setZero();
     if (multigrid_) {
         // Warm start at X translated so that the pinned vertex 0 sits at the origin.
-        Y.bottomRows(n_ - 1) = X.bottomRows(n_ - 1).rowwise() - X.row(0);
+        const Eigen::RowVectorXd origin = X.row(0);
+        for_rows(n_, options_.threads, [&](Eigen::Index begin, Eigen::Index end) {
+            for (Eigen::Index c = 0; c < X.cols(); ++c)
+                for (Eigen::Index i = std::max<Eigen::Index>(begin, 1); i < end; ++i)
+                    Y(i, c) = X(i, c) - origin(c);
+        });
         amg_.cycle(BX.bottomRows(n_ - 1), Y.bottomRows(n_ - 1), options_.vcycles_per_step, work.amg);
         if (!Y.allFinite())
             throw NumericalError("SMACOF: the multigrid solve of V produced non-finite values");
@@ -293,7 +320,11 @@ Eigen::MatrixXd SmacofSolver::guttman(const Eigen::MatrixXd& X, double* stress_o
         Y.bottomRows(n_ - 1) = factor_.solve(BX.bottomRows(n_ - 1));
         if (!factor_.ok()) throw NumericalError("SMACOF: the solve with the factor of V failed");
     }
-    Y.rowwise() -= Y.colwise().mean();
+    const Eigen::RowVectorXd mean = Y.colwise().mean();
+    for_rows(n_, options_.threads, [&](Eigen::Index begin, Eigen::Index end) {
+        for (Eigen::Index c = 0; c < Y.cols(); ++c)
+            for (Eigen::Index i = begin; i < end; ++i) Y(i, c) -= mean(c);
+    });
     return Y;
 }
 
