@@ -254,6 +254,105 @@ RowSparse compressed_rows(Eigen::Index rows, Eigen::Index cols, RowSize row_size
     return M;
 }
 
+// C = A B, row by row: row i accumulates b_kj a_ik over row i's entries k in stored order (the
+// first term assigned, the next ones added), its columns sorted: what Eigen's product of two
+// row-major matrices computes, to the bit, with every touched entry kept. Rows in chunks of
+// kChunkRows, on every thread when A and B hold 1M non-zeros or more (each chunk's rows are
+// written by that chunk alone: the same result on any number of threads).
+RowSparse sparse_product(const RowSparse& A, const RowSparse& B, int threads) {
+    if (A.cols() != B.rows()) throw std::logic_error("sparse_product: inner sizes differ");
+    const Eigen::Index n = A.rows(), m = B.cols();
+    const Eigen::Index chunks = (n + kChunkRows - 1) / kChunkRows;
+    ParallelOptions o;
+    o.threads = A.nonZeros() + B.nonZeros() >= kParallelNonZeros ? threads : 1;
+    const int workers = parallel_workers(chunks, o);
+    struct Accumulator {
+        std::vector<double> value;
+        std::vector<Eigen::Index> stamp;  // the row + 1 that last touched a column
+        std::vector<int> touched;
+    };
+    std::vector<Accumulator> acc(static_cast<size_t>(workers));
+    struct Part {
+        std::vector<int> count, col;
+        std::vector<double> val;
+    };
+    std::vector<Part> parts(static_cast<size_t>(chunks));
+    const auto* ao = A.outerIndexPtr();
+    const auto* ai = A.innerIndexPtr();
+    const double* av = A.valuePtr();
+    const auto* bo = B.outerIndexPtr();
+    const auto* bi = B.innerIndexPtr();
+    const double* bv = B.valuePtr();
+    parallel_for(
+        chunks,
+        [&](std::ptrdiff_t c, int worker) {
+            Accumulator& w = acc[static_cast<size_t>(worker)];
+            if (w.value.empty()) {
+                w.value.resize(static_cast<size_t>(m));
+                w.stamp.assign(static_cast<size_t>(m), 0);
+            }
+            Part& part = parts[static_cast<size_t>(c)];
+            const Eigen::Index begin = static_cast<Eigen::Index>(c) * kChunkRows,
+                               end = std::min(n, begin + kChunkRows);
+            part.count.resize(static_cast<size_t>(end - begin));
+            for (Eigen::Index i = begin; i < end; ++i) {
+                w.touched.clear();
+                for (auto p = ao[i]; p < ao[i + 1]; ++p) {
+                    const double y = av[p];
+                    const Eigen::Index k = ai[p];
+                    for (auto q = bo[k]; q < bo[k + 1]; ++q) {
+                        const int j = bi[q];
+                        const size_t js = static_cast<size_t>(j);
+                        if (w.stamp[js] != i + 1) {
+                            w.stamp[js] = i + 1;
+                            w.value[js] = bv[q] * y;
+                            w.touched.push_back(j);
+                        } else {
+                            w.value[js] += bv[q] * y;
+                        }
+                    }
+                }
+                std::sort(w.touched.begin(), w.touched.end());
+                part.count[static_cast<size_t>(i - begin)] = static_cast<int>(w.touched.size());
+                for (const int j : w.touched) {
+                    part.col.push_back(j);
+                    part.val.push_back(w.value[static_cast<size_t>(j)]);
+                }
+            }
+        },
+        o);
+    acc.clear();
+    RowSparse C(n, m);
+    std::vector<Eigen::Index> first(static_cast<size_t>(chunks) + 1, 0);
+    for (Eigen::Index c = 0; c < chunks; ++c)
+        first[static_cast<size_t>(c) + 1] =
+            first[static_cast<size_t>(c)] +
+            static_cast<Eigen::Index>(parts[static_cast<size_t>(c)].col.size());
+    C.resizeNonZeros(first.back());
+    auto* co = C.outerIndexPtr();
+    auto* ci = C.innerIndexPtr();
+    double* cv = C.valuePtr();
+    co[0] = 0;
+    parallel_for(
+        chunks,
+        [&](std::ptrdiff_t c, int) {
+            Part& part = parts[static_cast<size_t>(c)];
+            const Eigen::Index begin = static_cast<Eigen::Index>(c) * kChunkRows;
+            Eigen::Index q = first[static_cast<size_t>(c)];
+            for (size_t r = 0; r < part.count.size(); ++r) {
+                q += part.count[r];
+                co[begin + static_cast<Eigen::Index>(r) + 1] = static_cast<int>(q);
+            }
+            std::copy(part.col.begin(), part.col.end(), ci + first[static_cast<size_t>(c)]);
+            std::copy(part.val.begin(), part.val.end(), cv + first[static_cast<size_t>(c)]);
+            Part().count.swap(part.count);
+            std::vector<int>().swap(part.col);
+            std::vector<double>().swap(part.val);
+        },
+        o);
+    return C;
+}
+
 // The filtered matrix of smoothed aggregation: the diagonal and the strong off-diagonal entries
 // (|a_ij| >= theta sqrt(a_ii a_jj)); weak entries are added to the diagonal, so row sums (and with
 // them the constant near-null vector of a Laplacian) are kept. Its off-diagonal pattern is the
@@ -455,8 +554,15 @@ AmgPreconditioner::AmgPreconditioner(const Eigen::SparseMatrix<double>& A0, cons
             if (!inv_fdiag.allFinite() || !(inv_fdiag.array() > 0).all())
                 throw NumericalError("AMG: the filtered matrix has a non-positive diagonal entry");
             const double omega = 4.0 / (3.0 * spectral_radius_estimate(F, inv_fdiag, options.threads));
-            F = inv_fdiag.asDiagonal() * F;  // D_F^-1 F, in place of F
-            RowSparse DFPt = F * Pt;
+            // D_F^-1 F, in place of F (each value times its row's 1 / d: Eigen's diagonal product)
+            for_row_chunks(F.rows(), F.nonZeros(), options.threads,
+                           [&](Eigen::Index begin, Eigen::Index end) {
+                               const auto* fo = F.outerIndexPtr();
+                               double* fv = F.valuePtr();
+                               for (Eigen::Index i = begin; i < end; ++i)
+                                   for (auto p = fo[i]; p < fo[i + 1]; ++p) fv[p] = inv_fdiag(i) * fv[p];
+                           });
+            RowSparse DFPt = sparse_product(F, Pt, options.threads);
             RowSparse().swap(F);
             P = Pt - omega * DFPt;
         }
@@ -491,8 +597,8 @@ AmgPreconditioner::AmgPreconditioner(const Eigen::SparseMatrix<double>& A0, cons
         {
             RowSparse Ac;
             {
-                const RowSparse AP = L.A * P;
-                Ac = R * AP;
+                const RowSparse AP = sparse_product(L.A, P, options.threads);
+                Ac = sparse_product(R, AP, options.threads);
             }
             const RowSparse AcT = Ac.transpose();
             A = 0.5 * (Ac + AcT);  // symmetric up to rounding; make it exactly so
@@ -601,8 +707,14 @@ PcgReport AmgPreconditioner::pcg(const Eigen::MatrixXd& B, Eigen::MatrixXd& X0, 
         const Eigen::ArrayXd pq = (p.array() * q.array()).colwise().sum().transpose();
         Eigen::ArrayXd alpha(k);
         for (Eigen::Index c = 0; c < k; ++c) alpha(c) = (pq(c) > 0 && rz(c) > 0) ? rz(c) / pq(c) : 0.0;
-        x += p * alpha.matrix().asDiagonal();
-        r -= q * alpha.matrix().asDiagonal();
+        // x += p alpha, r -= q alpha (per entry, in row chunks shared like the sweeps)
+        for_row_chunks(n, L.A.nonZeros(), threads_, [&](Eigen::Index begin, Eigen::Index end) {
+            for (Eigen::Index i = begin; i < end; ++i)
+                for (Eigen::Index c = 0; c < k; ++c) {
+                    x(i, c) += p(i, c) * alpha(c);
+                    r(i, c) -= q(i, c) * alpha(c);
+                }
+        });
         rep.iterations = it;
         double rel = 0;
         const Eigen::ArrayXd rn = r.colwise().norm().transpose();
@@ -618,7 +730,10 @@ PcgReport AmgPreconditioner::pcg(const Eigen::MatrixXd& B, Eigen::MatrixXd& X0, 
         const Eigen::ArrayXd rz_new = (r.array() * z.array()).colwise().sum().transpose();
         Eigen::ArrayXd beta(k);
         for (Eigen::Index c = 0; c < k; ++c) beta(c) = rz(c) > 0 ? rz_new(c) / rz(c) : 0.0;
-        p = z + p * beta.matrix().asDiagonal();
+        for_row_chunks(n, L.A.nonZeros(), threads_, [&](Eigen::Index begin, Eigen::Index end) {
+            for (Eigen::Index i = begin; i < end; ++i)
+                for (Eigen::Index c = 0; c < k; ++c) p(i, c) = z(i, c) + p(i, c) * beta(c);
+        });
         rz = rz_new;
     }
     X0 = x;
