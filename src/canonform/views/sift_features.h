@@ -43,9 +43,11 @@
 //    on the view's own grid lost first tier on the procedural collection, and the octave -1 gains
 //    it.
 //    Outside the view the image is 0 (background, which is also the view's own background). The
-//    blur is a separable Gaussian truncated at 4 sigma and normalised to sum 1, its taps computed in
-//    double by our own exp (numerics/portable_math.h) and rounded to float. Each image is computed
-//    only over its support - the bounding box of the view's non-zero pixels grown by 4 sigma_j -
+//    blur is a separable Gaussian truncated at 3 sigma and normalised to sum 1, its taps computed in
+//    double by our own exp (numerics/portable_math.h) and rounded to float. (Departure: 4 sigma
+//    before, as common; the shorter taps cost less, and retrieval held on every collection at hand
+//    by the paired check of bench/run_quality_rule.sh: docs/benchmarks.md.) Each image is computed
+//    only over its support - the bounding box of the view's non-zero pixels grown by 3 sigma_j -
 //    outside which it is taken as 0: a view costs in proportion to the object's size, not the image's.
 //    Octaves: while the octave's view is at least 8 pixels wide (6 for a 256 view).
 // 2. Extrema (Lowe Sec. 3.1): a sample of DoG images j = 1..s larger than all 26 neighbours or

@@ -11,7 +11,7 @@ namespace canonform::views {
 namespace sift {
 
 int support_radius(double sigma) {
-    return std::max(1, static_cast<int>(std::ceil(4.0 * sigma)));
+    return std::max(1, static_cast<int>(std::ceil(3.0 * sigma)));
 }
 
 Kernel gaussian_kernel(double sigma) {
@@ -193,7 +193,7 @@ double layer_sigma(const Settings& st, int j) {
 void gaussian_octave(int o, const Rect& obj, const Plane& source, double input_blur, const Settings& st,
                      Workspace& ws, std::vector<Plane>& g) {
     const int count = st.layers + 3;
-    // Supports: the object's box grown by 4 sigma_j; the frame holds the largest.
+    // Supports: the object's box grown by 3 sigma_j; the frame holds the largest.
     const Rect frame = obj.grown(support_radius(layer_sigma(st, count - 1)));
     const size_t cells = static_cast<size_t>(frame.width()) * static_cast<size_t>(frame.height());
     g.assign(static_cast<size_t>(count), Plane{});

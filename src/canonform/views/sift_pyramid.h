@@ -35,14 +35,14 @@ struct Plane {
     float at(int x, int y) const { return row(y)[x]; }
 };
 
-// A symmetric Gaussian kernel truncated at 4 sigma: taps[0..radius], normalised so that the
+// A symmetric Gaussian kernel truncated at 3 sigma: taps[0..radius], normalised so that the
 // whole kernel sums to 1 (in double, then rounded to float).
 struct Kernel {
     int radius = 0;
     std::vector<float> taps;
 };
 
-// The kernel's radius, ceil(4 sigma) (at least 1): also how far an image's support reaches beyond
+// The kernel's radius, ceil(3 sigma) (at least 1): also how far an image's support reaches beyond
 // the object's box.
 int support_radius(double sigma);
 Kernel gaussian_kernel(double sigma);
