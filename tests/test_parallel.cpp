@@ -78,3 +78,32 @@ TEST(Parallel, ProgressOnTheCallingThreadAndCancellation) {
                      1000, [](std::ptrdiff_t, int) {}, o),
                  Cancelled);
 }
+
+TEST(Parallel, RangesAreFixedAndSharedOnlyWhenAsked) {
+    // parallel_ranges: the ranges depend on n and the chunk alone, each runs once, and with share
+    // false every range runs on the calling thread.
+    const std::ptrdiff_t n = 1000, chunk = 64;
+    for (const bool share : {false, true}) {
+        std::vector<std::pair<std::ptrdiff_t, std::ptrdiff_t>> seen(
+            static_cast<size_t>((n + chunk - 1) / chunk));
+        std::vector<std::thread::id> by(seen.size());
+        std::vector<int> hits(static_cast<size_t>(n), 0);
+        parallel_ranges(n, chunk, share, 4, [&](std::ptrdiff_t begin, std::ptrdiff_t end) {
+            const size_t r = static_cast<size_t>(begin / chunk);
+            seen[r] = {begin, end};
+            by[r] = std::this_thread::get_id();
+            for (std::ptrdiff_t i = begin; i < end; ++i) ++hits[static_cast<size_t>(i)];
+        });
+        for (size_t r = 0; r < seen.size(); ++r) {
+            EXPECT_EQ(seen[r].first, static_cast<std::ptrdiff_t>(r) * chunk);
+            EXPECT_EQ(seen[r].second, std::min(n, static_cast<std::ptrdiff_t>(r + 1) * chunk));
+        }
+        for (const int h : hits) EXPECT_EQ(h, 1);
+        if (!share) {
+            for (const auto& id : by) EXPECT_EQ(id, std::this_thread::get_id());
+        }
+    }
+    int calls = 0;
+    parallel_ranges(0, chunk, true, 4, [&](std::ptrdiff_t, std::ptrdiff_t) { ++calls; });
+    EXPECT_EQ(calls, 0);
+}

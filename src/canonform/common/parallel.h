@@ -128,4 +128,25 @@ void parallel_for(std::ptrdiff_t n, Body&& body, const ParallelOptions& options 
 #endif
 }
 
+/// body(begin, end) for the ranges [0, chunk), [chunk, 2 chunk), ... of [0, n): on
+/// thread_count(threads) threads when `share` is true and there are two ranges or more, else all
+/// on the calling thread (no pool for small work). For per-index work whose values do not depend
+/// on which thread does a range (the ranges are fixed by n and chunk alone).
+template <class Body>
+void parallel_ranges(std::ptrdiff_t n, std::ptrdiff_t chunk, bool share, int threads, const Body& body) {
+    if (n <= 0) return;
+    const std::ptrdiff_t ranges = (n + chunk - 1) / chunk;
+    const auto run = [&](std::ptrdiff_t r, int) {
+        const std::ptrdiff_t begin = r * chunk;
+        body(begin, std::min(n, begin + chunk));
+    };
+    if (!share || ranges < 2) {
+        for (std::ptrdiff_t r = 0; r < ranges; ++r) run(r, 0);
+        return;
+    }
+    ParallelOptions o;
+    o.threads = threads;
+    parallel_for(ranges, run, o);
+}
+
 }  // namespace canonform

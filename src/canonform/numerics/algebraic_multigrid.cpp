@@ -29,18 +29,7 @@ constexpr Eigen::Index kParallelNonZeros = 1000000;
 
 template <class Body>
 void for_row_chunks(Eigen::Index n, Eigen::Index nonzeros, int threads, const Body& body) {
-    const Eigen::Index chunks = (n + kChunkRows - 1) / kChunkRows;
-    const auto run = [&](std::ptrdiff_t c, int) {
-        const Eigen::Index begin = static_cast<Eigen::Index>(c) * kChunkRows;
-        body(begin, std::min(n, begin + kChunkRows));
-    };
-    if (nonzeros < kParallelNonZeros || chunks < 2) {
-        for (Eigen::Index c = 0; c < chunks; ++c) run(c, 0);
-        return;
-    }
-    ParallelOptions o;
-    o.threads = threads;
-    parallel_for(chunks, run, o);
+    parallel_ranges(n, kChunkRows, nonzeros >= kParallelNonZeros, threads, body);
 }
 
 // How a row's sum sum_j a_ij x_j is stored: y_i = sum (Set), y_i = b_i - sum (Residual) or
@@ -72,9 +61,9 @@ void multiply_k(const RowSparse& A, const Block& x, Block& y, const Block* b, in
             }
             double* yi = ys + i * k;
             for (Eigen::Index c = 0; c < k; ++c) {
-                if (S == Store::Set) yi[c] = acc[c];
-                if (S == Store::Residual) yi[c] = bs[i * k + c] - acc[c];
-                if (S == Store::Add) yi[c] += acc[c];
+                if constexpr (S == Store::Set) yi[c] = acc[c];
+                if constexpr (S == Store::Residual) yi[c] = bs[i * k + c] - acc[c];
+                if constexpr (S == Store::Add) yi[c] += acc[c];
             }
         }
     });
@@ -345,7 +334,7 @@ RowSparse sparse_product(const RowSparse& A, const RowSparse& B, int threads) {
             }
             std::copy(part.col.begin(), part.col.end(), ci + first[static_cast<size_t>(c)]);
             std::copy(part.val.begin(), part.val.end(), cv + first[static_cast<size_t>(c)]);
-            Part().count.swap(part.count);
+            std::vector<int>().swap(part.count);  // each chunk's buffers go as soon as copied
             std::vector<int>().swap(part.col);
             std::vector<double>().swap(part.val);
         },

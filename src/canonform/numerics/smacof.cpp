@@ -66,24 +66,12 @@ ParameterSet<SmacofOptions> smacof_parameters(const SmacofOptions& defaults) {
 
 namespace {
 
-/// body(begin, end) over [0, n) in chunks of 65536 rows: on `threads` threads (0: every core) from
-/// 131072 rows (the multigrid's large meshes), else on the calling thread. Only for per-row work,
-/// whose values do not depend on the threads.
+/// body(begin, end) over [0, n) in chunks of 65536 rows, shared over `threads` threads (0: every
+/// core) from 131072 rows (the multigrid's large meshes). Only for per-row work.
 template <class Body>
 void for_rows(Eigen::Index n, int threads, const Body& body) {
     constexpr Eigen::Index kRows = 65536;
-    if (n < 2 * kRows) {
-        body(Eigen::Index(0), n);
-        return;
-    }
-    ParallelOptions o;
-    o.threads = threads;
-    parallel_for((n + kRows - 1) / kRows,
-                 [&](std::ptrdiff_t c, int) {
-                     const Eigen::Index begin = static_cast<Eigen::Index>(c) * kRows;
-                     body(begin, std::min(n, begin + kRows));
-                 },
-                 o);
+    parallel_ranges(n, kRows, n >= 2 * kRows, threads, body);
 }
 
 double dot(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
