@@ -1,11 +1,11 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // Tests of the CM-BOF view-descriptor core (SIFT: test_sift_features.cpp): codebook, bag-of-features
-// distances, clock matching, the descriptor file. Timings are printed (not asserted, except the
-// 600 x 600 distance matrix budget of 60 s).
+// distances, clock matching, the descriptor file. (Speed: bench/, never here.)
 #include "canonform/views/bag_of_features.h"
 #include "canonform/views/codebook.h"
 #include "canonform/views/descriptor_file.h"
 #include "canonform/views/sift_features.h"
+#include "canonform/views/view_directions.h"
 
 #include "test_util.h"
 
@@ -14,13 +14,13 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <limits>
 #include <map>
 #include <numeric>
 #include <random>
@@ -219,6 +219,71 @@ TEST(BagOfFeatures, DistanceMatrixMatchesPairwiseAndThreads) {
         }
     }
     EXPECT_NEAR(D1(3, 0), clock_matching_distance(models[3], models[0], maps), 1e-4);
+}
+
+// distance_rows() as its header defines it, one pair at a time: per rotation, per view i of A in
+// order, the intersection with view j = maps[r][i] of B summed in float over B's entries in order,
+// then D from it and the two totals (double), the rotations' sums over i in order.
+float reference_distance(const std::vector<Histogram>& a, const std::vector<Histogram>& b,
+                         const std::vector<std::vector<int>>& maps) {
+    auto total = [](const Histogram& h) {
+        double s = 0;
+        for (const auto& e : h) s += e.second;
+        return s;
+    };
+    double best = std::numeric_limits<double>::infinity();
+    for (const auto& m : maps) {
+        double s = 0;
+        for (std::size_t i = 0; i < a.size(); ++i) {
+            std::map<int, float> dense(a[i].begin(), a[i].end());
+            const Histogram& bj = b[static_cast<std::size_t>(m[i])];
+            float inter = 0.f;
+            for (const auto& e : bj) {
+                const auto it = dense.find(e.first);
+                inter += std::min(it == dense.end() ? 0.f : it->second, e.second);
+            }
+            const double sa = total(a[i]), sb = total(bj);
+            s += (sa <= 0 && sb <= 0) ? 0.0 : std::clamp(1.0 - inter / std::max(sa, sb), 0.0, 1.0);
+        }
+        best = std::min(best, s);
+    }
+    return static_cast<float>(best);
+}
+
+TEST(BagOfFeatures, DistanceRowsAreThePairAtATimeSumsBitForBit) {
+    // Fractional counts (float sums that depend on their order), empty views, and three kinds of
+    // maps: the cube rotations' (orbits of 24, 12, 8 and 6 views), permutations closed under
+    // inversion, and maps that are neither (views that no rotation reaches, overlapping partners,
+    // a view met by 40 others: more than 32 lanes).
+    const int V = 66, N = 9;
+    std::vector<std::vector<std::vector<int>>> kinds = {rotation_view_maps(), synthetic_maps(V)};
+    std::mt19937_64 rng(31);
+    std::vector<std::vector<int>> odd(5, std::vector<int>(V));
+    for (auto& m : odd)
+        for (int i = 0; i < V; ++i) m[i] = static_cast<int>(rng() % 20);  // views 20..65 never reached
+    for (int i = 0; i < 40; ++i) odd[0][i] = 7;
+    kinds.push_back(odd);
+    // Models 0..4 random; 5..8 near copies of model 0 with large counts, whose distances are sums of
+    // small terms 1 - inter / max, so that a float intersection summed in another order shows in
+    // the result.
+    std::uniform_real_distribution<float> frac(0.05f, 3.f), near(0.9999f, 1.0001f);
+    std::vector<std::vector<Histogram>> models;
+    for (int m = 0; m < N; ++m) {
+        auto model = m < 5 ? random_model(rng, V, 400, 0, 60) : models[0];
+        for (auto& h : model)
+            for (auto& e : h) e.second *= m < 5 ? frac(rng) * 1e5f : near(rng);
+        models.push_back(model);
+    }
+    for (const auto& maps : kinds) {
+        const Eigen::MatrixXf D = distance_rows(models, maps, 0, N, 1);
+        int differ = 0;
+        for (int r = 0; r < N; ++r)
+            for (int c = r + 1; c < N; ++c) {
+                const float want = reference_distance(models[r], models[c], maps);
+                differ += std::memcmp(&want, &D(r, c), sizeof want) != 0;
+            }
+        EXPECT_EQ(differ, 0) << maps.size() << " maps";
+    }
 }
 
 // ---- codebook -----------------------------------------------------------------------------------------

@@ -17,12 +17,6 @@ double total(const Histogram& h) {
     return s;
 }
 
-double distance_from(double inter, double sa, double sb) {
-    if (sa <= 0 && sb <= 0) return 0.0;  // both empty
-    const double m = std::max(sa, sb);
-    return std::clamp(1.0 - inter / m, 0.0, 1.0);
-}
-
 void check_histogram(const Histogram& h, const char* which, std::size_t view) {
     int last = -1;
     for (const auto& e : h) {

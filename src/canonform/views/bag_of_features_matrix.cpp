@@ -3,9 +3,11 @@
 
 #include "canonform/common/parallel.h"
 #include "canonform/views/bag_of_features_checks.h"
+#include "canonform/views/sift_simd.h"
 
 #include <algorithm>
 #include <limits>
+#include <map>
 #include <string>
 
 // The distance matrix of bag_of_features.h, apart from the rest: it runs on the parallel loop
@@ -18,39 +20,75 @@ using detail::check_maps;
 using detail::distance_from;
 using detail::total;
 
-// The distinct (i, j) pairs used by the maps, and per rotation the pair index of each view.
+// Clock matching of one model A (the row) against every later model B, arranged so that one pass
+// over a view of B serves every view of A it is compared with. View j of B meets the views
+// U_j = {i : maps[r][i] == j for some r} of A (for the 24 cube rotations, the orbit of j: 24, 12, 8
+// or 6 views). A is held transposed, word by word: row w lists A's count of w in each view of U_j,
+// for every distinct set U_j side by side (a block, padded to 8 lanes). Each entry (w, c) of B's
+// view j then adds min(A's count, c) to all of U_j's intersections at once, 8 lanes a time. Each
+// lane still sums its own pair's terms in the order of B's entries, from 0, in float: the same
+// additions as one pair at a time, so the distances are the same bits.
+struct Block {
+    std::vector<int> lanes;  // the views of A, ascending
+    int start = 0;           // first lane in a transposed row
+};
+
 struct PairPlan {
-    std::vector<std::vector<int>> partners;  // partners[i] = distinct j's of view i
-    std::vector<std::vector<int>> pair_of;   // pair_of[r][i] = index into the flat pair list
-    int pairs = 0;
+    int stride = 0;                       // lanes in a transposed row (blocks padded to 8)
+    std::vector<Block> blocks;            // the distinct sets U_j
+    std::vector<int> block_of;            // per view j of B: its block, -1 if U_j is empty
+    std::vector<int> first_pair;          // per view j of B: the pair index of its block's lane 0
+    std::vector<std::vector<int>> place;  // per view i of A: its lanes in a transposed row
+    std::vector<int> pair_of;             // views x R: pair index of (i, maps[r][i]) at i * R + r
+    int rotations = 0, pairs = 0;
 };
 
 PairPlan plan_pairs(const std::vector<std::vector<int>>& maps, std::size_t views) {
     PairPlan p;
-    p.partners.resize(views);
-    std::vector<std::vector<int>> offset(views);
-    for (std::size_t i = 0; i < views; ++i) {
-        for (const auto& m : maps) p.partners[i].push_back(m[i]);
-        std::sort(p.partners[i].begin(), p.partners[i].end());
-        p.partners[i].erase(std::unique(p.partners[i].begin(), p.partners[i].end()), p.partners[i].end());
+    const std::size_t R = maps.size();
+    p.rotations = static_cast<int>(R);
+    std::vector<std::vector<int>> users(views);
+    for (const auto& m : maps)
+        for (std::size_t i = 0; i < views; ++i)
+            users[static_cast<std::size_t>(m[i])].push_back(static_cast<int>(i));
+    std::map<std::vector<int>, int> known;
+    p.block_of.assign(views, -1);
+    p.first_pair.assign(views, 0);
+    p.place.resize(views);
+    for (std::size_t j = 0; j < views; ++j) {
+        auto& u = users[j];
+        std::sort(u.begin(), u.end());
+        u.erase(std::unique(u.begin(), u.end()), u.end());
+        p.first_pair[j] = p.pairs;
+        p.pairs += static_cast<int>(u.size());
+        if (u.empty()) continue;
+        const auto [it, added] = known.emplace(u, static_cast<int>(p.blocks.size()));
+        if (added) {
+            Block b;
+            b.lanes = u;
+            b.start = p.stride;
+            for (std::size_t k = 0; k < u.size(); ++k)
+                p.place[static_cast<std::size_t>(u[k])].push_back(b.start + static_cast<int>(k));
+            p.stride += static_cast<int>((u.size() + 7) / 8 * 8);
+            p.blocks.push_back(std::move(b));
+        }
+        p.block_of[j] = it->second;
     }
-    std::vector<int> base(views + 1, 0);
-    for (std::size_t i = 0; i < views; ++i) base[i + 1] = base[i] + static_cast<int>(p.partners[i].size());
-    p.pairs = base[views];
-    p.pair_of.assign(maps.size(), std::vector<int>(views));
-    for (std::size_t r = 0; r < maps.size(); ++r)
-        for (std::size_t i = 0; i < views; ++i) {
-            const auto& q = p.partners[i];
-            p.pair_of[r][i] =
-                base[i] + static_cast<int>(std::lower_bound(q.begin(), q.end(), maps[r][i]) - q.begin());
+    p.pair_of.resize(views * R);
+    for (std::size_t i = 0; i < views; ++i)
+        for (std::size_t r = 0; r < R; ++r) {
+            const auto j = static_cast<std::size_t>(maps[r][i]);
+            const auto& u = users[j];
+            p.pair_of[i * R + r] =
+                p.first_pair[j] +
+                static_cast<int>(std::lower_bound(u.begin(), u.end(), static_cast<int>(i)) - u.begin());
         }
     return p;
 }
 
-// Dense copies of a model's views (views x (max word + 1)), for the scatter-gather intersection.
+// Model A transposed (words x plan.stride lanes) and its views' sums per lane.
 struct DenseModel {
-    int width = 0;
-    std::vector<float> values;  // views * width
+    std::vector<float> counts;
     std::vector<double> sums;
 };
 
@@ -61,38 +99,82 @@ int max_word(const std::vector<Histogram>& m) {
     return w;
 }
 
-void densify(const std::vector<Histogram>& m, int width, DenseModel& d) {
-    d.width = width;
-    d.values.assign(m.size() * static_cast<std::size_t>(width), 0.f);
-    d.sums.resize(m.size());
+void densify(const std::vector<Histogram>& m, int width, const PairPlan& plan, DenseModel& d) {
+    const auto stride = static_cast<std::size_t>(plan.stride);
+    d.counts.assign(static_cast<std::size_t>(width) * stride, 0.f);
+    d.sums.assign(stride, 0.0);
     for (std::size_t i = 0; i < m.size(); ++i) {
-        float* row = d.values.data() + i * static_cast<std::size_t>(width);
-        for (const auto& e : m[i]) row[e.first] = e.second;
-        d.sums[i] = total(m[i]);
+        const double s = total(m[i]);
+        for (int lane : plan.place[i]) {
+            d.sums[static_cast<std::size_t>(lane)] = s;
+            for (const auto& e : m[i])
+                d.counts[static_cast<std::size_t>(e.first) * stride + static_cast<std::size_t>(lane)] =
+                    e.second;
+        }
     }
 }
 
-// Clock matching of dense A against sparse B with a prepared plan; `scratch` holds pair distances.
-double clock_dense(const DenseModel& A, const std::vector<Histogram>& B, const std::vector<double>& b_sums,
-                   const PairPlan& plan, std::vector<double>& scratch) {
-    scratch.resize(static_cast<std::size_t>(plan.pairs));
-    const std::size_t views = B.size();
-    std::size_t k = 0;
-    for (std::size_t i = 0; i < views; ++i) {
-        const float* row = A.values.data() + i * static_cast<std::size_t>(A.width);
-        for (int j : plan.partners[i]) {
-            float inter = 0.f;
-            for (const auto& e : B[static_cast<std::size_t>(j)])
-                if (e.first < A.width) inter += std::min(row[e.first], e.second);
-            scratch[k++] = distance_from(inter, A.sums[i], b_sums[static_cast<std::size_t>(j)]);
+// out[k] = sum over b's entries (w, c), in order, of min(at[w * stride + k], c), for k < 8 K.
+template <int K>
+inline void intersect(const Histogram& b, const float* at, std::size_t stride, float* out) {
+    using namespace sift;
+    v8f acc[K] = {};
+    for (const auto& e : b) {
+        const float* q = at + static_cast<std::size_t>(e.first) * stride;
+        const v8f c = splat8(e.second);
+        for (int k = 0; k < K; ++k) {
+            const v8f x = load8(q + 8 * k);
+            acc[k] += c < x ? c : x;  // std::min(x, c)
         }
     }
-    double best = std::numeric_limits<double>::infinity();
-    for (const auto& pr : plan.pair_of) {
-        double s = 0;
-        for (int q : pr) s += scratch[static_cast<std::size_t>(q)];
-        best = std::min(best, s);
+    for (int k = 0; k < K; ++k) store8(out + 8 * k, acc[k]);
+}
+
+// Clock matching of A (densified) against B: pair distances into `pair`, then the smallest of the
+// rotations' sums, each over the views in order (rotations side by side).
+CANONFORM_CLONES double clock_dense(const DenseModel& A, const std::vector<Histogram>& B,
+                                    const std::vector<double>& b_sums, const PairPlan& plan,
+                                    std::vector<float>& inter, std::vector<double>& pair,
+                                    std::vector<double>& rot) {
+    const auto stride = static_cast<std::size_t>(plan.stride);
+    inter.resize(stride);
+    pair.resize(static_cast<std::size_t>(plan.pairs));
+    for (std::size_t j = 0; j < B.size(); ++j) {
+        const int bi = plan.block_of[j];
+        if (bi < 0) continue;
+        const Block& blk = plan.blocks[static_cast<std::size_t>(bi)];
+        const int n = static_cast<int>(blk.lanes.size());
+        for (int s = 0; s < n; s += 32) {
+            const float* at = A.counts.data() + blk.start + s;
+            float* out = inter.data() + s;
+            switch (std::min(4, (n - s + 7) / 8)) {
+                case 1:
+                    intersect<1>(B[j], at, stride, out);
+                    break;
+                case 2:
+                    intersect<2>(B[j], at, stride, out);
+                    break;
+                case 3:
+                    intersect<3>(B[j], at, stride, out);
+                    break;
+                default:
+                    intersect<4>(B[j], at, stride, out);
+                    break;
+            }
+        }
+        double* d = pair.data() + plan.first_pair[j];
+        const double* sa = A.sums.data() + blk.start;
+        for (int k = 0; k < n; ++k)
+            d[k] = distance_from(inter[static_cast<std::size_t>(k)], sa[k], b_sums[j]);
     }
+    const auto R = static_cast<std::size_t>(plan.rotations);
+    rot.assign(R, 0.0);
+    for (std::size_t i = 0; i < B.size(); ++i) {
+        const int* po = plan.pair_of.data() + i * R;
+        for (std::size_t r = 0; r < R; ++r) rot[r] += pair[static_cast<std::size_t>(po[r])];
+    }
+    double best = std::numeric_limits<double>::infinity();
+    for (double s : rot) best = std::min(best, s);
     return best;
 }
 
@@ -137,18 +219,22 @@ Eigen::MatrixXf distance_rows(const std::vector<std::vector<Histogram>>& models,
                                                          std::max<std::size_t>(1, pairs / kPairsPerWorker)));
     const auto rows = static_cast<std::ptrdiff_t>(row_end - row_begin);
     const int workers = parallel_workers(rows, par);
-    std::vector<DenseModel> dense(static_cast<std::size_t>(workers));
-    std::vector<std::vector<double>> scratch(static_cast<std::size_t>(workers));
+    struct Scratch {
+        DenseModel row;
+        std::vector<float> inter;
+        std::vector<double> pair, rot;
+    };
+    std::vector<Scratch> scratch(static_cast<std::size_t>(workers));
     parallel_for(
         rows,
         [&](std::ptrdiff_t row, int worker) {
             const auto r = row_begin + static_cast<std::size_t>(row);
             if (r + 1 >= n) return;
-            DenseModel& A = dense[static_cast<std::size_t>(worker)];
-            densify(models[r], std::max(width, 1), A);
+            Scratch& s = scratch[static_cast<std::size_t>(worker)];
+            densify(models[r], std::max(width, 1), plan, s.row);
             for (std::size_t c = r + 1; c < n; ++c)
-                D(static_cast<Eigen::Index>(row), static_cast<Eigen::Index>(c)) = static_cast<float>(
-                    clock_dense(A, models[c], sums[c], plan, scratch[static_cast<std::size_t>(worker)]));
+                D(static_cast<Eigen::Index>(row), static_cast<Eigen::Index>(c)) =
+                    static_cast<float>(clock_dense(s.row, models[c], sums[c], plan, s.inter, s.pair, s.rot));
         },
         par);
     return D;
