@@ -6,6 +6,7 @@
 #include "canonform/io/distance_matrix_file.h"
 #include "canonform/io/files.h"
 #include "canonform/io/mesh_io.h"
+#include "canonform/numerics/rigid_alignment.h"
 #include "canonform/procedural/procedural_meshes.h"
 #include "canonform/retrieval/experiment.h"
 
@@ -14,7 +15,9 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <limits>
 #include <map>
 
@@ -340,4 +343,59 @@ TEST(Experiment, SummaryNamesTheBestPerMeasureAndAFusedMethodThatDoesNotBeatItsM
     const std::string report = retrieval::report_markdown(o, 10, out, "");
     EXPECT_NE(report.find("## Summary"), std::string::npos);
     EXPECT_LT(report.find("| fused_none+euclidean-N |"), report.find("## Summary"));
+}
+
+TEST(Experiment, PoseConsistencyIsZeroForRigidOrMirroredCopiesAndIndependentOfThreads) {
+    // Forms of five models in two classes, with correspondences (1-based, reversed order: the
+    // k-th point of the template is vertex n - k): class a = a cloud, the cloud turned and moved,
+    // and its mirror image; class b = another cloud and a copy with one coordinate stretched.
+    const std::string dir =
+        (fs::temp_directory_path() / ("canonform_test_pose_" + std::to_string(::getpid()))).string();
+    fs::remove_all(dir);
+    fs::create_directories(dir + "/forms");
+    fs::create_directories(dir + "/corres");
+    const int n = 50;
+    Eigen::MatrixXd A = Eigen::MatrixXd::Random(n, 3), B = Eigen::MatrixXd::Random(n, 3);
+    Eigen::Matrix3d R = Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
+    Eigen::MatrixXd turned = (A * R.transpose()).rowwise() + Eigen::RowVector3d(3, -1, 2);
+    Eigen::MatrixXd mirrored = A;
+    mirrored.col(1) *= -1;
+    Eigen::MatrixXd stretched = B;
+    stretched.col(2) *= 1.5;
+    const Eigen::MatrixXi F(0, 3);
+    std::vector<retrieval::Model> models;
+    const std::vector<std::pair<std::string, const Eigen::MatrixXd*>> forms = {
+        {"a0", &A}, {"a1", &turned}, {"a2", &mirrored}, {"b0", &B}, {"b1", &stretched}};
+    for (const auto& [name, V] : forms) {
+        io::write_ply(dir + "/forms/" + name + ".ply", *V, F);
+        std::ofstream vts(dir + "/corres/" + name + ".vts");
+        for (int k = 0; k < n; ++k) vts << n - k << "\n";
+        retrieval::Model m;
+        m.name = name;
+        m.label = name.substr(0, 1);
+        models.push_back(m);
+    }
+    const std::vector<size_t> good = {0, 1, 2, 3, 4};
+    int pairs1 = 0, pairs2 = 0;
+    const double c1 = retrieval::pose_consistency(models, good, dir, dir + "/forms", &pairs1, 1);
+    const double c2 = retrieval::pose_consistency(models, good, dir, dir + "/forms", &pairs2, 2);
+    EXPECT_EQ(pairs1, 4);  // a0-a1, a0-a2, a1-a2, b0-b1
+    EXPECT_EQ(pairs2, 4);
+    EXPECT_EQ(std::memcmp(&c1, &c2, sizeof c1), 0);
+    // Only b0-b1 is not a rigid motion or mirror image: its term is the RMS residual of the best
+    // alignment of B to the stretched cloud over the stretched cloud's RMS radius.
+    const double radius =
+        std::sqrt((stretched.rowwise() - stretched.colwise().mean()).squaredNorm() / static_cast<double>(n));
+    Eigen::MatrixXd Bm = B;
+    Bm.col(0) *= -1;
+    const double b_term =
+        std::min(numerics::align_rigid(B, stretched).rms, numerics::align_rigid(Bm, stretched).rms) / radius;
+    EXPECT_GT(b_term, 0.01);
+    EXPECT_NEAR(c1, b_term / 4, 1e-9);
+    // Without correspondences: not measured.
+    fs::remove_all(dir + "/corres");
+    int none = -1;
+    EXPECT_EQ(retrieval::pose_consistency(models, good, dir, dir + "/forms", &none, 2), -1.0);
+    EXPECT_EQ(none, 0);
+    fs::remove_all(dir);
 }

@@ -331,14 +331,21 @@ MethodOutcome Experiment::run_method(const canonical::MethodSpec& spec) const {
     cb.save(dir + "/codebook.bin");  // the queries of an indexed collection (collection_index.h) need it
     out.codebook_seconds = seconds_since(t0);
 
-    // 3. Descriptors, distances, measures.
+    // 3. Descriptors (the words of every feature: in parallel, as a sharded run's), distances,
+    // measures.
     t0 = SteadyClock::now();
-    std::vector<std::vector<views::Histogram>> hist;
-    for (size_t k : good) {
-        views::ModelDescriptor d = views::make_descriptor(results[k].features, &cb, models_[k].path);
-        views::write_descriptor(dir + "/descriptors/" + models_[k].name + ".cfvd", d);
-        hist.push_back(std::move(d.histograms));
-    }
+    std::vector<std::vector<views::Histogram>> hist(good.size());
+    ParallelOptions par;
+    par.threads = o.threads;
+    parallel_for(
+        static_cast<std::ptrdiff_t>(good.size()),
+        [&](std::ptrdiff_t i, int) {
+            const size_t k = good[static_cast<size_t>(i)];
+            views::ModelDescriptor d = views::make_descriptor(results[k].features, &cb, models_[k].path);
+            views::write_descriptor(dir + "/descriptors/" + models_[k].name + ".cfvd", d);
+            hist[static_cast<size_t>(i)] = std::move(d.histograms);
+        },
+        par);
     const Eigen::MatrixXf D = views::distance_matrix(hist, views::rotation_view_maps(), o.threads);
     out.distances_seconds = seconds_since(t0);
     finish_method(out, good, D);
@@ -386,8 +393,8 @@ void Experiment::finish_measures(MethodOutcome& out, const std::vector<size_t>& 
     // on simplified ones.
     try {
         if (o.simplify == 0)
-            out.pose_consistency =
-                pose_consistency(models_, good, o.dataset, dir + "/forms", &out.pose_consistency_pairs);
+            out.pose_consistency = pose_consistency(models_, good, o.dataset, dir + "/forms",
+                                                    &out.pose_consistency_pairs, o.threads);
     } catch (const std::exception& ex) {
         log_line(o, "[" + method + "] pose consistency not measured: " + ex.what());
     }
@@ -599,39 +606,55 @@ std::string summary_markdown(const std::vector<MethodOutcome>& outcomes) {
 }
 
 double pose_consistency(const std::vector<Model>& models, const std::vector<size_t>& good,
-                        const std::string& dataset, const std::string& forms_dir, int* pairs) {
-    std::vector<std::vector<int>> vts(models.size());
-    std::vector<Eigen::MatrixXd> V(models.size());
-    for (size_t k : good) {
-        vts[k] = read_vts(dataset, models[k].name);
-        if (!vts[k].empty()) V[k] = io::read_mesh(forms_dir + "/" + models[k].name + ".ply").V;
-    }
+                        const std::string& dataset, const std::string& forms_dir, int* pairs, int threads) {
+    // Per model, in parallel: its corresponding points (empty when it has no correspondences or one
+    // names a vertex the form does not have) and the RMS radius of them about their mean.
+    const size_t n = good.size();
+    std::vector<Eigen::MatrixXd> P(n);
+    std::vector<double> radius(n, 0.0);
+    ParallelOptions par;
+    par.threads = threads;
+    parallel_for(
+        static_cast<std::ptrdiff_t>(n),
+        [&](std::ptrdiff_t a, int) {
+            const Model& m = models[good[static_cast<size_t>(a)]];
+            const std::vector<int> vts = read_vts(dataset, m.name);
+            if (vts.empty()) return;
+            const Eigen::MatrixXd V = io::read_mesh(forms_dir + "/" + m.name + ".ply").V;
+            Eigen::MatrixXd Q(static_cast<Eigen::Index>(vts.size()), 3);
+            for (size_t k = 0; k < vts.size(); ++k) {
+                if (vts[k] < 0 || vts[k] >= V.rows()) return;
+                Q.row(static_cast<Eigen::Index>(k)) = V.row(vts[k]);
+            }
+            radius[static_cast<size_t>(a)] =
+                std::sqrt((Q.rowwise() - Q.colwise().mean()).squaredNorm() / static_cast<double>(Q.rows()));
+            P[static_cast<size_t>(a)] = std::move(Q);
+        },
+        par);
+    // Same-class pairs (a, b > a), a row per task; summed afterwards in the order of the pairs.
+    std::vector<std::vector<double>> row(n);
+    parallel_for(
+        static_cast<std::ptrdiff_t>(n),
+        [&](std::ptrdiff_t a_, int) {
+            const auto a = static_cast<size_t>(a_);
+            if (P[a].rows() == 0) return;
+            Eigen::MatrixXd mirrored = P[a];
+            mirrored.col(0) *= -1;
+            for (size_t b = a + 1; b < n; ++b) {
+                if (models[good[a]].label != models[good[b]].label || P[b].rows() != P[a].rows()) continue;
+                row[a].push_back(std::min(numerics::align_rigid(P[a], P[b]).rms,
+                                          numerics::align_rigid(mirrored, P[b]).rms) /
+                                 radius[b]);
+            }
+        },
+        par);
     double sum = 0;
     *pairs = 0;
-    for (size_t a = 0; a < good.size(); ++a) {
-        for (size_t b = a + 1; b < good.size(); ++b) {
-            const size_t i = good[a], j = good[b];
-            if (models[i].label != models[j].label || vts[i].empty() || vts[i].size() != vts[j].size())
-                continue;
-            Eigen::MatrixXd P(static_cast<Eigen::Index>(vts[i].size()), 3), Q(P.rows(), 3);
-            bool valid = true;
-            for (size_t k = 0; k < vts[i].size() && valid; ++k) {
-                valid =
-                    vts[i][k] >= 0 && vts[i][k] < V[i].rows() && vts[j][k] >= 0 && vts[j][k] < V[j].rows();
-                if (valid) {
-                    P.row(static_cast<Eigen::Index>(k)) = V[i].row(vts[i][k]);
-                    Q.row(static_cast<Eigen::Index>(k)) = V[j].row(vts[j][k]);
-                }
-            }
-            if (!valid) continue;
-            const double radius =
-                std::sqrt((Q.rowwise() - Q.colwise().mean()).squaredNorm() / static_cast<double>(Q.rows()));
-            Eigen::MatrixXd M = P;
-            M.col(0) *= -1;
-            sum += std::min(numerics::align_rigid(P, Q).rms, numerics::align_rigid(M, Q).rms) / radius;
+    for (const auto& r : row)
+        for (double v : r) {
+            sum += v;
             ++*pairs;
         }
-    }
     return *pairs ? sum / *pairs : -1.0;
 }
 

@@ -164,8 +164,10 @@ std::string summary_markdown(const std::vector<MethodOutcome>& outcomes);
 /// correspondences (DATASET/corres/NAME.vts, line k = the 1-based vertex at template point k):
 /// over same-class pairs, the RMS distance between corresponding vertices after the best rigid
 /// motion or mirror image (MDS fixes a form only up to one), relative to the RMS radius of the
-/// second; the mean over pairs, or -1 if no pair has correspondences.
+/// second; the mean over pairs, or -1 if no pair has correspondences. Forms are read and pairs
+/// aligned on `threads` threads (0: every core); the result does not depend on them.
 double pose_consistency(const std::vector<Model>& models, const std::vector<std::size_t>& good,
-                        const std::string& dataset, const std::string& forms_dir, int* pairs);
+                        const std::string& dataset, const std::string& forms_dir, int* pairs,
+                        int threads = 0);
 
 }  // namespace canonform::retrieval
