@@ -65,3 +65,43 @@ TEST(ViewDescriptor, RejectsBadMeshesAndAcceptsSeveralComponents) {
     F2 << s.F, (s.F.array() + static_cast<int>(s.V.rows())).matrix();
     EXPECT_NO_THROW(compute_views(V2, F2));
 }
+
+TEST(ViewDescriptor, StackedRowsAreTheStacksRowsWithoutTheStack) {
+    // Three models with views of 0-6 features; the second model is never asked for.
+    std::vector<std::vector<SiftDescriptors>> models(3);
+    float next = 0;
+    for (int g = 0; g < 3; ++g)
+        for (int v = 0; v < 4; ++v) {
+            const int n = (g * 5 + v * 3) % 7;
+            SiftDescriptors d(n, 128);
+            for (Eigen::Index i = 0; i < d.size(); ++i) d.data()[i] = next++;
+            models[static_cast<size_t>(g)].push_back(d);
+        }
+    std::vector<const std::vector<SiftDescriptors>*> sets;
+    std::vector<std::size_t> counts;
+    for (const auto& m : models) {
+        sets.push_back(&m);
+        std::size_t n = 0;
+        for (const auto& v : m) n += static_cast<std::size_t>(v.rows());
+        counts.push_back(n);
+    }
+    const SiftDescriptors all = stack_features(sets);
+    const int first_of_third = static_cast<int>(counts[0] + counts[1]);
+    const std::vector<int> rows = {first_of_third + 2, 0, static_cast<int>(all.rows()) - 1, 3,
+                                   first_of_third};
+    std::vector<std::size_t> asked;
+    const auto get = [&](std::size_t g) -> const std::vector<SiftDescriptors>& {
+        asked.push_back(g);
+        return models[g];
+    };
+    const SiftDescriptors got = stacked_rows(counts, rows, get);
+    ASSERT_EQ(got.rows(), static_cast<Eigen::Index>(rows.size()));
+    for (size_t i = 0; i < rows.size(); ++i)
+        EXPECT_EQ(got.row(static_cast<Eigen::Index>(i)), all.row(rows[i]));
+    EXPECT_EQ(asked, (std::vector<std::size_t>{0, 2}));
+    // A model whose features changed, and a row past the stack, are refused.
+    std::vector<std::size_t> wrong = counts;
+    wrong[0] += 1;
+    EXPECT_THROW(stacked_rows(wrong, rows, get), InputError);
+    EXPECT_THROW(stacked_rows(counts, {static_cast<int>(all.rows())}, get), InputError);
+}

@@ -69,14 +69,22 @@ void add_codebook(CLI::App& app) {
                                 std::to_string(rows) + " SIFT descriptors",
                             k + 1 == a->meshes.size());
         }
-        std::vector<const std::vector<views::SiftDescriptors>*> sets;
-        for (const auto& f : features) sets.push_back(&f);
+        std::vector<std::size_t> counts;
+        for (const auto& m : features) {
+            std::size_t n = 0;
+            for (const auto& v : m) n += static_cast<std::size_t>(v.rows());
+            counts.push_back(n);
+        }
         views::CodebookOptions co;
         co.words = a->words;
         co.seed = a->options().pose.seed;  // --seed: the rectilinearity restarts' and the codebook's
         co.method = views::parse_codebook_method(a->random ? "random" : a->method);
         co.sample = a->sample;
-        const views::Codebook cb = views::Codebook::train(views::stack_features(sets), co);
+        const views::Codebook cb = views::Codebook::train_on_rows(
+            views::stacked_rows(
+                counts, views::Codebook::training_rows(rows, co),
+                [&](std::size_t g) -> const std::vector<views::SiftDescriptors>& { return features[g]; }),
+            rows, co);
         cb.save(a->out);
         std::cerr << "codebook of " << cb.size() << " words from " << rows << " descriptors -> " << a->out
                   << "\n";

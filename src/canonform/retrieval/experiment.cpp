@@ -278,14 +278,24 @@ views::Codebook Experiment::codebook(const canonical::MethodSpec& method,
     if (o.noise > 0) key += "|noise=" + std::to_string(o.noise);
     if (o.repair) key += "|repair";
     std::uint64_t h = io::fnv1a(key);
-    std::vector<const std::vector<views::SiftDescriptors>*> sets;
+    std::vector<std::size_t> counts;
+    std::int64_t total = 0;
     for (size_t k : good) {
         h = io::fnv1a(io::hex(models_[k].hash), h);
-        sets.push_back(&features[k].features);
+        std::size_t n = 0;
+        for (const auto& v : features[k].features) n += static_cast<std::size_t>(v.rows());
+        counts.push_back(n);
+        total += static_cast<std::int64_t>(n);
     }
     const std::string path = o.out + "/cache/codebook_" + io::hex(h) + ".bin";
     if (io::is_file(path)) return views::Codebook::load(path);
-    views::Codebook cb = views::Codebook::train(views::stack_features(sets), co);
+    // Trained on the sample alone (the same words as on the whole stack: codebook.h).
+    const views::SiftDescriptors sample =
+        views::stacked_rows(counts, views::Codebook::training_rows(total, co),
+                            [&](std::size_t g) -> const std::vector<views::SiftDescriptors>& {
+                                return features[good[g]].features;
+                            });
+    views::Codebook cb = views::Codebook::train_on_rows(sample, total, co);
     cb.save(path);
     return cb;
 }

@@ -115,7 +115,7 @@ public:
     /// codebook's) share the entries.
     std::string cache_entry(const canonical::MethodSpec& method, std::size_t model) const;
     /// How each method's codebook is trained (options.codebook_training with its words and seed), on
-    /// the good meshes' features stacked in collection order (views::stack_features()).
+    /// the good meshes' features stacked in collection order (a sample of them: views::stacked_rows()).
     views::CodebookOptions codebook_options() const;
     /// Stage 1 for every mesh, in parallel, with progress.
     std::vector<MeshFeatures> features(const canonical::MethodSpec& method) const;

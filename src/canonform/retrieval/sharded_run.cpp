@@ -438,36 +438,23 @@ void ShardedRun::codebook(Json& m) const {
         } else {
             // The training of Experiment::codebook() (the good meshes' descriptors stacked in
             // collection order, the same options), holding only the rows it trains on: read mesh by
-            // mesh from the cache, each sampled row put where training_rows() orders it.
+            // mesh from the cache (views::stacked_rows()).
             const views::CodebookOptions co = experiment_.codebook_options();
             std::int64_t total = 0;
             for (std::size_t r : c.rows) total += static_cast<std::int64_t>(r);
-            const std::vector<int> rows = views::Codebook::training_rows(total, co);
-            std::vector<std::pair<int, Eigen::Index>> wanted;  // (stacked row, its place in the sample)
-            for (std::size_t i = 0; i < rows.size(); ++i)
-                wanted.emplace_back(rows[i], static_cast<Eigen::Index>(i));
-            std::sort(wanted.begin(), wanted.end());
-            views::SiftDescriptors training(static_cast<Eigen::Index>(rows.size()), 128);
-            std::size_t next = 0;
-            std::int64_t base = 0;
-            for (std::size_t g = 0; g < c.good.size() && next < wanted.size(); ++g) {
-                const std::int64_t end = base + static_cast<std::int64_t>(c.rows[g]);
-                if (wanted[next].first < end) {
-                    const MeshFeatures f = experiment_.mesh_features(spec, c.good[g]);
+            MeshFeatures f;
+            const views::SiftDescriptors training = views::stacked_rows(
+                c.rows, views::Codebook::training_rows(total, co),
+                [&](std::size_t g) -> const std::vector<views::SiftDescriptors>& {
+                    f = experiment_.mesh_features(spec, c.good[g]);
                     if (!f.ok) throw InputError(experiment_.models()[c.good[g]].name + ": " + f.error);
-                    std::int64_t at = base;
-                    for (const auto& v : f.features)
-                        for (Eigen::Index r = 0; r < v.rows(); ++r, ++at)
-                            while (next < wanted.size() && wanted[next].first == at)
-                                training.row(wanted[next++].second) = v.row(r);
-                    if (at != end)
+                    std::size_t n = 0;
+                    for (const auto& v : f.features) n += static_cast<std::size_t>(v.rows());
+                    if (n != c.rows[g])
                         throw InputError(spec.folder() +
                                          ": the cached features changed since the features stage");
-                }
-                base = end;
-            }
-            if (next != wanted.size())
-                throw InputError(spec.folder() + ": the cached features changed since the features stage");
+                    return f.features;
+                });
             cb = views::Codebook::train_on_rows(training, total, co);
         }
         cb.save(dir + "/codebook.bin");

@@ -4,6 +4,10 @@
 #include "canonform/surface/mesh_topology.h"
 #include "canonform/views/view_directions.h"
 
+#include <algorithm>
+#include <cstdint>
+#include <utility>
+
 namespace canonform::views {
 
 std::vector<int> ViewSet::keypoint_counts() const {
@@ -95,6 +99,43 @@ SiftDescriptors stack_features(const std::vector<const std::vector<SiftDescripto
             r += f.rows();
         }
     return all;
+}
+
+SiftDescriptors stacked_rows(
+    const std::vector<std::size_t>& counts, const std::vector<int>& rows,
+    const std::function<const std::vector<SiftDescriptors>&(std::size_t)>& features) {
+    std::vector<std::pair<std::int64_t, Eigen::Index>> wanted;  // (row of the stack, place in the result)
+    wanted.reserve(rows.size());
+    for (std::size_t i = 0; i < rows.size(); ++i) wanted.emplace_back(rows[i], static_cast<Eigen::Index>(i));
+    std::sort(wanted.begin(), wanted.end());
+    std::int64_t total = 0;
+    for (std::size_t c : counts) total += static_cast<std::int64_t>(c);
+    if (!wanted.empty() && (wanted.front().first < 0 || wanted.back().first >= total))
+        throw InputError(
+            "Codebook sample: row " +
+            std::to_string(wanted.front().first < 0 ? wanted.front().first : wanted.back().first) +
+            " is outside the " + std::to_string(total) + " stacked descriptors.");
+    SiftDescriptors out(static_cast<Eigen::Index>(rows.size()), 128);
+    std::size_t next = 0;
+    std::int64_t base = 0;
+    for (std::size_t g = 0; g < counts.size() && next < wanted.size(); ++g) {
+        const std::int64_t end = base + static_cast<std::int64_t>(counts[g]);
+        if (wanted[next].first < end) {
+            const std::vector<SiftDescriptors>& held = features(g);
+            std::int64_t n = 0;
+            for (const SiftDescriptors& v : held) n += v.rows();
+            if (n != static_cast<std::int64_t>(counts[g]))
+                throw InputError("Codebook sample: model " + std::to_string(g) + " has " + std::to_string(n) +
+                                 " descriptors, " + std::to_string(counts[g]) + " expected.");
+            std::int64_t at = base;
+            for (const SiftDescriptors& v : held)
+                for (Eigen::Index r = 0; r < v.rows(); ++r, ++at)
+                    while (next < wanted.size() && wanted[next].first == at)
+                        out.row(wanted[next++].second) = v.row(r);
+        }
+        base = end;
+    }
+    return out;
 }
 
 }  // namespace canonform::views

@@ -20,6 +20,8 @@
 
 #include <Eigen/Core>
 
+#include <cstddef>
+#include <functional>
 #include <vector>
 
 namespace canonform::views {
@@ -64,5 +66,14 @@ ModelDescriptor make_descriptor(const std::vector<SiftDescriptors>& features, co
 
 /// The SIFT descriptors of many views stacked into one matrix (the training set of a codebook).
 SiftDescriptors stack_features(const std::vector<const std::vector<SiftDescriptors>*>& models);
+
+/// Rows `rows` of that stack - the features of models 0 .. counts.size() - 1, view after view,
+/// model after model - in the order of `rows`, without forming the stack (a codebook's sample,
+/// Codebook::training_rows(), of a large collection). features(g) is called once per model holding
+/// a wanted row, in model order; what it returns is read before the next call. counts[g]: model
+/// g's rows. InputError if a model's features have another number of rows or a row lies outside
+/// the stack.
+SiftDescriptors stacked_rows(const std::vector<std::size_t>& counts, const std::vector<int>& rows,
+                             const std::function<const std::vector<SiftDescriptors>&(std::size_t)>& features);
 
 }  // namespace canonform::views
