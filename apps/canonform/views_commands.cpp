@@ -9,6 +9,7 @@
 #include "canonform/io/files.h"
 #include "canonform/views/view_descriptor.h"
 
+#include <cstdint>
 #include <iostream>
 #include <memory>
 #include <numeric>
@@ -60,20 +61,16 @@ void add_codebook(CLI::App& app) {
     a->add(c);
     c->callback([a] {
         std::vector<std::vector<views::SiftDescriptors>> features;
-        Eigen::Index rows = 0;
+        std::vector<std::size_t> counts;
+        std::int64_t rows = 0;
         ProgressLine progress(false);
         for (size_t k = 0; k < a->meshes.size(); ++k) {
             features.push_back(a->views_of(a->meshes[k]).features);
-            for (const auto& f : features.back()) rows += f.rows();
+            counts.push_back(views::feature_rows(features.back()));
+            rows += static_cast<std::int64_t>(counts.back());
             progress.update(std::to_string(k + 1) + "/" + std::to_string(a->meshes.size()) + " meshes, " +
                                 std::to_string(rows) + " SIFT descriptors",
                             k + 1 == a->meshes.size());
-        }
-        std::vector<std::size_t> counts;
-        for (const auto& m : features) {
-            std::size_t n = 0;
-            for (const auto& v : m) n += static_cast<std::size_t>(v.rows());
-            counts.push_back(n);
         }
         views::CodebookOptions co;
         co.words = a->words;

@@ -282,10 +282,8 @@ views::Codebook Experiment::codebook(const canonical::MethodSpec& method,
     std::int64_t total = 0;
     for (size_t k : good) {
         h = io::fnv1a(io::hex(models_[k].hash), h);
-        std::size_t n = 0;
-        for (const auto& v : features[k].features) n += static_cast<std::size_t>(v.rows());
-        counts.push_back(n);
-        total += static_cast<std::int64_t>(n);
+        counts.push_back(views::feature_rows(features[k].features));
+        total += static_cast<std::int64_t>(counts.back());
     }
     const std::string path = o.out + "/cache/codebook_" + io::hex(h) + ".bin";
     if (io::is_file(path)) return views::Codebook::load(path);

@@ -378,8 +378,7 @@ void ShardedRun::features(int shard, Json& m) const {
         Json meshes = Json::array();
         for (std::size_t k = begin; k < end; ++k) {
             const MeshFeatures& f = r[k - begin];
-            std::size_t rows = 0;
-            for (const auto& v : f.features) rows += static_cast<std::size_t>(v.rows());
+            const std::size_t rows = views::feature_rows(f.features);
             meshes.push_back({{"model", k},
                               {"ok", f.ok},
                               {"cached", f.cached},
@@ -448,9 +447,7 @@ void ShardedRun::codebook(Json& m) const {
                 [&](std::size_t g) -> const std::vector<views::SiftDescriptors>& {
                     f = experiment_.mesh_features(spec, c.good[g]);
                     if (!f.ok) throw InputError(experiment_.models()[c.good[g]].name + ": " + f.error);
-                    std::size_t n = 0;
-                    for (const auto& v : f.features) n += static_cast<std::size_t>(v.rows());
-                    if (n != c.rows[g])
+                    if (views::feature_rows(f.features) != c.rows[g])
                         throw InputError(spec.folder() +
                                          ": the cached features changed since the features stage");
                     return f.features;

@@ -29,8 +29,8 @@ using detail::total;
 // lane still sums its own pair's terms in the order of B's entries, from 0, in float: the same
 // additions as one pair at a time, so the distances are the same bits.
 struct Block {
-    std::vector<int> lanes;  // the views of A, ascending
-    int start = 0;           // first lane in a transposed row
+    int start = 0;  // first lane in a transposed row
+    int size = 0;   // lanes: the views of A in U_j, ascending
 };
 
 struct PairPlan {
@@ -64,13 +64,10 @@ PairPlan plan_pairs(const std::vector<std::vector<int>>& maps, std::size_t views
         if (u.empty()) continue;
         const auto [it, added] = known.emplace(u, static_cast<int>(p.blocks.size()));
         if (added) {
-            Block b;
-            b.lanes = u;
-            b.start = p.stride;
             for (std::size_t k = 0; k < u.size(); ++k)
-                p.place[static_cast<std::size_t>(u[k])].push_back(b.start + static_cast<int>(k));
+                p.place[static_cast<std::size_t>(u[k])].push_back(p.stride + static_cast<int>(k));
+            p.blocks.push_back({p.stride, static_cast<int>(u.size())});
             p.stride += static_cast<int>((u.size() + 7) / 8 * 8);
-            p.blocks.push_back(std::move(b));
         }
         p.block_of[j] = it->second;
     }
@@ -99,14 +96,14 @@ int max_word(const std::vector<Histogram>& m) {
     return w;
 }
 
-void densify(const std::vector<Histogram>& m, int width, const PairPlan& plan, DenseModel& d) {
+void densify(const std::vector<Histogram>& m, const std::vector<double>& sums, int width,
+             const PairPlan& plan, DenseModel& d) {
     const auto stride = static_cast<std::size_t>(plan.stride);
     d.counts.assign(static_cast<std::size_t>(width) * stride, 0.f);
     d.sums.assign(stride, 0.0);
     for (std::size_t i = 0; i < m.size(); ++i) {
-        const double s = total(m[i]);
         for (int lane : plan.place[i]) {
-            d.sums[static_cast<std::size_t>(lane)] = s;
+            d.sums[static_cast<std::size_t>(lane)] = sums[i];
             for (const auto& e : m[i])
                 d.counts[static_cast<std::size_t>(e.first) * stride + static_cast<std::size_t>(lane)] =
                     e.second;
@@ -143,7 +140,7 @@ CANONFORM_CLONES double clock_dense(const DenseModel& A, const std::vector<Histo
         const int bi = plan.block_of[j];
         if (bi < 0) continue;
         const Block& blk = plan.blocks[static_cast<std::size_t>(bi)];
-        const int n = static_cast<int>(blk.lanes.size());
+        const int n = blk.size;
         for (int s = 0; s < n; s += 32) {
             const float* at = A.counts.data() + blk.start + s;
             float* out = inter.data() + s;
@@ -231,7 +228,7 @@ Eigen::MatrixXf distance_rows(const std::vector<std::vector<Histogram>>& models,
             const auto r = row_begin + static_cast<std::size_t>(row);
             if (r + 1 >= n) return;
             Scratch& s = scratch[static_cast<std::size_t>(worker)];
-            densify(models[r], std::max(width, 1), plan, s.row);
+            densify(models[r], sums[r], std::max(width, 1), plan, s.row);
             for (std::size_t c = r + 1; c < n; ++c)
                 D(static_cast<Eigen::Index>(row), static_cast<Eigen::Index>(c)) =
                     static_cast<float>(clock_dense(s.row, models[c], sums[c], plan, s.inter, s.pair, s.rot));

@@ -87,11 +87,16 @@ ModelDescriptor make_descriptor(const std::vector<SiftDescriptors>& features, co
     return d;
 }
 
+std::size_t feature_rows(const std::vector<SiftDescriptors>& views) {
+    std::size_t n = 0;
+    for (const auto& v : views) n += static_cast<std::size_t>(v.rows());
+    return n;
+}
+
 SiftDescriptors stack_features(const std::vector<const std::vector<SiftDescriptors>*>& models) {
-    Eigen::Index rows = 0;
-    for (const auto* m : models)
-        for (const auto& f : *m) rows += f.rows();
-    SiftDescriptors all(rows, 128);
+    std::size_t rows = 0;
+    for (const auto* m : models) rows += feature_rows(*m);
+    SiftDescriptors all(static_cast<Eigen::Index>(rows), 128);
     Eigen::Index r = 0;
     for (const auto* m : models)
         for (const auto& f : *m) {
@@ -122,9 +127,8 @@ SiftDescriptors stacked_rows(
         const std::int64_t end = base + static_cast<std::int64_t>(counts[g]);
         if (wanted[next].first < end) {
             const std::vector<SiftDescriptors>& held = features(g);
-            std::int64_t n = 0;
-            for (const SiftDescriptors& v : held) n += v.rows();
-            if (n != static_cast<std::int64_t>(counts[g]))
+            const std::size_t n = feature_rows(held);
+            if (n != counts[g])
                 throw InputError("Codebook sample: model " + std::to_string(g) + " has " + std::to_string(n) +
                                  " descriptors, " + std::to_string(counts[g]) + " expected.");
             std::int64_t at = base;

@@ -64,6 +64,9 @@ inline std::vector<Histogram> view_histograms(const ViewSet& views, const Codebo
 ModelDescriptor make_descriptor(const std::vector<SiftDescriptors>& features, const Codebook* codebook,
                                 const std::string& source, int image_size = 256);
 
+/// A model's SIFT descriptors over all its views (its rows in the stack below).
+std::size_t feature_rows(const std::vector<SiftDescriptors>& views);
+
 /// The SIFT descriptors of many views stacked into one matrix (the training set of a codebook).
 SiftDescriptors stack_features(const std::vector<const std::vector<SiftDescriptors>*>& models);
 
