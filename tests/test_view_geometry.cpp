@@ -6,6 +6,7 @@
 // path; "core/<name>.h" resolves to whichever folder has <name>.h (the file names are distinct).
 #include "canonform/procedural/procedural_meshes.h"
 #include "canonform/views/depth_render.h"
+#include "canonform/views/pose_cost.h"
 #include "canonform/views/pose_normalization.h"
 #include "canonform/views/view_directions.h"
 #include "test_util.h"
@@ -17,6 +18,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <numeric>
 #include <random>
 #include <set>
@@ -498,6 +500,42 @@ TEST(PoseNormalization, ProjectedAreaRatioIsTheSumOverFaces) {
     EXPECT_NEAR(vw::projected_area_ratio(fig.mesh.V, fig.mesh.F, R), projected / area,
                 1e-12 * projected / area);
     EXPECT_GT(projected / area, 1.0);  // |x|_1 >= |x|_2 for every face
+}
+
+TEST(PoseNormalization, RectilinearitySumIsEigensSumOfTheArrayBitForBit) {
+    // The objective's sum, vectorised by hand (4 or 8 terms at a time), takes the order of Eigen's
+    // sum() of the array expression in packets of two doubles (the x86-64 baseline the pose was
+    // computed with), for every length's remainder mod 4 and on large arrays.
+    if (Eigen::internal::packet_traits<double>::size != 2 ||
+        !Eigen::internal::packet_traits<double>::Vectorizable)
+        GTEST_SKIP() << "Eigen here sums doubles in packets of another size";
+    std::mt19937_64 gen(7);
+    std::uniform_real_distribution<double> coord(-1.0, 1.0), scale(-12.0, 3.0);
+    for (const Eigen::Index n :
+         {0,  1,  2,  3,  4,  5,  6,  7,  8,  9,  10, 11, 12, 13, 14, 15,   16,    17,   18,
+          19, 20, 21, 22, 23, 31, 32, 33, 34, 35, 63, 64, 65, 66, 67, 1001, 19998, 19999}) {
+        Eigen::ArrayXd x(n), y(n), z(n);
+        for (Eigen::Index i = 0; i < n; ++i) {
+            // Magnitudes over 15 orders, so that the sum rounds differently in another order.
+            x[i] = coord(gen) * std::pow(10.0, scale(gen));
+            y[i] = coord(gen) * std::pow(10.0, scale(gen));
+            z[i] = i % 7 == 3 ? -0.0 : coord(gen) * std::pow(10.0, scale(gen));
+        }
+        for (int r = 0; r < 3; ++r) {
+            const Eigen::Matrix3d Q =
+                Eigen::Quaterniond(
+                    Eigen::Vector4d(coord(gen), coord(gen), coord(gen), coord(gen)).normalized())
+                    .toRotationMatrix();
+            const double eigen = ((Q(0, 0) * x + Q(0, 1) * y + Q(0, 2) * z).abs() +
+                                  (Q(1, 0) * x + Q(1, 1) * y + Q(1, 2) * z).abs() +
+                                  (Q(2, 0) * x + Q(2, 1) * y + Q(2, 2) * z).abs())
+                                     .sum();
+            const double ours = vw::detail::rectilinearity_sum(x.data(), y.data(), z.data(), n, Q);
+            EXPECT_EQ(std::memcmp(&eigen, &ours, sizeof(double)), 0)
+                << "n " << n << ": " << eigen << " against " << ours << " (difference " << ours - eigen
+                << ")";
+        }
+    }
 }
 
 TEST(PoseNormalization, SameBitsWhateverTheCpuCacheSizes) {

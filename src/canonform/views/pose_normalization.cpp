@@ -1,11 +1,16 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "canonform/views/pose_normalization.h"
 
+#include "canonform/common/cpu_clones.h"
+#include "canonform/views/pose_cost.h"
+
 #include <Eigen/Dense>
 
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
+#include <limits>
 #include <numeric>
 #include <random>
 
@@ -111,8 +116,87 @@ Eigen::Matrix3d random_rotation(std::mt19937_64& g) {
     return Eigen::Quaterniond(q[0], q[1], q[2], q[3]).toRotationMatrix();
 }
 
-// Rectilinearity objective on area vectors already in the PCA frame. The vectors are kept as three
-// coordinate arrays so that Eigen evaluates the sum with SIMD packets.
+// The vector helpers below are inlined into the clones: no call passes a vector between code built
+// for different targets.
+#if defined(__GNUC__)
+#pragma GCC diagnostic ignored "-Wpsabi"
+#endif
+
+typedef double v4d __attribute__((vector_size(32)));
+typedef double v8d __attribute__((vector_size(64)));
+typedef long long v4l __attribute__((vector_size(32)));
+typedef long long v8l __attribute__((vector_size(64)));
+
+template <typename D, typename L>
+inline D load_doubles(const double* p) {
+    D v;
+    std::memcpy(&v, p, sizeof v);
+    return v;
+}
+
+// |v| lane by lane: the sign bit cleared (as fabs; -0 becomes +0).
+template <typename D, typename L>
+inline D abs_doubles(D v) {
+    L b;
+    std::memcpy(&b, &v, sizeof b);
+    b &= std::numeric_limits<long long>::max();
+    std::memcpy(&v, &b, sizeof v);
+    return v;
+}
+
+// e_i of detail::rectilinearity_sum for the W consecutive i from `at` (W = 4 or 8).
+template <typename D, typename L>
+inline D rect_terms(const double* x, const double* y, const double* z, Eigen::Index at, const double* q) {
+    const D X = load_doubles<D, L>(x + at), Y = load_doubles<D, L>(y + at), Z = load_doubles<D, L>(z + at);
+    const D r0 = (q[0] * X + q[1] * Y) + q[2] * Z;
+    const D r1 = (q[3] * X + q[4] * Y) + q[5] * Z;
+    const D r2 = (q[6] * X + q[7] * Y) + q[8] * Z;
+    return (abs_doubles<D, L>(r0) + abs_doubles<D, L>(r1)) + abs_doubles<D, L>(r2);
+}
+
+}  // namespace
+
+// Eigen's sum() of a dynamic array expression in packets of two (Eigen/src/Core/Redux.h, linear
+// vectorised traversal; the expression has no aligned start): packets p0 = (e0, e1) and p1 = (e2, e3)
+// take every following pair in turn up to the last multiple of four, p0 += p1, then p0 takes the
+// pair before the last multiple of two if there is one; the result is p0's first lane plus its
+// second, then the odd last term. Fewer than four terms: e0 + e1 (+ e2); one term: e0. Lane k of
+// the four-lane sum below is p0 or p1's lane k mod 2, with the same terms added in the same order.
+CANONFORM_CLONES_AVX512 double detail::rectilinearity_sum(const double* x, const double* y, const double* z,
+                                                          Eigen::Index n, const Eigen::Matrix3d& Q) {
+    const double q[9] = {Q(0, 0), Q(0, 1), Q(0, 2), Q(1, 0), Q(1, 1), Q(1, 2), Q(2, 0), Q(2, 1), Q(2, 2)};
+    const auto term = [&](Eigen::Index i) {
+        return (std::abs((q[0] * x[i] + q[1] * y[i]) + q[2] * z[i]) +
+                std::abs((q[3] * x[i] + q[4] * y[i]) + q[5] * z[i])) +
+               std::abs((q[6] * x[i] + q[7] * y[i]) + q[8] * z[i]);
+    };
+    if (n <= 0) return 0.0;
+    if (n < 2) return term(0);
+    if (n < 4) return n == 3 ? (term(0) + term(1)) + term(2) : term(0) + term(1);
+    const Eigen::Index end4 = n / 4 * 4;
+    v4d acc = rect_terms<v4d, v4l>(x, y, z, 0, q);
+    Eigen::Index i = 4;
+    for (; i + 8 <= end4; i += 8) {
+        const v8d e = rect_terms<v8d, v8l>(x, y, z, i, q);
+        const v4d lo = {e[0], e[1], e[2], e[3]}, hi = {e[4], e[5], e[6], e[7]};
+        acc += lo;
+        acc += hi;
+    }
+    for (; i < end4; i += 4) acc += rect_terms<v4d, v4l>(x, y, z, i, q);
+    double p0 = acc[0] + acc[2], p1 = acc[1] + acc[3];
+    if (n - end4 >= 2) {
+        p0 += term(end4);
+        p1 += term(end4 + 1);
+    }
+    double s = p0 + p1;
+    if (n % 2) s += term(n - 1);
+    return s;
+}
+
+namespace {
+
+// Rectilinearity objective on area vectors already in the PCA frame, kept as three coordinate
+// arrays (detail::rectilinearity_sum).
 struct RectCost {
     Eigen::ArrayXd x, y, z;
     double inv_area;
@@ -122,11 +206,7 @@ struct RectCost {
           z(A.row(2).transpose().array()),
           inv_area(inv_area_) {}
     double operator()(const Eigen::Matrix3d& Q) const {
-        const double s = ((Q(0, 0) * x + Q(0, 1) * y + Q(0, 2) * z).abs() +
-                          (Q(1, 0) * x + Q(1, 1) * y + Q(1, 2) * z).abs() +
-                          (Q(2, 0) * x + Q(2, 1) * y + Q(2, 2) * z).abs())
-                             .sum();
-        return s * inv_area;
+        return detail::rectilinearity_sum(x.data(), y.data(), z.data(), x.size(), Q) * inv_area;
     }
 };
 
