@@ -350,11 +350,17 @@ TEST(DepthRender, OppositeViewsInOnePassAreTheTwoRenders) {
     const Eigen::MatrixXd X = vw::apply_pose(vw::normalize_pose(fig.mesh.V, fig.mesh.F), fig.mesh.V);
     long covered = 0, coverage_differs = 0, gray_differs = 0;
     double largest = 0;
+    // The renderer that checks the mesh once renders the same pairs into reused (dirty) buffers.
+    const vw::DepthRenderer renderer(X, fig.mesh.F, 256);
+    std::vector<float> front(256 * 256, 0.5f), back_buffer(256 * 256, 0.5f);
     for (size_t i = 0; i < D.size(); ++i) {
         const size_t j = static_cast<size_t>(opposite[i]);
         if (j < i) continue;
         const auto pair = vw::render_depth_pair(X, fig.mesh.F, D[i], 256);
         EXPECT_EQ(pair[0].depth, vw::render_depth(X, fig.mesh.F, D[i], 256).depth) << i;  // the same bits
+        renderer.pair_into(D[i], front.data(), back_buffer.data());
+        EXPECT_EQ(front, pair[0].depth) << i;
+        EXPECT_EQ(back_buffer, pair[1].depth) << i;
         const vw::DepthImage back = vw::render_depth(X, fig.mesh.F, D[j], 256);
         const auto g1 = pair[1].gray(), g2 = back.gray();
         for (size_t k = 0; k < back.depth.size(); ++k) {
@@ -377,6 +383,15 @@ TEST(DepthRender, OppositeViewsInOnePassAreTheTwoRenders) {
     const auto empty = vw::render_depth_pair(X, Eigen::MatrixXi(0, 3), D[0], 16);
     EXPECT_EQ(empty[1].depth, std::vector<float>(256, 0.f));
     EXPECT_THROW(vw::render_depth_pair(X, fig.mesh.F, Eigen::Vector3d::Zero()), cf::InputError);
+    EXPECT_THROW(renderer.pair_into(Eigen::Vector3d::Zero(), front.data(), back_buffer.data()),
+                 cf::InputError);
+    Eigen::MatrixXd bad = X;
+    bad(5, 1) = std::nan("");
+    EXPECT_THROW(vw::DepthRenderer(bad, fig.mesh.F, 256), cf::InputError);
+    EXPECT_THROW(vw::DepthRenderer(X, fig.mesh.F, 0), cf::InputError);
+    Eigen::MatrixXi out_of_range = fig.mesh.F;
+    out_of_range(7, 2) = static_cast<int>(X.rows());
+    EXPECT_THROW(vw::DepthRenderer(X, out_of_range, 256), cf::InputError);
 }
 
 // ---------------------------------------------------------------- pose normalisation

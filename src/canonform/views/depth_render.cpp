@@ -202,14 +202,17 @@ std::array<DepthImage, 2> render_depth_pair(const Eigen::MatrixXd& V, const Eige
     return img;
 }
 
-void render_depth_pair_into(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
-                            const Eigen::Vector3d& direction, int size, float* front, float* back) {
+DepthRenderer::DepthRenderer(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, int size)
+    : V_(V), F_(F), size_(size) {
     check_render_input(V, F, size);
+}
+
+void DepthRenderer::pair_into(const Eigen::Vector3d& direction, float* front, float* back) const {
     const Eigen::Matrix3d C = camera_frame(direction);
-    const size_t n = static_cast<size_t>(size) * static_cast<size_t>(size);
+    const size_t n = static_cast<size_t>(size_) * static_cast<size_t>(size_);
     std::fill(front, front + n, 0.0f);
     std::fill(back, back + n, 0.0f);
-    if (F.rows() > 0) rasterize(V, F, C, size, front, back);
+    if (F_.rows() > 0) rasterize(V_, F_, C, size_, front, back);
 }
 
 }  // namespace canonform::views

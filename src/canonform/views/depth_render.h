@@ -70,9 +70,21 @@ DepthImage render_depth(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, cons
 std::array<DepthImage, 2> render_depth_pair(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
                                             const Eigen::Vector3d& direction, int size = 256);
 
-/// render_depth_pair into the caller's buffers of size * size floats each (overwritten): the same
-/// two images, without allocating per pair (compute_views() reuses its buffers).
-void render_depth_pair_into(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
-                            const Eigen::Vector3d& direction, int size, float* front, float* back);
+/// Many renders of one mesh: the mesh and the size are checked once, on construction (render_depth's
+/// errors), instead of once per render (compute_views() renders 33 pairs). V and F are referenced,
+/// not copied: they must outlive the renderer and stay unchanged.
+class DepthRenderer {
+public:
+    DepthRenderer(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, int size);
+    /// render_depth_pair(V, F, direction, size) into the caller's buffers of size * size floats
+    /// each (overwritten): the same two images, without allocating per pair (compute_views()
+    /// reuses its buffers). Throws InputError on a zero or non-finite direction.
+    void pair_into(const Eigen::Vector3d& direction, float* front, float* back) const;
+
+private:
+    const Eigen::MatrixXd& V_;
+    const Eigen::MatrixXi& F_;
+    int size_;
+};
 
 }  // namespace canonform::views

@@ -50,10 +50,11 @@ ViewSet compute_views(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
     back.resize(pixels);
     s.features.resize(dirs.size());
     if (options.keep_images) s.images.resize(dirs.size());
+    const DepthRenderer renderer(X, F, size);
     for (size_t i = 0; i < dirs.size(); ++i) {
         const size_t j = static_cast<size_t>(opposite[i]);
         if (j < i) continue;
-        render_depth_pair_into(X, F, dirs[i], size, front.data(), back.data());
+        renderer.pair_into(dirs[i], front.data(), back.data());
         s.features[i] = depth_sift_descriptors(front.data(), size, options.sift);
         s.features[j] = depth_sift_descriptors(back.data(), size, options.sift);
         if (options.keep_images) {
