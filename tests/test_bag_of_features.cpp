@@ -32,9 +32,12 @@ using namespace canonform::views;
 namespace {
 
 std::string temp_path(const std::string& name) {
-    return (std::filesystem::temp_directory_path() /
-            ("canonform_bof_" + std::to_string(::getpid()) + "_" + name))
-        .string();
+    static const std::string dir = [] {
+        const std::string d = canonform::test::process_temp_path("canonform_bof");
+        std::filesystem::create_directories(d);
+        return d;
+    }();
+    return dir + "/" + name;
 }
 
 // 24 permutations of `views` views closed under inversion: identity, 11 random permutations, their

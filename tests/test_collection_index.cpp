@@ -12,6 +12,8 @@
 #include "canonform/views/view_descriptor.h"
 #include "canonform/views/view_directions.h"
 
+#include "test_util.h"
+
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -32,8 +34,7 @@ namespace {
 /// A finished `retrieve` run of seven figures (method none), made once per process.
 const std::string& run_folder() {
     static const std::string run = [] {
-        const std::string d =
-            (fs::temp_directory_path() / ("canonform_test_index_" + std::to_string(getpid()))).string();
+        const std::string d = canonform::test::process_temp_path("canonform_test_index");
         fs::remove_all(d);
         io::make_directories(d + "/data/meshes");
         std::string labels = "path,class\n";

@@ -10,6 +10,8 @@
 #include "canonform/procedural/procedural_meshes.h"
 #include "canonform/retrieval/experiment.h"
 
+#include "test_util.h"
+
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -37,9 +39,7 @@ std::string make_collection(const std::string& tag = "data") {
     static std::map<std::string, std::string> made;
     if (made.count(tag)) return made[tag];
     const std::string dir = [&] {
-        const std::string d = (fs::temp_directory_path() /
-                               ("canonform_test_experiment_" + tag + "_" + std::to_string(::getpid())))
-                                  .string();
+        const std::string d = canonform::test::process_temp_path("canonform_test_experiment_" + tag);
         fs::remove_all(d);
         io::make_directories(d + "/meshes");
         std::string labels = "path,class\n";
@@ -61,7 +61,7 @@ retrieval::ExperimentOptions options(const std::string& run, const std::vector<s
     o.dataset = make_collection();
     o.labels = o.dataset + "/labels.csv";
     // Per process: other checkouts' tests (and the sanitizer build's) run on the same machine.
-    o.out = (fs::temp_directory_path() / (run + "_" + std::to_string(::getpid()))).string();
+    o.out = canonform::test::process_temp_path(run);
     for (const auto& m : methods) o.methods.push_back(parse_method_spec(m));
     o.words = 20;
     o.threads = 2;
@@ -349,8 +349,7 @@ TEST(Experiment, PoseConsistencyIsZeroForRigidOrMirroredCopiesAndIndependentOfTh
     // Forms of five models in two classes, with correspondences (1-based, reversed order: the
     // k-th point of the template is vertex n - k): class a = a cloud, the cloud turned and moved,
     // and its mirror image; class b = another cloud and a copy with one coordinate stretched.
-    const std::string dir =
-        (fs::temp_directory_path() / ("canonform_test_pose_" + std::to_string(::getpid()))).string();
+    const std::string dir = canonform::test::process_temp_path("canonform_test_pose");
     fs::remove_all(dir);
     fs::create_directories(dir + "/forms");
     fs::create_directories(dir + "/corres");

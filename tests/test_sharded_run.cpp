@@ -9,6 +9,8 @@
 #include "canonform/retrieval/experiment.h"
 #include "canonform/retrieval/sharded_run.h"
 
+#include "test_util.h"
+
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -28,7 +30,7 @@ namespace {
 /// A folder in the temporary directory, of this process (ctest runs tests in parallel processes,
 /// and other checkouts' tests may run on the same machine).
 std::string temp(const std::string& name) {
-    return (fs::temp_directory_path() / (name + "_" + std::to_string(getpid()))).string();
+    return canonform::test::process_temp_path(name);
 }
 
 /// Seven figures (two body types, 600 vertices) in a folder of their own per `tag`.

@@ -3,9 +3,14 @@
 
 #include "canonform/numerics/rigid_alignment.h"
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <mutex>
+#include <vector>
+
+#include <unistd.h>
 
 namespace canonform::test {
 
@@ -27,6 +32,45 @@ std::string scratch_dir(const std::string& name) {
     const fs::path p = fs::temp_directory_path() / ("canonform_test_" + name);
     fs::remove_all(p);
     fs::create_directories(p);
+    return p.string();
+}
+
+namespace {
+
+// Paths removed, with everything under them, when the program ends; so are the paths beside them
+// whose names extend theirs after a "_" (a test's NAME_PID_labels.csv next to its NAME_PID).
+struct RemovedAtExit {
+    std::mutex mutex;
+    std::vector<std::filesystem::path> paths;
+    ~RemovedAtExit() {
+        namespace fs = std::filesystem;
+        std::error_code ignored;
+        for (const auto& p : paths) {
+            fs::remove_all(p, ignored);
+            const std::string prefix = p.filename().string() + "_";
+            std::vector<fs::path> beside;
+            for (fs::directory_iterator it(p.parent_path(), ignored), end; !ignored && it != end;
+                 it.increment(ignored))
+                if (it->path().filename().string().rfind(prefix, 0) == 0) beside.push_back(it->path());
+            for (const auto& b : beside) fs::remove_all(b, ignored);
+            ignored.clear();
+        }
+    }
+};
+
+RemovedAtExit& removed_at_exit() {
+    static RemovedAtExit r;
+    return r;
+}
+
+}  // namespace
+
+std::string process_temp_path(const std::string& name) {
+    const std::filesystem::path p =
+        std::filesystem::temp_directory_path() / (name + "_" + std::to_string(::getpid()));
+    RemovedAtExit& r = removed_at_exit();
+    const std::lock_guard<std::mutex> lock(r.mutex);
+    if (std::find(r.paths.begin(), r.paths.end(), p) == r.paths.end()) r.paths.push_back(p);
     return p.string();
 }
 
