@@ -27,14 +27,6 @@ double aligned_rms_or_mirrored(const Eigen::MatrixXd& a, const Eigen::MatrixXd& 
     return std::min(aligned_rms(a, b), aligned_rms(m, b));
 }
 
-std::string scratch_dir(const std::string& name) {
-    namespace fs = std::filesystem;
-    const fs::path p = fs::temp_directory_path() / ("canonform_test_" + name);
-    fs::remove_all(p);
-    fs::create_directories(p);
-    return p.string();
-}
-
 namespace {
 
 // Paths removed, with everything under them, when the program ends; so are the paths beside them
@@ -72,6 +64,13 @@ std::string process_temp_path(const std::string& name) {
     const std::lock_guard<std::mutex> lock(r.mutex);
     if (std::find(r.paths.begin(), r.paths.end(), p) == r.paths.end()) r.paths.push_back(p);
     return p.string();
+}
+
+std::string scratch_dir(const std::string& name) {
+    const std::string p = process_temp_path("canonform_test_" + name);
+    std::filesystem::remove_all(p);
+    std::filesystem::create_directories(p);
+    return p;
 }
 
 std::string message_of(const std::function<void()>& fn) {

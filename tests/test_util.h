@@ -104,14 +104,15 @@ double aligned_rms(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b);
 /// The same, also allowing a reflection (MDS determines a configuration only up to one).
 double aligned_rms_or_mirrored(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b);
 
-/// A fresh, empty folder under the temporary directory ("canonform_test_NAME").
-std::string scratch_dir(const std::string& name);
-
 /// The path NAME_PID under the temporary directory: this process's own (ctest runs the tests in
 /// parallel processes, and other checkouts' tests may run on the same machine). Nothing is made
 /// there; whatever is, and whatever is beside it named NAME_PID_..., is removed when the test
 /// program ends.
 std::string process_temp_path(const std::string& name);
+
+/// A fresh, empty folder of this process under the temporary directory
+/// (process_temp_path("canonform_test_NAME"), removed when the test program ends).
+std::string scratch_dir(const std::string& name);
 
 /// The what() of the exception fn() throws ("" if none).
 std::string message_of(const std::function<void()>& fn);
