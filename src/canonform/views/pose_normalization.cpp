@@ -127,7 +127,7 @@ typedef double v8d __attribute__((vector_size(64)));
 typedef long long v4l __attribute__((vector_size(32)));
 typedef long long v8l __attribute__((vector_size(64)));
 
-template <typename D, typename L>
+template <typename D>
 inline D load_doubles(const double* p) {
     D v;
     std::memcpy(&v, p, sizeof v);
@@ -144,10 +144,11 @@ inline D abs_doubles(D v) {
     return v;
 }
 
-// e_i of detail::rectilinearity_sum for the W consecutive i from `at` (W = 4 or 8).
+// e_i of detail::rectilinearity_sum for the W consecutive i from `at`: D = double and L = long long
+// for one, D and L vectors of 4 or 8 lanes for 4 or 8.
 template <typename D, typename L>
 inline D rect_terms(const double* x, const double* y, const double* z, Eigen::Index at, const double* q) {
-    const D X = load_doubles<D, L>(x + at), Y = load_doubles<D, L>(y + at), Z = load_doubles<D, L>(z + at);
+    const D X = load_doubles<D>(x + at), Y = load_doubles<D>(y + at), Z = load_doubles<D>(z + at);
     const D r0 = (q[0] * X + q[1] * Y) + q[2] * Z;
     const D r1 = (q[3] * X + q[4] * Y) + q[5] * Z;
     const D r2 = (q[6] * X + q[7] * Y) + q[8] * Z;
@@ -165,11 +166,7 @@ inline D rect_terms(const double* x, const double* y, const double* z, Eigen::In
 CANONFORM_CLONES_AVX512 double detail::rectilinearity_sum(const double* x, const double* y, const double* z,
                                                           Eigen::Index n, const Eigen::Matrix3d& Q) {
     const double q[9] = {Q(0, 0), Q(0, 1), Q(0, 2), Q(1, 0), Q(1, 1), Q(1, 2), Q(2, 0), Q(2, 1), Q(2, 2)};
-    const auto term = [&](Eigen::Index i) {
-        return (std::abs((q[0] * x[i] + q[1] * y[i]) + q[2] * z[i]) +
-                std::abs((q[3] * x[i] + q[4] * y[i]) + q[5] * z[i])) +
-               std::abs((q[6] * x[i] + q[7] * y[i]) + q[8] * z[i]);
-    };
+    const auto term = [&](Eigen::Index i) { return rect_terms<double, long long>(x, y, z, i, q); };
     if (n <= 0) return 0.0;
     if (n < 2) return term(0);
     if (n < 4) return n == 3 ? (term(0) + term(1)) + term(2) : term(0) + term(1);
