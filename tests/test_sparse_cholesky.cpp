@@ -66,6 +66,37 @@ TEST(SparseCholesky, AColumnSolvedWithOthersIsTheSameBitsAsAlone) {
     }
 }
 
+// The solve reads L's row indices as 16 bits up to 65536 rows, as 32 bits above: either way three
+// columns solved together are the bits of each solved alone (the one-column solve reads 32 bits).
+TEST(SparseCholesky, ThreeColumnsAreTheSameBitsEitherSideOfSixteenBitRowIndices) {
+    for (const int n : {65536, 65537}) {
+        // A path with random weights, a chord every 97 rows (fill in L), and a positive diagonal.
+        std::mt19937 g(static_cast<unsigned>(n));
+        std::uniform_real_distribution<double> u(0.5, 2.0);
+        std::vector<Eigen::Triplet<double>> t;
+        Eigen::VectorXd diagonal = Eigen::VectorXd::Constant(n, 1e-3);
+        const auto edge = [&](int a, int b) {
+            const double w = u(g);
+            t.emplace_back(std::max(a, b), std::min(a, b), -w);
+            diagonal(a) += w;
+            diagonal(b) += w;
+        };
+        for (int i = 0; i + 1 < n; ++i) edge(i, i + 1);
+        for (int i = 0; i + 5000 < n; i += 97) edge(i, i + 5000);
+        for (int i = 0; i < n; ++i) t.emplace_back(i, i, diagonal(i));
+        Eigen::SparseMatrix<double> A(n, n);  // lower triangle, as compute() reads it
+        A.setFromTriplets(t.begin(), t.end());
+        SparseCholesky s;
+        ASSERT_TRUE(s.compute(A)) << n;
+        const Eigen::MatrixXd B = random_rhs(n, 3, 13);
+        const Eigen::MatrixXd X = s.solve(B);
+        ASSERT_TRUE(s.ok()) << n;
+        const Eigen::SparseMatrix<double> full = A.selfadjointView<Eigen::Lower>();
+        EXPECT_LT((full * X - B).norm() / B.norm(), 1e-10) << n;
+        for (int c = 0; c < 3; ++c) EXPECT_TRUE(s.solve(B.col(c)) == X.col(c)) << n << " rows, column " << c;
+    }
+}
+
 TEST(SparseCholesky, AGivenOrderingGivesTheSameSolutionAndIsReportedBack) {
     const Eigen::SparseMatrix<double> A = pinned_laplacian(600);
     const Eigen::MatrixXd B = random_rhs(A.rows(), 3, 3);

@@ -12,7 +12,8 @@
 // values side by side), so one sweep over L serves all of them - SMACOF solves for three
 // coordinates at once, and Eigen's solve sweeps L once per column. Each column's arithmetic is the
 // same as a one-column solve's, so a column's result does not depend on how many are solved with
-// it. Failure (a zero pivot, a non-finite value) is reported through ok(); the caller turns it into
+// it. Up to 65536 rows (every matrix the direct solver meets by default) the three-column solve
+// reads L's row indices as 16 bits: the solve is bound by reading L, and that is a sixth less. Failure (a zero pivot, a non-finite value) is reported through ok(); the caller turns it into
 // a NumericalError.
 //
 // A factorisation can start from a given ordering, e.g. ordering() of an earlier factorisation of a
