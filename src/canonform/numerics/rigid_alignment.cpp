@@ -17,18 +17,24 @@ RigidAlignment align_rigid(const Eigen::MatrixXd& src, const Eigen::MatrixXd& ds
     // sum into blocks sized from the CPU's L1 cache, so its rounding would depend on the CPU).
     Eigen::Matrix3d H = Eigen::Matrix3d::Zero();
     for (Eigen::Index k = 0; k < A.rows(); ++k) H.noalias() += A.row(k).transpose() * B.row(k);
-    Eigen::JacobiSVD<Eigen::Matrix3d> svd(H, Eigen::ComputeFullU | Eigen::ComputeFullV);
-    Eigen::Matrix3d D = Eigen::Matrix3d::Identity();
-    if ((svd.matrixV() * svd.matrixU().transpose()).determinant() < 0) D(2, 2) = -1;
     RigidAlignment r;
-    r.R = svd.matrixV() * D * svd.matrixU().transpose();
+    double trace_sd = 0;
+    r.R = best_rotation(H, &trace_sd);
     if (with_scale) {
         const double var = A.squaredNorm();
-        r.scale = var > 0 ? (svd.singularValues().asDiagonal() * D).trace() / var : 1.0;
+        r.scale = var > 0 ? trace_sd / var : 1.0;
     }
     r.t = cd - r.scale * cs * r.R.transpose();
     r.rms = std::sqrt((apply(r, src) - dst).squaredNorm() / static_cast<double>(src.rows()));
     return r;
+}
+
+Eigen::Matrix3d best_rotation(const Eigen::Matrix3d& H, double* trace_sd) {
+    Eigen::JacobiSVD<Eigen::Matrix3d> svd(H, Eigen::ComputeFullU | Eigen::ComputeFullV);
+    Eigen::Matrix3d D = Eigen::Matrix3d::Identity();
+    if ((svd.matrixV() * svd.matrixU().transpose()).determinant() < 0) D(2, 2) = -1;
+    if (trace_sd) *trace_sd = (svd.singularValues().asDiagonal() * D).trace();
+    return svd.matrixV() * D * svd.matrixU().transpose();
 }
 
 Eigen::MatrixXd apply(const RigidAlignment& a, const Eigen::MatrixXd& src) {

@@ -26,4 +26,9 @@ RigidAlignment align_rigid(const Eigen::MatrixXd& src, const Eigen::MatrixXd& ds
 /// src mapped by the alignment (#P x 3).
 Eigen::MatrixXd apply(const RigidAlignment& a, const Eigen::MatrixXd& src);
 
+/// Kabsch's step alone: for centred point sets with cross-covariance H = sum_k a_k b_k^T, the
+/// rotation R (det +1) that minimises sum_k |R a_k - b_k|^2 (align_rigid() is this on the centred
+/// sets). `trace_sd`, if given, receives tr(S D), Umeyama's numerator of the scale.
+Eigen::Matrix3d best_rotation(const Eigen::Matrix3d& H, double* trace_sd = nullptr);
+
 }  // namespace canonform::numerics

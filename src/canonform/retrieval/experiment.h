@@ -40,8 +40,9 @@ struct Model {
 /// The collection of a labels file ("path,class" rows, paths relative to `dataset`), in order.
 /// InputError naming the labels file if it cannot be read or a row is malformed, and naming the
 /// models if two share a name (their outputs would overwrite each other); a mesh file that cannot
-/// be read is kept with its `error` (a failure of the run, not a stop).
-std::vector<Model> read_collection(const std::string& dataset, const std::string& labels);
+/// be read is kept with its `error` (a failure of the run, not a stop). The files are read and
+/// hashed on `threads` threads (0: every core); the result does not depend on it.
+std::vector<Model> read_collection(const std::string& dataset, const std::string& labels, int threads = 0);
 
 /// What an experiment runs.
 struct ExperimentOptions {
