@@ -14,6 +14,7 @@
 // (--all: also FAISS k-means on every descriptor, no sample)
 #include "bench_util.h"
 #include "canonform/canonical/euclidean_canonical_form.h"
+#include "canonform/common/heap_pages.h"
 #include "canonform/io/mesh_io.h"
 #include "canonform/views/bag_of_features.h"
 #include "canonform/views/codebook.h"
@@ -70,6 +71,7 @@ struct Stopwatch {
 }  // namespace
 
 int main(int argc, char** argv) {
+    canonform::advise_heap_huge_pages();  // as the tool does (common/heap_pages.h)
     canonform::views::register_opencv_sift();
     using namespace canonform;
     using namespace canonform::views;

@@ -14,6 +14,7 @@
 // least-squares MDS of the all-pairs geodesic distances of an N-vertex figure (the geodesic
 // canonical form's step 3). Prints a markdown table, writes one CSV row per (set, method).
 #include "canonform/canonical/euclidean_canonical_form.h"
+#include "canonform/common/heap_pages.h"
 #include "canonform/io/mesh_io.h"
 #include "canonform/numerics/mds.h"
 #include "canonform/numerics/rigid_alignment.h"
@@ -92,6 +93,7 @@ struct Row {
 }  // namespace
 
 int main(int argc, char** argv) {
+    canonform::advise_heap_huge_pages();  // as the tool does (common/heap_pages.h)
     std::vector<int> sizes;
     std::vector<std::string> methods = smacof_acceleration_names();
     std::vector<std::string> datasets, labels, names;

@@ -7,6 +7,7 @@
 // The Euclidean method is single-threaded; the geodesic ones use --threads (default 1).
 // bench/run_bench.sh and bench/run_table1.sh run it over meshes of several sizes.
 #include "canonform/canonical/method_registry.h"
+#include "canonform/common/heap_pages.h"
 #include "canonform/io/mesh_io.h"
 #include "canonform/numerics/sparse_cholesky.h"
 
@@ -50,6 +51,7 @@ std::string summary_text(const canonform::canonical::CanonicalForm& r, const std
 }  // namespace
 
 int main(int argc, char** argv) {
+    canonform::advise_heap_huge_pages();  // as the tool does (common/heap_pages.h)
     if (argc < 2) {
         std::fprintf(stderr,
                      "usage: canonform_bench_canonical MESH [--method NAME[:KEY=VALUE...]] [--variant A|N] "

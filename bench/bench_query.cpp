@@ -29,6 +29,7 @@
 // own. collection: the index of each real method folder; every member is a query; recall@10 against the
 // exhaustive top 10 at each candidate count (the first pass forced on by the count).
 #include "bench_util.h"
+#include "canonform/common/heap_pages.h"
 #include "canonform/common/parallel.h"
 #include "canonform/io/csv.h"
 #include "canonform/io/files.h"
@@ -670,6 +671,7 @@ int rerank(const Args& a) {
 }  // namespace
 
 int main(int argc, char** argv) {
+    canonform::advise_heap_huge_pages();  // as the tool does (common/heap_pages.h)
     Args a;
     if (argc < 3) {
         std::fprintf(stderr,

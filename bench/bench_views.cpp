@@ -8,6 +8,7 @@
 // (--distances 0: without the distance matrix)
 // A backend may carry OpenCV options: NAME@CONTRAST[@LAYERS], e.g. opencv-half@0.0005@4.
 #include "bench_util.h"
+#include "canonform/common/heap_pages.h"
 #include "canonform/io/mesh_io.h"
 #include "canonform/views/bag_of_features.h"
 #include "canonform/views/codebook.h"
@@ -41,6 +42,7 @@ double cpu() {
 }  // namespace
 
 int main(int argc, char** argv) {
+    canonform::advise_heap_huge_pages();  // as the tool does (common/heap_pages.h)
     canonform::views::register_opencv_sift();
     using namespace canonform::views;
     if (argc < 2) {

@@ -10,6 +10,8 @@
 # OUT.jsonl: a header line (date, load, cores, the two labels), then one line per process
 # ({"bench": "cli", "run": "CASE, BUILD", "case", "build", "wall_s", "cpu_s", "rss_mib"}) and per strace run
 # ({"bench": "cli_syscalls", "case", "build", "threads_started", "sched_yield"}).
+# With CANONFORM_PERF_STAT=1 each process also runs under `perf stat` (Debian's linux-perf), and its
+# line gets "task_clock_ms" (CPU milliseconds, finer than /usr/bin/time's 10 ms) and "page_faults".
 set -euo pipefail
 [ $# -ge 7 ] || { sed -n 3,12p "$0" >&2; exit 2; }
 out=$1 runs=$2 old_label=$3 old_bin=$4 new_label=$5 new_bin=$6
@@ -27,11 +29,18 @@ for case in "$@"; do
   for ((r = 0; r < runs; ++r)); do
     for pair in "$old_label=$old_bin" "$new_label=$new_bin"; do
       label=${pair%%=*} bin=${pair#*=}
-      /usr/bin/time -f '%e %U %S %M' -o "$tmp/time" "$bin" "${args[@]}" > /dev/null 2> "$tmp/err" ||
+      stat=()
+      [ "${CANONFORM_PERF_STAT:-0}" = 1 ] && stat=(perf stat -x, -o "$tmp/perf" -e task-clock,page-faults --)
+      "${stat[@]}" /usr/bin/time -f '%e %U %S %M' -o "$tmp/time" "$bin" "${args[@]}" > /dev/null 2> "$tmp/err" ||
         { echo "$label failed on $name:" >&2; cat "$tmp/err" >&2; exit 1; }
       read -r wall user sys rss < "$tmp/time"
-      printf '{"bench": "cli", "run": "%s, %s", "case": "%s", "build": "%s", "wall_s": %s, "cpu_s": %.2f, "rss_mib": %.1f}\n' \
-        "$name" "$label" "$name" "$label" "$wall" "$(echo "$user + $sys" | bc)" "$(echo "$rss / 1024" | bc -l)" >> "$out"
+      extra=""
+      if [ ${#stat[@]} -gt 0 ]; then
+        extra=$(awk -F, '$3 == "task-clock" { t = $1 } $3 == "page-faults" { f = $1 }
+                         END { printf ", \"task_clock_ms\": %.1f, \"page_faults\": %d", t, f }' "$tmp/perf")
+      fi
+      printf '{"bench": "cli", "run": "%s, %s", "case": "%s", "build": "%s", "wall_s": %s, "cpu_s": %.2f, "rss_mib": %.1f%s}\n' \
+        "$name" "$label" "$name" "$label" "$wall" "$(echo "$user + $sys" | bc)" "$(echo "$rss / 1024" | bc -l)" "$extra" >> "$out"
     done
   done
   for pair in "$old_label=$old_bin" "$new_label=$new_bin"; do

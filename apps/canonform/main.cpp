@@ -21,6 +21,7 @@
 #ifdef CANONFORM_HAVE_OPENCV_SIFT
 #include "canonform/views/opencv_sift.h"
 #endif
+#include "canonform/common/heap_pages.h"
 #include "canonform/common/version.h"
 
 #include <cstring>
@@ -128,6 +129,7 @@ int run_full(char** argv, const std::string& needs = "") {
 }  // namespace
 
 int main(int argc, char** argv) {
+    canonform::advise_heap_huge_pages();  // a program, not a host's library: common/heap_pages.h
 #ifdef CANONFORM_TOOL_LEAN
     // Everything but the lean commands and --version: the whole tool (its help lists every command).
     if (argc < 2 || (std::strcmp(argv[1], "--version") != 0 && !known(argv[1]))) return run_full(argv);
