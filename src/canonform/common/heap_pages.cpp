@@ -4,7 +4,17 @@
 #include <cstdint>
 #include <cstdlib>  // (defines __GLIBC__ where the C library is glibc)
 
-#if defined(__linux__) && defined(__GLIBC__) && !defined(__SANITIZE_ADDRESS__)
+// AddressSanitizer brings its own allocator (GCC says so with __SANITIZE_ADDRESS__, clang with
+// __has_feature): nothing to advise there.
+#if defined(__SANITIZE_ADDRESS__)
+#define CANONFORM_ASAN 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define CANONFORM_ASAN 1
+#endif
+#endif
+
+#if defined(__linux__) && defined(__GLIBC__) && !defined(CANONFORM_ASAN)
 #define CANONFORM_HEAP_PAGES 1
 #include <malloc.h>
 #include <sys/mman.h>

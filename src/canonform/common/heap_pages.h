@@ -23,7 +23,8 @@
 namespace canonform {
 
 /// See the header comment. Returns true if the advice was given (false: not Linux/glibc, or the
-/// kernel refused it, e.g. without transparent huge pages); either way the program runs on.
+/// kernel refused it, e.g. without transparent huge pages; the thresholds stay set wherever glibc
+/// took them); either way the program runs on.
 bool advise_heap_huge_pages();
 
 }  // namespace canonform

@@ -13,8 +13,9 @@
 // coordinates at once, and Eigen's solve sweeps L once per column. Each column's arithmetic is the
 // same as a one-column solve's, so a column's result does not depend on how many are solved with
 // it. Up to 65536 rows (every matrix the direct solver meets by default) the three-column solve
-// reads L's row indices as 16 bits: the solve is bound by reading L, and that is a sixth less. Failure (a zero pivot, a non-finite value) is reported through ok(); the caller turns it into
-// a NumericalError.
+// reads L's row indices as 16 bits: a sixth less to read in a solve that reads all of L twice.
+// Failure (a zero pivot, a non-finite value) is reported through ok(); the caller turns it into a
+// NumericalError.
 //
 // A factorisation can start from a given ordering, e.g. ordering() of an earlier factorisation of a
 // matrix with (nearly) the same sparsity pattern: the AMD step is then skipped (the Euclidean
