@@ -196,19 +196,8 @@ Eigen::MatrixXd SparseCholesky::solve(const Eigen::MatrixXd& B) const {
     f.z.resize(static_cast<size_t>(n) * static_cast<size_t>(stride));
     const int* order = f.order.data();
     double* z = f.z.data();
-    if (m == 3) {
-        const double *b0 = B.col(0).data(), *b1 = B.col(1).data(), *b2 = B.col(2).data();
-        for (Eigen::Index k = 0; k < n; ++k) {
-            const int r = order[k];
-            z[4 * k] = b0[r];
-            z[4 * k + 1] = b1[r];
-            z[4 * k + 2] = b2[r];
-            z[4 * k + 3] = 0.0;
-        }
-    } else {
-        for (Eigen::Index k = 0; k < n; ++k)
-            for (int c = 0; c < m; ++c) z[k * m + c] = B(order[k], c);
-    }
+    for (Eigen::Index k = 0; k < n; ++k)
+        for (int c = 0; c < stride; ++c) z[k * stride + c] = c < m ? B(order[k], c) : 0.0;
     switch (m) {
         case 1:
             ldl_solve<1>(Lp, Li, Lx, f.inverse_d.data(), nn, m, z);
@@ -223,18 +212,8 @@ Eigen::MatrixXd SparseCholesky::solve(const Eigen::MatrixXd& B) const {
             ldl_solve<0>(Lp, Li, Lx, f.inverse_d.data(), nn, m, z);
             break;
     }
-    if (m == 3) {
-        double *x0 = X.col(0).data(), *x1 = X.col(1).data(), *x2 = X.col(2).data();
-        for (Eigen::Index k = 0; k < n; ++k) {
-            const int r = order[k];
-            x0[r] = z[4 * k];
-            x1[r] = z[4 * k + 1];
-            x2[r] = z[4 * k + 2];
-        }
-    } else {
-        for (Eigen::Index k = 0; k < n; ++k)
-            for (int c = 0; c < m; ++c) X(order[k], c) = z[k * m + c];
-    }
+    for (Eigen::Index k = 0; k < n; ++k)
+        for (int c = 0; c < m; ++c) X(order[k], c) = z[k * stride + c];
     ok_ = X.allFinite();
     return X;
 }
