@@ -26,6 +26,11 @@ RigidAlignment align_rigid(const Eigen::MatrixXd& src, const Eigen::MatrixXd& ds
 /// src mapped by the alignment (#P x 3).
 Eigen::MatrixXd apply(const RigidAlignment& a, const Eigen::MatrixXd& src);
 
+/// H = sum_k a_k b_k^T of two #P x 3 point sets (rows in correspondence), summed point by point in
+/// a fixed order (an Eigen product would split the sum into blocks sized from the CPU's L1 cache,
+/// so its rounding would depend on the CPU).
+Eigen::Matrix3d cross_covariance(const Eigen::MatrixXd& A, const Eigen::MatrixXd& B);
+
 /// Kabsch's step alone: for centred point sets with cross-covariance H = sum_k a_k b_k^T, the
 /// rotation R (det +1) that minimises sum_k |R a_k - b_k|^2 (align_rigid() is this on the centred
 /// sets). `trace_sd`, if given, receives tr(S D), Umeyama's numerator of the scale.

@@ -634,15 +634,7 @@ double rigid_or_mirror_rms(const Eigen::MatrixXd& A, const Eigen::MatrixXd& B) {
     const Eigen::Index n = A.rows();
     const double *a0 = A.col(0).data(), *a1 = A.col(1).data(), *a2 = A.col(2).data();
     const double *b0 = B.col(0).data(), *b1 = B.col(1).data(), *b2 = B.col(2).data();
-    double h[3][3] = {};
-    for (Eigen::Index k = 0; k < n; ++k) {
-        const double a[3] = {a0[k], a1[k], a2[k]}, b[3] = {b0[k], b1[k], b2[k]};
-        for (int i = 0; i < 3; ++i)
-            for (int j = 0; j < 3; ++j) h[i][j] += a[i] * b[j];
-    }
-    Eigen::Matrix3d H;
-    for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j) H(i, j) = h[i][j];
+    Eigen::Matrix3d H = numerics::cross_covariance(A, B);
     const Eigen::Matrix3d R = numerics::best_rotation(H);
     H.row(0) *= -1;
     Eigen::Matrix3d M = numerics::best_rotation(H);
