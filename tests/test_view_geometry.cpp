@@ -336,6 +336,80 @@ TEST(DepthRender, SixtySixRendersOfATenThousandVertexFigureTiming) {
     // The time is printed, not asserted: speed is checked by bench/ (canonform_bench_views).
 }
 
+// The renderer's definition, pixel by pixel and face by face with no vectors: a pixel
+// centre is covered when none of the three edge functions (each evaluated from its canonical
+// end, negated when reversed) has the opposite sign of the face's area; its depth is the
+// barycentric blend of the corners' depths clamped to [0, 1]; the image keeps the largest.
+std::vector<float> plain_render(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const Eigen::Matrix3d& C,
+                                int size, bool far) {
+    std::vector<float> img(static_cast<size_t>(size) * size, 0.0f);
+    const double inv_h = size / 2.0;
+    auto project = [&](int v) {
+        const Eigen::Vector3d p = V.row(v).transpose();
+        const double x = C(0, 0) * p(0) + C(0, 1) * p(1) + C(0, 2) * p(2);
+        const double y = C(1, 0) * p(0) + C(1, 1) * p(1) + C(1, 2) * p(2);
+        const double w = C(2, 0) * p(0) + C(2, 1) * p(1) + C(2, 2) * p(2);
+        return Eigen::Vector3d((x + 1.0) * inv_h - 0.5, (1.0 - y) * inv_h - 0.5, 0.5 * (1.0 + w));
+    };
+    auto edge = [](const Eigen::Vector3d& a, const Eigen::Vector3d& b, double px, double py) {
+        const bool swap = (b.x() < a.x()) || (b.x() == a.x() && b.y() < a.y());
+        const Eigen::Vector3d& s = swap ? b : a;
+        const Eigen::Vector3d& t = swap ? a : b;
+        const double v = (t.x() - s.x()) * (py - s.y()) - (t.y() - s.y()) * (px - s.x());
+        return swap ? -1.0 * v : 1.0 * v;
+    };
+    for (Eigen::Index f = 0; f < F.rows(); ++f) {
+        const Eigen::Vector3d a = project(F(f, 0)), b = project(F(f, 1)), c = project(F(f, 2));
+        const double area2 = (b.x() - a.x()) * (c.y() - a.y()) - (b.y() - a.y()) * (c.x() - a.x());
+        if (!(std::abs(area2) > 1e-12)) continue;
+        const double sgn = area2 > 0 ? 1.0 : -1.0, inv_area = 1.0 / area2;
+        // Every pixel within a pixel of the corners' extent (none further can be covered).
+        auto from = [&](double lo) { return std::max(0, static_cast<int>(std::floor(lo)) - 1); };
+        auto to = [&](double hi) { return std::min(size - 1, static_cast<int>(std::ceil(hi)) + 1); };
+        for (int row = from(std::min({a.y(), b.y(), c.y()})); row <= to(std::max({a.y(), b.y(), c.y()}));
+             ++row)
+            for (int col = from(std::min({a.x(), b.x(), c.x()})); col <= to(std::max({a.x(), b.x(), c.x()}));
+                 ++col) {
+                const double wa = edge(b, c, col, row), wb = edge(c, a, col, row), wc = edge(a, b, col, row);
+                if (sgn * wa < 0 || sgn * wb < 0 || sgn * wc < 0) continue;
+                const double d =
+                    std::min(1.0, std::max(0.0, (wa * a.z() + wb * b.z() + wc * c.z()) * inv_area));
+                const float v = static_cast<float>(far ? 1.0 - d : d);
+                float& out = img[static_cast<size_t>(row) * size + (far ? size - 1 - col : col)];
+                out = std::max(out, v);
+            }
+    }
+    return img;
+}
+
+TEST(DepthRender, EveryPixelIsTheBitsOfThePlainDefinition) {
+    // The renderer takes a face's pixels two at a time (and a box of up to 2 x 2 in one go): every
+    // box shape, odd widths, boxes at the image's last row and column and faces beyond the image
+    // must give the plain per-pixel definition's bits, front and mirrored far side alike. A fine
+    // figure (boxes of 1-4 pixels at 64), the same figure grown past the image's edges, and a
+    // coarse icosphere (wide boxes), at sizes from 2 pixels up.
+    const cf::procedural::Figure fig = cf::procedural::make_figure(2000, cf::procedural::figure_pose(2));
+    const Eigen::MatrixXd X = vw::apply_pose(vw::normalize_pose(fig.mesh.V, fig.mesh.F), fig.mesh.V);
+    const cf::Mesh ball = cf::procedural::make_icosphere(2);
+    const std::vector<std::pair<Eigen::MatrixXd, Eigen::MatrixXi>> meshes = {
+        {X, fig.mesh.F}, {1.7 * X, fig.mesh.F}, {0.9 * ball.V, ball.F}};
+    const auto D = vw::view_directions();
+    long covered = 0;
+    for (const auto& [V, F] : meshes)
+        for (int size : {2, 3, 5, 17, 64})
+            for (size_t view : {0, 7, 30}) {
+                const Eigen::Matrix3d C = vw::camera_frame(D[view]);
+                const auto pair = vw::render_depth_pair(V, F, D[view], size);
+                const std::vector<float> front = plain_render(V, F, C, size, false);
+                EXPECT_EQ(pair[0].depth, front) << size << " " << view;
+                EXPECT_EQ(pair[1].depth, plain_render(V, F, C, size, true)) << size << " " << view;
+                EXPECT_EQ(vw::render_depth(V, F, D[view], size).depth, front) << size << " " << view;
+                for (float v : front) covered += v > 0;
+            }
+    EXPECT_GT(covered, 10000);  // the images are not empty
+    EXPECT_THROW(vw::render_depth(X, fig.mesh.F, D[0], 1), cf::InputError);
+}
+
 TEST(DepthRender, OppositeViewsInOnePassAreTheTwoRenders) {
     const auto D = vw::view_directions();
     const std::vector<int> opposite = vw::opposite_views();

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
 
 namespace canonform::views {
 
@@ -69,7 +70,7 @@ struct EdgeFn {
 namespace {
 
 void check_render_input(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, int size) {
-    if (size < 1 || size > 8192) throw InputError("render_depth: the image size must be in 1..8192");
+    if (size < 2 || size > 8192) throw InputError("render_depth: the image size must be in 2..8192");
     if (V.cols() != 3 || (F.size() > 0 && F.cols() != 3))
         throw InputError("render_depth: V must be #V x 3 and F #F x 3");
     if (!V.allFinite()) throw InputError("render_depth: the mesh has non-finite vertex coordinates");
@@ -85,11 +86,66 @@ DepthImage blank_image(int size) {
     return img;
 }
 
-// Per-vertex projections of rasterize(), kept per thread from one view to the next.
-struct Projection {
-    std::vector<P2> q;
-    std::vector<double> z;
-    std::vector<int> cx, fx, cy, fy;
+// One vertex as rasterize() sees it: pixel coordinates, depth, and the first pixel column/row at
+// or after it and the last at or before it; kept per thread from one view to the next.
+struct Projected {
+    P2 q;
+    double z;
+    int cx, fx, cy, fy;
+};
+
+typedef double v2d __attribute__((vector_size(16)));
+typedef long long v2l __attribute__((vector_size(16)));
+typedef float v2f __attribute__((vector_size(8)));
+typedef int v2i __attribute__((vector_size(8)));
+
+inline v2d splat2(double x) {
+    return v2d{x, x};
+}
+
+// Two adjacent floats p[0], p[1] raised to v where `covered`, each as `if (v > p) p = v`; the
+// other lane writes back what it read.
+inline void raise2(float* p, v2f v, v2i covered) {
+    v2f old;
+    std::memcpy(&old, p, sizeof old);
+    const v2f raised = old < v ? v : old;
+    const v2f out = covered ? raised : old;
+    std::memcpy(p, &out, sizeof out);
+}
+
+// One triangle's depth at pixel centres, two adjacent pixels of a row at a time, with no branch
+// per pixel (faces of a fine mesh cover a pixel or two, and which is unpredictable). Each lane
+// evaluates the edge functions, the inside test and the interpolated, clamped depth in one fixed
+// order of IEEE operations, so a pixel gets the same bits in either lane, on every CPU. Raising a
+// pixel twice to the same value changes nothing, which lets a row's last pair overlap the one
+// before it.
+struct TriangleDepth {
+    const EdgeFn &ea, &eb, &ec;
+    double sgn, za, zb, zc, inv_area;
+    int size;
+    float *front, *back;
+
+    // Pixels (row, col) and (row, col + 1), lanes where `keep` is set; `col + 1 < size`.
+    void pair(int row, int col, v2l keep) const {
+        const double py = row;
+        const v2d px = v2d{double(col), double(col + 1)}, zero = splat2(0.0), one = splat2(1.0);
+        const v2d wa = splat2(ea.negate) * (splat2(ea.row(py)) - splat2(ea.dy) * (px - splat2(ea.sx)));
+        const v2d wb = splat2(eb.negate) * (splat2(eb.row(py)) - splat2(eb.dy) * (px - splat2(eb.sx)));
+        const v2d wc = splat2(ec.negate) * (splat2(ec.row(py)) - splat2(ec.dy) * (px - splat2(ec.sx)));
+        const v2d s2 = splat2(sgn);
+        const v2l outside = (s2 * wa < zero) | (s2 * wb < zero) | (s2 * wc < zero);
+        v2d d = (wa * splat2(za) + wb * splat2(zb) + wc * splat2(zc)) * splat2(inv_area);
+        d = zero < d ? d : zero;  // std::max(0.0, d)
+        d = d < one ? d : one;    // std::min(1.0, d)
+        const v2i covered = __builtin_convertvector(~outside & keep, v2i);
+        const size_t line = static_cast<size_t>(row) * static_cast<size_t>(size);
+        raise2(front + line + static_cast<size_t>(col), __builtin_convertvector(d, v2f), covered);
+        if (back) {  // mirrored: columns size - 2 - col and size - 1 - col, lanes swapped
+            const v2f far = __builtin_convertvector(one - d, v2f);
+            raise2(back + line + static_cast<size_t>(size - 2 - col), v2f{far[1], far[0]},
+                   v2i{covered[1], covered[0]});
+        }
+    }
 };
 
 // The depth image seen along camera frame C into `front` (size x size, zero-filled); when `back`
@@ -105,17 +161,9 @@ void rasterize(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const Eigen::
     // floor(max) of the coordinates).
     const double inv_h = size / 2.0;
     const Eigen::Index nv = V.rows();
-    thread_local Projection scratch;
-    const size_t nvs = static_cast<size_t>(nv);
-    scratch.q.resize(nvs);
-    scratch.z.resize(nvs);
-    scratch.cx.resize(nvs);
-    scratch.fx.resize(nvs);
-    scratch.cy.resize(nvs);
-    scratch.fy.resize(nvs);
-    std::vector<P2>& q = scratch.q;
-    std::vector<double>& z = scratch.z;
-    std::vector<int>&cx = scratch.cx, &fx = scratch.fx, &cy = scratch.cy, &fy = scratch.fy;
+    thread_local std::vector<Projected> scratch;
+    scratch.resize(static_cast<size_t>(nv));
+    Projected* pv = scratch.data();
     const auto clamp_pixel = [size](double v) {
         return static_cast<int>(std::min(double(size), std::max(-1.0, v)));
     };
@@ -123,60 +171,54 @@ void rasterize(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const Eigen::
         const double x = C(0, 0) * V(i, 0) + C(0, 1) * V(i, 1) + C(0, 2) * V(i, 2);
         const double y = C(1, 0) * V(i, 0) + C(1, 1) * V(i, 1) + C(1, 2) * V(i, 2);
         const double w = C(2, 0) * V(i, 0) + C(2, 1) * V(i, 1) + C(2, 2) * V(i, 2);
-        const size_t k = static_cast<size_t>(i);
-        q[k] = {(x + 1.0) * inv_h - 0.5, (1.0 - y) * inv_h - 0.5};
-        z[k] = 0.5 * (1.0 + w);
-        cx[k] = clamp_pixel(std::ceil(q[k].x));
-        fx[k] = clamp_pixel(std::floor(q[k].x));
-        cy[k] = clamp_pixel(std::ceil(q[k].y));
-        fy[k] = clamp_pixel(std::floor(q[k].y));
+        Projected& p = pv[i];
+        p.q = {(x + 1.0) * inv_h - 0.5, (1.0 - y) * inv_h - 0.5};
+        p.z = 0.5 * (1.0 + w);
+        p.cx = clamp_pixel(std::ceil(p.q.x));
+        p.fx = clamp_pixel(std::floor(p.q.x));
+        p.cy = clamp_pixel(std::ceil(p.q.y));
+        p.fy = clamp_pixel(std::floor(p.q.y));
     }
 
     const int lim = size - 1;
     for (Eigen::Index f = 0; f < F.rows(); ++f) {
-        const int ia = F(f, 0), ib = F(f, 1), ic = F(f, 2);
-        const size_t a_ = static_cast<size_t>(ia), b_ = static_cast<size_t>(ib), c_ = static_cast<size_t>(ic);
-        // The pixel centres the triangle's box holds (most triangles of a fine mesh hold none).
-        const int c0 = std::max(0, std::min({cx[a_], cx[b_], cx[c_]}));
-        const int c1 = std::min(lim, std::max({fx[a_], fx[b_], fx[c_]}));
+        const Projected& pa = pv[F(f, 0)];
+        const Projected& pb = pv[F(f, 1)];
+        const Projected& pc = pv[F(f, 2)];
+        // The pixel centres the triangle's box holds (a face of a fine mesh holds a few at most).
+        const int c0 = std::max(0, std::min({pa.cx, pb.cx, pc.cx}));
+        const int c1 = std::min(lim, std::max({pa.fx, pb.fx, pc.fx}));
         if (c0 > c1) continue;
-        const int r0 = std::max(0, std::min({cy[a_], cy[b_], cy[c_]}));
-        const int r1 = std::min(lim, std::max({fy[a_], fy[b_], fy[c_]}));
+        const int r0 = std::max(0, std::min({pa.cy, pb.cy, pc.cy}));
+        const int r1 = std::min(lim, std::max({pa.fy, pb.fy, pc.fy}));
         if (r0 > r1) continue;
-        const P2& a = q[a_];
-        const P2& b = q[b_];
-        const P2& c = q[c_];
+        const P2& a = pa.q;
+        const P2& b = pb.q;
+        const P2& c = pc.q;
         const double area2 = (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
         if (!(std::abs(area2) > 1e-12)) continue;
         // Orientation-independent: scale the edge functions by the sign of the area.
         const double sgn = area2 > 0 ? 1.0 : -1.0;
         const double inv_area = 1.0 / area2;
-        const double za = z[a_], zb = z[b_], zc = z[c_];
+        const double za = pa.z, zb = pb.z, zc = pc.z;
         const EdgeFn ea(b, c), eb(c, a), ec(a, b);
-        for (int row = r0; row <= r1; ++row) {
-            const double py = row;
-            const double ra = ea.row(py), rb = eb.row(py), rc = ec.row(py);
-            float* line = front + static_cast<size_t>(row) * size;
-            float* far_line =
-                back ? back + static_cast<size_t>(row) * size + (size - 1) : nullptr;  // mirrored
-            for (int col = c0; col <= c1; ++col) {
-                const double px = col;
-                const double wa = ea.at(ra, px);
-                if (sgn * wa < 0) continue;
-                const double wb = eb.at(rb, px);
-                if (sgn * wb < 0) continue;
-                const double wc = ec.at(rc, px);
-                if (sgn * wc < 0) continue;
-                double d = (wa * za + wb * zb + wc * zc) * inv_area;
-                d = std::min(1.0, std::max(0.0, d));
-                const float df = static_cast<float>(d);
-                if (df > line[col]) line[col] = df;
-                if (far_line) {
-                    const float bf = static_cast<float>(1.0 - d);
-                    if (bf > far_line[-col]) far_line[-col] = bf;
-                }
-            }
+        const TriangleDepth t{ea, eb, ec, sgn, za, zb, zc, inv_area, size, front, back};
+        if (c1 - c0 < 2 && r1 - r0 < 2 && c0 < lim && r0 < lim) {
+            // A box of at most 2 x 2 pixels (most faces of a fine mesh): two rows of two, masked,
+            // with no branch.
+            const v2l in_box = v2l{-1, c1 > c0 ? -1 : 0};
+            t.pair(r0, c0, in_box);
+            t.pair(r0 + 1, c0, r1 > r0 ? in_box : v2l{0, 0});
+            continue;
         }
+        // Wider boxes: pairs along each row; a box one column wide at the image's last column is
+        // the second lane of the pair before it, and an odd box's last pair overlaps the one
+        // before it (both lanes in the box).
+        const bool one_column = c0 == c1;
+        const int c_last = one_column ? std::min(c0, lim - 1) : c1 - 1;
+        const v2l keep = !one_column ? v2l{-1, -1} : c_last == c0 ? v2l{-1, 0} : v2l{0, -1};
+        for (int row = r0; row <= r1; ++row)
+            for (int col = c0; col <= c1; col += 2) t.pair(row, std::min(col, c_last), keep);
     }
 }
 

@@ -58,7 +58,7 @@ struct DepthImage {
 Eigen::Matrix3d camera_frame(const Eigen::Vector3d& direction);
 
 /// Renders the depth image of the mesh (V: #V x 3, F: #F x 3, 0-based) seen from the unit
-/// direction `direction` (normalised here; must be non-zero), size x size pixels (1..8192).
+/// direction `direction` (normalised here; must be non-zero), size x size pixels (2..8192).
 /// Throws InputError on a zero or non-finite direction, a bad size, non-finite vertices or face
 /// indices out of range. An empty F gives an all-zero image.
 DepthImage render_depth(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const Eigen::Vector3d& direction,
