@@ -159,18 +159,18 @@ CANONFORM_CLONES void ldl_solve3_in4(const int* Lp, const Index* Li, const doubl
         const v4d a = load4d(z + static_cast<std::ptrdiff_t>(j) * 4);
         for (int p = Lp[j]; p < Lp[j + 1]; ++p) {
             double* zi = z + static_cast<std::ptrdiff_t>(Li[p]) * 4;
-            store4d(zi, load4d(zi) - (v4d{} + Lx[p]) * a);
+            store4d(zi, load4d(zi) - Lx[p] * a);
         }
     }
     for (int j = 0; j < n; ++j) {
         double* zj = z + static_cast<std::ptrdiff_t>(j) * 4;
-        store4d(zj, load4d(zj) * (v4d{} + inverse_d[j]));
+        store4d(zj, load4d(zj) * inverse_d[j]);
     }
     for (int j = n - 1; j >= 0; --j) {
         double* zj = z + static_cast<std::ptrdiff_t>(j) * 4;
         v4d a = load4d(zj);
         for (int p = Lp[j]; p < Lp[j + 1]; ++p)
-            a -= (v4d{} + Lx[p]) * load4d(z + static_cast<std::ptrdiff_t>(Li[p]) * 4);
+            a -= Lx[p] * load4d(z + static_cast<std::ptrdiff_t>(Li[p]) * 4);
         store4d(zj, a);
     }
 }
