@@ -62,7 +62,8 @@ void sampled_weights(int lo, int centre, float frac, size_t first, size_t count,
     }
 }
 
-void describe(const Plane& L, const Candidate& k, double angle, const WindowScratch& scratch, float* out) {
+CANONFORM_CLONES void describe(const Plane& L, const Candidate& k, double angle, const WindowScratch& scratch,
+                               float* out) {
     const double w = kBinWidth * k.sigma;  // spatial bin width (octave pixels)
     const int x0 = scratch.win.x0, x1 = scratch.win.x1, y0 = scratch.win.y0, y1 = scratch.win.y1;
     // Histogram with a border of one bin on every side (rows and columns -1..4) for the spread.
@@ -76,7 +77,6 @@ void describe(const Plane& L, const Candidate& k, double angle, const WindowScra
         const float to_bin = static_cast<float>(kAngles / (2 * kPi));
         const float a0 = static_cast<float>(angle);
         const float two_pi = static_cast<float>(2 * kPi);
-        alignas(16) float wv[4], colv[4], rowv[4], obv[4];
         const int p = sample_step(k.sigma);
         for (int y = align_up(y0, k.Y, p); y <= y1; y += p) {
             const float* up = L.row(y - 1);
@@ -109,28 +109,39 @@ void describe(const Plane& L, const Candidate& k, double angle, const WindowScra
                 phi = select4(phi < splat4(0.f), phi + splat4(two_pi), phi);
                 v4f ob = phi * splat4(to_bin);
                 ob = select4(ob >= splat4(float(kAngles)), ob - splat4(float(kAngles)), ob);
-                store4(wv, m * (load4s(scratch.wx.data() + i, p) * splat4(wyy)));
-                store4(colv, col);
-                store4(rowv, row);
-                store4(obv, ob);
+                // Each lane's trilinear spread over bins r0, r0 + 1; c0, c0 + 1; o0, o1, formed for
+                // four lanes at once: wr = w (1 - fr) or w fr, wc = wr (1 - fc) or wr fc, then
+                // wc (1 - fo) to o0 and wc fo to o1. The lanes inside the square are then added one
+                // after another in the samples' order (a bin's sum, so its bits, depends on it).
+                // Lanes outside are zeroed first (no out-of-range conversion to int).
+                const v4f one = splat4(1.f), zero = splat4(0.f);
+                const v4f rs = select4(in, row, zero), cs = select4(in, col, zero),
+                          os = select4(in, ob, zero);
+                const v4i r0 = floor4i(rs), c0 = floor4i(cs);
+                v4i o0 = __builtin_convertvector(os, v4i);  // os >= 0: truncation is floor
+                const v4f fr = rs - __builtin_convertvector(r0, v4f),
+                          fc = cs - __builtin_convertvector(c0, v4f),
+                          fo = os - __builtin_convertvector(o0, v4f);
+                o0 = o0 >= splat4i(kAngles) ? o0 - splat4i(kAngles) : o0;
+                const v4i o1 = o0 + 1 == splat4i(kAngles) ? splat4i(0) : o0 + 1;
+                const v4f weight = m * (load4s(scratch.wx.data() + i, p) * splat4(wyy));
+                const v4f wr0 = weight * (one - fr), wr1 = weight * fr;
+                const v4f wc[4] = {wr0 * (one - fc), wr0 * fc, wr1 * (one - fc), wr1 * fc};
+                const v4f go = one - fo;
+                const v4i base = ((r0 + 1) * splat4i(kSide) + (c0 + 1)) * splat4i(kAngles);
+                constexpr int kStep[4] = {0, kAngles, kSide * kAngles, (kSide + 1) * kAngles};
+                v4f share0[4], share1[4];
+                for (int b = 0; b < 4; ++b) {
+                    share0[b] = wc[b] * go;
+                    share1[b] = wc[b] * fo;
+                }
                 for (int q = 0; q < 4; ++q) {
                     if (!in[q]) continue;
-                    const float weight = wv[q], rw = rowv[q], cl = colv[q], obq = obv[q];
-                    const int r0 = static_cast<int>(std::floor(rw)), c0 = static_cast<int>(std::floor(cl));
-                    int o0 = static_cast<int>(obq);
-                    const float fr = rw - static_cast<float>(r0), fc = cl - static_cast<float>(c0),
-                                fo = obq - static_cast<float>(o0);
-                    if (o0 >= kAngles) o0 -= kAngles;
-                    const int o1 = o0 + 1 == kAngles ? 0 : o0 + 1;
-                    for (int dr = 0; dr < 2; ++dr) {
-                        const float wr = weight * (dr ? fr : 1.f - fr);
-                        float* hr = hist + ((r0 + dr + 1) * kSide) * kAngles;
-                        for (int dc = 0; dc < 2; ++dc) {
-                            const float wc = wr * (dc ? fc : 1.f - fc);
-                            float* h = hr + (c0 + dc + 1) * kAngles;
-                            h[o0] += wc * (1.f - fo);
-                            h[o1] += wc * fo;
-                        }
+                    float* h = hist + base[q];
+                    const int bin0 = o0[q], bin1 = o1[q];
+                    for (int b = 0; b < 4; ++b) {
+                        h[kStep[b] + bin0] += share0[b][q];
+                        h[kStep[b] + bin1] += share1[b][q];
                     }
                 }
             }

@@ -63,6 +63,11 @@ inline unsigned mask4(v4i m) {
 #endif
 }
 
+// floor(x) per lane as integers, for |x| < 2^31: the truncation, one less where it rounded up.
+inline v4i floor4i(v4f x) {
+    const v4i t = __builtin_convertvector(x, v4i);
+    return t + (__builtin_convertvector(t, v4f) > x);  // a true lane is -1
+}
 inline v4f select4(v4i mask, v4f a, v4f b) {
     return mask ? a : b;
 }
