@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "canonform/views/depth_render.h"
 
+#include "canonform/common/cpu_clones.h"
+
 #include <Eigen/Dense>
 
 #include <algorithm>
@@ -151,9 +153,9 @@ struct TriangleDepth {
 // The depth image seen along camera frame C into `front` (size x size, zero-filled); when `back`
 // is given (also zero-filled), also the opposite view's image: at each covered pixel the largest
 // 1 - depth, i.e. the farthest surface of this view, stored mirrored (column c at size - 1 - c: see
-// render_depth_pair).
-void rasterize(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const Eigen::Matrix3d& C, int size,
-               float* front, float* back) {
+// render_depth_pair). Built for AVX2 too (common/cpu_clones.h: the same bits, fewer instructions).
+CANONFORM_CLONES void rasterize(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const Eigen::Matrix3d& C,
+                                int size, float* front, float* back) {
     // Project: pixel coordinates (col, row as doubles; centres at integers) and depth; per vertex
     // also the first pixel column/row at or after it and the last at or before it (ceil and floor,
     // clamped to [-1, size] - enough, as triangles are clipped to [0, size - 1] - so a triangle's
