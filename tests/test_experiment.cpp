@@ -182,6 +182,59 @@ TEST(Experiment, AMethodAddedToTheRegistryRunsLikeTheOthers) {
     EXPECT_EQ(out[1].spec.to_string(), "toy-scaled:scale=3");
 }
 
+TEST(Experiment, EachMeshsConformalFactorIsComputedOnceForBothVariants) {
+    // Two Euclidean methods in one run share each mesh's conformal factor: counted through two
+    // methods of that family that ask the run for it, ...
+    std::atomic<int> computed{0};
+    const auto toy_method = [&](const std::string& name) {
+        CanonicalMethod m;
+        m.name = name;
+        m.label = name;
+        m.family = MethodFamily::Euclidean;
+        m.run = [&computed](const Eigen::MatrixXd& V, const Eigen::MatrixXi&, const MethodSettings&,
+                            const MethodContext& c) {
+            const auto compute = [&] {
+                ++computed;
+                surface::ConformalFactorResult r;
+                r.normalized = V.col(0);
+                return r;
+            };
+            const surface::ConformalFactorResult cf =
+                c.conformal_factors ? c.conformal_factors("toy", compute) : compute();
+            CanonicalForm r;
+            r.V = V;
+            r.V.col(0) += cf.normalized;
+            return r;
+        };
+        return m;
+    };
+    register_canonical_method(toy_method("toy-cf-one"));
+    register_canonical_method(toy_method("toy-cf-two"));
+    auto o = options("canonform_test_experiment_shared_cf", {"toy-cf-one", "toy-cf-two"});
+    fs::remove_all(o.out);
+    retrieval::Experiment(o).run();
+    EXPECT_EQ(computed.load(), 6);  // six meshes, not twelve
+    unregister_canonical_method("toy-cf-one");
+    unregister_canonical_method("toy-cf-two");
+    // ... and the forms of euclidean-N and euclidean-A run together are the bytes of each form
+    // computed on its own.
+    o = options("canonform_test_experiment_shared_cf_both", {"euclidean-N", "euclidean-A"});
+    fs::remove_all(o.out);
+    retrieval::Experiment(o).run();
+    for (const std::string variant : {"euclidean-N", "euclidean-A"})
+        for (const std::string model : {"standard_0", "long-arms_2"}) {
+            const Mesh m = io::read_mesh(o.dataset + "/meshes/" + model + ".ply");
+            MethodContext context;
+            context.threads = 1;
+            const CanonicalMethod& method = canonical_method(variant);
+            const std::string alone = o.out + "/alone.ply";
+            io::write_ply(alone, method.run(m.V, m.F, method.settings(), context).V, m.F);
+            EXPECT_EQ(io::read_file(o.out + "/" + variant + "/forms/" + model + ".ply"), io::read_file(alone))
+                << variant << " " << model;
+        }
+    fs::remove_all(o.out);
+}
+
 TEST(Experiment, BrokenCollectionsFailPerMeshNotAsAWhole) {
     // Issue 11: a labels row naming a missing file stopped the run; a corrupt cache entry failed
     // on every re-run; classes of two models were computed in full, then "nothing to evaluate".

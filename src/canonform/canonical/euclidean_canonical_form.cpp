@@ -86,7 +86,13 @@ EuclideanCanonicalFormResult euclidean_canonical_form(const Eigen::MatrixXd& V0,
     cf_opt.threads = options.threads;
     if (options.progress)
         cf_opt.progress = [&](double f, const char* s) { return options.progress(0.08 * f, s); };
-    const surface::ConformalFactorResult cf = surface::conformal_factor(V, F, cf_opt);
+    const auto compute_cf = [&] { return surface::conformal_factor(V, F, cf_opt); };
+    // The conformal factor depends on the mesh and the solver only (not on threads).
+    const surface::ConformalFactorResult cf =
+        options.conformal_factors ? options.conformal_factors(std::string("conformal factor, solver ") +
+                                                                  numerics::to_string(options.linear_solver),
+                                                              compute_cf)
+                                  : compute_cf();
     const auto t1 = std::chrono::steady_clock::now();
 
     const Eigen::MatrixXi E = report.edge_list.rows() ? report.edge_list : surface::unique_edges(F);
@@ -177,6 +183,7 @@ CanonicalMethod euclidean_method(CanonicalVariant variant) {
         o.progress = c.progress;
         o.validate = c.validate;
         o.threads = c.threads;
+        o.conformal_factors = c.conformal_factors;
         EuclideanCanonicalFormResult e = euclidean_canonical_form(V, F, o);
         CanonicalForm r;
         r.V = std::move(e.V);

@@ -68,6 +68,9 @@ struct EuclideanCanonicalFormOptions {
     int threads =
         0;  ///< threads of the multigrid solver's large sweeps (0: every core; no effect on results)
     ProgressFn progress;  ///< optional progress callback (smacof.progress is not called)
+    /// Optional: step 2's conformal factor kept from an earlier form of this very mesh with the
+    /// same solver (method_registry.h); the form is the same bits either way.
+    ConformalFactorMemo conformal_factors;
 
     /// beta actually used: `beta` if positive, else 10 (A) or 130 (N).
     double effective_beta() const {

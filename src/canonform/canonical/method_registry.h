@@ -27,6 +27,7 @@
 
 #include "canonform/common/errors.h"
 #include "canonform/common/parameters.h"
+#include "canonform/surface/conformal_factor.h"
 
 #include <Eigen/Core>
 
@@ -47,11 +48,19 @@ enum class MethodFamily { None, Euclidean, Geodesic };
 /// default or as given.
 using MethodSettings = Settings;
 
+/// A store of conformal factors for one mesh: returns the one kept under `key` (the settings it
+/// was computed with), or calls `compute` and may keep its result. A collection run with both
+/// Euclidean variants computes each mesh's conformal factor once (retrieval/experiment.cpp); a kept
+/// result may hold only `normalized` and `ordering`, what the Euclidean form reads.
+using ConformalFactorMemo = std::function<surface::ConformalFactorResult(
+    const std::string& key, const std::function<surface::ConformalFactorResult()>& compute)>;
+
 /// What a run may use besides its parameters.
 struct MethodContext {
-    int threads = 0;       ///< threads for the method's own parallel loops (0 = every core)
-    ProgressFn progress;   ///< optional progress callback
-    bool validate = true;  ///< validate the mesh first (off only if the caller just did)
+    int threads = 0;                        ///< threads for the method's own parallel loops (0 = every core)
+    ProgressFn progress;                    ///< optional progress callback
+    bool validate = true;                   ///< validate the mesh first (off only if the caller just did)
+    ConformalFactorMemo conformal_factors;  ///< optional, for this mesh (Euclidean methods use it)
 };
 
 /// A value of a run's summary: what the tool's --json prints and a filter returns to pymeshlab.

@@ -17,6 +17,7 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -122,6 +123,35 @@ std::vector<Model> read_collection(const std::string& dataset, const std::string
     return models;
 }
 
+// One slot per model: the settings' key and what the Euclidean form reads of the conformal factor
+// (normalized, ordering). A slot is only touched by the task of its model (methods run one after
+// another), so the slots need no lock; the byte count is shared.
+struct Experiment::ConformalFactors {
+    static constexpr std::size_t kBudget = std::size_t(256) << 20;
+    std::vector<std::string> key;
+    std::vector<surface::ConformalFactorResult> kept;
+    std::atomic<std::size_t> bytes{0};
+    explicit ConformalFactors(std::size_t models) : key(models), kept(models) {}
+
+    surface::ConformalFactorResult get(std::size_t model, const std::string& k,
+                                       const std::function<surface::ConformalFactorResult()>& compute) {
+        if (!key[model].empty() && key[model] == k) return kept[model];
+        surface::ConformalFactorResult r = compute();
+        const std::size_t size =
+            sizeof(double) * static_cast<std::size_t>(r.normalized.size()) + sizeof(int) * r.ordering.size();
+        if (!key[model].empty()) return r;
+        std::size_t used = bytes.load();
+        while (used + size <= kBudget && !bytes.compare_exchange_weak(used, used + size)) {
+        }
+        if (used + size <= kBudget) {
+            kept[model].normalized = r.normalized;
+            kept[model].ordering = r.ordering;
+            key[model] = k;
+        }
+        return r;
+    }
+};
+
 Experiment::Experiment(ExperimentOptions options)
     : Experiment(options, options.methods.empty()
                               ? std::vector<Model>{}
@@ -145,6 +175,10 @@ Experiment::Experiment(ExperimentOptions options, std::vector<Model> models)
                 throw InputError("method '" + o.methods[k].to_string() + "' is named twice");
     if (models_.size() < 3)
         throw InputError("'" + o.labels + "': the collection needs at least three meshes");
+    int euclidean = 0;
+    for (const canonical::MethodSpec& m : o.methods)
+        euclidean += m.method().family == canonical::MethodFamily::Euclidean;
+    if (euclidean >= 2) conformal_factors_ = std::make_shared<ConformalFactors>(models_.size());
     // The measures average over the classes of three or more models (psbTable's rule); say before
     // any work when no class qualifies: the distances are still computed and written.
     std::map<std::string, int> sizes;
@@ -231,6 +265,10 @@ MeshFeatures Experiment::mesh_features(const canonical::MethodSpec& method, std:
         if (o.noise > 0) add_noise(m, o.noise, o.seed ^ model.hash);
         canonical::MethodContext context;
         context.threads = 1;  // the meshes run in parallel
+        if (conformal_factors_)
+            context.conformal_factors = [this, k](const std::string& settings, const auto& compute) {
+                return conformal_factors_->get(k, settings, compute);
+            };
         const Eigen::MatrixXd X = method.method().run(m.V, m.F, method.settings(), context).V;
         if (!X.allFinite()) throw NumericalError("the method gave a form with NaN or infinite coordinates");
         io::write_ply(form, X, m.F);

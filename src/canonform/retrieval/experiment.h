@@ -23,6 +23,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -147,6 +148,10 @@ private:
                          const nlohmann::ordered_json& extra) const;
     ExperimentOptions options_;
     std::vector<Model> models_;
+    /// Each model's conformal factor, kept between the run's Euclidean methods (with two or more
+    /// of them) while the kept ones fit in 256 MB: computed once per mesh, the same forms.
+    struct ConformalFactors;
+    std::shared_ptr<ConformalFactors> conformal_factors_;
 };
 
 /// RUN/report.md of a run: the collection, one table row per method, the summary (summary_markdown),
