@@ -137,9 +137,9 @@ struct Experiment::ConformalFactors {
                                        const std::function<surface::ConformalFactorResult()>& compute) {
         if (!key[model].empty() && key[model] == k) return kept[model];
         surface::ConformalFactorResult r = compute();
+        if (!key[model].empty()) return r;  // the slot keeps the first settings' factor
         const std::size_t size =
             sizeof(double) * static_cast<std::size_t>(r.normalized.size()) + sizeof(int) * r.ordering.size();
-        if (!key[model].empty()) return r;
         std::size_t used = bytes.load();
         while (used + size <= kBudget && !bytes.compare_exchange_weak(used, used + size)) {
         }

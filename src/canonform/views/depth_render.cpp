@@ -64,7 +64,11 @@ struct EdgeFn {
         negate = swap ? -1.0 : 1.0;
     }
     double row(double py) const { return dx * (py - sy); }
-    double at(double row_term, double px) const { return negate * (row_term - dy * (px - sx)); }
+    // At one pixel (T = double) or at adjacent pixels of a row, one per lane (T a vector).
+    template <class T>
+    T at(T row_term, T px) const {
+        return negate * (row_term - dy * (px - sx));
+    }
 };
 
 }  // namespace
@@ -131,9 +135,8 @@ struct TriangleDepth {
     void pair(int row, int col, v2l keep) const {
         const double py = row;
         const v2d px = v2d{double(col), double(col + 1)}, zero = splat2(0.0), one = splat2(1.0);
-        const v2d wa = splat2(ea.negate) * (splat2(ea.row(py)) - splat2(ea.dy) * (px - splat2(ea.sx)));
-        const v2d wb = splat2(eb.negate) * (splat2(eb.row(py)) - splat2(eb.dy) * (px - splat2(eb.sx)));
-        const v2d wc = splat2(ec.negate) * (splat2(ec.row(py)) - splat2(ec.dy) * (px - splat2(ec.sx)));
+        const v2d wa = ea.at(splat2(ea.row(py)), px), wb = eb.at(splat2(eb.row(py)), px),
+                  wc = ec.at(splat2(ec.row(py)), px);
         const v2d s2 = splat2(sgn);
         const v2l outside = (s2 * wa < zero) | (s2 * wb < zero) | (s2 * wc < zero);
         v2d d = (wa * splat2(za) + wb * splat2(zb) + wc * splat2(zc)) * splat2(inv_area);
