@@ -138,6 +138,30 @@ TEST(Smacof, AGivenOrderingOfVSolvesTheSameSteps) {
     EXPECT_THROW(SmacofSolver(n, p, o), InputError);
 }
 
+TEST(Smacof, ThreeDimensionalPointsGiveTheBitsOfTheGeneralLoop) {
+    // Three-dimensional points take their own path through B(X) X and the stress (coordinates side
+    // by side, four pairs' square roots and divisions at a time): the same operations in the same
+    // order as any other dimension's loop, so the same bits as the points with a fourth coordinate
+    // of 0 - with a pair count that leaves a remainder of the four, and a pair of coincident points
+    // (no term in B(X) X).
+    const Mesh s = make_icosphere(3);
+    StressPairs p = distorted_pairs(s);
+    while (p.size() % 4 != 3) p.add(1, 2 + static_cast<int>(p.size() % 7), 0.7, 1.5);
+    const int n = static_cast<int>(s.V.rows());
+    const SmacofSolver solver(n, p);
+    Eigen::MatrixXd X = random_points(n, 9);
+    X.row(300) = X.row(0);  // the pair (0, 300) has d = 0
+    Eigen::MatrixXd X4 = Eigen::MatrixXd::Zero(n, 4);
+    X4.leftCols(3) = X;
+    EXPECT_EQ(solver.stress(X), solver.stress(X4));
+    double s3 = 0, s4 = 0;
+    const Eigen::MatrixXd Y3 = solver.guttman(X, &s3), Y4 = solver.guttman(X4, &s4);
+    EXPECT_EQ(s3, s4);
+    ASSERT_EQ(Y3.cols(), 3);
+    EXPECT_TRUE(Y3 == Y4.leftCols(3)) << (Y3 - Y4.leftCols(3)).cwiseAbs().maxCoeff();
+    EXPECT_GT(s3, 0);
+}
+
 TEST(Smacof, RejectsADisconnectedPairGraphAndBadWeights) {
     StressPairs p;
     p.add(0, 1, 1.0, 1.0);

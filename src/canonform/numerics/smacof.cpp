@@ -3,12 +3,14 @@
 
 #include "canonform/numerics/graph.h"
 
+#include "canonform/common/cpu_clones.h"
 #include "canonform/common/parallel.h"
 
 #include <Eigen/Dense>
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <sstream>
 
 namespace canonform::numerics {
@@ -246,11 +248,122 @@ double SmacofSolver::stress(const Eigen::MatrixXd& X) const {
     return s;
 }
 
-void SmacofSolver::guttman_rhs(const Eigen::MatrixXd& X, Eigen::MatrixXd* BX, double* stress_of_X) const {
-    // Column-major X: coordinate c of point i is x[c * n + i]. Plain loops, no temporaries: this
-    // is the O(#pairs) half of every iteration.
+namespace {
+
+typedef double v4d __attribute__((vector_size(32)));
+
+#if defined(__GNUC__)
+#pragma GCC diagnostic ignored "-Wpsabi"  // v4d never crosses a call between clones (inlined)
+#endif
+
+inline v4d load4d(const double* p) {
+    v4d v;
+    std::memcpy(&v, p, sizeof v);
+    return v;
+}
+inline void store4d(double* p, const v4d& v) {
+    std::memcpy(p, &v, sizeof v);
+}
+
+// guttman_rhs() of three-dimensional points, each point's coordinates side by side in four doubles
+// (x4[4i + c], the fourth 0): a pair reads two 32-byte rows instead of six scattered values, and
+// its differences, squares and updates of B(X) X (b4, the same layout; null: the stress alone) are
+// per-lane vector operations. Every value is the same IEEE operations in the same order as the
+// general loop: d^2 summed over the coordinates in order, the stress summed over the pairs in order,
+// each point's row of B(X) X updated pair after pair.
+CANONFORM_CLONES double rhs3(const int* I, const int* J, const double* delta, const double* w, size_t pairs,
+                             const double* x4, double* b4) {
+    double s = 0;
+    size_t k = 0;
+    // Four pairs at a time: their square roots and divisions, the slow part, as vector operations
+    // (one lane per pair); the stress and B(X) X then summed pair after pair as below.
+    for (; k + 4 <= pairs; k += 4) {
+        v4d t[4], d2;
+        for (int u = 0; u < 4; ++u) {
+            const std::ptrdiff_t a = static_cast<std::ptrdiff_t>(I[k + u]) * 4;
+            const std::ptrdiff_t c = static_cast<std::ptrdiff_t>(J[k + u]) * 4;
+            t[u] = load4d(x4 + a) - load4d(x4 + c);
+            const v4d t2 = t[u] * t[u];
+            double e = 0;
+            e += t2[0];
+            e += t2[1];
+            e += t2[2];
+            d2[u] = e;
+        }
+        v4d d;
+        for (int u = 0; u < 4; ++u) d[u] = std::sqrt(d2[u]);
+        const v4d dk = load4d(delta + k), wk = load4d(w + k);
+        const v4d r = dk - d;
+        const v4d wrr = wk * r * r;
+        const v4d f = wk * dk / d;  // -b_ac of eq. (3); unused where d = 0
+        for (int u = 0; u < 4; ++u) s += wrr[u];
+        if (!b4) continue;
+        for (int u = 0; u < 4; ++u) {
+            if (!(d[u] > 0)) continue;
+            const std::ptrdiff_t a = static_cast<std::ptrdiff_t>(I[k + u]) * 4;
+            const std::ptrdiff_t c = static_cast<std::ptrdiff_t>(J[k + u]) * 4;
+            const v4d ft = f[u] * t[u];
+            store4d(b4 + a, load4d(b4 + a) + ft);
+            store4d(b4 + c, load4d(b4 + c) - ft);
+        }
+    }
+    for (; k < pairs; ++k) {
+        const std::ptrdiff_t a = static_cast<std::ptrdiff_t>(I[k]) * 4,
+                             c = static_cast<std::ptrdiff_t>(J[k]) * 4;
+        const v4d t = load4d(x4 + a) - load4d(x4 + c);
+        const v4d t2 = t * t;
+        double d2 = 0;
+        d2 += t2[0];
+        d2 += t2[1];
+        d2 += t2[2];
+        const double d = std::sqrt(d2);
+        const double r = delta[k] - d;
+        s += w[k] * r * r;
+        if (b4 && d > 0) {
+            const double f = w[k] * delta[k] / d;  // -b_ac of eq. (3)
+            const v4d ft = f * t;
+            store4d(b4 + a, load4d(b4 + a) + ft);
+            store4d(b4 + c, load4d(b4 + c) - ft);
+        }
+    }
+    return s;
+}
+
+}  // namespace
+
+void SmacofSolver::guttman_rhs(const Eigen::MatrixXd& X, Eigen::MatrixXd* BX, double* stress_of_X,
+                               std::vector<double>* scratch) const {
     const Eigen::Index n = X.rows(), dim = X.cols();
     const double* x = X.data();
+    if (dim == 3) {
+        std::vector<double> local;
+        std::vector<double>& room = scratch ? *scratch : local;
+        room.resize(static_cast<size_t>(n) * (BX ? 8 : 4));
+        double* x4 = room.data();
+        double* b4 = BX ? x4 + 4 * n : nullptr;
+        for (Eigen::Index i = 0; i < n; ++i) {
+            x4[4 * i] = x[i];
+            x4[4 * i + 1] = x[n + i];
+            x4[4 * i + 2] = x[2 * n + i];
+            x4[4 * i + 3] = 0;
+        }
+        if (b4) std::fill(b4, b4 + 4 * n, 0.0);
+        const double s = rhs3(pairs_.i.data(), pairs_.j.data(), pairs_.delta.data(), pairs_.w.data(),
+                              pairs_.size(), x4, b4);
+        if (BX) {
+            BX->resize(n, 3);
+            double* b = BX->data();
+            for (Eigen::Index i = 0; i < n; ++i) {
+                b[i] = b4[4 * i];
+                b[n + i] = b4[4 * i + 1];
+                b[2 * n + i] = b4[4 * i + 2];
+            }
+        }
+        if (stress_of_X) *stress_of_X = s;
+        return;
+    }
+    // Column-major X: coordinate c of point i is x[c * n + i]. Plain loops, no temporaries: this
+    // is the O(#pairs) half of every iteration.
     double* b = nullptr;
     if (BX) {
         BX->setZero(n, dim);
@@ -290,7 +403,7 @@ Eigen::MatrixXd SmacofSolver::guttman(const Eigen::MatrixXd& X, double* stress_o
 Eigen::MatrixXd SmacofSolver::guttman(const Eigen::MatrixXd& X, double* stress_of_X,
                                       StepWorkspace& work) const {
     Eigen::MatrixXd& BX = work.BX;
-    guttman_rhs(X, &BX, stress_of_X);
+    guttman_rhs(X, &BX, stress_of_X, &work.interleaved);
     Eigen::MatrixXd Y(n_, X.cols());
     Y.row(0).setZero();
     if (multigrid_) {

@@ -272,12 +272,16 @@ public:
 
 private:
     /// B(X) X (#points x dim, if BX is given) and S(X) (if stress_of_X is given), in one pass.
-    void guttman_rhs(const Eigen::MatrixXd& X, Eigen::MatrixXd* BX, double* stress_of_X) const;
+    /// `scratch`: room for three-dimensional X and B(X) X with each point's coordinates side by
+    /// side (sized here; a local one if null).
+    void guttman_rhs(const Eigen::MatrixXd& X, Eigen::MatrixXd* BX, double* stress_of_X,
+                     std::vector<double>* scratch = nullptr) const;
     /// What a Guttman step works in, kept for all steps of one solve(): no n x dim allocations
     /// per step (large ones are faulted in again every step when freed memory goes back to the
     /// system; docs/benchmarks.md, "Canonical form at scale").
     struct StepWorkspace {
         Eigen::MatrixXd BX;
+        std::vector<double> interleaved;  // guttman_rhs()'s scratch
         AmgPreconditioner::Workspace amg;
     };
     Eigen::MatrixXd guttman(const Eigen::MatrixXd& X, double* stress_of_X, StepWorkspace& work) const;
