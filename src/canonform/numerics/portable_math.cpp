@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "canonform/numerics/portable_math.h"
 
+#include "canonform/common/cpu_clones.h"
+
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -111,6 +113,73 @@ double portable_atan2(double y, double x) {
     }
     if (std::signbit(x)) r = kPi - r;
     return std::signbit(y) ? -r : r;
+}
+
+namespace {
+
+typedef double v4d __attribute__((vector_size(32)));
+typedef std::int64_t v4l __attribute__((vector_size(32)));
+
+#if defined(__GNUC__)
+#pragma GCC diagnostic ignored "-Wpsabi"  // the vectors stay inside one clone (inlined helpers)
+#endif
+
+inline v4d select(v4l mask, v4d a, v4d b) {  // a where mask, else b (bit for bit)
+    return reinterpret_cast<v4d>((reinterpret_cast<v4l>(a) & mask) | (reinterpret_cast<v4l>(b) & ~mask));
+}
+inline bool any(v4l m) {
+    return (m[0] | m[1] | m[2] | m[3]) != 0;
+}
+
+// atan_reduced() of four values: each lane's terms as the scalar's, its sum frozen when the scalar
+// loop would stop.
+inline v4d atan_reduced4(v4d s) {
+    const v4d q = 1.0 / (1.0 + s * s);
+    const v4d z = s * s * q;
+    v4d term = s * q, sum = term;
+    v4l active = z == z;  // every lane
+    for (int n = 1; n < 40 && any(active); ++n) {
+        term *= z * (2.0 * n) / (2.0 * n + 1.0);
+        const v4d next = sum + term;
+        const v4l moved = active & (next != sum);
+        sum = select(moved, next, sum);
+        active = moved;
+    }
+    return sum;
+}
+
+// Four angles; false (nothing written) when a lane needs one of the scalar's special cases.
+inline bool atan2_four(const double* yp, const double* xp, double* out) {
+    v4d y, x;
+    std::memcpy(&y, yp, sizeof y);
+    std::memcpy(&x, xp, sizeof x);
+    const v4l magnitude = {INT64_MAX, INT64_MAX, INT64_MAX, INT64_MAX};
+    const v4d ax = reinterpret_cast<v4d>(reinterpret_cast<v4l>(x) & magnitude);
+    const v4d ay = reinterpret_cast<v4d>(reinterpret_cast<v4l>(y) & magnitude);
+    const double inf = std::numeric_limits<double>::infinity();
+    // NaN (not equal to itself), infinite, or y = 0: the scalar's own paths.
+    if (any((ax != ax) | (ay != ay) | (ax == inf) | (ay == inf) | (ay == 0.0))) return false;
+    const v4l steep = ay > ax;
+    const v4d num = select(steep, ax, ay), den = select(steep, ay, ax);  // num / den in [0, 1]
+    const v4l far = num > kTanPiOver8 * den;
+    v4d r = atan_reduced4(select(far, (num - den) / (num + den), num / den));
+    r = select(far, kQuarterPi + r, r);
+    r = select(steep, kHalfPi - r, r);
+    const v4l sign_x = reinterpret_cast<v4l>(x) < 0, sign_y = reinterpret_cast<v4l>(y) < 0;
+    r = select(sign_x, kPi - r, r);
+    r = select(sign_y, -r, r);
+    std::memcpy(out, &r, sizeof r);
+    return true;
+}
+
+}  // namespace
+
+CANONFORM_CLONES void portable_atan2(const double* y, const double* x, double* out, std::size_t count) {
+    std::size_t k = 0;
+    for (; k + 4 <= count; k += 4)
+        if (!atan2_four(y + k, x + k, out + k))
+            for (std::size_t u = k; u < k + 4; ++u) out[u] = portable_atan2(y[u], x[u]);
+    for (; k < count; ++k) out[k] = portable_atan2(y[k], x[k]);
 }
 
 double portable_log(double x) {

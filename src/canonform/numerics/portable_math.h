@@ -60,6 +60,7 @@
 //   lane, so the same bits).
 #pragma once
 
+#include <cstddef>
 #include <random>
 
 namespace canonform::numerics {
@@ -75,6 +76,9 @@ void portable_sincos(double a, double& sin_a, double& cos_a);
 
 /// The angle of the point (x, y) in (-pi, pi], like std::atan2, but the same bits on every CPU.
 double portable_atan2(double y, double x);
+/// portable_atan2(y[k], x[k]) into out[k] for k < count, the same bits, several at a time in vector
+/// instructions (one lane per angle, each lane the scalar's operations).
+void portable_atan2(const double* y, const double* x, double* out, std::size_t count);
 
 /// The natural logarithm of x, within 1 unit in the last place of std::log, the same bits on every
 /// CPU and with every C library (see above for the special values).

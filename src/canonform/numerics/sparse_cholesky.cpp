@@ -177,7 +177,7 @@ CANONFORM_CLONES void ldl_solve3_in4(const int* Lp, const Index* Li, const doubl
 
 }  // namespace
 
-Eigen::MatrixXd SparseCholesky::solve(const Eigen::MatrixXd& B) const {
+Eigen::MatrixXd SparseCholesky::solve(const Eigen::Ref<const Eigen::MatrixXd>& B) const {
     ok_ = false;
     Eigen::MatrixXd X;
     Impl& f = *impl_;
@@ -196,24 +196,41 @@ Eigen::MatrixXd SparseCholesky::solve(const Eigen::MatrixXd& B) const {
     f.z.resize(static_cast<size_t>(n) * static_cast<size_t>(stride));
     const int* order = f.order.data();
     double* z = f.z.data();
-    for (Eigen::Index k = 0; k < n; ++k)
-        for (int c = 0; c < stride; ++c) z[k * stride + c] = c < m ? B(order[k], c) : 0.0;
-    switch (m) {
-        case 1:
+    const Eigen::Index ldb = B.outerStride();
+    const double* b = B.data();
+    double* x = X.data();
+    if (m == 3) {
+        const double *b0 = b, *b1 = b + ldb, *b2 = b + 2 * ldb;
+        for (Eigen::Index k = 0; k < n; ++k) {
+            const Eigen::Index r = order[k];
+            double* zk = z + 4 * k;
+            zk[0] = b0[r];
+            zk[1] = b1[r];
+            zk[2] = b2[r];
+            zk[3] = 0.0;
+        }
+        if (!f.short_rows.empty())
+            ldl_solve3_in4(Lp, f.short_rows.data(), Lx, f.inverse_d.data(), nn, z);
+        else
+            ldl_solve3_in4(Lp, Li, Lx, f.inverse_d.data(), nn, z);
+        double *x0 = x, *x1 = x + n, *x2 = x + 2 * n;
+        for (Eigen::Index k = 0; k < n; ++k) {
+            const Eigen::Index r = order[k];
+            const double* zk = z + 4 * k;
+            x0[r] = zk[0];
+            x1[r] = zk[1];
+            x2[r] = zk[2];
+        }
+    } else {
+        for (Eigen::Index k = 0; k < n; ++k)
+            for (int c = 0; c < m; ++c) z[k * m + c] = b[c * ldb + order[k]];
+        if (m == 1)
             ldl_solve<1>(Lp, Li, Lx, f.inverse_d.data(), nn, m, z);
-            break;
-        case 3:
-            if (!f.short_rows.empty())
-                ldl_solve3_in4(Lp, f.short_rows.data(), Lx, f.inverse_d.data(), nn, z);
-            else
-                ldl_solve3_in4(Lp, Li, Lx, f.inverse_d.data(), nn, z);
-            break;
-        default:
+        else
             ldl_solve<0>(Lp, Li, Lx, f.inverse_d.data(), nn, m, z);
-            break;
+        for (Eigen::Index k = 0; k < n; ++k)
+            for (int c = 0; c < m; ++c) x[c * n + order[k]] = z[k * m + c];
     }
-    for (Eigen::Index k = 0; k < n; ++k)
-        for (int c = 0; c < m; ++c) X(order[k], c) = z[k * stride + c];
     ok_ = X.allFinite();
     return X;
 }

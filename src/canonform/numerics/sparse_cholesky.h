@@ -54,8 +54,8 @@ public:
     std::vector<int> ordering() const;
     /// True if the last compute() or solve() succeeded.
     bool ok() const { return ok_; }
-    /// Solves A X = B for all columns of B.
-    Eigen::MatrixXd solve(const Eigen::MatrixXd& B) const;
+    /// Solves A X = B for all columns of B (a matrix or a block of one: no copy is made of it).
+    Eigen::MatrixXd solve(const Eigen::Ref<const Eigen::MatrixXd>& B) const;
     /// Name of the method ("simplicial LDL^T (AMD ordering)").
     static const char* backend();
 

@@ -7,7 +7,9 @@
 
 #include <Eigen/Geometry>
 
+#include <algorithm>
 #include <cmath>
+#include <vector>
 
 namespace canonform::surface {
 
@@ -19,13 +21,25 @@ Eigen::VectorXd gaussian_curvature(const Eigen::MatrixXd& V, const Eigen::Matrix
         known_boundary.empty() ? boundary_vertices(static_cast<int>(V.rows()), F) : known_boundary;
     Eigen::VectorXd K(V.rows());
     for (Eigen::Index v = 0; v < V.rows(); ++v) K(v) = boundary[static_cast<size_t>(v)] ? M_PI : 2 * M_PI;
-    for (Eigen::Index f = 0; f < F.rows(); ++f) {
-        for (int c = 0; c < 3; ++c) {
-            const int k = F(f, c), i = F(f, (c + 1) % 3), j = F(f, (c + 2) % 3);
-            const Eigen::Vector3d a = V.row(i) - V.row(k), b = V.row(j) - V.row(k);
-            K(k) -= numerics::portable_atan2(a.cross(b).norm(),
-                                             a.dot(b));  // not libm: the same bits on every CPU
-        }
+    // The angles of a block of faces at a time (three per face, in order), then subtracted in the
+    // same order as one by one: the same bits, with the arctangents four at a time.
+    constexpr Eigen::Index kBlock = 512;
+    std::vector<double> ys(static_cast<size_t>(3 * kBlock)), xs(ys.size()), angles(ys.size());
+    for (Eigen::Index first = 0; first < F.rows(); first += kBlock) {
+        const Eigen::Index last = std::min<Eigen::Index>(F.rows(), first + kBlock);
+        size_t m = 0;
+        for (Eigen::Index f = first; f < last; ++f)
+            for (int c = 0; c < 3; ++c, ++m) {
+                const int k = F(f, c), i = F(f, (c + 1) % 3), j = F(f, (c + 2) % 3);
+                const Eigen::Vector3d a = V.row(i) - V.row(k), b = V.row(j) - V.row(k);
+                ys[m] = a.cross(b).norm();
+                xs[m] = a.dot(b);
+            }
+        numerics::portable_atan2(ys.data(), xs.data(), angles.data(),
+                                 m);  // not libm: the same bits on every CPU
+        m = 0;
+        for (Eigen::Index f = first; f < last; ++f)
+            for (int c = 0; c < 3; ++c, ++m) K(F(f, c)) -= angles[m];
     }
     return K;
 }
