@@ -2,6 +2,7 @@
 #include "canonform/numerics/portable_math.h"
 
 #include "canonform/common/cpu_clones.h"
+#include "canonform/common/vector4d.h"
 
 #include <array>
 #include <cmath>
@@ -117,13 +118,6 @@ double portable_atan2(double y, double x) {
 
 namespace {
 
-typedef double v4d __attribute__((vector_size(32)));
-typedef std::int64_t v4l __attribute__((vector_size(32)));
-
-#if defined(__GNUC__)
-#pragma GCC diagnostic ignored "-Wpsabi"  // the vectors stay inside one clone (inlined helpers)
-#endif
-
 inline v4d select(v4l mask, v4d a, v4d b) {  // a where mask, else b (bit for bit)
     return reinterpret_cast<v4d>((reinterpret_cast<v4l>(a) & mask) | (reinterpret_cast<v4l>(b) & ~mask));
 }
@@ -150,9 +144,7 @@ inline v4d atan_reduced4(v4d s) {
 
 // Four angles; false (nothing written) when a lane needs one of the scalar's special cases.
 inline bool atan2_four(const double* yp, const double* xp, double* out) {
-    v4d y, x;
-    std::memcpy(&y, yp, sizeof y);
-    std::memcpy(&x, xp, sizeof x);
+    const v4d y = load4d(yp), x = load4d(xp);
     const v4l magnitude = {INT64_MAX, INT64_MAX, INT64_MAX, INT64_MAX};
     const v4d ax = reinterpret_cast<v4d>(reinterpret_cast<v4l>(x) & magnitude);
     const v4d ay = reinterpret_cast<v4d>(reinterpret_cast<v4l>(y) & magnitude);
@@ -168,7 +160,7 @@ inline bool atan2_four(const double* yp, const double* xp, double* out) {
     const v4l sign_x = reinterpret_cast<v4l>(x) < 0, sign_y = reinterpret_cast<v4l>(y) < 0;
     r = select(sign_x, kPi - r, r);
     r = select(sign_y, -r, r);
-    std::memcpy(out, &r, sizeof r);
+    store4d(out, r);
     return true;
 }
 

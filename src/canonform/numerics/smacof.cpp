@@ -5,6 +5,7 @@
 
 #include "canonform/common/cpu_clones.h"
 #include "canonform/common/parallel.h"
+#include "canonform/common/vector4d.h"
 
 #include <Eigen/Dense>
 
@@ -249,21 +250,6 @@ double SmacofSolver::stress(const Eigen::MatrixXd& X) const {
 }
 
 namespace {
-
-typedef double v4d __attribute__((vector_size(32)));
-
-#if defined(__GNUC__)
-#pragma GCC diagnostic ignored "-Wpsabi"  // v4d never crosses a call between clones (inlined)
-#endif
-
-inline v4d load4d(const double* p) {
-    v4d v;
-    std::memcpy(&v, p, sizeof v);
-    return v;
-}
-inline void store4d(double* p, const v4d& v) {
-    std::memcpy(p, &v, sizeof v);
-}
 
 // guttman_rhs() of three-dimensional points, each point's coordinates side by side in four doubles
 // (x4[4i + c], the fourth 0): a pair reads two 32-byte rows instead of six scattered values, and

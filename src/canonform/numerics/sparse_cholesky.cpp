@@ -3,6 +3,7 @@
 
 #include "canonform/common/cpu_clones.h"
 #include "canonform/common/errors.h"
+#include "canonform/common/vector4d.h"
 
 #include <Eigen/OrderingMethods>
 #include <Eigen/SparseCholesky>
@@ -130,22 +131,6 @@ void ldl_solve(const int* Lp, const int* Li, const double* Lx, const double* inv
             for (int c = 0; c < m; ++c) zj[c] -= l * zi[c];
         }
     }
-}
-
-typedef double v4d __attribute__((vector_size(32)));
-
-// The helpers are inlined: no call passes a v4d between code built for different targets.
-#if defined(__GNUC__)
-#pragma GCC diagnostic ignored "-Wpsabi"
-#endif
-
-inline v4d load4d(const double* p) {
-    v4d v;
-    std::memcpy(&v, p, sizeof v);
-    return v;
-}
-inline void store4d(double* p, const v4d& v) {
-    std::memcpy(p, &v, sizeof v);
 }
 
 // ldl_solve() of three columns with each row's three values in a vector of four (the fourth 0 and
