@@ -11,7 +11,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 #include <sstream>
 
 namespace canonform::numerics {
@@ -257,6 +256,13 @@ namespace {
 // per-lane vector operations. Every value is the same IEEE operations in the same order as the
 // general loop: d^2 summed over the coordinates in order, the stress summed over the pairs in order,
 // each point's row of B(X) X updated pair after pair.
+// The pair (a, c)'s term of B(X) X: row a gains f t, row c loses it (rows of four as above).
+inline void add_pair_term(double* b4, std::ptrdiff_t a, std::ptrdiff_t c, double f, const v4d& t) {
+    const v4d ft = f * t;
+    store4d(b4 + a, load4d(b4 + a) + ft);
+    store4d(b4 + c, load4d(b4 + c) - ft);
+}
+
 CANONFORM_CLONES double rhs3(const int* I, const int* J, const double* delta, const double* w, size_t pairs,
                              const double* x4, double* b4) {
     double s = 0;
@@ -285,12 +291,9 @@ CANONFORM_CLONES double rhs3(const int* I, const int* J, const double* delta, co
         for (int u = 0; u < 4; ++u) s += wrr[u];
         if (!b4) continue;
         for (int u = 0; u < 4; ++u) {
-            if (!(d[u] > 0)) continue;
-            const std::ptrdiff_t a = static_cast<std::ptrdiff_t>(I[k + u]) * 4;
-            const std::ptrdiff_t c = static_cast<std::ptrdiff_t>(J[k + u]) * 4;
-            const v4d ft = f[u] * t[u];
-            store4d(b4 + a, load4d(b4 + a) + ft);
-            store4d(b4 + c, load4d(b4 + c) - ft);
+            if (d[u] > 0)
+                add_pair_term(b4, static_cast<std::ptrdiff_t>(I[k + u]) * 4,
+                              static_cast<std::ptrdiff_t>(J[k + u]) * 4, f[u], t[u]);
         }
     }
     for (; k < pairs; ++k) {
@@ -305,12 +308,7 @@ CANONFORM_CLONES double rhs3(const int* I, const int* J, const double* delta, co
         const double d = std::sqrt(d2);
         const double r = delta[k] - d;
         s += w[k] * r * r;
-        if (b4 && d > 0) {
-            const double f = w[k] * delta[k] / d;  // -b_ac of eq. (3)
-            const v4d ft = f * t;
-            store4d(b4 + a, load4d(b4 + a) + ft);
-            store4d(b4 + c, load4d(b4 + c) - ft);
-        }
+        if (b4 && d > 0) add_pair_term(b4, a, c, w[k] * delta[k] / d, t);  // f = -b_ac of eq. (3)
     }
     return s;
 }
