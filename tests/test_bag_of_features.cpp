@@ -15,6 +15,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -313,6 +314,51 @@ TEST(Codebook, AssignIsNearestWord) {
         exact += a[i] == arg;
     }
     EXPECT_GE(exact, 4990);  // ties within float rounding are the only allowed differences
+}
+
+TEST(Codebook, IntegerDescriptorsTakeTheNearestRoundedWordTiesToTheLowerIndex) {
+    // SIFT descriptors (integers 0-255) meet the words rounded to 1/64 in exact integer sums, four
+    // descriptors at a time (codebook.h): the word chosen is the lowest index among those with the
+    // smallest |q|^2 - 128 x.q, found here by brute force in 64-bit integers. An odd number of
+    // words, duplicated words (ties), a last block of fewer than four descriptors.
+    std::mt19937_64 rng(21);
+    std::uniform_int_distribution<int> value(0, 255);
+    std::uniform_real_distribution<float> word_value(0.f, 300.f);
+    DescriptorMatrix X(1001, 128), C(301, 128);
+    for (Eigen::Index i = 0; i < X.size(); ++i) X.data()[i] = static_cast<float>(value(rng));
+    for (Eigen::Index i = 0; i < C.size(); ++i) C.data()[i] = word_value(rng);
+    for (int k = 0; k < 20; ++k) C.row(100 + 10 * k) = C.row(7 * k);  // later copies of earlier words
+    for (int k = 0; k < 5; ++k) C.row(290 + k) = X.row(k);            // words at some descriptors
+    const std::vector<int> got = Codebook::from_words(C).assign(X);
+    ASSERT_EQ(got.size(), 1001u);
+    std::vector<std::int64_t> q(static_cast<size_t>(C.size())), norm(static_cast<size_t>(C.rows()), 0);
+    for (Eigen::Index w = 0; w < C.rows(); ++w)
+        for (int c = 0; c < 128; ++c) {
+            const size_t k = static_cast<size_t>(w * 128 + c);
+            q[k] = std::lround(double(C(w, c)) * 64);
+            norm[static_cast<size_t>(w)] += q[k] * q[k];
+        }
+    int differ = 0, tied = 0;
+    for (Eigen::Index i = 0; i < X.rows(); ++i) {
+        std::int64_t best = std::numeric_limits<std::int64_t>::max();
+        int arg = -1, ties = 0;
+        for (Eigen::Index w = 0; w < C.rows(); ++w) {
+            std::int64_t dot = 0;
+            for (int c = 0; c < 128; ++c) dot += std::int64_t(X(i, c)) * q[static_cast<size_t>(w * 128 + c)];
+            const std::int64_t score = norm[static_cast<size_t>(w)] - 128 * dot;
+            if (score < best) {
+                best = score;
+                arg = static_cast<int>(w);
+                ties = 0;
+            } else if (score == best) {
+                ++ties;
+            }
+        }
+        differ += got[static_cast<size_t>(i)] != arg;
+        tied += ties > 0;
+    }
+    EXPECT_EQ(differ, 0);
+    EXPECT_GT(tied, 0);  // the duplicates were met and resolved to the lower index
 }
 
 TEST(Codebook, KMeansDeterministicAndBetterThanRandom) {
