@@ -250,19 +250,30 @@ double SmacofSolver::stress(const Eigen::MatrixXd& X) const {
 
 namespace {
 
-// guttman_rhs() of three-dimensional points, each point's coordinates side by side in four doubles
-// (x4[4i + c], the fourth 0): a pair reads two 32-byte rows instead of six scattered values, and
-// its differences, squares and updates of B(X) X (b4, the same layout; null: the stress alone) are
-// per-lane vector operations. Every value is the same IEEE operations in the same order as the
-// general loop: d^2 summed over the coordinates in order, the stress summed over the pairs in order,
-// each point's row of B(X) X updated pair after pair.
-// The pair (a, c)'s term of B(X) X: row a gains f t, row c loses it (rows of four as above).
+// The pair (a, c)'s term of B(X) X: row a gains f t, row c loses it (rows of four doubles, see rhs3).
 inline void add_pair_term(double* b4, std::ptrdiff_t a, std::ptrdiff_t c, double f, const v4d& t) {
     const v4d ft = f * t;
     store4d(b4 + a, load4d(b4 + a) + ft);
     store4d(b4 + c, load4d(b4 + c) - ft);
 }
 
+// |t|^2 of a difference of two rows of four (the fourth lane 0 and left out), summed over the
+// coordinates in order from 0 as the general loop sums it.
+inline double squared_length3(const v4d& t) {
+    const v4d t2 = t * t;
+    double d2 = 0;
+    d2 += t2[0];
+    d2 += t2[1];
+    d2 += t2[2];
+    return d2;
+}
+
+// guttman_rhs() of three-dimensional points, each point's coordinates side by side in four doubles
+// (x4[4i + c], the fourth 0): a pair reads two 32-byte rows instead of six scattered values, and
+// its differences, squares and updates of B(X) X (b4, the same layout; null: the stress alone) are
+// per-lane vector operations. Every value is the same IEEE operations in the same order as the
+// general loop: d^2 summed over the coordinates in order, the stress summed over the pairs in order,
+// each point's row of B(X) X updated pair after pair.
 CANONFORM_CLONES double rhs3(const int* I, const int* J, const double* delta, const double* w, size_t pairs,
                              const double* x4, double* b4) {
     double s = 0;
@@ -275,12 +286,7 @@ CANONFORM_CLONES double rhs3(const int* I, const int* J, const double* delta, co
             const std::ptrdiff_t a = static_cast<std::ptrdiff_t>(I[k + u]) * 4;
             const std::ptrdiff_t c = static_cast<std::ptrdiff_t>(J[k + u]) * 4;
             t[u] = load4d(x4 + a) - load4d(x4 + c);
-            const v4d t2 = t[u] * t[u];
-            double e = 0;
-            e += t2[0];
-            e += t2[1];
-            e += t2[2];
-            d2[u] = e;
+            d2[u] = squared_length3(t[u]);
         }
         v4d d;
         for (int u = 0; u < 4; ++u) d[u] = std::sqrt(d2[u]);
@@ -300,12 +306,7 @@ CANONFORM_CLONES double rhs3(const int* I, const int* J, const double* delta, co
         const std::ptrdiff_t a = static_cast<std::ptrdiff_t>(I[k]) * 4,
                              c = static_cast<std::ptrdiff_t>(J[k]) * 4;
         const v4d t = load4d(x4 + a) - load4d(x4 + c);
-        const v4d t2 = t * t;
-        double d2 = 0;
-        d2 += t2[0];
-        d2 += t2[1];
-        d2 += t2[2];
-        const double d = std::sqrt(d2);
+        const double d = std::sqrt(squared_length3(t));
         const double r = delta[k] - d;
         s += w[k] * r * r;
         if (b4 && d > 0) add_pair_term(b4, a, c, w[k] * delta[k] / d, t);  // f = -b_ac of eq. (3)
