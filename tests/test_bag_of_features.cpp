@@ -11,6 +11,12 @@
 
 #include <gtest/gtest.h>
 
+#ifndef CANONFORM_WITHOUT_FAISS
+#include <faiss/Clustering.h>
+#include <faiss/IndexFlat.h>
+#include <faiss/utils/distances.h>
+#endif
+
 #include <unistd.h>
 
 #include <algorithm>
@@ -378,6 +384,48 @@ TEST(Codebook, KMeansDeterministicAndBetterThanRandom) {
     EXPECT_TRUE(r1.words() == r2.words());
     EXPECT_LT(distortion(X, a), distortion(X, r1));
 }
+
+#ifndef CANONFORM_WITHOUT_FAISS
+// The kmeans method's nearest-word search (codebook_training.cpp) stands in for FAISS's exact index
+// inside FAISS's k-means: the words must be FAISS's own, bit for bit. Small blocks of FAISS's
+// products (its two block sizes are public settings) so that the descriptors and the words both
+// come in several blocks with a remainder; 37 words, five past the last eight; and a collection of
+// 30 distinct descriptors, so that some of the 37 first words coincide and their distances tie.
+TEST(Codebook, KMeansTakesTheWordsOfFaissOwnExactSearch) {
+    const int query_bs = faiss::distance_compute_blas_query_bs;
+    const int database_bs = faiss::distance_compute_blas_database_bs;
+    faiss::distance_compute_blas_query_bs = 300;
+    faiss::distance_compute_blas_database_bs = 16;
+    std::mt19937_64 rng(31);
+    const DescriptorMatrix clustered = random_descriptors(rng, 2000, 12);
+    const DescriptorMatrix patterns = random_descriptors(rng, 30).array().round().matrix();
+    DescriptorMatrix repeated(1500, kDescriptorSize);
+    for (int i = 0; i < repeated.rows(); ++i) repeated.row(i) = patterns.row(static_cast<int>(rng() % 30));
+    const DescriptorMatrix* const collections[] = {&clustered, &repeated};
+    for (const DescriptorMatrix* X : collections) {
+        CodebookOptions o;
+        o.words = 37;
+        o.seed = 8;
+        o.sample = 0;
+        const Codebook ours = Codebook::train(*X, o);
+        // FAISS with its own index, set up as the kmeans method documents it (codebook.h): the
+        // seed is the first draw of the method's stream when no sample is drawn.
+        faiss::ClusteringParameters cp;
+        cp.niter = o.kmeans_iterations;
+        cp.seed = static_cast<int>(std::mt19937_64(o.seed)() % 2147483647u);
+        cp.min_points_per_centroid = 1;
+        cp.max_points_per_centroid = std::numeric_limits<int>::max() / 2;
+        faiss::Clustering clustering(kDescriptorSize, o.words, cp);
+        faiss::IndexFlatL2 index(kDescriptorSize);
+        clustering.train(X->rows(), X->data(), index);
+        const Eigen::Map<const DescriptorMatrix> theirs(clustering.centroids.data(), o.words,
+                                                        kDescriptorSize);
+        EXPECT_TRUE(ours.words() == theirs) << (X == &clustered ? "clustered" : "repeated");
+    }
+    faiss::distance_compute_blas_query_bs = query_bs;
+    faiss::distance_compute_blas_database_bs = database_bs;
+}
+#endif
 
 TEST(Codebook, EveryMethodDeterministicAndKMeansBeatsRandom) {
     std::mt19937_64 rng(19);

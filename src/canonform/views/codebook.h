@@ -15,10 +15,11 @@
 // - Method::KMeans (default): FAISS's k-means (faiss::Clustering with an exact L2 index; Debian's
 //   libfaiss-dev): words initialised as distinct random sample points (FAISS's own seeded choice,
 //   not k-means++), kmeans_iterations Lloyd iterations whose nearest-word search is a BLAS sgemm,
-//   an empty cluster re-seeded by splitting a large one. Deterministic for a seed and a thread
-//   count. The BLAS it uses is whatever libblas.so.3 resolves to: with Debian's reference BLAS it
-//   is several times slower than with OpenBLAS (libopenblas0-pthread, installed by tools/setup.sh;
-//   docs/benchmarks.md).
+//   an empty cluster re-seeded by splitting a large one. The search is FAISS's exact one with the
+//   passes around its products done in one (codebook_training.cpp): the same words as with
+//   FAISS's own index. Deterministic for a seed and a thread count. The BLAS it uses is whatever
+//   libblas.so.3 resolves to: with Debian's reference BLAS it is several times slower than with
+//   OpenBLAS (libopenblas0-pthread, installed by tools/setup.sh; docs/benchmarks.md).
 // - Method::Lloyd: our own Lloyd's k-means, seeded by k-means++ (on a seeded subset of at most
 //   20 * words sample descriptors: k-means++ is sequential, one pass per word); results do not
 //   depend on the thread count. An empty cluster is re-seeded with the descriptor farthest from

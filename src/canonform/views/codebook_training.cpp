@@ -4,6 +4,16 @@
 #ifndef CANONFORM_WITHOUT_FAISS
 #include <faiss/Clustering.h>
 #include <faiss/IndexFlat.h>
+#include <faiss/utils/distances.h>
+
+#include <cstring>
+#include <memory>
+
+// BLAS's single-precision product (the Fortran interface FAISS itself calls; 32-bit integers, as
+// Debian's libblas.so.3 and OpenBLAS take them).
+extern "C" int sgemm_(const char* transa, const char* transb, const int* m, const int* n, const int* k,
+                      const float* alpha, const float* a, const int* lda, const float* b, const int* ldb,
+                      const float* beta, float* c, const int* ldc);
 #endif
 
 #include <algorithm>
@@ -125,6 +135,125 @@ DescriptorMatrix faiss_kmeans(const DescriptorMatrix&, int, int, std::uint64_t) 
         "plugins leave it out), so no 'kmeans' method; use 'lloyd' (our own k-means) or 'random'.");
 }
 #else
+// The nearest word of every training descriptor, for FAISS's k-means: the answer of FAISS's own
+// exact search (IndexFlatL2, one neighbour), with the work that surrounds its products done in
+// one pass on every core.
+//
+// FAISS (1.7.3, built for baseline x86-64 as Debian ships it) takes the inner products <x_i, c_j>
+// with BLAS's sgemm, in blocks of distance_compute_blas_query_bs descriptors by
+// distance_compute_blas_database_bs words; then, block by block, writes
+// dis = (|x_i|^2 + |c_j|^2) - 2 <x_i, c_j> back over the products (a negative value clamped to
+// 0), on all threads, and then scans them for the smallest on one thread, a value strictly
+// smaller replacing the one held (ties to the lower word): two more passes over memory, the
+// second on one core while the others wait (figures: docs/records/descriptor-speed.md).
+//
+// Here the same sgemm calls (the same blocks, the same arguments, so the same products), the
+// same norms (faiss::fvec_norms_L2sqr), the same distance expression and the same choice: the
+// smallest distance, ties to the lower word, a NaN never chosen. Eight words at a time, each lane
+// keeping its own smallest and the first word that reached it, then the lanes compared - which is
+// the sequential scan's answer whatever the order the lanes ran in. The products of a block of
+// descriptors sit in one buffer with every word of a descriptor side by side, and the distances
+// and their minimum are taken in one pass, the descriptors shared between the threads.
+class NearestWordIndex final : public faiss::IndexFlatL2 {
+public:
+    NearestWordIndex() : faiss::IndexFlatL2(kDescriptorSize) {}
+
+    void search(std::int64_t n, const float* x, std::int64_t k, float* distances, std::int64_t* labels,
+                const faiss::SearchParameters* params) const override {
+        if (k != 1 || params != nullptr || ntotal == 0 || n < faiss::distance_compute_blas_threshold) {
+            faiss::IndexFlatL2::search(n, x, k, distances, labels, params);
+            return;
+        }
+        const int d = kDescriptorSize, words = static_cast<int>(ntotal);
+        const float* c = get_xb();
+        std::vector<float> c_norms(static_cast<std::size_t>(words));
+        faiss::fvec_norms_L2sqr(c_norms.data(), c, d, static_cast<std::size_t>(words));
+        x_norms_.resize(static_cast<std::size_t>(n));
+        faiss::fvec_norms_L2sqr(x_norms_.data(), x, d, static_cast<std::size_t>(n));
+        const std::int64_t bs_x = faiss::distance_compute_blas_query_bs;
+        const int bs_y = faiss::distance_compute_blas_database_bs;
+        products_.resize(static_cast<std::size_t>(std::min<std::int64_t>(bs_x, n)) *
+                         static_cast<std::size_t>(words));
+        const float one = 1, zero = 0;
+        for (std::int64_t i0 = 0; i0 < n; i0 += bs_x) {
+            const std::int64_t i1 = std::min(n, i0 + bs_x);
+            const int nxi = static_cast<int>(i1 - i0);
+            for (int j0 = 0; j0 < words; j0 += bs_y) {
+                const int nyi = std::min(words, j0 + bs_y) - j0;
+                sgemm_("Transpose", "Not transpose", &nyi, &nxi, &d, &one,
+                       c + static_cast<std::size_t>(j0) * d, &d, x + static_cast<std::size_t>(i0) * d, &d,
+                       &zero, products_.data() + j0, &words);
+            }
+#pragma omp parallel for schedule(static)
+            for (std::int64_t i = i0; i < i1; ++i)
+                nearest(products_.data() + static_cast<std::size_t>(i - i0) * static_cast<std::size_t>(words),
+                        c_norms.data(), words, x_norms_[static_cast<std::size_t>(i)], distances[i],
+                        labels[i]);
+        }
+    }
+
+private:
+    using v4f = float __attribute__((vector_size(16)));
+    using v4i = std::int32_t __attribute__((vector_size(16)));
+
+    // One lane set: four words side by side, each lane keeping its smallest and the first word
+    // that reached it.
+    struct Lanes {
+        v4f best = v4f{} + HUGE_VALF;
+        v4i word = {};
+        void take(const float* ip, const float* cn, v4f xn, v4i at) {
+            v4f p, y;
+            std::memcpy(&p, ip, sizeof p);
+            std::memcpy(&y, cn, sizeof y);
+            v4f dis = (xn + y) - (v4f{} + 2.0f) * p;
+            dis = dis < v4f{} ? v4f{} : dis;
+            const v4i smaller = dis < best;
+            best = smaller ? dis : best;
+            word = smaller ? at : word;
+        }
+        void fold(float& b, std::int32_t& bj) const {
+            for (int l = 0; l < 4; ++l)
+                if (best[l] < b || (best[l] == b && word[l] < bj)) {
+                    b = best[l];
+                    bj = word[l];
+                }
+        }
+    };
+
+    // The smallest of dis_j = (xn + cn[j]) - 2 ip[j] (negative -> 0) over j < words, and its j
+    // (the lowest of equal ones); infinity and 0 if every one is NaN or infinite. Two lane sets,
+    // eight words a step: baseline x86-64 has four float lanes per register.
+    static void nearest(const float* ip, const float* cn, int words, float xn, float& best,
+                        std::int64_t& label) {
+        float b = HUGE_VALF;
+        std::int32_t bj = 0;
+        int j = 0;
+        if (words >= 8) {
+            const v4f vx = v4f{} + xn;
+            Lanes low, high;
+            v4i at = {0, 1, 2, 3};
+            for (; j + 8 <= words; j += 8, at += 8) {
+                low.take(ip + j, cn + j, vx, at);
+                high.take(ip + j + 4, cn + j + 4, vx, at + 4);
+            }
+            low.fold(b, bj);
+            high.fold(b, bj);
+        }
+        for (; j < words; ++j) {
+            float dis = (xn + cn[j]) - 2 * ip[j];
+            if (dis < 0) dis = 0;
+            if (dis < b) {
+                b = dis;
+                bj = j;
+            }
+        }
+        best = b;
+        label = bj;
+    }
+
+    mutable std::vector<float> x_norms_, products_;  // scratch of search(), kept between iterations
+};
+
 DescriptorMatrix faiss_kmeans(const DescriptorMatrix& X, int k, int iterations, std::uint64_t seed) {
     faiss::ClusteringParameters cp;
     cp.niter = iterations;
@@ -133,7 +262,7 @@ DescriptorMatrix faiss_kmeans(const DescriptorMatrix& X, int k, int iterations, 
     cp.min_points_per_centroid = 1;  // no warning for small inputs (n > k is guaranteed)
     cp.max_points_per_centroid = std::numeric_limits<int>::max() / 2;  // we sample ourselves
     faiss::Clustering clustering(kDescriptorSize, k, cp);
-    faiss::IndexFlatL2 index(kDescriptorSize);
+    NearestWordIndex index;
     // FAISS indices are int64_t: faiss::Index::idx_t up to 1.7.3 (bookworm), faiss::idx_t after.
     clustering.train(static_cast<std::int64_t>(X.rows()), X.data(), index);
     if (clustering.centroids.size() != static_cast<std::size_t>(k) * kDescriptorSize)
