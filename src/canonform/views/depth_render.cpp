@@ -2,6 +2,7 @@
 #include "canonform/views/depth_render.h"
 
 #include "canonform/common/cpu_clones.h"
+#include "canonform/common/vector4d.h"
 
 #include <Eigen/Dense>
 
@@ -101,6 +102,8 @@ struct Projected {
 };
 
 typedef double v2d __attribute__((vector_size(16)));
+typedef float v4f __attribute__((vector_size(16)));
+typedef int v4i __attribute__((vector_size(16)));
 typedef long long v2l __attribute__((vector_size(16)));
 typedef float v2f __attribute__((vector_size(8)));
 typedef int v2i __attribute__((vector_size(8)));
@@ -149,6 +152,36 @@ struct TriangleDepth {
             const v2f far = __builtin_convertvector(one - d, v2f);
             raise2(back + line + static_cast<size_t>(size - 2 - col), v2f{far[1], far[0]},
                    v2i{covered[1], covered[0]});
+        }
+    }
+
+    // pair(row, col, keep's first two lanes) and pair(row + 1, col, its last two) at once, in four
+    // lanes: each pixel's operations are pair()'s, in the same order. `row + 1 < size` and
+    // `col + 1 < size`.
+    void quad(int row, int col, v4l keep) const {
+        const double y0 = row, y1 = row + 1;
+        const v4d px = v4d{double(col), double(col + 1), double(col), double(col + 1)}, zero = v4d{} + 0.0,
+                  one = v4d{} + 1.0;
+        const double a0 = ea.row(y0), a1 = ea.row(y1), b0 = eb.row(y0), b1 = eb.row(y1), c0 = ec.row(y0),
+                     c1 = ec.row(y1);
+        const v4d wa = ea.at(v4d{a0, a0, a1, a1}, px), wb = eb.at(v4d{b0, b0, b1, b1}, px),
+                  wc = ec.at(v4d{c0, c0, c1, c1}, px);
+        const v4d s4 = v4d{} + sgn;
+        const v4l outside = (s4 * wa < zero) | (s4 * wb < zero) | (s4 * wc < zero);
+        v4d d = (wa * za + wb * zb + wc * zc) * inv_area;
+        d = zero < d ? d : zero;  // std::max(0.0, d)
+        d = d < one ? d : one;    // std::min(1.0, d)
+        const v4i covered = __builtin_convertvector(~outside & keep, v4i);
+        const v4f near = __builtin_convertvector(d, v4f);
+        const size_t line = static_cast<size_t>(row) * static_cast<size_t>(size);
+        const size_t next = line + static_cast<size_t>(size);
+        raise2(front + line + static_cast<size_t>(col), v2f{near[0], near[1]}, v2i{covered[0], covered[1]});
+        raise2(front + next + static_cast<size_t>(col), v2f{near[2], near[3]}, v2i{covered[2], covered[3]});
+        if (back) {
+            const v4f far = __builtin_convertvector(one - d, v4f);
+            const size_t mirrored = static_cast<size_t>(size - 2 - col);
+            raise2(back + line + mirrored, v2f{far[1], far[0]}, v2i{covered[1], covered[0]});
+            raise2(back + next + mirrored, v2f{far[3], far[2]}, v2i{covered[3], covered[2]});
         }
     }
 };
@@ -211,9 +244,8 @@ CANONFORM_CLONES void rasterize(const Eigen::MatrixXd& V, const Eigen::MatrixXi&
         if (c1 - c0 < 2 && r1 - r0 < 2 && c0 < lim && r0 < lim) {
             // A box of at most 2 x 2 pixels (most faces of a fine mesh): two rows of two, masked,
             // with no branch.
-            const v2l in_box = v2l{-1, c1 > c0 ? -1 : 0};
-            t.pair(r0, c0, in_box);
-            t.pair(r0 + 1, c0, r1 > r0 ? in_box : v2l{0, 0});
+            const std::int64_t wide = c1 > c0 ? -1 : 0, tall = r1 > r0 ? -1 : 0;
+            t.quad(r0, c0, v4l{-1, wide, tall, tall & wide});
             continue;
         }
         // Wider boxes: pairs along each row; a box one column wide at the image's last column is
