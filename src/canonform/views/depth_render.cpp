@@ -219,22 +219,23 @@ CANONFORM_CLONES void rasterize(const Eigen::MatrixXd& V, const Eigen::MatrixXi&
     }
 
     const int lim = size - 1;
-    for (Eigen::Index f = 0; f < F.rows(); ++f) {
+    // One face, as below for four at once; and every face whose box is wider than 2 x 2 pixels.
+    const auto one_face = [&](Eigen::Index f) {
         const Projected& pa = pv[F(f, 0)];
         const Projected& pb = pv[F(f, 1)];
         const Projected& pc = pv[F(f, 2)];
         // The pixel centres the triangle's box holds (a face of a fine mesh holds a few at most).
         const int c0 = std::max(0, std::min({pa.cx, pb.cx, pc.cx}));
         const int c1 = std::min(lim, std::max({pa.fx, pb.fx, pc.fx}));
-        if (c0 > c1) continue;
+        if (c0 > c1) return;
         const int r0 = std::max(0, std::min({pa.cy, pb.cy, pc.cy}));
         const int r1 = std::min(lim, std::max({pa.fy, pb.fy, pc.fy}));
-        if (r0 > r1) continue;
+        if (r0 > r1) return;
         const P2& a = pa.q;
         const P2& b = pb.q;
         const P2& c = pc.q;
         const double area2 = (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
-        if (!(std::abs(area2) > 1e-12)) continue;
+        if (!(std::abs(area2) > 1e-12)) return;
         // Orientation-independent: scale the edge functions by the sign of the area.
         const double sgn = area2 > 0 ? 1.0 : -1.0;
         const double inv_area = 1.0 / area2;
@@ -246,7 +247,7 @@ CANONFORM_CLONES void rasterize(const Eigen::MatrixXd& V, const Eigen::MatrixXi&
             // with no branch.
             const std::int64_t wide = c1 > c0 ? -1 : 0, tall = r1 > r0 ? -1 : 0;
             t.quad(r0, c0, v4l{-1, wide, tall, tall & wide});
-            continue;
+            return;
         }
         // Wider boxes: pairs along each row; a box one column wide at the image's last column is
         // the second lane of the pair before it, and an odd box's last pair overlaps the one
@@ -256,7 +257,103 @@ CANONFORM_CLONES void rasterize(const Eigen::MatrixXd& V, const Eigen::MatrixXi&
         const v2l keep = !one_column ? v2l{-1, -1} : c_last == c0 ? v2l{-1, 0} : v2l{0, -1};
         for (int row = r0; row <= r1; ++row)
             for (int col = c0; col <= c1; col += 2) t.pair(row, std::min(col, c_last), keep);
+    };
+
+    // Four faces at once, one per lane: the box, the area and the edge functions of each, then
+    // the four pixels of its box (at most 2 x 2; faces with wider boxes go to one_face()). Every
+    // lane's operations are one_face()'s, in the same order; a pixel takes the largest depth of
+    // the faces that cover it, whatever the order of the faces, so the image is the same bits.
+    const Eigen::Index nf = F.rows();
+    const int* const fa = F.data();
+    const int* const fb = fa + nf;
+    const int* const fc = fb + nf;
+    float spare[4] = {0, 0, 0, 0};  // where a lane without pixels reads and writes its nothing
+    Eigen::Index f = 0;
+    for (; f + 4 <= nf; f += 4) {
+        const Projected* A[4] = {pv + fa[f], pv + fa[f + 1], pv + fa[f + 2], pv + fa[f + 3]};
+        const Projected* B[4] = {pv + fb[f], pv + fb[f + 1], pv + fb[f + 2], pv + fb[f + 3]};
+        const Projected* C4[4] = {pv + fc[f], pv + fc[f + 1], pv + fc[f + 2], pv + fc[f + 3]};
+#define CANONFORM_LANES(P, field) \
+    { P[0]->field, P[1]->field, P[2]->field, P[3]->field }
+        const v4i acx = CANONFORM_LANES(A, cx), bcx = CANONFORM_LANES(B, cx), ccx = CANONFORM_LANES(C4, cx);
+        const v4i afx = CANONFORM_LANES(A, fx), bfx = CANONFORM_LANES(B, fx), cfx = CANONFORM_LANES(C4, fx);
+        const v4i acy = CANONFORM_LANES(A, cy), bcy = CANONFORM_LANES(B, cy), ccy = CANONFORM_LANES(C4, cy);
+        const v4i afy = CANONFORM_LANES(A, fy), bfy = CANONFORM_LANES(B, fy), cfy = CANONFORM_LANES(C4, fy);
+        const auto vmin = [](v4i x, v4i y) { return x < y ? x : y; };
+        const auto vmax = [](v4i x, v4i y) { return x < y ? y : x; };
+        const v4i zero_i = {0, 0, 0, 0}, lim_i = zero_i + lim;
+        const v4i c0 = vmax(zero_i, vmin(vmin(acx, bcx), ccx)), c1 = vmin(lim_i, vmax(vmax(afx, bfx), cfx));
+        const v4i r0 = vmax(zero_i, vmin(vmin(acy, bcy), ccy)), r1 = vmin(lim_i, vmax(vmax(afy, bfy), cfy));
+        const v4i in_image = (c0 <= c1) & (r0 <= r1);
+        if (!(in_image[0] | in_image[1] | in_image[2] | in_image[3])) continue;
+        const v4d ax = CANONFORM_LANES(A, q.x), ay = CANONFORM_LANES(A, q.y), az = CANONFORM_LANES(A, z);
+        const v4d bx = CANONFORM_LANES(B, q.x), by = CANONFORM_LANES(B, q.y), bz = CANONFORM_LANES(B, z);
+        const v4d cx = CANONFORM_LANES(C4, q.x), cy = CANONFORM_LANES(C4, q.y), cz = CANONFORM_LANES(C4, z);
+#undef CANONFORM_LANES
+        const v4d zero = v4d{} + 0.0, one = v4d{} + 1.0;
+        const v4d area2 = (bx - ax) * (cy - ay) - (by - ay) * (cx - ax);
+        const v4d magnitude = area2 < zero ? -area2 : area2;
+        const v4i drawn = in_image & __builtin_convertvector(magnitude > v4d{} + 1e-12, v4i);
+        const v4i small = drawn & (c1 - c0 < 2) & (r1 - r0 < 2) & (c0 < lim_i) & (r0 < lim_i);
+        for (int l = 0; l < 4; ++l)
+            if (drawn[l] & ~small[l]) one_face(f + l);
+        if (!(small[0] | small[1] | small[2] | small[3])) continue;
+        const v4d sgn = area2 > zero ? one : -one;
+        const v4d inv_area = one / area2;
+        // EdgeFn of (p, q) in every lane.
+        struct Edge {
+            v4d sx, sy, dx, dy, negate;
+        };
+        const auto edge = [&](v4d px, v4d py, v4d qx, v4d qy) {
+            const v4l swap = (qx < px) | ((qx == px) & (qy < py));
+            Edge e;
+            e.sx = swap ? qx : px;
+            e.sy = swap ? qy : py;
+            e.dx = (swap ? px : qx) - e.sx;
+            e.dy = (swap ? py : qy) - e.sy;
+            e.negate = swap ? -one : one;
+            return e;
+        };
+        const Edge ea = edge(bx, by, cx, cy), eb = edge(cx, cy, ax, ay), ec = edge(ax, ay, bx, by);
+        const v4d y0 = __builtin_convertvector(r0, v4d), y1 = __builtin_convertvector(r0 + 1, v4d);
+        const v4d x0 = __builtin_convertvector(c0, v4d), x1 = __builtin_convertvector(c0 + 1, v4d);
+        const v4d ta0 = ea.dx * (y0 - ea.sy), ta1 = ea.dx * (y1 - ea.sy);
+        const v4d tb0 = eb.dx * (y0 - eb.sy), tb1 = eb.dx * (y1 - eb.sy);
+        const v4d tc0 = ec.dx * (y0 - ec.sy), tc1 = ec.dx * (y1 - ec.sy);
+        // The depth at one pixel of every lane's box, and whether the face covers it.
+        const auto at = [&](v4d ta, v4d tb, v4d tc, v4d px, v4i keep, v4f& near, v4f& far, v4i& covered) {
+            const v4d wa = ea.negate * (ta - ea.dy * (px - ea.sx));
+            const v4d wb = eb.negate * (tb - eb.dy * (px - eb.sx));
+            const v4d wc = ec.negate * (tc - ec.dy * (px - ec.sx));
+            const v4l outside = (sgn * wa < zero) | (sgn * wb < zero) | (sgn * wc < zero);
+            v4d d = (wa * az + wb * bz + wc * cz) * inv_area;
+            d = zero < d ? d : zero;  // std::max(0.0, d)
+            d = d < one ? d : one;    // std::min(1.0, d)
+            covered = ~__builtin_convertvector(outside, v4i) & keep & small;
+            near = __builtin_convertvector(d, v4f);
+            far = __builtin_convertvector(one - d, v4f);
+        };
+        const v4i all = zero_i - 1, wide = c1 > c0, tall = r1 > r0;
+        v4f n00, n01, n10, n11, f00, f01, f10, f11;
+        v4i k00, k01, k10, k11;
+        at(ta0, tb0, tc0, x0, all, n00, f00, k00);
+        at(ta0, tb0, tc0, x1, wide, n01, f01, k01);
+        at(ta1, tb1, tc1, x0, tall, n10, f10, k10);
+        at(ta1, tb1, tc1, x1, tall & wide, n11, f11, k11);
+        for (int l = 0; l < 4; ++l) {
+            const bool mine = small[l] != 0;
+            const size_t line = static_cast<size_t>(r0[l]) * static_cast<size_t>(size);
+            const size_t next = line + static_cast<size_t>(size);
+            const size_t col = static_cast<size_t>(c0[l]), mirrored = static_cast<size_t>(size - 2 - c0[l]);
+            raise2(mine ? front + line + col : spare, v2f{n00[l], n01[l]}, v2i{k00[l], k01[l]});
+            raise2(mine ? front + next + col : spare, v2f{n10[l], n11[l]}, v2i{k10[l], k11[l]});
+            if (back) {
+                raise2(mine ? back + line + mirrored : spare, v2f{f01[l], f00[l]}, v2i{k01[l], k00[l]});
+                raise2(mine ? back + next + mirrored : spare, v2f{f11[l], f10[l]}, v2i{k11[l], k10[l]});
+            }
+        }
     }
+    for (; f < nf; ++f) one_face(f);
 }
 
 }  // namespace
