@@ -72,6 +72,37 @@ double portable_exp(double x) {
     return p * power_of_two(n);
 }
 
+namespace {
+
+// portable_exp of four values, one per lane, into out; false (nothing written) if one of them
+// needs the scalar's special cases (NaN, beyond the range, a scale 2^n outside [-1021, 1023]).
+bool exp_four(const double* xp, double* out) {
+    const v4d x = load4d(xp);
+    const v4l in_range = (x <= 709.79) & (x >= -745.2);  // false for NaN
+    if (!(in_range[0] & in_range[1] & in_range[2] & in_range[3])) return false;
+    constexpr double kLn2Hi = 6.93147180369123816490e-01, kLn2Lo = 1.90821492927058770002e-10;
+    const v4d t = x / kLn2 + 0.5;
+    const v4d n = {std::floor(t[0]), std::floor(t[1]), std::floor(t[2]), std::floor(t[3])};
+    const v4l normal = (n <= 1023.0) & (n >= -1021.0);
+    if (!(normal[0] & normal[1] & normal[2] & normal[3])) return false;
+    const v4d r = (x - n * kLn2Hi) - n * kLn2Lo;
+    v4d p = v4d{} + kInverseFactorial[13];
+    for (int k = 12; k >= 0; --k) p = p * r + kInverseFactorial[static_cast<size_t>(k)];
+    const v4d scale = {power_of_two(n[0]), power_of_two(n[1]), power_of_two(n[2]), power_of_two(n[3])};
+    store4d(out, p * scale);
+    return true;
+}
+
+}  // namespace
+
+CANONFORM_CLONES void portable_exp(const double* x, double* out, std::size_t count) {
+    std::size_t k = 0;
+    for (; k + 4 <= count; k += 4)
+        if (!exp_four(x + k, out + k))
+            for (std::size_t u = k; u < k + 4; ++u) out[u] = portable_exp(x[u]);
+    for (; k < count; ++k) out[k] = portable_exp(x[k]);
+}
+
 double portable_exp2(double x) {
     return portable_exp(x * kLn2);
 }

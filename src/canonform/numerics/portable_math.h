@@ -67,6 +67,9 @@ namespace canonform::numerics {
 
 /// e^x, the same bits on every CPU (see above for the accuracy).
 double portable_exp(double x);
+/// portable_exp(x[k]) into out[k] for k < count, the same bits, four at a time in vector
+/// instructions (one lane per value, each lane the scalar's operations).
+void portable_exp(const double* x, double* out, std::size_t count);
 
 /// 2^x, the same bits on every CPU.
 double portable_exp2(double x);

@@ -55,10 +55,19 @@ void describe_window(const Plane& L, const Candidate& k, WindowScratch& scratch)
 
 void sampled_weights(int lo, int centre, float frac, size_t first, size_t count, size_t step, double inv,
                      float* w, float* d2) {
-    for (size_t i = first; i < count; i += step) {
-        const double d = double(lo + static_cast<int>(i) - centre) - double(frac);
-        w[i] = static_cast<float>(numerics::portable_exp(d * d * inv));
-        if (d2) d2[i] = static_cast<float>(d * d);
+    // The exponentials in batches (numerics::portable_exp's vector lanes), the same bits.
+    constexpr size_t kBatch = 64;
+    double arg[kBatch], value[kBatch];
+    for (size_t i = first; i < count;) {
+        const size_t start = i;
+        size_t m = 0;
+        for (; i < count && m < kBatch; i += step, ++m) {
+            const double d = double(lo + static_cast<int>(i) - centre) - double(frac);
+            arg[m] = d * d * inv;
+            if (d2) d2[i] = static_cast<float>(d * d);
+        }
+        numerics::portable_exp(arg, value, m);
+        for (size_t k = 0, j = start; k < m; ++k, j += step) w[j] = static_cast<float>(value[k]);
     }
 }
 
