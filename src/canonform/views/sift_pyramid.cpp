@@ -41,6 +41,14 @@ float* Workspace::plane(int bank, int slot, size_t n) {
     return p[static_cast<size_t>(slot)].get();
 }
 
+const Kernel& Workspace::kernel(double sigma) {
+    for (const auto& [s, k] : kernels)
+        if (s == sigma) return k;
+    if (kernels.size() >= 64) kernels.clear();  // settings changed many times in this thread
+    kernels.emplace_back(sigma, gaussian_kernel(sigma));
+    return kernels.back().second;
+}
+
 float* Workspace::temp_for(size_t n) {
     if (n > temp_size) {
         temp.reset(new float[n]);
@@ -260,7 +268,7 @@ void gaussian_octave(int o, const Rect& obj, const Plane& source, double input_b
     if (o == 0) {
         // The input (0 outside it) blurred from input_blur to sigma0.
         const double s = st.sigma0;
-        blur(source, first, gaussian_kernel(std::sqrt(s * s - input_blur * input_blur)), ws);
+        blur(source, first, ws.kernel(std::sqrt(s * s - input_blur * input_blur)), ws);
     } else {
         // Every second pixel of every second row of the previous octave's image j = layers.
         for (int y = first.support.y0; y < first.support.y1; ++y) {
@@ -275,8 +283,8 @@ void gaussian_octave(int o, const Rect& obj, const Plane& source, double input_b
     }
     for (int i = 1; i < count; ++i) {
         const double a = layer_sigma(st, i - 1), b = layer_sigma(st, i);
-        blur(g[static_cast<size_t>(i - 1)], g[static_cast<size_t>(i)],
-             gaussian_kernel(std::sqrt(b * b - a * a)), ws);
+        blur(g[static_cast<size_t>(i - 1)], g[static_cast<size_t>(i)], ws.kernel(std::sqrt(b * b - a * a)),
+             ws);
     }
 }
 

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cstddef>
 #include <memory>
+#include <utility>
 #include <vector>
 
 namespace canonform::views {
@@ -61,6 +62,10 @@ struct Workspace {
     float* temp_for(size_t n);
     std::vector<float> shifted;     // the view on the doubled image's grid (the extractor's octave 0 input)
     std::vector<float> shift_rows;  // a view row and two interpolated rows, for `shifted`
+    // gaussian_kernel(sigma), made once per sigma: every octave of every view blurs with the same
+    // few (a linear search by the exact value; a handful of entries).
+    std::vector<std::pair<double, Kernel>> kernels;
+    const Kernel& kernel(double sigma);
 };
 
 // This thread's workspace.
