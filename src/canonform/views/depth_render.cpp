@@ -155,6 +155,34 @@ struct TriangleDepth {
         }
     }
 
+    // pair(row, col, keep's first two lanes) and pair(row, col + 2, its last two) at once, in four
+    // lanes; `col + 3 < size`.
+    void row4(int row, int col) const {
+        const double py = row;
+        const v4d px = v4d{double(col), double(col + 1), double(col + 2), double(col + 3)},
+                  zero = v4d{} + 0.0, one = v4d{} + 1.0;
+        const v4d wa = ea.at(v4d{} + ea.row(py), px), wb = eb.at(v4d{} + eb.row(py), px),
+                  wc = ec.at(v4d{} + ec.row(py), px);
+        const v4d s4 = v4d{} + sgn;
+        const v4l outside = (s4 * wa < zero) | (s4 * wb < zero) | (s4 * wc < zero);
+        v4d d = (wa * za + wb * zb + wc * zc) * inv_area;
+        d = zero < d ? d : zero;  // std::max(0.0, d)
+        d = d < one ? d : one;    // std::min(1.0, d)
+        const v4i covered = ~__builtin_convertvector(outside, v4i);
+        const v4f near = __builtin_convertvector(d, v4f);
+        const size_t line = static_cast<size_t>(row) * static_cast<size_t>(size);
+        raise2(front + line + static_cast<size_t>(col), v2f{near[0], near[1]}, v2i{covered[0], covered[1]});
+        raise2(front + line + static_cast<size_t>(col + 2), v2f{near[2], near[3]},
+               v2i{covered[2], covered[3]});
+        if (back) {
+            const v4f far = __builtin_convertvector(one - d, v4f);
+            raise2(back + line + static_cast<size_t>(size - 2 - col), v2f{far[1], far[0]},
+                   v2i{covered[1], covered[0]});
+            raise2(back + line + static_cast<size_t>(size - 4 - col), v2f{far[3], far[2]},
+                   v2i{covered[3], covered[2]});
+        }
+    }
+
     // pair(row, col, keep's first two lanes) and pair(row + 1, col, its last two) at once, in four
     // lanes: each pixel's operations are pair()'s, in the same order. `row + 1 < size` and
     // `col + 1 < size`.
@@ -219,55 +247,21 @@ CANONFORM_CLONES void rasterize(const Eigen::MatrixXd& V, const Eigen::MatrixXi&
     }
 
     const int lim = size - 1;
-    // One face, as below for four at once; and every face whose box is wider than 2 x 2 pixels.
-    const auto one_face = [&](Eigen::Index f) {
-        const Projected& pa = pv[F(f, 0)];
-        const Projected& pb = pv[F(f, 1)];
-        const Projected& pc = pv[F(f, 2)];
-        // The pixel centres the triangle's box holds (a face of a fine mesh holds a few at most).
-        const int c0 = std::max(0, std::min({pa.cx, pb.cx, pc.cx}));
-        const int c1 = std::min(lim, std::max({pa.fx, pb.fx, pc.fx}));
-        if (c0 > c1) return;
-        const int r0 = std::max(0, std::min({pa.cy, pb.cy, pc.cy}));
-        const int r1 = std::min(lim, std::max({pa.fy, pb.fy, pc.fy}));
-        if (r0 > r1) return;
-        const P2& a = pa.q;
-        const P2& b = pb.q;
-        const P2& c = pc.q;
-        const double area2 = (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
-        if (!(std::abs(area2) > 1e-12)) return;
-        // Orientation-independent: scale the edge functions by the sign of the area.
-        const double sgn = area2 > 0 ? 1.0 : -1.0;
-        const double inv_area = 1.0 / area2;
-        const double za = pa.z, zb = pb.z, zc = pc.z;
-        const EdgeFn ea(b, c), eb(c, a), ec(a, b);
-        const TriangleDepth t{ea, eb, ec, sgn, za, zb, zc, inv_area, size, front, back};
-        if (c1 - c0 < 2 && r1 - r0 < 2 && c0 < lim && r0 < lim) {
-            // A box of at most 2 x 2 pixels (most faces of a fine mesh): two rows of two, masked,
-            // with no branch.
-            const std::int64_t wide = c1 > c0 ? -1 : 0, tall = r1 > r0 ? -1 : 0;
-            t.quad(r0, c0, v4l{-1, wide, tall, tall & wide});
-            return;
-        }
-        // Wider boxes: pairs along each row; a box one column wide at the image's last column is
-        // the second lane of the pair before it, and an odd box's last pair overlaps the one
-        // before it (both lanes in the box).
-        const bool one_column = c0 == c1;
-        const int c_last = one_column ? std::min(c0, lim - 1) : c1 - 1;
-        const v2l keep = !one_column ? v2l{-1, -1} : c_last == c0 ? v2l{-1, 0} : v2l{0, -1};
-        for (int row = r0; row <= r1; ++row)
-            for (int col = c0; col <= c1; col += 2) t.pair(row, std::min(col, c_last), keep);
-    };
 
     // Four faces at once, one per lane: the box, the area and the edge functions of each, then
-    // the four pixels of its box (at most 2 x 2; faces with wider boxes go to one_face()). Every
-    // lane's operations are one_face()'s, in the same order; a pixel takes the largest depth of
-    // the faces that cover it, whatever the order of the faces, so the image is the same bits.
+    // the four pixels of its box (at most 2 x 2; faces with wider boxes wait for the one-face loop
+    // below). Every lane's operations are that loop's, in the same order; a pixel takes the
+    // largest depth of the faces that cover it, whatever the order of the faces, so the image is
+    // the same bits.
     const Eigen::Index nf = F.rows();
     const int* const fa = F.data();
     const int* const fb = fa + nf;
     const int* const fc = fb + nf;
     float spare[4] = {0, 0, 0, 0};  // where a lane without pixels reads and writes its nothing
+    // Faces with wider boxes and the last few, for the loop after this one (in this function's
+    // body, so that they too run in its AVX2 clone: a lambda would be built for baseline x86-64).
+    thread_local std::vector<Eigen::Index> later;
+    later.clear();
     Eigen::Index f = 0;
     for (; f + 4 <= nf; f += 4) {
         const Projected* A[4] = {pv + fa[f], pv + fa[f + 1], pv + fa[f + 2], pv + fa[f + 3]};
@@ -296,7 +290,7 @@ CANONFORM_CLONES void rasterize(const Eigen::MatrixXd& V, const Eigen::MatrixXi&
         const v4i drawn = in_image & __builtin_convertvector(magnitude > v4d{} + 1e-12, v4i);
         const v4i small = drawn & (c1 - c0 < 2) & (r1 - r0 < 2) & (c0 < lim_i) & (r0 < lim_i);
         for (int l = 0; l < 4; ++l)
-            if (drawn[l] & ~small[l]) one_face(f + l);
+            if (drawn[l] & ~small[l]) later.push_back(f + l);
         if (!(small[0] | small[1] | small[2] | small[3])) continue;
         const v4d sgn = area2 > zero ? one : -one;
         const v4d inv_area = one / area2;
@@ -304,7 +298,7 @@ CANONFORM_CLONES void rasterize(const Eigen::MatrixXd& V, const Eigen::MatrixXi&
         struct Edge {
             v4d sx, sy, dx, dy, negate;
         };
-        const auto edge = [&](v4d px, v4d py, v4d qx, v4d qy) {
+        const auto edge = [&](v4d px, v4d py, v4d qx, v4d qy) {  // (inlined: it takes vectors)
             const v4l swap = (qx < px) | ((qx == px) & (qy < py));
             Edge e;
             e.sx = swap ? qx : px;
@@ -353,7 +347,53 @@ CANONFORM_CLONES void rasterize(const Eigen::MatrixXd& V, const Eigen::MatrixXi&
             }
         }
     }
-    for (; f < nf; ++f) one_face(f);
+    for (; f < nf; ++f) later.push_back(f);
+    // One face at a time.
+    for (const Eigen::Index face : later) {
+        const Projected& pa = pv[F(face, 0)];
+        const Projected& pb = pv[F(face, 1)];
+        const Projected& pc = pv[F(face, 2)];
+        // The pixel centres the triangle's box holds (a face of a fine mesh holds a few at most).
+        const int c0 = std::max(0, std::min({pa.cx, pb.cx, pc.cx}));
+        const int c1 = std::min(lim, std::max({pa.fx, pb.fx, pc.fx}));
+        if (c0 > c1) continue;
+        const int r0 = std::max(0, std::min({pa.cy, pb.cy, pc.cy}));
+        const int r1 = std::min(lim, std::max({pa.fy, pb.fy, pc.fy}));
+        if (r0 > r1) continue;
+        const P2& a = pa.q;
+        const P2& b = pb.q;
+        const P2& c = pc.q;
+        const double area2 = (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
+        if (!(std::abs(area2) > 1e-12)) continue;
+        // Orientation-independent: scale the edge functions by the sign of the area.
+        const double sgn = area2 > 0 ? 1.0 : -1.0;
+        const double inv_area = 1.0 / area2;
+        const double za = pa.z, zb = pb.z, zc = pc.z;
+        const EdgeFn ea(b, c), eb(c, a), ec(a, b);
+        const TriangleDepth t{ea, eb, ec, sgn, za, zb, zc, inv_area, size, front, back};
+        if (c1 - c0 < 2 && r1 - r0 < 2 && c0 < lim && r0 < lim) {
+            // A box of at most 2 x 2 pixels (most faces of a fine mesh): two rows of two, masked,
+            // with no branch.
+            const std::int64_t wide = c1 > c0 ? -1 : 0, tall = r1 > r0 ? -1 : 0;
+            t.quad(r0, c0, v4l{-1, wide, tall, tall & wide});
+            continue;
+        }
+        // Boxes of at least four columns: four pixels at a time along each row, the last four of a
+        // row overlapping the ones before (a pixel raised twice to its own depth is unchanged).
+        if (c1 - c0 >= 3) {
+            for (int row = r0; row <= r1; ++row)
+                for (int col = c0; col <= c1; col += 4) t.row4(row, std::min(col, c1 - 3));
+            continue;
+        }
+        // Wider boxes: pairs along each row; a box one column wide at the image's last column is
+        // the second lane of the pair before it, and an odd box's last pair overlaps the one
+        // before it (both lanes in the box).
+        const bool one_column = c0 == c1;
+        const int c_last = one_column ? std::min(c0, lim - 1) : c1 - 1;
+        const v2l keep = !one_column ? v2l{-1, -1} : c_last == c0 ? v2l{-1, 0} : v2l{0, -1};
+        for (int row = r0; row <= r1; ++row)
+            for (int col = c0; col <= c1; col += 2) t.pair(row, std::min(col, c_last), keep);
+    }
 }
 
 }  // namespace
