@@ -387,27 +387,35 @@ TEST(Codebook, KMeansDeterministicAndBetterThanRandom) {
 
 #ifndef CANONFORM_WITHOUT_FAISS
 // The kmeans method's nearest-word search (codebook_training.cpp) stands in for FAISS's exact index
-// inside FAISS's k-means: the words must be FAISS's own, bit for bit. Small blocks of FAISS's
-// products (its two block sizes are public settings) so that the descriptors and the words both
-// come in several blocks with a remainder; 37 words, five past the last eight; and a collection of
-// 30 distinct descriptors, so that some of the 37 first words coincide and their distances tie.
+// inside FAISS's k-means: the words must be FAISS's own, bit for bit. Once with small blocks of
+// FAISS's products (its two block sizes are public settings) so that the descriptors and the words
+// both come in several blocks with a remainder, on 37 words (five past the last eight) and on a
+// collection of 30 distinct descriptors, so that some of the 37 first words coincide and their
+// distances tie; once with blocks of 2,048 descriptors, which the search takes in two chunks of
+// 1,024, and 2,500 descriptors (the last block, 452, whole).
 TEST(Codebook, KMeansTakesTheWordsOfFaissOwnExactSearch) {
     const int query_bs = faiss::distance_compute_blas_query_bs;
     const int database_bs = faiss::distance_compute_blas_database_bs;
-    faiss::distance_compute_blas_query_bs = 300;
-    faiss::distance_compute_blas_database_bs = 16;
     std::mt19937_64 rng(31);
     const DescriptorMatrix clustered = random_descriptors(rng, 2000, 12);
     const DescriptorMatrix patterns = random_descriptors(rng, 30).array().round().matrix();
     DescriptorMatrix repeated(1500, kDescriptorSize);
     for (int i = 0; i < repeated.rows(); ++i) repeated.row(i) = patterns.row(static_cast<int>(rng() % 30));
-    const DescriptorMatrix* const collections[] = {&clustered, &repeated};
-    for (const DescriptorMatrix* X : collections) {
+    const DescriptorMatrix many = random_descriptors(rng, 2500, 40);
+    struct Case {
+        const DescriptorMatrix* X;
+        int query_bs, database_bs;
+        const char* name;
+    };
+    for (const Case& t : {Case{&clustered, 300, 16, "clustered"}, Case{&repeated, 300, 16, "repeated"},
+                          Case{&many, 2048, database_bs, "chunks"}}) {
+        faiss::distance_compute_blas_query_bs = t.query_bs;
+        faiss::distance_compute_blas_database_bs = t.database_bs;
         CodebookOptions o;
         o.words = 37;
         o.seed = 8;
         o.sample = 0;
-        const Codebook ours = Codebook::train(*X, o);
+        const Codebook ours = Codebook::train(*t.X, o);
         // FAISS with its own index, set up as the kmeans method documents it (codebook.h): the
         // seed is the first draw of the method's stream when no sample is drawn.
         faiss::ClusteringParameters cp;
@@ -417,10 +425,10 @@ TEST(Codebook, KMeansTakesTheWordsOfFaissOwnExactSearch) {
         cp.max_points_per_centroid = std::numeric_limits<int>::max() / 2;
         faiss::Clustering clustering(kDescriptorSize, o.words, cp);
         faiss::IndexFlatL2 index(kDescriptorSize);
-        clustering.train(X->rows(), X->data(), index);
+        clustering.train(t.X->rows(), t.X->data(), index);
         const Eigen::Map<const DescriptorMatrix> theirs(clustering.centroids.data(), o.words,
                                                         kDescriptorSize);
-        EXPECT_TRUE(ours.words() == theirs) << (X == &clustered ? "clustered" : "repeated");
+        EXPECT_TRUE(ours.words() == theirs) << t.name;
     }
     faiss::distance_compute_blas_query_bs = query_bs;
     faiss::distance_compute_blas_database_bs = database_bs;
