@@ -7,7 +7,6 @@
 #include <faiss/utils/distances.h>
 
 #include <cstring>
-#include <memory>
 
 // BLAS's single-precision product (the Fortran interface FAISS itself calls; 32-bit integers, as
 // Debian's libblas.so.3 and OpenBLAS take them).
@@ -147,20 +146,21 @@ DescriptorMatrix faiss_kmeans(const DescriptorMatrix&, int, int, std::uint64_t) 
 // smaller replacing the one held (ties to the lower word): two more passes over memory, the
 // second on one core while the others wait (figures: docs/records/descriptor-speed.md).
 //
-// Here the same sgemm calls (the same blocks, the same arguments, so the same products), the
+// Here the same products (BLAS's sgemm, the same arguments but for the one departure below), the
 // same norms (faiss::fvec_norms_L2sqr), the same distance expression and the same choice: the
 // smallest distance, ties to the lower word, a NaN never chosen. Eight words at a time, each lane
 // keeping its own smallest and the first word that reached it, then the lanes compared - which is
 // the sequential scan's answer whatever the order the lanes ran in. The products of a block of
 // descriptors sit in one buffer with every word of a descriptor side by side, and the distances
 // and their minimum are taken in one pass, the descriptors shared between the threads.
-// One departure in the calls: a block of FAISS's (4096 descriptors by default) is taken in chunks
-// of kChunk descriptors, the last chunk taking the rest (kChunk to 2 kChunk - 1), so that the
-// products of a chunk stay in the cache (FAISS's 4096 x 1500 floats, 24 MB, did not: BLAS's
-// zeroing of them before the product was a tenth of the k-means). A product <x_i, c_j> is the
+// The departure: a block of FAISS's (4096 descriptors by default) is taken in chunks of kChunk
+// descriptors, the last chunk taking the rest (kChunk to 2 kChunk - 1; a block of fewer than
+// 2 kChunk is one call, FAISS's own), so that the products of a chunk stay in the cache
+// (FAISS's 4096 x 1500 floats, 24 MB, did not: BLAS zeroes them before the product, and the pass
+// above read them back from memory). A product <x_i, c_j> is the
 // same whatever the number of descriptors in the call: BLAS sums each over the 128 values in one
 // kernel whose order does not depend on the matrices' other sizes (OpenBLAS; the reference BLAS
-// loops), and a call of at least kChunk descriptors never takes OpenBLAS's small-matrix path.
+// loops), and a call of kChunk descriptors or more never takes OpenBLAS's small-matrix kernels.
 class NearestWordIndex final : public faiss::IndexFlatL2 {
 public:
     NearestWordIndex() : faiss::IndexFlatL2(kDescriptorSize) {}

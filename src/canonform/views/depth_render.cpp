@@ -155,8 +155,8 @@ struct TriangleDepth {
         }
     }
 
-    // pair(row, col, keep's first two lanes) and pair(row, col + 2, its last two) at once, in four
-    // lanes; `col + 3 < size`.
+    // pair(row, col, both lanes) and pair(row, col + 2, both lanes) at once, in four lanes: each
+    // pixel's operations are pair()'s, in the same order. `col + 3 < size`.
     void row4(int row, int col) const {
         const double py = row;
         const v4d px = v4d{double(col), double(col + 1), double(col + 2), double(col + 3)},
