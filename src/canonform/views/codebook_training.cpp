@@ -163,7 +163,13 @@ DescriptorMatrix faiss_kmeans(const DescriptorMatrix&, int, int, std::uint64_t) 
 // loops), and a call of kChunk descriptors or more never takes OpenBLAS's small-matrix kernels.
 class NearestWordIndex final : public faiss::IndexFlatL2 {
 public:
-    NearestWordIndex() : faiss::IndexFlatL2(kDescriptorSize) {}
+    // `training`: the descriptors FAISS's k-means searches in every iteration, whose norms are
+    // then taken once (search() takes them again for any other descriptors).
+    explicit NearestWordIndex(const DescriptorMatrix& training)
+        : faiss::IndexFlatL2(kDescriptorSize), training_(training), training_norms_(training.rows()) {
+        faiss::fvec_norms_L2sqr(training_norms_.data(), training.data(), kDescriptorSize,
+                                static_cast<std::size_t>(training.rows()));
+    }
 
     void search(std::int64_t n, const float* x, std::int64_t k, float* distances, std::int64_t* labels,
                 const faiss::SearchParameters* params) const override {
@@ -175,8 +181,12 @@ public:
         const float* c = get_xb();
         std::vector<float> c_norms(static_cast<std::size_t>(words));
         faiss::fvec_norms_L2sqr(c_norms.data(), c, d, static_cast<std::size_t>(words));
-        x_norms_.resize(static_cast<std::size_t>(n));
-        faiss::fvec_norms_L2sqr(x_norms_.data(), x, d, static_cast<std::size_t>(n));
+        const float* x_norms = training_norms_.data();
+        if (x != training_.data() || n != training_.rows()) {
+            x_norms_.resize(static_cast<std::size_t>(n));
+            faiss::fvec_norms_L2sqr(x_norms_.data(), x, d, static_cast<std::size_t>(n));
+            x_norms = x_norms_.data();
+        }
         const std::int64_t bs_x = faiss::distance_compute_blas_query_bs;
         const int bs_y = faiss::distance_compute_blas_database_bs;
         products_.resize(static_cast<std::size_t>(std::min({bs_x, n, 2 * kChunk - 1})) *
@@ -197,8 +207,7 @@ public:
                 for (std::int64_t i = c0; i < c1; ++i)
                     nearest(
                         products_.data() + static_cast<std::size_t>(i - c0) * static_cast<std::size_t>(words),
-                        c_norms.data(), words, x_norms_[static_cast<std::size_t>(i)], distances[i],
-                        labels[i]);
+                        c_norms.data(), words, x_norms[i], distances[i], labels[i]);
             }
         }
     }
@@ -265,6 +274,8 @@ private:
         label = bj;
     }
 
+    const DescriptorMatrix& training_;
+    std::vector<float> training_norms_;
     mutable std::vector<float> x_norms_, products_;  // scratch of search(), kept between iterations
 };
 
@@ -276,7 +287,7 @@ DescriptorMatrix faiss_kmeans(const DescriptorMatrix& X, int k, int iterations, 
     cp.min_points_per_centroid = 1;  // no warning for small inputs (n > k is guaranteed)
     cp.max_points_per_centroid = std::numeric_limits<int>::max() / 2;  // we sample ourselves
     faiss::Clustering clustering(kDescriptorSize, k, cp);
-    NearestWordIndex index;
+    NearestWordIndex index(X);
     // FAISS indices are int64_t: faiss::Index::idx_t up to 1.7.3 (bookworm), faiss::idx_t after.
     clustering.train(static_cast<std::int64_t>(X.rows()), X.data(), index);
     if (clustering.centroids.size() != static_cast<std::size_t>(k) * kDescriptorSize)
