@@ -155,19 +155,26 @@ struct TriangleDepth {
         }
     }
 
-    // pair(row, col, both lanes) and pair(row, col + 2, both lanes) at once, in four lanes: each
-    // pixel's operations are pair()'s, in the same order. `col + 3 < size`.
-    void row4(int row, int col) const {
-        const double py = row;
-        const v4d px = v4d{double(col), double(col + 1), double(col + 2), double(col + 3)},
-                  zero = v4d{} + 0.0, one = v4d{} + 1.0;
-        const v4d wa = ea.at(v4d{} + ea.row(py), px), wb = eb.at(v4d{} + eb.row(py), px),
-                  wc = ec.at(v4d{} + ec.row(py), px);
+    // Four pixels' depths (clamped to [0, 1]) and the lanes the face leaves out, from each edge's
+    // row term and the pixels' columns, lane by lane: pair()'s operations in its order.
+    void depth4(const v4d& ta, const v4d& tb, const v4d& tc, const v4d& px, v4d& d, v4l& outside) const {
+        const v4d zero = v4d{} + 0.0, one = v4d{} + 1.0;
+        const v4d wa = ea.at(ta, px), wb = eb.at(tb, px), wc = ec.at(tc, px);
         const v4d s4 = v4d{} + sgn;
-        const v4l outside = (s4 * wa < zero) | (s4 * wb < zero) | (s4 * wc < zero);
-        v4d d = (wa * za + wb * zb + wc * zc) * inv_area;
+        outside = (s4 * wa < zero) | (s4 * wb < zero) | (s4 * wc < zero);
+        d = (wa * za + wb * zb + wc * zc) * inv_area;
         d = zero < d ? d : zero;  // std::max(0.0, d)
         d = d < one ? d : one;    // std::min(1.0, d)
+    }
+
+    // pair(row, col, both lanes) and pair(row, col + 2, both lanes) at once, in four lanes.
+    // `col + 3 < size`.
+    void row4(int row, int col) const {
+        const double py = row;
+        v4d d;
+        v4l outside;
+        depth4(v4d{} + ea.row(py), v4d{} + eb.row(py), v4d{} + ec.row(py),
+               v4d{double(col), double(col + 1), double(col + 2), double(col + 3)}, d, outside);
         const v4i covered = ~__builtin_convertvector(outside, v4i);
         const v4f near = __builtin_convertvector(d, v4f);
         const size_t line = static_cast<size_t>(row) * static_cast<size_t>(size);
@@ -175,7 +182,7 @@ struct TriangleDepth {
         raise2(front + line + static_cast<size_t>(col + 2), v2f{near[2], near[3]},
                v2i{covered[2], covered[3]});
         if (back) {
-            const v4f far = __builtin_convertvector(one - d, v4f);
+            const v4f far = __builtin_convertvector(1.0 - d, v4f);
             raise2(back + line + static_cast<size_t>(size - 2 - col), v2f{far[1], far[0]},
                    v2i{covered[1], covered[0]});
             raise2(back + line + static_cast<size_t>(size - 4 - col), v2f{far[3], far[2]},
@@ -184,21 +191,15 @@ struct TriangleDepth {
     }
 
     // pair(row, col, keep's first two lanes) and pair(row + 1, col, its last two) at once, in four
-    // lanes: each pixel's operations are pair()'s, in the same order. `row + 1 < size` and
-    // `col + 1 < size`.
+    // lanes. `row + 1 < size` and `col + 1 < size`.
     void quad(int row, int col, v4l keep) const {
         const double y0 = row, y1 = row + 1;
-        const v4d px = v4d{double(col), double(col + 1), double(col), double(col + 1)}, zero = v4d{} + 0.0,
-                  one = v4d{} + 1.0;
         const double a0 = ea.row(y0), a1 = ea.row(y1), b0 = eb.row(y0), b1 = eb.row(y1), c0 = ec.row(y0),
                      c1 = ec.row(y1);
-        const v4d wa = ea.at(v4d{a0, a0, a1, a1}, px), wb = eb.at(v4d{b0, b0, b1, b1}, px),
-                  wc = ec.at(v4d{c0, c0, c1, c1}, px);
-        const v4d s4 = v4d{} + sgn;
-        const v4l outside = (s4 * wa < zero) | (s4 * wb < zero) | (s4 * wc < zero);
-        v4d d = (wa * za + wb * zb + wc * zc) * inv_area;
-        d = zero < d ? d : zero;  // std::max(0.0, d)
-        d = d < one ? d : one;    // std::min(1.0, d)
+        v4d d;
+        v4l outside;
+        depth4(v4d{a0, a0, a1, a1}, v4d{b0, b0, b1, b1}, v4d{c0, c0, c1, c1},
+               v4d{double(col), double(col + 1), double(col), double(col + 1)}, d, outside);
         const v4i covered = __builtin_convertvector(~outside & keep, v4i);
         const v4f near = __builtin_convertvector(d, v4f);
         const size_t line = static_cast<size_t>(row) * static_cast<size_t>(size);
@@ -206,7 +207,7 @@ struct TriangleDepth {
         raise2(front + line + static_cast<size_t>(col), v2f{near[0], near[1]}, v2i{covered[0], covered[1]});
         raise2(front + next + static_cast<size_t>(col), v2f{near[2], near[3]}, v2i{covered[2], covered[3]});
         if (back) {
-            const v4f far = __builtin_convertvector(one - d, v4f);
+            const v4f far = __builtin_convertvector(1.0 - d, v4f);
             const size_t mirrored = static_cast<size_t>(size - 2 - col);
             raise2(back + line + mirrored, v2f{far[1], far[0]}, v2i{covered[1], covered[0]});
             raise2(back + next + mirrored, v2f{far[3], far[2]}, v2i{covered[3], covered[2]});
