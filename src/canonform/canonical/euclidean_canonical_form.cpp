@@ -5,7 +5,11 @@
 #include "canonform/surface/feature_points.h"
 #include "canonform/surface/mesh_topology.h"
 
+#include "canonform/numerics/graph.h"
+
+#include <algorithm>
 #include <chrono>
+#include <cstdint>
 #include <sstream>
 
 namespace canonform::canonical {
@@ -64,6 +68,105 @@ std::vector<int> smacof_ordering(const std::vector<int>& laplacian_ordering,
 }
 }  // namespace
 
+namespace {
+/// SMACOF's start for step 4 on (V, E, phi, features) and what it took to make it.
+struct SmacofStart {
+    Eigen::MatrixXd X;
+    int levels = 0, iterations = 0;
+};
+
+/// V itself below options.coarse_start_from points; else the form of the coarse problem on the
+/// aggregates of the edge graph `adj`, itself started this way, carried back (the header's note).
+SmacofStart smacof_start(const Eigen::MatrixXd& V, const Eigen::MatrixXi& E,
+                         const numerics::VertexAdjacency& adj, const Eigen::VectorXd& phi,
+                         const std::vector<int>& features, const EuclideanCanonicalFormOptions& options) {
+    const Eigen::Index n = V.rows();
+    SmacofStart start;
+    start.X = V;
+    if (options.coarse_start_from <= 0 || n < options.coarse_start_from) return start;
+    // Aggregates of the edge graph, an edge's strength its weight in step 4 (1 / delta^2 up to beta).
+    numerics::WeightedAdjacency graph;
+    graph.offsets = adj.offsets;
+    graph.neighbors = adj.neighbors;
+    graph.strengths.resize(adj.neighbors.size());
+    for (Eigen::Index i = 0; i < n; ++i)
+        for (int p = adj.offsets[static_cast<size_t>(i)]; p < adj.offsets[static_cast<size_t>(i) + 1]; ++p)
+            graph.strengths[static_cast<size_t>(p)] =
+                1.0 / (V.row(i) - V.row(adj.neighbors[static_cast<size_t>(p)])).squaredNorm();
+    int nc = 0;
+    const std::vector<int> agg = numerics::aggregate_vertices(graph, &nc);
+    graph = {};
+    if (nc < 2 || nc >= n) return start;
+    // The coarse problem: aggregates at their vertices' mean, the edges between them, the feature
+    // points' aggregates (the first feature of an aggregate gives it its phi).
+    Eigen::MatrixXd Vc = Eigen::MatrixXd::Zero(nc, 3);
+    Eigen::VectorXd members = Eigen::VectorXd::Zero(nc);
+    for (Eigen::Index i = 0; i < n; ++i) {
+        Vc.row(agg[static_cast<size_t>(i)]) += V.row(i);
+        members(agg[static_cast<size_t>(i)]) += 1;
+    }
+    Vc.array().colwise() /= members.array();
+    std::vector<std::int64_t> keys;
+    keys.reserve(static_cast<size_t>(E.rows()));
+    for (Eigen::Index e = 0; e < E.rows(); ++e) {
+        const std::int64_t a = agg[static_cast<size_t>(E(e, 0))], b = agg[static_cast<size_t>(E(e, 1))];
+        if (a != b) keys.push_back(std::min(a, b) * nc + std::max(a, b));
+    }
+    std::sort(keys.begin(), keys.end());
+    keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
+    Eigen::MatrixXi Ec(static_cast<Eigen::Index>(keys.size()), 2);
+    for (size_t k = 0; k < keys.size(); ++k) {
+        Ec(static_cast<Eigen::Index>(k), 0) = static_cast<int>(keys[k] / nc);
+        Ec(static_cast<Eigen::Index>(k), 1) = static_cast<int>(keys[k] % nc);
+        // Two aggregates at one point would give their edge an infinite weight: start from V.
+        if (!((Vc.row(Ec(static_cast<Eigen::Index>(k), 0)) - Vc.row(Ec(static_cast<Eigen::Index>(k), 1)))
+                  .squaredNorm() > 0))
+            return start;
+    }
+    keys = {};
+    Eigen::VectorXd phic = Eigen::VectorXd::Zero(nc);
+    std::vector<int> fc;
+    std::vector<char> is_feature(static_cast<size_t>(nc), 0);
+    for (const int f : features) {
+        const int c = agg[static_cast<size_t>(f)];
+        if (is_feature[static_cast<size_t>(c)]) continue;
+        is_feature[static_cast<size_t>(c)] = 1;
+        fc.push_back(c);
+        phic(c) = phi(f);
+    }
+    const numerics::VertexAdjacency adjc = numerics::vertex_adjacency(nc, Ec);
+    const SmacofStart inner = smacof_start(Vc, Ec, adjc, phic, fc, options);
+    numerics::SmacofSolverOptions solver_opt;
+    solver_opt.linear_solver = options.linear_solver;
+    solver_opt.threads = options.threads;
+    const numerics::SmacofSolver solver(nc, canonical_form_pairs(Vc, Ec, phic, fc, options), solver_opt);
+    numerics::SmacofOptions sm_opt = options.smacof;
+    sm_opt.progress = nullptr;
+    sm_opt.record_history = false;
+    const numerics::SmacofResult coarse = solver.solve(inner.X, sm_opt);
+    // The coarse displacement (SMACOF centres its result), given to each aggregate's vertices and
+    // averaged twice over every vertex and its neighbours.
+    const Eigen::MatrixXd Dc = coarse.X - (Vc.rowwise() - Vc.colwise().mean());
+    Eigen::MatrixXd D(n, 3), Ds(n, 3);
+    for (Eigen::Index i = 0; i < n; ++i) D.row(i) = Dc.row(agg[static_cast<size_t>(i)]);
+    for (int pass = 0; pass < 2; ++pass) {
+        for (Eigen::Index c = 0; c < 3; ++c)
+            for (Eigen::Index i = 0; i < n; ++i) {
+                double sum = D(i, c);
+                const int b = adj.offsets[static_cast<size_t>(i)],
+                          e = adj.offsets[static_cast<size_t>(i) + 1];
+                for (int p = b; p < e; ++p) sum += D(adj.neighbors[static_cast<size_t>(p)], c);
+                Ds(i, c) = sum / (1 + e - b);
+            }
+        D.swap(Ds);
+    }
+    start.X = V + D;
+    start.levels = inner.levels + 1;
+    start.iterations = inner.iterations + coarse.iterations;
+    return start;
+}
+}  // namespace
+
 EuclideanCanonicalFormResult euclidean_canonical_form(const Eigen::MatrixXd& V0, const Eigen::MatrixXi& F,
                                                       const EuclideanCanonicalFormOptions& options) {
     const auto t0 = std::chrono::steady_clock::now();
@@ -118,7 +221,9 @@ EuclideanCanonicalFormResult euclidean_canonical_form(const Eigen::MatrixXd& V0,
         sm_opt.progress = [&](double f, const char* s) { return options.progress(0.1 + 0.9 * f, s); };
     else
         sm_opt.progress = nullptr;
-    numerics::SmacofResult sm = solver.solve(V, sm_opt);
+    report_progress(options.progress, 0.1, "SMACOF: start");
+    const SmacofStart start = smacof_start(V, E, adj, cf.normalized, fp.indices, options);
+    numerics::SmacofResult sm = solver.solve(start.X, sm_opt);
     const auto t3 = std::chrono::steady_clock::now();
 
     EuclideanCanonicalFormResult r;
@@ -130,6 +235,8 @@ EuclideanCanonicalFormResult euclidean_canonical_form(const Eigen::MatrixXd& V0,
     r.num_maxima = fp.num_maxima;
     r.num_random = fp.num_random;
     r.beta = options.effective_beta();
+    r.coarse_levels = start.levels;
+    r.coarse_iterations = start.iterations;
     r.linear_solver = solver.linear_solver();
     report_progress(options.progress, 1.0, "done");
     r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -200,6 +307,8 @@ CanonicalMethod euclidean_method(CanonicalVariant variant) {
                      {"random", e.num_random},
                      {"iterations", e.iterations},
                      {"acceleration", std::string(to_string(o.smacof.acceleration))},
+                     {"coarse_levels", e.coarse_levels},
+                     {"coarse_iterations", e.coarse_iterations},
                      {"extrapolations", e.extrapolations},
                      {"rejections", e.rejections},
                      {"converged", e.converged},
@@ -215,8 +324,11 @@ CanonicalMethod euclidean_method(CanonicalVariant variant) {
         d << "variant " << variant_name << ", alpha " << o.alpha << ", beta " << e.beta << ": " << V.rows()
           << " vertices, " << e.features.size() << " feature points (" << e.num_maxima << " maxima, "
           << e.num_random << " random), " << e.iterations << " SMACOF iterations ("
-          << to_string(o.smacof.acceleration) << ")" << (e.converged ? "" : " (iteration cap reached)")
-          << ", stress " << e.initial_stress << " -> " << e.final_stress
+          << to_string(o.smacof.acceleration) << ")" << (e.converged ? "" : " (iteration cap reached)");
+        if (e.coarse_levels > 0)
+            d << " from a coarse start (" << e.coarse_levels
+              << (e.coarse_levels == 1 ? " level, " : " levels, ") << e.coarse_iterations << " iterations)";
+        d << ", stress " << e.initial_stress << " -> " << e.final_stress
           << ", mean relative edge-length change " << e.mean_relative_edge_change << ", " << e.seconds
           << " s";
         r.description = d.str();

@@ -29,6 +29,20 @@
 //   mutual distance alpha cannot be met in 3D (at most 4 points are equidistant), so the
 //   minimiser is a frustrated compromise that small pose differences tip one way or another;
 //   N's ~10 maxima sit at the limb tips, where stretching them apart is what straightens a pose.
+// - On large meshes (coarse_start_from vertices and more: where the multigrid solver takes over)
+//   SMACOF starts from the form of a coarser problem instead of the scaled mesh: nested
+//   iteration (W. L. Briggs, V. E. Henson, S. F. McCormick, "A multigrid tutorial", 2nd ed., SIAM
+//   2000, full multigrid; for MDS, M. M. Bronstein, A. M. Bronstein, R. Kimmel, I. Yavneh,
+//   "Multigrid multidimensional scaling", Numer. Linear Algebra Appl. 13, 2006). Each Guttman step
+//   removes the smooth, large-scale part of the error slowly, and a coarse problem resolves it for
+//   a fraction of the cost. The vertices are aggregated (numerics::aggregate_vertices, strengths
+//   the edges' weights 1 / delta^2); the coarse problem is step 4 on the aggregates (each at the
+//   mean of its vertices, an edge between two aggregates that a mesh edge joins, each feature
+//   point's aggregate a feature point with its phi), started the same way while it is still
+//   large; its displacement is given to every vertex of an aggregate and averaged twice over
+//   each vertex and its neighbours (an aggregate reaches two edges from its centre). SMACOF on the
+//   mesh then runs from there under the same stopping rule; its configuration differs from the
+//   one reached from the mesh by about what the stopping rule leaves open (docs/benchmarks.md).
 // - Feature pairs whose weight is zero (both phi = 0) are left out: they contribute nothing to (1).
 // - See smacof.h (sign of eq. 4, relative stopping rule) and feature_points.h (order-invariant
 //   random fill).
@@ -63,8 +77,10 @@ struct EuclideanCanonicalFormOptions {
     numerics::SmacofOptions smacof;  ///< step 4: tolerance, iteration cap, acceleration, history (smacof.h)
     numerics::LinearSolver linear_solver =
         numerics::LinearSolver::Auto;  ///< conformal factor's and SMACOF's solver
-    bool restore_scale = true;         ///< return the result in the input's units and position
-    bool validate = true;              ///< run validate_mesh() first (off only if the caller just did)
+    /// From this many vertices SMACOF starts from a coarser problem's form (header note); 0: never.
+    int coarse_start_from = numerics::kMultigridFrom;
+    bool restore_scale = true;  ///< return the result in the input's units and position
+    bool validate = true;       ///< run validate_mesh() first (off only if the caller just did)
     int threads =
         0;  ///< threads of the multigrid solver's large sweeps (0: every core; no effect on results)
     ProgressFn progress;  ///< optional progress callback (smacof.progress is not called)
@@ -103,10 +119,12 @@ struct EuclideanCanonicalFormResult : numerics::SmacofStatistics {
     double beta = 0;                       ///< beta used
     numerics::LinearSolver linear_solver =
         numerics::LinearSolver::Direct;   ///< solver used (Direct or Multigrid)
+    int coarse_levels = 0;                ///< coarser problems solved for SMACOF's start (header note)
+    int coarse_iterations = 0;            ///< their SMACOF iterations, all levels (not in `iterations`)
     double seconds = 0;                   ///< wall time of the whole computation
     double conformal_factor_seconds = 0;  ///< of which: the conformal factor
     double setup_seconds = 0;             ///< of which: feature points, pairs, factor / multigrid of V
-    double smacof_seconds = 0;            ///< of which: the SMACOF iterations
+    double smacof_seconds = 0;            ///< of which: the SMACOF iterations (coarse start included)
 };
 
 /// Computes the canonical form of the mesh (V #V x 3, F #F x 3). Throws InputError on bad input

@@ -3,6 +3,7 @@
 
 #include "canonform/common/errors.h"
 #include "canonform/common/parallel.h"
+#include "canonform/numerics/graph.h"
 
 #include <algorithm>
 #include <cmath>
@@ -391,66 +392,26 @@ RowSparse filtered_matrix(const RowSparse& A, const Eigen::VectorXd& diag, doubl
         });
 }
 
-// Aggregates of the strength graph (the off-diagonal pattern of the filtered matrix F;
-// Vanek-Mandel-Brezina, three passes). Returns the aggregate of every row and sets *count.
+// Aggregates of the strength graph (the off-diagonal pattern of the filtered matrix F, with
+// strengths |f_ij|; graph.h). Returns the aggregate of every row and sets *count.
 std::vector<int> aggregate(const RowSparse& F, int* count) {
     const int n = static_cast<int>(F.rows());
     const auto* outer = F.outerIndexPtr();
     const auto* inner = F.innerIndexPtr();
     const double* val = F.valuePtr();
-    // Strong neighbours, in CSR form.
-    std::vector<int> s_outer(static_cast<size_t>(n) + 1, 0), s_inner;
-    s_inner.reserve(static_cast<size_t>(F.nonZeros()));
-    std::vector<double> s_val;
-    s_val.reserve(static_cast<size_t>(F.nonZeros()));
+    WeightedAdjacency strong;
+    strong.offsets.assign(static_cast<size_t>(n) + 1, 0);
+    strong.neighbors.reserve(static_cast<size_t>(F.nonZeros()));
+    strong.strengths.reserve(static_cast<size_t>(F.nonZeros()));
     for (int i = 0; i < n; ++i) {
         for (auto p = outer[i]; p < outer[i + 1]; ++p) {
             if (inner[p] == i) continue;
-            s_inner.push_back(inner[p]);
-            s_val.push_back(std::abs(val[p]));
+            strong.neighbors.push_back(inner[p]);
+            strong.strengths.push_back(std::abs(val[p]));
         }
-        s_outer[static_cast<size_t>(i) + 1] = static_cast<int>(s_inner.size());
+        strong.offsets[static_cast<size_t>(i) + 1] = static_cast<int>(strong.neighbors.size());
     }
-    std::vector<int> agg(static_cast<size_t>(n), -1);
-    int next = 0;
-    // Pass 1: a row whose strong neighbours are all free starts an aggregate with them.
-    for (int i = 0; i < n; ++i) {
-        if (agg[static_cast<size_t>(i)] >= 0) continue;
-        const int b = s_outer[static_cast<size_t>(i)], e = s_outer[static_cast<size_t>(i) + 1];
-        if (b == e) continue;  // no strong neighbour: left for pass 3
-        bool free = true;
-        for (int p = b; p < e && free; ++p)
-            free = agg[static_cast<size_t>(s_inner[static_cast<size_t>(p)])] < 0;
-        if (!free) continue;
-        agg[static_cast<size_t>(i)] = next;
-        for (int p = b; p < e; ++p) agg[static_cast<size_t>(s_inner[static_cast<size_t>(p)])] = next;
-        ++next;
-    }
-    // Pass 2: a free row joins the pass-1 aggregate of its strongest aggregated neighbour.
-    std::vector<int> pass1 = agg;
-    for (int i = 0; i < n; ++i) {
-        if (agg[static_cast<size_t>(i)] >= 0) continue;
-        double best = -1;
-        for (int p = s_outer[static_cast<size_t>(i)]; p < s_outer[static_cast<size_t>(i) + 1]; ++p) {
-            const int j = s_inner[static_cast<size_t>(p)];
-            if (pass1[static_cast<size_t>(j)] >= 0 && s_val[static_cast<size_t>(p)] > best) {
-                best = s_val[static_cast<size_t>(p)];
-                agg[static_cast<size_t>(i)] = pass1[static_cast<size_t>(j)];
-            }
-        }
-    }
-    // Pass 3: what is still free forms aggregates with its free strong neighbours (or alone).
-    for (int i = 0; i < n; ++i) {
-        if (agg[static_cast<size_t>(i)] >= 0) continue;
-        agg[static_cast<size_t>(i)] = next;
-        for (int p = s_outer[static_cast<size_t>(i)]; p < s_outer[static_cast<size_t>(i) + 1]; ++p) {
-            const int j = s_inner[static_cast<size_t>(p)];
-            if (agg[static_cast<size_t>(j)] < 0) agg[static_cast<size_t>(j)] = next;
-        }
-        ++next;
-    }
-    *count = next;
-    return agg;
+    return aggregate_vertices(strong, count);
 }
 
 // Largest eigenvalue of D^-1 A by power iteration (fixed seed), with a 10% margin.

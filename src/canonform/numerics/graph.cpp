@@ -27,6 +27,51 @@ VertexAdjacency vertex_adjacency(int n, const Eigen::MatrixXi& E) {
     return adj;
 }
 
+std::vector<int> aggregate_vertices(const WeightedAdjacency& graph, int* count) {
+    const std::vector<int>& offsets = graph.offsets;
+    const std::vector<int>& nb = graph.neighbors;
+    const int n = static_cast<int>(offsets.size()) - 1;
+    std::vector<int> agg(static_cast<size_t>(n), -1);
+    int next = 0;
+    // Pass 1: a vertex whose neighbours are all free starts an aggregate with them.
+    for (int i = 0; i < n; ++i) {
+        if (agg[static_cast<size_t>(i)] >= 0) continue;
+        const int b = offsets[static_cast<size_t>(i)], e = offsets[static_cast<size_t>(i) + 1];
+        if (b == e) continue;  // no neighbour: left for pass 3
+        bool free = true;
+        for (int p = b; p < e && free; ++p) free = agg[static_cast<size_t>(nb[static_cast<size_t>(p)])] < 0;
+        if (!free) continue;
+        agg[static_cast<size_t>(i)] = next;
+        for (int p = b; p < e; ++p) agg[static_cast<size_t>(nb[static_cast<size_t>(p)])] = next;
+        ++next;
+    }
+    // Pass 2: a free vertex joins the pass-1 aggregate of its strongest aggregated neighbour.
+    const std::vector<int> pass1 = agg;
+    for (int i = 0; i < n; ++i) {
+        if (agg[static_cast<size_t>(i)] >= 0) continue;
+        double best = -1;
+        for (int p = offsets[static_cast<size_t>(i)]; p < offsets[static_cast<size_t>(i) + 1]; ++p) {
+            const int j = nb[static_cast<size_t>(p)];
+            if (pass1[static_cast<size_t>(j)] >= 0 && graph.strengths[static_cast<size_t>(p)] > best) {
+                best = graph.strengths[static_cast<size_t>(p)];
+                agg[static_cast<size_t>(i)] = pass1[static_cast<size_t>(j)];
+            }
+        }
+    }
+    // Pass 3: what is still free starts an aggregate with its free neighbours (or alone).
+    for (int i = 0; i < n; ++i) {
+        if (agg[static_cast<size_t>(i)] >= 0) continue;
+        agg[static_cast<size_t>(i)] = next;
+        for (int p = offsets[static_cast<size_t>(i)]; p < offsets[static_cast<size_t>(i) + 1]; ++p) {
+            const int j = nb[static_cast<size_t>(p)];
+            if (agg[static_cast<size_t>(j)] < 0) agg[static_cast<size_t>(j)] = next;
+        }
+        ++next;
+    }
+    if (count) *count = next;
+    return agg;
+}
+
 std::vector<int> connected_components(int n, const Eigen::MatrixXi& E, int* count) {
     // Union-find with path halving.
     std::vector<int> parent(static_cast<size_t>(n));
