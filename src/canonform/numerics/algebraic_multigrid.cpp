@@ -6,6 +6,7 @@
 #include "canonform/numerics/graph.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <random>
 #include <sstream>
@@ -218,27 +219,42 @@ void sort_rows(RowSparse& M) {
 
 // A rows x cols matrix written row by row straight into compressed storage (no triplet list: 16
 // bytes an entry): row_size(i) counts the entries of row i, then emit_row(i, put) calls
-// put(column, value) for each of them, in any order (the rows are sorted afterwards).
+// put(column, value) for each of them, in any order (the rows are sorted afterwards). `nonzeros`
+// (an estimate of the entries) decides as for the products whether the rows are shared out in
+// chunks of kChunkRows; each row is counted and written by one chunk alone, so the matrix does
+// not depend on the threads.
 template <class RowSize, class EmitRow>
-RowSparse compressed_rows(Eigen::Index rows, Eigen::Index cols, RowSize row_size, EmitRow emit_row) {
+RowSparse compressed_rows(Eigen::Index rows, Eigen::Index cols, Eigen::Index nonzeros, int threads,
+                          RowSize row_size, EmitRow emit_row) {
     RowSparse M(rows, cols);
-    Eigen::Index nnz = 0;
-    for (Eigen::Index i = 0; i < rows; ++i) nnz += row_size(i);
-    M.resizeNonZeros(nnz);
+    std::vector<Eigen::Index> count(static_cast<size_t>(rows) + 1, 0);
+    for_row_chunks(rows, nonzeros, threads, [&](Eigen::Index begin, Eigen::Index end) {
+        for (Eigen::Index i = begin; i < end; ++i) count[static_cast<size_t>(i) + 1] = row_size(i);
+    });
+    for (Eigen::Index i = 0; i < rows; ++i)
+        count[static_cast<size_t>(i) + 1] += count[static_cast<size_t>(i)];
+    M.resizeNonZeros(count.back());
     auto* outer = M.outerIndexPtr();
     auto* inner = M.innerIndexPtr();
     double* val = M.valuePtr();
-    Eigen::Index q = 0;
-    const auto put = [&](Eigen::Index j, double v) {
-        inner[q] = static_cast<int>(j);
-        val[q++] = v;
-    };
-    outer[0] = 0;
-    for (Eigen::Index i = 0; i < rows; ++i) {
-        emit_row(i, put);
-        outer[i + 1] = static_cast<int>(q);
-    }
-    if (q != nnz)
+    for (Eigen::Index i = 0; i <= rows; ++i) outer[i] = static_cast<int>(count[static_cast<size_t>(i)]);
+    std::atomic<bool> miscounted{false};
+    for_row_chunks(rows, nonzeros, threads, [&](Eigen::Index begin, Eigen::Index end) {
+        for (Eigen::Index i = begin; i < end; ++i) {
+            Eigen::Index q = outer[i];
+            const Eigen::Index last = outer[i + 1];
+            const auto put = [&](Eigen::Index j, double v) {
+                if (q < last) {
+                    inner[q] = static_cast<int>(j);
+                    val[q] = v;
+                }
+                ++q;
+            };
+            emit_row(i, put);
+            if (q != last) miscounted = true;
+        }
+    });
+    if (miscounted)
         throw std::logic_error("compressed_rows: a row emitted another number of entries than counted");
     sort_rows(M);
     return M;
@@ -349,7 +365,7 @@ RowSparse sparse_product(const RowSparse& A, const RowSparse& B, int threads) {
 // strength graph of the aggregation; smoothing the prolongator with it instead of A keeps weak,
 // long-range couplings (SMACOF's feature-point clique) from making P and the coarse levels dense.
 RowSparse filtered_matrix(const RowSparse& A, const Eigen::VectorXd& diag, double theta,
-                          std::vector<int>* weak_count) {
+                          std::vector<int>* weak_count, int threads) {
     // Written row by row straight into compressed storage (no triplet list: 16 bytes per entry).
     const Eigen::Index n = A.rows();
     const auto* outer = A.outerIndexPtr();
@@ -360,7 +376,7 @@ RowSparse filtered_matrix(const RowSparse& A, const Eigen::VectorXd& diag, doubl
         return std::abs(a) >= theta * std::sqrt(diag(i) * diag(j));
     };
     return compressed_rows(
-        n, n,
+        n, n, A.nonZeros(), threads,
         [&](Eigen::Index i) {
             Eigen::Index count = 1;  // the diagonal
             for (auto p = outer[i]; p < outer[i + 1]; ++p)
@@ -412,6 +428,64 @@ std::vector<int> aggregate(const RowSparse& F, int* count) {
         strong.offsets[static_cast<size_t>(i) + 1] = static_cast<int>(strong.neighbors.size());
     }
     return aggregate_vertices(strong, count);
+}
+
+// The smoothed prolongator of aggregation `agg` (nc aggregates), P = P_t - omega D^-1 F P_t, where
+// row i of the tentative P_t is e_agg(i) and D^-1 = inv_diag; rows for which keep_tentative(i) is
+// true keep P_t's row, and entries that come out exactly 0 are left out. Row i of D^-1 F P_t sums,
+// per aggregate, inv_diag(i) f_ik over row i's entries k in stored order (the first term
+// assigned, the next ones added) and P's entry is (1 if the aggregate is i's own, else 0) minus
+// omega times that sum: what Eigen's sparse product and difference of D^-1 F, P_t and omega give,
+// to the bit, without forming them.
+template <class KeepTentative>
+RowSparse smoothed_prolongator(const RowSparse& F, const Eigen::VectorXd& inv_diag,
+                               const std::vector<int>& agg, int nc, double omega,
+                               const KeepTentative& keep_tentative, int threads) {
+    const auto* fo = F.outerIndexPtr();
+    const auto* fi = F.innerIndexPtr();
+    const double* fv = F.valuePtr();
+    // Row i's (aggregate, entry) pairs, in order of first appearance, own aggregate included.
+    const auto row = [&](Eigen::Index i, std::vector<std::pair<int, double>>& out) {
+        out.clear();
+        const int own = agg[static_cast<size_t>(i)];
+        if (keep_tentative(i)) {
+            out.emplace_back(own, 1.0);
+            return;
+        }
+        for (auto p = fo[i]; p < fo[i + 1]; ++p) {
+            const double y = inv_diag(i) * fv[p];
+            const int a = agg[static_cast<size_t>(fi[p])];
+            bool found = false;
+            for (auto& e : out)
+                if (e.first == a) {
+                    e.second += 1.0 * y;
+                    found = true;
+                    break;
+                }
+            if (!found) out.emplace_back(a, 1.0 * y);
+        }
+        bool has_own = false;
+        for (auto& e : out) {
+            const bool is_own = e.first == own;
+            has_own = has_own || is_own;
+            e.second = (is_own ? 1.0 : 0.0) - omega * e.second;
+        }
+        if (!has_own) out.emplace_back(own, 1.0 - 0.0);
+    };
+    thread_local std::vector<std::pair<int, double>> entries;
+    return compressed_rows(
+        F.rows(), nc, F.nonZeros(), threads,
+        [&](Eigen::Index i) {
+            row(i, entries);
+            Eigen::Index count = 0;
+            for (const auto& e : entries) count += e.second != 0;
+            return count;
+        },
+        [&](Eigen::Index i, const auto& put) {
+            row(i, entries);
+            for (const auto& e : entries)
+                if (e.second != 0) put(e.first, e.second);
+        });
 }
 
 // Largest eigenvalue of D^-1 A by power iteration (fixed seed), with a 10% margin.
@@ -488,60 +562,22 @@ AmgPreconditioner::AmgPreconditioner(const Eigen::SparseMatrix<double>& A0, cons
         int nc = 0;
         std::vector<int> agg;
         {
-            RowSparse F = filtered_matrix(L.A, diag, options.strength, &weak);
+            RowSparse F = filtered_matrix(L.A, diag, options.strength, &weak, options.threads);
             agg = aggregate(F, &nc);
             if (nc > 0.6 * static_cast<double>(n) || nc < 1)
                 break;  // poor coarsening: a direct solve from here
-            RowSparse Pt(n, nc);
-            {
-                std::vector<Eigen::Triplet<double>> t;
-                t.reserve(static_cast<size_t>(n));
-                for (Eigen::Index i = 0; i < n; ++i) t.emplace_back(i, agg[static_cast<size_t>(i)], 1.0);
-                Pt.setFromTriplets(t.begin(), t.end());
-            }
             // Smoothed prolongator P = (I - omega D_F^-1 F) P_tent, omega = 4 / (3 rho(D_F^-1 F)).
             const Eigen::VectorXd inv_fdiag = F.diagonal().cwiseInverse();
             if (!inv_fdiag.allFinite() || !(inv_fdiag.array() > 0).all())
                 throw NumericalError("AMG: the filtered matrix has a non-positive diagonal entry");
             const double omega = 4.0 / (3.0 * spectral_radius_estimate(F, inv_fdiag, options.threads));
-            // D_F^-1 F, in place of F (each value times its row's 1 / d: Eigen's diagonal product)
-            for_row_chunks(F.rows(), F.nonZeros(), options.threads,
-                           [&](Eigen::Index begin, Eigen::Index end) {
-                               const auto* fo = F.outerIndexPtr();
-                               double* fv = F.valuePtr();
-                               for (Eigen::Index i = begin; i < end; ++i)
-                                   for (auto p = fo[i]; p < fo[i + 1]; ++p) fv[p] = inv_fdiag(i) * fv[p];
-                           });
-            RowSparse DFPt = sparse_product(F, Pt, options.threads);
-            RowSparse().swap(F);
-            P = Pt - omega * DFPt;
-        }
-        // Rows with many weak couplings (a feature point of SMACOF's clique) keep their tentative
-        // row: the clique then couples only the aggregates holding its points, not every
-        // aggregate around them, and the coarse levels stay sparse.
-        {
-            // Written straight into compressed storage (no triplet list of P's entries).
+            // Rows with many weak couplings (a feature point of SMACOF's clique) keep their tentative
+            // row: the clique then couples only the aggregates holding its points, not every
+            // aggregate around them, and the coarse levels stay sparse.
             const auto keep_tentative = [&](Eigen::Index i) {
                 return weak[static_cast<size_t>(i)] > kManyWeakCouplings;
             };
-            RowSparse Pf = compressed_rows(
-                n, nc,
-                [&](Eigen::Index i) {
-                    if (keep_tentative(i)) return Eigen::Index(1);
-                    Eigen::Index count = 0;
-                    for (RowSparse::InnerIterator it(P, i); it; ++it)
-                        if (it.value() != 0) ++count;
-                    return count;
-                },
-                [&](Eigen::Index i, const auto& put) {
-                    if (keep_tentative(i)) {
-                        put(agg[static_cast<size_t>(i)], 1.0);
-                        return;
-                    }
-                    for (RowSparse::InnerIterator it(P, i); it; ++it)
-                        if (it.value() != 0) put(it.col(), it.value());
-                });
-            P.swap(Pf);
+            P = smoothed_prolongator(F, inv_fdiag, agg, nc, omega, keep_tentative, options.threads);
         }
         RowSparse R = P.transpose();
         {

@@ -27,6 +27,36 @@ Eigen::MatrixXd normalize_scale(const Eigen::MatrixXd& V, Eigen::RowVector3d* ce
     return X;
 }
 
+namespace {
+/// L without its row and column 0 (the pinned system), copied column by column: what
+/// L.bottomRightCorner(n - 1, n - 1) gives, without Eigen's general block assignment.
+Eigen::SparseMatrix<double> without_first_row_and_column(const Eigen::SparseMatrix<double>& L) {
+    const Eigen::Index n = L.rows();
+    const int* outer = L.outerIndexPtr();
+    const int* inner = L.innerIndexPtr();
+    const double* values = L.valuePtr();
+    Eigen::SparseMatrix<double> R(n - 1, n - 1);
+    Eigen::Index kept = 0;
+    for (Eigen::Index c = 1; c < n; ++c)
+        for (int p = outer[c]; p < outer[c + 1]; ++p) kept += inner[p] > 0;
+    R.resizeNonZeros(kept);
+    int* r_outer = R.outerIndexPtr();
+    int* r_inner = R.innerIndexPtr();
+    double* r_values = R.valuePtr();
+    int q = 0;
+    r_outer[0] = 0;
+    for (Eigen::Index c = 1; c < n; ++c) {
+        for (int p = outer[c]; p < outer[c + 1]; ++p)
+            if (inner[p] > 0) {
+                r_inner[q] = inner[p] - 1;
+                r_values[q++] = values[p];
+            }
+        r_outer[c] = q;
+    }
+    return R;
+}
+}  // namespace
+
 Parameter normalize_parameter() {
     return Parameter::flag("normalize")
         .default_value("true")
@@ -56,8 +86,8 @@ ConformalFactorResult conformal_factor(const Eigen::MatrixXd& V0, const Eigen::M
     Eigen::SparseMatrix<double> Lr;
     Eigen::SparseVector<double> L0;
     {
-        const Eigen::SparseMatrix<double> L = cotan_laplacian(V, F);
-        Lr = L.bottomRightCorner(n - 1, n - 1);
+        const Eigen::SparseMatrix<double> L = cotan_laplacian(V, F, options.threads);
+        Lr = without_first_row_and_column(L);
         L0 = L.col(0);
     }
     V.resize(0, 3);

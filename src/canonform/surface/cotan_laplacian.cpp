@@ -1,38 +1,112 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "canonform/surface/cotan_laplacian.h"
 
+#include "canonform/common/parallel.h"
+
 #include <Eigen/Geometry>
 
+#include <algorithm>
+#include <utility>
 #include <vector>
 
 namespace canonform::surface {
 
-Eigen::SparseMatrix<double> cotan_laplacian(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F) {
-    const Eigen::Index n = V.rows();
-    // Assembled in place, without a triplet list: a face adds at most two off-diagonal entries
-    // and the diagonal to the column of each of its vertices, so 2 (faces at v) + 1 slots per
-    // column suffice. (A triplet list of the 12 contributions per face took 16 bytes each, 384 MB
-    // at 1M vertices, plus Eigen's transposed copy of it.) The contributions are added in the
-    // same order as setFromTriplets() summed them, so the values are the same to the bit.
-    Eigen::VectorXi capacity = Eigen::VectorXi::Ones(n);
-    for (Eigen::Index f = 0; f < F.rows(); ++f)
-        for (int c = 0; c < 3; ++c) capacity(F(f, c)) += 2;
-    Eigen::SparseMatrix<double> L(n, n);
-    L.reserve(capacity);
-    capacity.resize(0);
-    for (Eigen::Index f = 0; f < F.rows(); ++f) {
+namespace {
+// Faces and columns in ranges of this many; on every thread from kShareFrom faces (about 100k
+// vertices), below it on the calling thread alone (no pool for small work).
+constexpr std::ptrdiff_t kRange = 65536;
+constexpr Eigen::Index kShareFrom = 200000;
+}  // namespace
+
+Eigen::SparseMatrix<double> cotan_laplacian(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, int threads) {
+    const Eigen::Index n = V.rows(), m = F.rows();
+    const bool share = m >= kShareFrom;
+    // The definition, face by face: corner c of face f (opposite the edge (i, j)) adds -w to
+    // (i, j) and (j, i), then +w to (i, i) and (j, j), every entry starting from 0; w is half the
+    // cotangent of the corner's angle. Built here column by column, each entry's terms added in
+    // that order of faces and corners (so its value is the same to the bit), the columns in
+    // parallel: first the weights of all corners, then each vertex's corners in order.
+    std::vector<double> w(static_cast<size_t>(3 * m));
+    parallel_ranges(m, kRange, share, threads, [&](Eigen::Index begin, Eigen::Index end) {
+        for (Eigen::Index f = begin; f < end; ++f)
+            for (int c = 0; c < 3; ++c) {
+                const int i = F(f, (c + 1) % 3), j = F(f, (c + 2) % 3), k = F(f, c);
+                const Eigen::Vector3d a = V.row(i) - V.row(k), b = V.row(j) - V.row(k);
+                w[static_cast<size_t>(3 * f + c)] = 0.5 * a.dot(b) / a.cross(b).norm();
+            }
+    });
+    // The corners whose edge ends at v (corner 3 f + c), in order: a counting sort.
+    std::vector<int> first(static_cast<size_t>(n) + 1, 0);
+    for (Eigen::Index f = 0; f < m; ++f)
         for (int c = 0; c < 3; ++c) {
-            // corner k is opposite the edge (i, j)
-            const int i = F(f, (c + 1) % 3), j = F(f, (c + 2) % 3), k = F(f, c);
-            const Eigen::Vector3d a = V.row(i) - V.row(k), b = V.row(j) - V.row(k);
-            const double w = 0.5 * a.dot(b) / a.cross(b).norm();  // cot of the angle at k, halved
-            L.coeffRef(i, j) += -w;
-            L.coeffRef(j, i) += -w;
-            L.coeffRef(i, i) += w;
-            L.coeffRef(j, j) += w;
+            const int i = F(f, (c + 1) % 3), j = F(f, (c + 2) % 3);
+            ++first[static_cast<size_t>(i) + 1];
+            if (j != i) ++first[static_cast<size_t>(j) + 1];
         }
+    for (Eigen::Index v = 0; v < n; ++v) first[static_cast<size_t>(v) + 1] += first[static_cast<size_t>(v)];
+    std::vector<int> corners(static_cast<size_t>(first.back()));
+    {
+        std::vector<int> next(first.begin(), first.end() - 1);
+        for (Eigen::Index f = 0; f < m; ++f)
+            for (int c = 0; c < 3; ++c) {
+                const int i = F(f, (c + 1) % 3), j = F(f, (c + 2) % 3);
+                const int corner = static_cast<int>(3 * f + c);
+                corners[static_cast<size_t>(next[static_cast<size_t>(i)]++)] = corner;
+                if (j != i) corners[static_cast<size_t>(next[static_cast<size_t>(j)]++)] = corner;
+            }
     }
-    L.makeCompressed();
+    // Column v: its terms in order ((i, j) gets -w where j = v, (j, i) where i = v, then (v, v)
+    // +w for each of i and j that is v), summed per row, the rows sorted. `emit` gets the sorted
+    // (row, value) pairs.
+    const auto column = [&](Eigen::Index v, std::vector<std::pair<int, double>>& entries) {
+        entries.clear();
+        const auto add = [&entries](int row, double x) {
+            for (auto& e : entries)
+                if (e.first == row) {
+                    e.second += x;
+                    return;
+                }
+            entries.emplace_back(row, 0.0 + x);
+        };
+        for (int p = first[static_cast<size_t>(v)]; p < first[static_cast<size_t>(v) + 1]; ++p) {
+            const int corner = corners[static_cast<size_t>(p)];
+            const Eigen::Index f = corner / 3;
+            const int c = corner % 3;
+            const int i = F(f, (c + 1) % 3), j = F(f, (c + 2) % 3);
+            const double x = w[static_cast<size_t>(corner)];
+            if (j == v) add(i, -x);
+            if (i == v) add(j, -x);
+            if (i == v) add(i, x);
+            if (j == v) add(j, x);
+        }
+        std::sort(entries.begin(), entries.end(),
+                  [](const auto& a, const auto& b) { return a.first < b.first; });
+    };
+    Eigen::SparseMatrix<double> L(n, n);
+    std::vector<int> count(static_cast<size_t>(n) + 1, 0);
+    parallel_ranges(n, kRange, share, threads, [&](Eigen::Index begin, Eigen::Index end) {
+        std::vector<std::pair<int, double>> entries;
+        for (Eigen::Index v = begin; v < end; ++v) {
+            column(v, entries);
+            count[static_cast<size_t>(v) + 1] = static_cast<int>(entries.size());
+        }
+    });
+    for (Eigen::Index v = 0; v < n; ++v) count[static_cast<size_t>(v) + 1] += count[static_cast<size_t>(v)];
+    L.resizeNonZeros(count.back());
+    std::copy(count.begin(), count.end(), L.outerIndexPtr());
+    int* inner = L.innerIndexPtr();
+    double* values = L.valuePtr();
+    parallel_ranges(n, kRange, share, threads, [&](Eigen::Index begin, Eigen::Index end) {
+        std::vector<std::pair<int, double>> entries;
+        for (Eigen::Index v = begin; v < end; ++v) {
+            column(v, entries);
+            int q = count[static_cast<size_t>(v)];
+            for (const auto& [row, value] : entries) {
+                inner[q] = row;
+                values[q++] = value;
+            }
+        }
+    });
     return L;
 }
 

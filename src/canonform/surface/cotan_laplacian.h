@@ -17,7 +17,9 @@
 
 namespace canonform::surface {
 
-/// Cotangent Laplacian L = D - W of the mesh (V #V x 3, F #F x 3); #V x #V, symmetric.
-Eigen::SparseMatrix<double> cotan_laplacian(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F);
+/// Cotangent Laplacian L = D - W of the mesh (V #V x 3, F #F x 3); #V x #V, symmetric, compressed.
+/// `threads` (0: every core) share the work on large meshes; the values do not depend on them.
+Eigen::SparseMatrix<double> cotan_laplacian(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
+                                            int threads = 0);
 
 }  // namespace canonform::surface
