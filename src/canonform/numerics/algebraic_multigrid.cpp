@@ -498,9 +498,17 @@ double spectral_radius_estimate(const RowSparse& A, const Eigen::VectorXd& inv_d
     for (int it = 0; it < 15; ++it) {
         const double nx = x.norm();
         if (!(nx > 0)) break;
-        x /= nx;
+        // Per entry (the same values as Eigen's x /= nx and y *= D^-1), in row chunks shared like
+        // the product's.
+        double* xs = x.data();
+        for_row_chunks(A.rows(), A.nonZeros(), threads, [&](Eigen::Index begin, Eigen::Index end) {
+            for (Eigen::Index i = begin; i < end; ++i) xs[i] /= nx;
+        });
         multiply(A, x, y, threads);
-        y.col(0).array() *= inv_diag.array();
+        double* ys = y.data();
+        for_row_chunks(A.rows(), A.nonZeros(), threads, [&](Eigen::Index begin, Eigen::Index end) {
+            for (Eigen::Index i = begin; i < end; ++i) ys[i] *= inv_diag(i);
+        });
         lambda = y.norm();
         x.swap(y);
     }

@@ -190,11 +190,6 @@ SmacofSolver::SmacofSolver(int num_points, StressPairs pairs, const SmacofSolver
                          std::to_string(options_.vcycles_per_step) + ")");
     const size_t m = pairs_.size();
     Eigen::MatrixXi E(static_cast<Eigen::Index>(m), 2);
-    // V of the pinned system (vertex 0's row and column dropped, indices shift by one), assembled
-    // in place: one diagonal slot and one per pair per column. (A triplet list took 4 x 16 bytes
-    // per pair, 190 MB at 1M vertices, plus Eigen's transposed copy.) The weights are added in
-    // the order setFromTriplets() summed them, so V is the same to the bit.
-    Eigen::VectorXi capacity = Eigen::VectorXi::Ones(n_ - 1);
     for (size_t k = 0; k < m; ++k) {
         const int a = pairs_.i[k], b = pairs_.j[k];
         const double w = pairs_.w[k], d = pairs_.delta[k];
@@ -204,10 +199,6 @@ SmacofSolver::SmacofSolver(int num_points, StressPairs pairs, const SmacofSolver
             throw InputError("SMACOF: weights must be positive and targets non-negative and finite");
         E(static_cast<Eigen::Index>(k), 0) = a;
         E(static_cast<Eigen::Index>(k), 1) = b;
-        if (a > 0 && b > 0) {
-            ++capacity(a - 1);
-            ++capacity(b - 1);
-        }
     }
     int components = 0;
     connected_components(n_, E, &components);
@@ -218,20 +209,74 @@ SmacofSolver::SmacofSolver(int num_points, StressPairs pairs, const SmacofSolver
             << " groups; the configuration would not be determined";
         throw InputError(msg.str());
     }
-    Eigen::SparseMatrix<double> Vr(n_ - 1, n_ - 1);
-    Vr.reserve(capacity);
-    capacity.resize(0);
+    // V of the pinned system (vertex 0's row and column dropped, indices shift by one), straight
+    // into compressed storage (no triplet list: 4 x 16 bytes per pair, 190 MB at 1M vertices),
+    // column by column: column v - 1 sums, in pair order, +w on its diagonal and -w in row u - 1
+    // for every pair (v, u) with u > 0, each entry starting from 0 (the order in which
+    // setFromTriplets() summed them, so V is the same to the bit); the columns shared out in
+    // ranges (for_rows). first[c] .. first[c + 1]: the pairs of column c, in order.
+    std::vector<int> first(static_cast<size_t>(n_), 0);
     for (size_t k = 0; k < m; ++k) {
-        const int a = pairs_.i[k], b = pairs_.j[k];
-        const double w = pairs_.w[k];
-        if (a > 0) Vr.coeffRef(a - 1, a - 1) += w;
-        if (b > 0) Vr.coeffRef(b - 1, b - 1) += w;
-        if (a > 0 && b > 0) {
-            Vr.coeffRef(a - 1, b - 1) += -w;
-            Vr.coeffRef(b - 1, a - 1) += -w;
+        if (pairs_.i[k] > 0) ++first[static_cast<size_t>(pairs_.i[k])];
+        if (pairs_.j[k] > 0) ++first[static_cast<size_t>(pairs_.j[k])];
+    }
+    for (int c = 0; c + 1 < n_; ++c) first[static_cast<size_t>(c) + 1] += first[static_cast<size_t>(c)];
+    std::vector<int> column_pairs(static_cast<size_t>(first.back()));
+    {
+        std::vector<int> next(first.begin(), first.end() - 1);
+        for (size_t k = 0; k < m; ++k) {
+            const int a = pairs_.i[k], b = pairs_.j[k];
+            if (a > 0)
+                column_pairs[static_cast<size_t>(next[static_cast<size_t>(a - 1)]++)] = static_cast<int>(k);
+            if (b > 0)
+                column_pairs[static_cast<size_t>(next[static_cast<size_t>(b - 1)]++)] = static_cast<int>(k);
         }
     }
-    Vr.makeCompressed();
+    const auto column = [&](Eigen::Index c, std::vector<std::pair<int, double>>& entries) {
+        entries.clear();
+        const auto add = [&entries](int row, double x) {
+            for (auto& e : entries)
+                if (e.first == row) {
+                    e.second += x;
+                    return;
+                }
+            entries.emplace_back(row, 0.0 + x);
+        };
+        for (int p = first[static_cast<size_t>(c)]; p < first[static_cast<size_t>(c) + 1]; ++p) {
+            const size_t k = static_cast<size_t>(column_pairs[static_cast<size_t>(p)]);
+            const int a = pairs_.i[k], b = pairs_.j[k];
+            const int other = a == c + 1 ? b : a;
+            add(static_cast<int>(c), pairs_.w[k]);
+            if (other > 0) add(other - 1, -pairs_.w[k]);
+        }
+        std::sort(entries.begin(), entries.end(),
+                  [](const auto& x, const auto& y) { return x.first < y.first; });
+    };
+    Eigen::SparseMatrix<double> Vr(n_ - 1, n_ - 1);
+    std::vector<int> count(static_cast<size_t>(n_), 0);
+    for_rows(n_ - 1, options_.threads, [&](Eigen::Index begin, Eigen::Index end) {
+        std::vector<std::pair<int, double>> entries;
+        for (Eigen::Index c = begin; c < end; ++c) {
+            column(c, entries);
+            count[static_cast<size_t>(c) + 1] = static_cast<int>(entries.size());
+        }
+    });
+    for (int c = 0; c + 1 < n_; ++c) count[static_cast<size_t>(c) + 1] += count[static_cast<size_t>(c)];
+    Vr.resizeNonZeros(count.back());
+    std::copy(count.begin(), count.end(), Vr.outerIndexPtr());
+    for_rows(n_ - 1, options_.threads, [&](Eigen::Index begin, Eigen::Index end) {
+        std::vector<std::pair<int, double>> entries;
+        int* inner = Vr.innerIndexPtr();
+        double* values = Vr.valuePtr();
+        for (Eigen::Index c = begin; c < end; ++c) {
+            column(c, entries);
+            int q = count[static_cast<size_t>(c)];
+            for (const auto& [row, value] : entries) {
+                inner[q] = row;
+                values[q++] = value;
+            }
+        }
+    });
     multigrid_ = use_multigrid(options_.linear_solver, n_, options_.multigrid_from);
     if (multigrid_) {
         AmgOptions amg;

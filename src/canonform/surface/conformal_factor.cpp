@@ -75,7 +75,7 @@ ConformalFactorResult conformal_factor(const Eigen::MatrixXd& V0, const Eigen::M
     const Eigen::Index n = V.rows();
 
     ConformalFactorResult r;
-    r.curvature = gaussian_curvature(V, F, boundary);
+    r.curvature = gaussian_curvature(V, F, boundary, options.threads);
     const Eigen::VectorXd A = vertex_areas(V, F);
     r.target = r.curvature.sum() * A / A.sum();
     const Eigen::VectorXd rhs = r.curvature - r.target;  // (D - W) phi = K0 - KT, see header

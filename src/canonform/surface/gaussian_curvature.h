@@ -17,7 +17,8 @@ namespace canonform::surface {
 
 /// Angle-deficit Gaussian curvature per vertex (#V); boundary vertices use pi (eq. 8).
 /// `boundary` (#V flags, e.g. MeshReport::boundary of validate_mesh) if known, else found from F.
+/// `threads` (0: every core) share the work on large meshes; the values do not depend on them.
 Eigen::VectorXd gaussian_curvature(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
-                                   const std::vector<bool>& boundary = {});
+                                   const std::vector<bool>& boundary = {}, int threads = 0);
 
 }  // namespace canonform::surface
