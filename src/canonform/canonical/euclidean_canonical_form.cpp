@@ -5,6 +5,7 @@
 #include "canonform/surface/feature_points.h"
 #include "canonform/surface/mesh_topology.h"
 
+#include "canonform/common/parallel.h"
 #include "canonform/numerics/graph.h"
 
 #include <algorithm>
@@ -89,10 +90,13 @@ SmacofStart smacof_start(const Eigen::MatrixXd& V, const Eigen::MatrixXi& E,
     graph.offsets = adj.offsets;
     graph.neighbors = adj.neighbors;
     graph.strengths.resize(adj.neighbors.size());
-    for (Eigen::Index i = 0; i < n; ++i)
-        for (int p = adj.offsets[static_cast<size_t>(i)]; p < adj.offsets[static_cast<size_t>(i) + 1]; ++p)
-            graph.strengths[static_cast<size_t>(p)] =
-                1.0 / (V.row(i) - V.row(adj.neighbors[static_cast<size_t>(p)])).squaredNorm();
+    parallel_rows(n, options.threads, [&](Eigen::Index begin, Eigen::Index end) {
+        for (Eigen::Index i = begin; i < end; ++i)
+            for (int p = adj.offsets[static_cast<size_t>(i)]; p < adj.offsets[static_cast<size_t>(i) + 1];
+                 ++p)
+                graph.strengths[static_cast<size_t>(p)] =
+                    1.0 / (V.row(i) - V.row(adj.neighbors[static_cast<size_t>(p)])).squaredNorm();
+    });
     int nc = 0;
     const std::vector<int> agg = numerics::aggregate_vertices(graph, &nc);
     graph = {};
@@ -150,14 +154,16 @@ SmacofStart smacof_start(const Eigen::MatrixXd& V, const Eigen::MatrixXi& E,
     Eigen::MatrixXd D(n, 3), Ds(n, 3);
     for (Eigen::Index i = 0; i < n; ++i) D.row(i) = Dc.row(agg[static_cast<size_t>(i)]);
     for (int pass = 0; pass < 2; ++pass) {
-        for (Eigen::Index c = 0; c < 3; ++c)
-            for (Eigen::Index i = 0; i < n; ++i) {
-                double sum = D(i, c);
-                const int b = adj.offsets[static_cast<size_t>(i)],
-                          e = adj.offsets[static_cast<size_t>(i) + 1];
-                for (int p = b; p < e; ++p) sum += D(adj.neighbors[static_cast<size_t>(p)], c);
-                Ds(i, c) = sum / (1 + e - b);
-            }
+        parallel_rows(n, options.threads, [&](Eigen::Index begin, Eigen::Index end) {
+            for (Eigen::Index c = 0; c < 3; ++c)
+                for (Eigen::Index i = begin; i < end; ++i) {
+                    double sum = D(i, c);
+                    const int b = adj.offsets[static_cast<size_t>(i)],
+                              e = adj.offsets[static_cast<size_t>(i) + 1];
+                    for (int p = b; p < e; ++p) sum += D(adj.neighbors[static_cast<size_t>(p)], c);
+                    Ds(i, c) = sum / (1 + e - b);
+                }
+        });
         D.swap(Ds);
     }
     start.X = V + D;

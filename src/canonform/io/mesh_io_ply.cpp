@@ -90,6 +90,31 @@ public:
         if (b_.size() - pos_ < static_cast<u64>(n))
             fail(name_, std::string("truncated: the data ends at byte ") + std::to_string(b_.size()) +
                             " while reading " + what);
+#if defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__
+        // Little-endian data on a little-endian machine: the bytes are the value's own.
+        if (format_ == PlyFormat::BinaryLittle) {
+            const char* at = b_.data() + pos_;
+            pos_ += static_cast<std::size_t>(n);
+            switch (type) {
+                case PlyType::Int8:
+                    return as<std::int8_t>(at);
+                case PlyType::UInt8:
+                    return as<std::uint8_t>(at);
+                case PlyType::Int16:
+                    return as<std::int16_t>(at);
+                case PlyType::UInt16:
+                    return as<std::uint16_t>(at);
+                case PlyType::Int32:
+                    return as<std::int32_t>(at);
+                case PlyType::UInt32:
+                    return as<std::uint32_t>(at);
+                case PlyType::Float32:
+                    return as<float>(at);
+                case PlyType::Float64:
+                    return as<double>(at);
+            }
+        }
+#endif
         unsigned char raw[8];
         for (int k = 0; k < n; ++k)
             raw[k] = static_cast<unsigned char>(
@@ -144,6 +169,12 @@ public:
     }
 
 private:
+    template <class T>
+    static double as(const char* p) {
+        T v;
+        std::memcpy(&v, p, sizeof v);
+        return static_cast<double>(v);
+    }
     const std::string& b_;
     std::size_t pos_;
     PlyFormat format_;

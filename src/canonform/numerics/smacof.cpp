@@ -68,14 +68,6 @@ ParameterSet<SmacofOptions> smacof_parameters(const SmacofOptions& defaults) {
 
 namespace {
 
-/// body(begin, end) over [0, n) in chunks of 65536 rows, shared over `threads` threads (0: every
-/// core) from 131072 rows (the multigrid's large meshes). Only for per-row work.
-template <class Body>
-void for_rows(Eigen::Index n, int threads, const Body& body) {
-    constexpr Eigen::Index kRows = 65536;
-    parallel_ranges(n, kRows, n >= 2 * kRows, threads, body);
-}
-
 double dot(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
     return (a.array() * b.array()).sum();
 }
@@ -214,7 +206,7 @@ SmacofSolver::SmacofSolver(int num_points, StressPairs pairs, const SmacofSolver
     // column by column: column v - 1 sums, in pair order, +w on its diagonal and -w in row u - 1
     // for every pair (v, u) with u > 0, each entry starting from 0 (the order in which
     // setFromTriplets() summed them, so V is the same to the bit); the columns shared out in
-    // ranges (for_rows). first[c] .. first[c + 1]: the pairs of column c, in order.
+    // ranges (parallel_rows). first[c] .. first[c + 1]: the pairs of column c, in order.
     std::vector<int> first(static_cast<size_t>(n_), 0);
     for (size_t k = 0; k < m; ++k) {
         if (pairs_.i[k] > 0) ++first[static_cast<size_t>(pairs_.i[k])];
@@ -254,7 +246,7 @@ SmacofSolver::SmacofSolver(int num_points, StressPairs pairs, const SmacofSolver
     };
     Eigen::SparseMatrix<double> Vr(n_ - 1, n_ - 1);
     std::vector<int> count(static_cast<size_t>(n_), 0);
-    for_rows(n_ - 1, options_.threads, [&](Eigen::Index begin, Eigen::Index end) {
+    parallel_rows(n_ - 1, options_.threads, [&](Eigen::Index begin, Eigen::Index end) {
         std::vector<std::pair<int, double>> entries;
         for (Eigen::Index c = begin; c < end; ++c) {
             column(c, entries);
@@ -264,7 +256,7 @@ SmacofSolver::SmacofSolver(int num_points, StressPairs pairs, const SmacofSolver
     for (int c = 0; c + 1 < n_; ++c) count[static_cast<size_t>(c) + 1] += count[static_cast<size_t>(c)];
     Vr.resizeNonZeros(count.back());
     std::copy(count.begin(), count.end(), Vr.outerIndexPtr());
-    for_rows(n_ - 1, options_.threads, [&](Eigen::Index begin, Eigen::Index end) {
+    parallel_rows(n_ - 1, options_.threads, [&](Eigen::Index begin, Eigen::Index end) {
         std::vector<std::pair<int, double>> entries;
         int* inner = Vr.innerIndexPtr();
         double* values = Vr.valuePtr();
@@ -439,7 +431,7 @@ Eigen::MatrixXd SmacofSolver::guttman(const Eigen::MatrixXd& X, double* stress_o
     if (multigrid_) {
         // Warm start at X translated so that the pinned vertex 0 sits at the origin.
         const Eigen::RowVectorXd origin = X.row(0);
-        for_rows(n_, options_.threads, [&](Eigen::Index begin, Eigen::Index end) {
+        parallel_rows(n_, options_.threads, [&](Eigen::Index begin, Eigen::Index end) {
             for (Eigen::Index c = 0; c < X.cols(); ++c)
                 for (Eigen::Index i = std::max<Eigen::Index>(begin, 1); i < end; ++i)
                     Y(i, c) = X(i, c) - origin(c);
@@ -452,7 +444,7 @@ Eigen::MatrixXd SmacofSolver::guttman(const Eigen::MatrixXd& X, double* stress_o
         if (!factor_.ok()) throw NumericalError("SMACOF: the solve with the factor of V failed");
     }
     const Eigen::RowVectorXd mean = Y.colwise().mean();
-    for_rows(n_, options_.threads, [&](Eigen::Index begin, Eigen::Index end) {
+    parallel_rows(n_, options_.threads, [&](Eigen::Index begin, Eigen::Index end) {
         for (Eigen::Index c = 0; c < Y.cols(); ++c)
             for (Eigen::Index i = begin; i < end; ++i) Y(i, c) -= mean(c);
     });
