@@ -261,11 +261,12 @@ RowSparse compressed_rows(Eigen::Index rows, Eigen::Index cols, Eigen::Index non
 }
 
 // C = A B, row by row: row i accumulates b_kj a_ik over row i's entries k in stored order (the
-// first term assigned, the next ones added), its columns sorted: what Eigen's product of two
-// row-major matrices computes, to the bit, with every touched entry kept. Rows in chunks of
+// first term assigned, the next ones added), its columns sorted (or, with `sorted` false, in the
+// order they were first touched): what Eigen's product of two row-major matrices computes, to the
+// bit, with every touched entry kept. Rows in chunks of
 // kChunkRows, on every thread when A and B hold 1M non-zeros or more (each chunk's rows are
 // written by that chunk alone: the same result on any number of threads).
-RowSparse sparse_product(const RowSparse& A, const RowSparse& B, int threads) {
+RowSparse sparse_product(const RowSparse& A, const RowSparse& B, int threads, bool sorted = true) {
     if (A.cols() != B.rows()) throw std::logic_error("sparse_product: inner sizes differ");
     const Eigen::Index n = A.rows(), m = B.cols();
     const Eigen::Index chunks = (n + kChunkRows - 1) / kChunkRows;
@@ -318,7 +319,7 @@ RowSparse sparse_product(const RowSparse& A, const RowSparse& B, int threads) {
                         }
                     }
                 }
-                std::sort(w.touched.begin(), w.touched.end());
+                if (sorted) std::sort(w.touched.begin(), w.touched.end());
                 part.count[static_cast<size_t>(i - begin)] = static_cast<int>(w.touched.size());
                 for (const int j : w.touched) {
                     part.col.push_back(j);
@@ -591,7 +592,10 @@ AmgPreconditioner::AmgPreconditioner(const Eigen::SparseMatrix<double>& A0, cons
         {
             RowSparse Ac;
             {
-                const RowSparse AP = sparse_product(L.A, P, options.threads);
+                // A P's rows in the order their columns were first touched: only the product
+                // below reads it, and a column's value there sums over R's row in R's order
+                // whatever the order of A P's row, so its bits are the same.
+                const RowSparse AP = sparse_product(L.A, P, options.threads, false);
                 Ac = sparse_product(R, AP, options.threads);
             }
             const RowSparse AcT = Ac.transpose();
