@@ -90,38 +90,22 @@ public:
         if (b_.size() - pos_ < static_cast<u64>(n))
             fail(name_, std::string("truncated: the data ends at byte ") + std::to_string(b_.size()) +
                             " while reading " + what);
+        std::uint64_t u = 0;  // the value's bytes, least significant first
 #if defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__
-        // Little-endian data on a little-endian machine: the bytes are the value's own.
+        // Little-endian data on a little-endian machine: its bytes are already in that order.
         if (format_ == PlyFormat::BinaryLittle) {
-            const char* at = b_.data() + pos_;
+            std::memcpy(&u, b_.data() + pos_, static_cast<std::size_t>(n));
             pos_ += static_cast<std::size_t>(n);
-            switch (type) {
-                case PlyType::Int8:
-                    return as<std::int8_t>(at);
-                case PlyType::UInt8:
-                    return as<std::uint8_t>(at);
-                case PlyType::Int16:
-                    return as<std::int16_t>(at);
-                case PlyType::UInt16:
-                    return as<std::uint16_t>(at);
-                case PlyType::Int32:
-                    return as<std::int32_t>(at);
-                case PlyType::UInt32:
-                    return as<std::uint32_t>(at);
-                case PlyType::Float32:
-                    return as<float>(at);
-                case PlyType::Float64:
-                    return as<double>(at);
-            }
-        }
+        } else
 #endif
-        unsigned char raw[8];
-        for (int k = 0; k < n; ++k)
-            raw[k] = static_cast<unsigned char>(
-                b_[pos_ + static_cast<std::size_t>(format_ == PlyFormat::BinaryBig ? n - 1 - k : k)]);
-        pos_ += static_cast<std::size_t>(n);
-        std::uint64_t u = 0;
-        for (int k = n - 1; k >= 0; --k) u = (u << 8) | raw[k];
+        {
+            unsigned char raw[8];
+            for (int k = 0; k < n; ++k)
+                raw[k] = static_cast<unsigned char>(
+                    b_[pos_ + static_cast<std::size_t>(format_ == PlyFormat::BinaryBig ? n - 1 - k : k)]);
+            pos_ += static_cast<std::size_t>(n);
+            for (int k = n - 1; k >= 0; --k) u = (u << 8) | raw[k];
+        }
         switch (type) {
             case PlyType::Int8:
                 return static_cast<std::int8_t>(u);
@@ -169,12 +153,6 @@ public:
     }
 
 private:
-    template <class T>
-    static double as(const char* p) {
-        T v;
-        std::memcpy(&v, p, sizeof v);
-        return static_cast<double>(v);
-    }
     const std::string& b_;
     std::size_t pos_;
     PlyFormat format_;

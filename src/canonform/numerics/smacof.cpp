@@ -2,6 +2,7 @@
 #include "canonform/numerics/smacof.h"
 
 #include "canonform/numerics/graph.h"
+#include "canonform/numerics/sparse_columns.h"
 
 #include "canonform/common/cpu_clones.h"
 #include "canonform/common/parallel.h"
@@ -205,8 +206,8 @@ SmacofSolver::SmacofSolver(int num_points, StressPairs pairs, const SmacofSolver
     // into compressed storage (no triplet list: 4 x 16 bytes per pair, 190 MB at 1M vertices),
     // column by column: column v - 1 sums, in pair order, +w on its diagonal and -w in row u - 1
     // for every pair (v, u) with u > 0, each entry starting from 0 (the order in which
-    // setFromTriplets() summed them, so V is the same to the bit); the columns shared out in
-    // ranges (parallel_rows). first[c] .. first[c + 1]: the pairs of column c, in order.
+    // setFromTriplets() summed them, so V is the same to the bit; sparse_columns.h), on every
+    // thread from 131,072 columns. first[c] .. first[c + 1]: the pairs of column c, in order.
     std::vector<int> first(static_cast<size_t>(n_), 0);
     for (size_t k = 0; k < m; ++k) {
         if (pairs_.i[k] > 0) ++first[static_cast<size_t>(pairs_.i[k])];
@@ -224,51 +225,16 @@ SmacofSolver::SmacofSolver(int num_points, StressPairs pairs, const SmacofSolver
                 column_pairs[static_cast<size_t>(next[static_cast<size_t>(b - 1)]++)] = static_cast<int>(k);
         }
     }
-    const auto column = [&](Eigen::Index c, std::vector<std::pair<int, double>>& entries) {
-        entries.clear();
-        const auto add = [&entries](int row, double x) {
-            for (auto& e : entries)
-                if (e.first == row) {
-                    e.second += x;
-                    return;
-                }
-            entries.emplace_back(row, 0.0 + x);
-        };
-        for (int p = first[static_cast<size_t>(c)]; p < first[static_cast<size_t>(c) + 1]; ++p) {
-            const size_t k = static_cast<size_t>(column_pairs[static_cast<size_t>(p)]);
-            const int a = pairs_.i[k], b = pairs_.j[k];
-            const int other = a == c + 1 ? b : a;
-            add(static_cast<int>(c), pairs_.w[k]);
-            if (other > 0) add(other - 1, -pairs_.w[k]);
-        }
-        std::sort(entries.begin(), entries.end(),
-                  [](const auto& x, const auto& y) { return x.first < y.first; });
-    };
-    Eigen::SparseMatrix<double> Vr(n_ - 1, n_ - 1);
-    std::vector<int> count(static_cast<size_t>(n_), 0);
-    parallel_rows(n_ - 1, options_.threads, [&](Eigen::Index begin, Eigen::Index end) {
-        std::vector<std::pair<int, double>> entries;
-        for (Eigen::Index c = begin; c < end; ++c) {
-            column(c, entries);
-            count[static_cast<size_t>(c) + 1] = static_cast<int>(entries.size());
-        }
-    });
-    for (int c = 0; c + 1 < n_; ++c) count[static_cast<size_t>(c) + 1] += count[static_cast<size_t>(c)];
-    Vr.resizeNonZeros(count.back());
-    std::copy(count.begin(), count.end(), Vr.outerIndexPtr());
-    parallel_rows(n_ - 1, options_.threads, [&](Eigen::Index begin, Eigen::Index end) {
-        std::vector<std::pair<int, double>> entries;
-        int* inner = Vr.innerIndexPtr();
-        double* values = Vr.valuePtr();
-        for (Eigen::Index c = begin; c < end; ++c) {
-            column(c, entries);
-            int q = count[static_cast<size_t>(c)];
-            for (const auto& [row, value] : entries) {
-                inner[q] = row;
-                values[q++] = value;
+    const Eigen::SparseMatrix<double> Vr = assemble_columns(
+        n_ - 1, n_ - 1, n_ - 1 >= 131072, options_.threads, [&](Eigen::Index c, ColumnEntries& column) {
+            for (int p = first[static_cast<size_t>(c)]; p < first[static_cast<size_t>(c) + 1]; ++p) {
+                const size_t k = static_cast<size_t>(column_pairs[static_cast<size_t>(p)]);
+                const int a = pairs_.i[k], b = pairs_.j[k];
+                const int other = a == c + 1 ? b : a;
+                column.add(static_cast<int>(c), pairs_.w[k]);
+                if (other > 0) column.add(other - 1, -pairs_.w[k]);
             }
-        }
-    });
+        });
     multigrid_ = use_multigrid(options_.linear_solver, n_, options_.multigrid_from);
     if (multigrid_) {
         AmgOptions amg;

@@ -2,11 +2,10 @@
 #include "canonform/surface/cotan_laplacian.h"
 
 #include "canonform/common/parallel.h"
+#include "canonform/numerics/sparse_columns.h"
 
 #include <Eigen/Geometry>
 
-#include <algorithm>
-#include <utility>
 #include <vector>
 
 namespace canonform::surface {
@@ -56,58 +55,21 @@ Eigen::SparseMatrix<double> cotan_laplacian(const Eigen::MatrixXd& V, const Eige
             }
     }
     // Column v: its terms in order ((i, j) gets -w where j = v, (j, i) where i = v, then (v, v)
-    // +w for each of i and j that is v), summed per row, the rows sorted. `emit` gets the sorted
-    // (row, value) pairs.
-    const auto column = [&](Eigen::Index v, std::vector<std::pair<int, double>>& entries) {
-        entries.clear();
-        const auto add = [&entries](int row, double x) {
-            for (auto& e : entries)
-                if (e.first == row) {
-                    e.second += x;
-                    return;
-                }
-            entries.emplace_back(row, 0.0 + x);
-        };
-        for (int p = first[static_cast<size_t>(v)]; p < first[static_cast<size_t>(v) + 1]; ++p) {
-            const int corner = corners[static_cast<size_t>(p)];
-            const Eigen::Index f = corner / 3;
-            const int c = corner % 3;
-            const int i = F(f, (c + 1) % 3), j = F(f, (c + 2) % 3);
-            const double x = w[static_cast<size_t>(corner)];
-            if (j == v) add(i, -x);
-            if (i == v) add(j, -x);
-            if (i == v) add(i, x);
-            if (j == v) add(j, x);
-        }
-        std::sort(entries.begin(), entries.end(),
-                  [](const auto& a, const auto& b) { return a.first < b.first; });
-    };
-    Eigen::SparseMatrix<double> L(n, n);
-    std::vector<int> count(static_cast<size_t>(n) + 1, 0);
-    parallel_ranges(n, kRange, share, threads, [&](Eigen::Index begin, Eigen::Index end) {
-        std::vector<std::pair<int, double>> entries;
-        for (Eigen::Index v = begin; v < end; ++v) {
-            column(v, entries);
-            count[static_cast<size_t>(v) + 1] = static_cast<int>(entries.size());
-        }
-    });
-    for (Eigen::Index v = 0; v < n; ++v) count[static_cast<size_t>(v) + 1] += count[static_cast<size_t>(v)];
-    L.resizeNonZeros(count.back());
-    std::copy(count.begin(), count.end(), L.outerIndexPtr());
-    int* inner = L.innerIndexPtr();
-    double* values = L.valuePtr();
-    parallel_ranges(n, kRange, share, threads, [&](Eigen::Index begin, Eigen::Index end) {
-        std::vector<std::pair<int, double>> entries;
-        for (Eigen::Index v = begin; v < end; ++v) {
-            column(v, entries);
-            int q = count[static_cast<size_t>(v)];
-            for (const auto& [row, value] : entries) {
-                inner[q] = row;
-                values[q++] = value;
+    // +w for each of i and j that is v).
+    return numerics::assemble_columns(
+        n, n, share, threads, [&](Eigen::Index v, numerics::ColumnEntries& column) {
+            for (int p = first[static_cast<size_t>(v)]; p < first[static_cast<size_t>(v) + 1]; ++p) {
+                const int corner = corners[static_cast<size_t>(p)];
+                const Eigen::Index f = corner / 3;
+                const int c = corner % 3;
+                const int i = F(f, (c + 1) % 3), j = F(f, (c + 2) % 3);
+                const double x = w[static_cast<size_t>(corner)];
+                if (j == v) column.add(i, -x);
+                if (i == v) column.add(j, -x);
+                if (i == v) column.add(i, x);
+                if (j == v) column.add(j, x);
             }
-        }
-    });
-    return L;
+        });
 }
 
 }  // namespace canonform::surface
