@@ -216,3 +216,34 @@ TEST(AlgebraicMultigrid, RejectsANonPositiveDiagonal) {
     Eigen::SparseMatrix<double> B(2, 3);
     EXPECT_THROW(AmgPreconditioner{B}, InputError);
 }
+
+TEST(AlgebraicMultigrid, ARowWithOnlyWeakCouplingsIsSolvedToo) {
+    // A path of 2,000 vertices (weight 1), vertex 0 pinned, where every third vertex also has a
+    // heavy leaf (weight 1e6): the vertices between two heavy ones see only neighbours with far
+    // larger diagonals, so all their couplings are weak and their lumped row sums to 0. (SMACOF's
+    // V and the conformal factor's Laplacian of irregular meshes have such rows; the AMG threw
+    // "non-positive diagonal" on them.) The hierarchy is built and CG with it converges.
+    const int path = 2000;
+    std::vector<Eigen::Triplet<double>> t;
+    const auto edge = [&t](int a, int b, double w) {
+        t.emplace_back(a, a, w);
+        t.emplace_back(b, b, w);
+        t.emplace_back(a, b, -w);
+        t.emplace_back(b, a, -w);
+    };
+    int n = path;
+    for (int v = 0; v + 1 < path; ++v) edge(v, v + 1, 1.0);
+    for (int v = 0; v < path; v += 3) edge(v, n++, 1e6);
+    Eigen::SparseMatrix<double> L(n, n);
+    L.setFromTriplets(t.begin(), t.end());
+    const Eigen::SparseMatrix<double> A = L.bottomRightCorner(n - 1, n - 1);  // vertex 0 pinned
+    AmgOptions o;
+    o.coarse_size = 50;
+    const AmgPreconditioner amg(A, o);
+    EXPECT_GE(amg.num_levels(), 2);
+    const Eigen::MatrixXd B = random_block(A.rows(), 1, 3);
+    Eigen::MatrixXd X = Eigen::MatrixXd::Zero(A.rows(), 1);
+    const PcgReport rep = amg.pcg(B, X, 1e-10, 500);
+    EXPECT_TRUE(rep.converged) << rep.iterations << " steps, residual " << rep.relative_residual;
+    EXPECT_TRUE(X.allFinite());
+}

@@ -362,7 +362,9 @@ RowSparse sparse_product(const RowSparse& A, const RowSparse& B, int threads, bo
 
 // The filtered matrix of smoothed aggregation: the diagonal and the strong off-diagonal entries
 // (|a_ij| >= theta sqrt(a_ii a_jj)); weak entries are added to the diagonal, so row sums (and with
-// them the constant near-null vector of a Laplacian) are kept. Its off-diagonal pattern is the
+// them the constant near-null vector of a Laplacian) are kept - except in a row with no strong
+// entry at all (a vertex whose neighbours all have far larger diagonals: an irregular mesh's
+// short edges around it), which keeps a_ii, since its row sum may be 0. Its off-diagonal pattern is the
 // strength graph of the aggregation; smoothing the prolongator with it instead of A keeps weak,
 // long-range couplings (SMACOF's feature-point clique) from making P and the coarse levels dense.
 RowSparse filtered_matrix(const RowSparse& A, const Eigen::VectorXd& diag, double theta,
@@ -386,6 +388,7 @@ RowSparse filtered_matrix(const RowSparse& A, const Eigen::VectorXd& diag, doubl
         },
         [&](Eigen::Index i, const auto& put) {
             double d = 0;
+            bool any_strong = false;
             for (auto p = outer[i]; p < outer[i + 1]; ++p) {
                 const Eigen::Index j = inner[p];
                 if (j == i)
@@ -393,8 +396,13 @@ RowSparse filtered_matrix(const RowSparse& A, const Eigen::VectorXd& diag, doubl
                 else if (!strong(i, j, val[p])) {
                     d += val[p];
                     ++(*weak_count)[static_cast<size_t>(i)];
+                } else {
+                    any_strong = true;
                 }
             }
+            // A row with no strong neighbour keeps its own diagonal: lumped, a graph Laplacian's
+            // row would sum to 0 (or, by rounding, just below), which no Jacobi step can divide by.
+            if (!any_strong) d = diag(i);
             bool diagonal_written = false;
             for (auto p = outer[i]; p < outer[i + 1]; ++p) {
                 const Eigen::Index j = inner[p];
