@@ -33,7 +33,8 @@ TEST(SparseColumns, EntriesStartAtZeroAndSumInCallOrder) {
 
 TEST(SparseColumns, AssembledAsCoeffRefAddsTermAfterTerm) {
     // 140,000 columns of random terms (wide-ranging magnitudes, so the order of each entry's terms
-    // shows in its bits): assembled on every thread and on one, against coeffRef() term after term.
+    // shows in its bits; enough columns to be shared out): assembled on every thread and on one,
+    // against coeffRef() term after term.
     const Eigen::Index n = 140000;
     std::mt19937 rng(7);
     std::uniform_int_distribution<int> row(0, static_cast<int>(n) - 1), offset(-3, 3);
@@ -48,12 +49,12 @@ TEST(SparseColumns, AssembledAsCoeffRefAddsTermAfterTerm) {
     for (Eigen::Index c = 0; c < n; ++c)
         for (const auto& [r, x] : terms[static_cast<size_t>(c)]) expected.coeffRef(r, c) += x;
     expected.makeCompressed();
-    for (const bool share : {true, false}) {
+    for (const int threads : {0, 1}) {
         const Eigen::SparseMatrix<double> M =
-            assemble_columns(n, n, share, share ? 0 : 1, [&](Eigen::Index c, ColumnEntries& column) {
+            assemble_columns(n, n, threads, [&](Eigen::Index c, ColumnEntries& column) {
                 for (const auto& [r, x] : terms[static_cast<size_t>(c)]) column.add(r, x);
             });
-        ASSERT_EQ(M.nonZeros(), expected.nonZeros()) << "share " << share;
+        ASSERT_EQ(M.nonZeros(), expected.nonZeros()) << "threads " << threads;
         EXPECT_EQ(0, std::memcmp(M.outerIndexPtr(), expected.outerIndexPtr(), sizeof(int) * (n + 1)));
         EXPECT_EQ(0, std::memcmp(M.innerIndexPtr(), expected.innerIndexPtr(), sizeof(int) * M.nonZeros()));
         EXPECT_EQ(0, std::memcmp(M.valuePtr(), expected.valuePtr(), sizeof(double) * M.nonZeros()));

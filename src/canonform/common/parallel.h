@@ -149,13 +149,15 @@ void parallel_ranges(std::ptrdiff_t n, std::ptrdiff_t chunk, bool share, int thr
     parallel_for(ranges, run, o);
 }
 
-/// body(begin, end) over [0, n) in ranges of 65,536 rows (of a matrix, vertices of a mesh), on
-/// thread_count(threads) threads from 131,072 rows (large meshes), else on the calling thread.
-/// Only for per-row work whose values do not depend on which thread does a range.
+/// Rows (of a matrix, vertices of a mesh) from which per-row work is shared out (parallel_rows).
+constexpr std::ptrdiff_t kShareRowsFrom = 131072;
+
+/// body(begin, end) over [0, n) in ranges of 65,536 rows, on thread_count(threads) threads from
+/// kShareRowsFrom rows (large meshes), else on the calling thread. Only for per-row work whose
+/// values do not depend on which thread does a range.
 template <class Body>
 void parallel_rows(std::ptrdiff_t n, int threads, const Body& body) {
-    constexpr std::ptrdiff_t kRows = 65536;
-    parallel_ranges(n, kRows, n >= 2 * kRows, threads, body);
+    parallel_ranges(n, kShareRowsFrom / 2, n >= kShareRowsFrom, threads, body);
 }
 
 }  // namespace canonform

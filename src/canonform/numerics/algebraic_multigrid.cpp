@@ -4,6 +4,7 @@
 #include "canonform/common/errors.h"
 #include "canonform/common/parallel.h"
 #include "canonform/numerics/graph.h"
+#include "canonform/numerics/sparse_columns.h"
 
 #include <algorithm>
 #include <atomic>
@@ -442,10 +443,11 @@ std::vector<int> aggregate(const RowSparse& F, int* count) {
 // The smoothed prolongator of aggregation `agg` (nc aggregates), P = P_t - omega D^-1 F P_t, where
 // row i of the tentative P_t is e_agg(i) and D^-1 = inv_diag; rows for which keep_tentative(i) is
 // true keep P_t's row, and entries that come out exactly 0 are left out. Row i of D^-1 F P_t sums,
-// per aggregate, inv_diag(i) f_ik over row i's entries k in stored order (the first term
-// assigned, the next ones added) and P's entry is (1 if the aggregate is i's own, else 0) minus
-// omega times that sum: what Eigen's sparse product and difference of D^-1 F, P_t and omega give,
-// to the bit, without forming them.
+// per aggregate, inv_diag(i) f_ik over row i's entries k in stored order (ColumnEntries, a row's
+// entries summed as sparse_columns.h sums a column's) and P's entry is (1 if the aggregate is i's
+// own, else 0) minus omega times that sum: what Eigen's sparse product and difference of D^-1 F,
+// P_t and omega give, to the bit, without forming them. (F's diagonal puts i's own aggregate in
+// every row.)
 template <class KeepTentative>
 RowSparse smoothed_prolongator(const RowSparse& F, const Eigen::VectorXd& inv_diag,
                                const std::vector<int>& agg, int nc, double omega,
@@ -453,48 +455,30 @@ RowSparse smoothed_prolongator(const RowSparse& F, const Eigen::VectorXd& inv_di
     const auto* fo = F.outerIndexPtr();
     const auto* fi = F.innerIndexPtr();
     const double* fv = F.valuePtr();
-    // Row i's (aggregate, entry) pairs, in order of first appearance, own aggregate included.
-    const auto row = [&](Eigen::Index i, std::vector<std::pair<int, double>>& out) {
-        out.clear();
+    thread_local ColumnEntries sums;
+    // put(aggregate, entry) for row i's non-zero entries of P.
+    const auto row = [&](Eigen::Index i, const auto& put) {
         const int own = agg[static_cast<size_t>(i)];
         if (keep_tentative(i)) {
-            out.emplace_back(own, 1.0);
+            put(own, 1.0);
             return;
         }
-        for (auto p = fo[i]; p < fo[i + 1]; ++p) {
-            const double y = inv_diag(i) * fv[p];
-            const int a = agg[static_cast<size_t>(fi[p])];
-            bool found = false;
-            for (auto& e : out)
-                if (e.first == a) {
-                    e.second += 1.0 * y;
-                    found = true;
-                    break;
-                }
-            if (!found) out.emplace_back(a, 1.0 * y);
+        sums.clear();
+        for (auto p = fo[i]; p < fo[i + 1]; ++p)
+            sums.add(agg[static_cast<size_t>(fi[p])], inv_diag(i) * fv[p]);
+        for (const auto& [a, sum] : sums.sorted()) {
+            const double value = (a == own ? 1.0 : 0.0) - omega * sum;
+            if (value != 0) put(a, value);
         }
-        bool has_own = false;
-        for (auto& e : out) {
-            const bool is_own = e.first == own;
-            has_own = has_own || is_own;
-            e.second = (is_own ? 1.0 : 0.0) - omega * e.second;
-        }
-        if (!has_own) out.emplace_back(own, 1.0 - 0.0);
     };
-    thread_local std::vector<std::pair<int, double>> entries;
     return compressed_rows(
         F.rows(), nc, F.nonZeros(), threads,
         [&](Eigen::Index i) {
-            row(i, entries);
             Eigen::Index count = 0;
-            for (const auto& e : entries) count += e.second != 0;
+            row(i, [&count](int, double) { ++count; });
             return count;
         },
-        [&](Eigen::Index i, const auto& put) {
-            row(i, entries);
-            for (const auto& e : entries)
-                if (e.second != 0) put(e.first, e.second);
-        });
+        row);
 }
 
 // Largest eigenvalue of D^-1 A by power iteration (fixed seed), with a 10% margin.

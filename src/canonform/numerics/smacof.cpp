@@ -206,8 +206,8 @@ SmacofSolver::SmacofSolver(int num_points, StressPairs pairs, const SmacofSolver
     // into compressed storage (no triplet list: 4 x 16 bytes per pair, 190 MB at 1M vertices),
     // column by column: column v - 1 sums, in pair order, +w on its diagonal and -w in row u - 1
     // for every pair (v, u) with u > 0, each entry starting from 0 (the order in which
-    // setFromTriplets() summed them, so V is the same to the bit; sparse_columns.h), on every
-    // thread from 131,072 columns. first[c] .. first[c + 1]: the pairs of column c, in order.
+    // setFromTriplets() summed them, so V is the same to the bit; sparse_columns.h), the columns
+    // shared out on large meshes. first[c] .. first[c + 1]: the pairs of column c, in order.
     std::vector<int> first(static_cast<size_t>(n_), 0);
     for (size_t k = 0; k < m; ++k) {
         if (pairs_.i[k] > 0) ++first[static_cast<size_t>(pairs_.i[k])];
@@ -225,8 +225,8 @@ SmacofSolver::SmacofSolver(int num_points, StressPairs pairs, const SmacofSolver
                 column_pairs[static_cast<size_t>(next[static_cast<size_t>(b - 1)]++)] = static_cast<int>(k);
         }
     }
-    const Eigen::SparseMatrix<double> Vr = assemble_columns(
-        n_ - 1, n_ - 1, n_ - 1 >= 131072, options_.threads, [&](Eigen::Index c, ColumnEntries& column) {
+    const Eigen::SparseMatrix<double> Vr =
+        assemble_columns(n_ - 1, n_ - 1, options_.threads, [&](Eigen::Index c, ColumnEntries& column) {
             for (int p = first[static_cast<size_t>(c)]; p < first[static_cast<size_t>(c) + 1]; ++p) {
                 const size_t k = static_cast<size_t>(column_pairs[static_cast<size_t>(p)]);
                 const int a = pairs_.i[k], b = pairs_.j[k];

@@ -43,15 +43,14 @@ private:
 };
 
 /// The rows x cols compressed column-major matrix whose column c holds what column(c, entries)
-/// adds to a cleared ColumnEntries. Columns in ranges of 65,536, on every thread when `share`
-/// (parallel_ranges: the matrix does not depend on the threads). column() is called twice for
-/// each column, to count and then to write, and must add the same terms both times.
+/// adds to a cleared ColumnEntries. Columns in ranges, shared out as parallel_rows() shares rows
+/// (the matrix does not depend on the threads). column() is called twice for each column, to count
+/// and then to write, and must add the same terms both times.
 template <class Column>
-Eigen::SparseMatrix<double> assemble_columns(Eigen::Index rows, Eigen::Index cols, bool share, int threads,
+Eigen::SparseMatrix<double> assemble_columns(Eigen::Index rows, Eigen::Index cols, int threads,
                                              const Column& column) {
-    constexpr std::ptrdiff_t kRange = 65536;
     std::vector<int> start(static_cast<size_t>(cols) + 1, 0);
-    parallel_ranges(cols, kRange, share, threads, [&](Eigen::Index begin, Eigen::Index end) {
+    parallel_rows(cols, threads, [&](Eigen::Index begin, Eigen::Index end) {
         ColumnEntries entries;
         for (Eigen::Index c = begin; c < end; ++c) {
             entries.clear();
@@ -66,7 +65,7 @@ Eigen::SparseMatrix<double> assemble_columns(Eigen::Index rows, Eigen::Index col
     std::copy(start.begin(), start.end(), M.outerIndexPtr());
     int* inner = M.innerIndexPtr();
     double* values = M.valuePtr();
-    parallel_ranges(cols, kRange, share, threads, [&](Eigen::Index begin, Eigen::Index end) {
+    parallel_rows(cols, threads, [&](Eigen::Index begin, Eigen::Index end) {
         ColumnEntries entries;
         for (Eigen::Index c = begin; c < end; ++c) {
             entries.clear();

@@ -10,23 +10,15 @@
 
 namespace canonform::surface {
 
-namespace {
-// Faces and columns in ranges of this many; on every thread from kShareFrom faces (about 100k
-// vertices), below it on the calling thread alone (no pool for small work).
-constexpr std::ptrdiff_t kRange = 65536;
-constexpr Eigen::Index kShareFrom = 200000;
-}  // namespace
-
 Eigen::SparseMatrix<double> cotan_laplacian(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, int threads) {
     const Eigen::Index n = V.rows(), m = F.rows();
-    const bool share = m >= kShareFrom;
     // The definition, face by face: corner c of face f (opposite the edge (i, j)) adds -w to
     // (i, j) and (j, i), then +w to (i, i) and (j, j), every entry starting from 0; w is half the
     // cotangent of the corner's angle. Built here column by column, each entry's terms added in
     // that order of faces and corners (so its value is the same to the bit), the columns in
     // parallel: first the weights of all corners, then each vertex's corners in order.
     std::vector<double> w(static_cast<size_t>(3 * m));
-    parallel_ranges(m, kRange, share, threads, [&](Eigen::Index begin, Eigen::Index end) {
+    parallel_rows(m, threads, [&](Eigen::Index begin, Eigen::Index end) {
         for (Eigen::Index f = begin; f < end; ++f)
             for (int c = 0; c < 3; ++c) {
                 const int i = F(f, (c + 1) % 3), j = F(f, (c + 2) % 3), k = F(f, c);
@@ -56,20 +48,19 @@ Eigen::SparseMatrix<double> cotan_laplacian(const Eigen::MatrixXd& V, const Eige
     }
     // Column v: its terms in order ((i, j) gets -w where j = v, (j, i) where i = v, then (v, v)
     // +w for each of i and j that is v).
-    return numerics::assemble_columns(
-        n, n, share, threads, [&](Eigen::Index v, numerics::ColumnEntries& column) {
-            for (int p = first[static_cast<size_t>(v)]; p < first[static_cast<size_t>(v) + 1]; ++p) {
-                const int corner = corners[static_cast<size_t>(p)];
-                const Eigen::Index f = corner / 3;
-                const int c = corner % 3;
-                const int i = F(f, (c + 1) % 3), j = F(f, (c + 2) % 3);
-                const double x = w[static_cast<size_t>(corner)];
-                if (j == v) column.add(i, -x);
-                if (i == v) column.add(j, -x);
-                if (i == v) column.add(i, x);
-                if (j == v) column.add(j, x);
-            }
-        });
+    return numerics::assemble_columns(n, n, threads, [&](Eigen::Index v, numerics::ColumnEntries& column) {
+        for (int p = first[static_cast<size_t>(v)]; p < first[static_cast<size_t>(v) + 1]; ++p) {
+            const int corner = corners[static_cast<size_t>(p)];
+            const Eigen::Index f = corner / 3;
+            const int c = corner % 3;
+            const int i = F(f, (c + 1) % 3), j = F(f, (c + 2) % 3);
+            const double x = w[static_cast<size_t>(corner)];
+            if (j == v) column.add(i, -x);
+            if (i == v) column.add(j, -x);
+            if (i == v) column.add(i, x);
+            if (j == v) column.add(j, x);
+        }
+    });
 }
 
 }  // namespace canonform::surface

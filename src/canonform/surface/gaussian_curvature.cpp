@@ -24,10 +24,9 @@ Eigen::VectorXd gaussian_curvature(const Eigen::MatrixXd& V, const Eigen::Matrix
     for (Eigen::Index v = 0; v < V.rows(); ++v) K(v) = boundary[static_cast<size_t>(v)] ? M_PI : 2 * M_PI;
     // The angles of a block of faces at a time (three per face, in order), then subtracted in the
     // same order as one by one: the same bits, with the arctangents four at a time. From
-    // kShareFrom faces a block's angles are computed in ranges of 16,384 faces on every thread
+    // kShareRowsFrom faces a block's angles are computed in ranges of 16,384 faces on every thread
     // (below it, blocks of 512 faces on the calling thread alone: no pool for small work).
-    constexpr Eigen::Index kShareFrom = 200000;
-    const bool share = F.rows() >= kShareFrom;
+    const bool share = F.rows() >= kShareRowsFrom;
     const Eigen::Index range = share ? 16384 : 512, block = share ? 16 * range : range;
     std::vector<double> ys(static_cast<size_t>(3 * block)), xs(ys.size()), angles(ys.size());
     for (Eigen::Index first = 0; first < F.rows(); first += block) {
