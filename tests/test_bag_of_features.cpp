@@ -326,7 +326,9 @@ TEST(Codebook, IntegerDescriptorsTakeTheNearestRoundedWordTiesToTheLowerIndex) {
     // SIFT descriptors (integers 0-255) meet the words rounded to 1/64 in exact integer sums, four
     // descriptors at a time (codebook.h): the word chosen is the lowest index among those with the
     // smallest |q|^2 - 128 x.q, found here by brute force in 64-bit integers. An odd number of
-    // words, duplicated words (ties), a last block of fewer than four descriptors.
+    // words (a last block of 16 words that is partly empty), duplicated words (ties), a last block
+    // of fewer than four descriptors; every word search this CPU runs (portable, and avx512-vnni
+    // where it can), each the same words.
     std::mt19937_64 rng(21);
     std::uniform_int_distribution<int> value(0, 255);
     std::uniform_real_distribution<float> word_value(0.f, 300.f);
@@ -335,8 +337,14 @@ TEST(Codebook, IntegerDescriptorsTakeTheNearestRoundedWordTiesToTheLowerIndex) {
     for (Eigen::Index i = 0; i < C.size(); ++i) C.data()[i] = word_value(rng);
     for (int k = 0; k < 20; ++k) C.row(100 + 10 * k) = C.row(7 * k);  // later copies of earlier words
     for (int k = 0; k < 5; ++k) C.row(290 + k) = X.row(k);            // words at some descriptors
-    const std::vector<int> got = Codebook::from_words(C).assign(X);
+    const Codebook cb = Codebook::from_words(C);
+    const std::vector<int> got = cb.assign(X);
     ASSERT_EQ(got.size(), 1001u);
+    const std::vector<std::string> paths = canonform::views::detail::word_search_paths();
+    ASSERT_EQ(paths.front(), "portable");
+    for (const std::string& path : paths)
+        EXPECT_EQ(canonform::views::detail::assign_with(cb, X, path), got) << path;
+    EXPECT_THROW(canonform::views::detail::assign_with(cb, X, "sse9"), canonform::InputError);
     std::vector<std::int64_t> q(static_cast<size_t>(C.size())), norm(static_cast<size_t>(C.rows()), 0);
     for (Eigen::Index w = 0; w < C.rows(); ++w)
         for (int c = 0; c < 128; ++c) {

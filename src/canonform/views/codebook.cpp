@@ -10,6 +10,9 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
+#if defined(__x86_64__)
+#include <immintrin.h>
+#endif
 #include <iterator>
 #include <limits>
 #include <numeric>
@@ -30,7 +33,7 @@ constexpr float kMaxWordValue = 511.f;
 // For four descriptors x (4 x 128 integers 0-255), the index of the word q (w x 128, units of 1/64)
 // with the smallest |q|^2 - 128 x.q, that is 4096 |x - q/64|^2 - 4096 |x|^2 (ties: the lower index).
 // Integer arithmetic (no sum reaches 2^31: 128 * 255 * 32704 < 2^31), so every CPU and every
-// instruction set - the AVX2 clone or SSE2 - gives the same answer.
+// instruction set gives the same answer: this portable loop, or the blocked search below.
 CANONFORM_CLONES void nearest_of_four(const std::int16_t* __restrict x, const std::int16_t* __restrict q,
                                       const std::int64_t* __restrict qn, int words, int* best) {
     std::int64_t score[4] = {
@@ -56,6 +59,95 @@ CANONFORM_CLONES void nearest_of_four(const std::int16_t* __restrict x, const st
                 best[r] = w;
             }
     }
+}
+
+// The scores of a block of words (lane l: word 16 b + l) for one descriptor, taken in word order:
+// the same choice as the loop above (strictly smaller replaces, so ties keep the lower index).
+inline void take_block(const std::int32_t* dots, const std::int64_t* qn, int first, int count,
+                       std::int64_t& score, int& best) {
+    for (int l = 0; l < count; ++l) {
+        const std::int64_t t = qn[first + l] - 128 * std::int64_t(dots[l]);
+        if (t < score) {
+            score = t;
+            best = first + l;
+        }
+    }
+}
+
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(__SANITIZE_ADDRESS__) && \
+    !defined(_WIN32)
+#define CANONFORM_BLOCKED_WORD_SEARCH 1
+// The blocked search reads the words transposed (Codebook::qblocks_): blocks of 16 words, and in
+// a block, for each pair of values (2 p, 2 p + 1), the 16 words' pairs side by side. One 64-byte
+// block row meets a descriptor's pair broadcast to every lane: AVX-512 VNNI's vpdpwssd multiplies
+// the 16-bit pairs and adds both products to a 32-bit sum per word, with no sum across lanes until
+// the block's end. The same integers as the loop above in another order (integer sums do not
+// depend on it). Written with the CPU's intrinsics, chosen at run time (word_search below), for
+// CPUs with AVX-512 VNNI; on AVX2 alone the same scheme (vpmaddwd, then vpaddd) was slower than the
+// vectorised loop above (9.7 against 8.5 ms for 2,544 descriptors and 1,500 words).
+__attribute__((target("avx512f,avx512bw,avx512vnni"))) void nearest_of_four_vnni(const std::int16_t* x,
+                                                                                 const std::int16_t* blocks,
+                                                                                 const std::int64_t* qn,
+                                                                                 int words, int* best) {
+    std::int64_t score[4];
+    for (int r = 0; r < 4; ++r) {
+        score[r] = std::numeric_limits<std::int64_t>::max();
+        best[r] = 0;
+    }
+    std::int32_t pairs[4][kDescriptorSize / 2];
+    for (int r = 0; r < 4; ++r) std::memcpy(pairs[r], x + r * kDescriptorSize, sizeof(pairs[r]));
+    alignas(64) std::int32_t dots[4][16];
+    for (int first = 0; first < words; first += 16) {
+        const std::int16_t* b = blocks + static_cast<std::ptrdiff_t>(first) * kDescriptorSize;
+        // Two sums per descriptor (even and odd pairs): eight chains of additions in flight.
+        __m512i a0 = _mm512_setzero_si512(), a1 = a0, a2 = a0, a3 = a0, b0 = a0, b1 = a0, b2 = a0, b3 = a0;
+        for (int p = 0; p < kDescriptorSize / 2; p += 2) {
+            const __m512i q = _mm512_loadu_si512(b + p * 32), u = _mm512_loadu_si512(b + p * 32 + 32);
+            a0 = _mm512_dpwssd_epi32(a0, q, _mm512_set1_epi32(pairs[0][p]));
+            a1 = _mm512_dpwssd_epi32(a1, q, _mm512_set1_epi32(pairs[1][p]));
+            a2 = _mm512_dpwssd_epi32(a2, q, _mm512_set1_epi32(pairs[2][p]));
+            a3 = _mm512_dpwssd_epi32(a3, q, _mm512_set1_epi32(pairs[3][p]));
+            b0 = _mm512_dpwssd_epi32(b0, u, _mm512_set1_epi32(pairs[0][p + 1]));
+            b1 = _mm512_dpwssd_epi32(b1, u, _mm512_set1_epi32(pairs[1][p + 1]));
+            b2 = _mm512_dpwssd_epi32(b2, u, _mm512_set1_epi32(pairs[2][p + 1]));
+            b3 = _mm512_dpwssd_epi32(b3, u, _mm512_set1_epi32(pairs[3][p + 1]));
+        }
+        _mm512_store_si512(dots[0], _mm512_add_epi32(a0, b0));
+        _mm512_store_si512(dots[1], _mm512_add_epi32(a1, b1));
+        _mm512_store_si512(dots[2], _mm512_add_epi32(a2, b2));
+        _mm512_store_si512(dots[3], _mm512_add_epi32(a3, b3));
+        const int count = std::min(16, words - first);
+        for (int r = 0; r < 4; ++r) take_block(dots[r], qn, first, count, score[r], best[r]);
+    }
+}
+#endif
+
+// The word searches, portable first; word_search() picks the last one the CPU runs.
+enum class WordSearch { Portable, Vnni };
+
+bool runs_here(WordSearch path) {
+    switch (path) {
+        case WordSearch::Portable:
+            return true;
+#ifdef CANONFORM_BLOCKED_WORD_SEARCH
+        case WordSearch::Vnni:
+            return __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512bw") &&
+                   __builtin_cpu_supports("avx512vnni");
+#else
+        default:
+            return false;
+#endif
+    }
+    return false;
+}
+
+WordSearch word_search() {
+    static const WordSearch path = runs_here(WordSearch::Vnni) ? WordSearch::Vnni : WordSearch::Portable;
+    return path;
+}
+
+const char* word_search_name(WordSearch path) {
+    return path == WordSearch::Vnni ? "avx512-vnni" : "portable";
 }
 
 float get_f32(const unsigned char* p) {
@@ -87,6 +179,16 @@ Codebook Codebook::from_words(DescriptorMatrix words) {
             }
             cb.qnorms_[static_cast<size_t>(r)] = n;
         }
+        // The same integers in blocks of 16 words, each block row a pair of values of its 16 words
+        // (the blocked search, where the CPU runs it); the last block's missing words are 0 and
+        // never taken.
+        const size_t blocks = static_cast<size_t>((cb.words_.rows() + 15) / 16);
+        if (runs_here(WordSearch::Vnni)) cb.qblocks_.assign(blocks * 16 * kDescriptorSize, 0);
+        for (Eigen::Index r = 0; r < cb.words_.rows() && !cb.qblocks_.empty(); ++r)
+            for (int c = 0; c < kDescriptorSize; ++c)
+                cb.qblocks_[static_cast<size_t>((r / 16) * 16 * kDescriptorSize + (c / 2) * 32 +
+                                                (r % 16) * 2 + c % 2)] =
+                    cb.qwords_[static_cast<size_t>(r * kDescriptorSize + c)];
     }
     return cb;
 }
@@ -111,7 +213,30 @@ std::string codebook_method_name(CodebookOptions::Method method) {
 }
 
 std::vector<int> Codebook::assign(const DescriptorMatrix& descriptors) const {
+    return assign_by(descriptors, static_cast<int>(word_search()));
+}
+
+std::vector<std::string> detail::word_search_paths() {
+    std::vector<std::string> names;
+    for (WordSearch path : {WordSearch::Portable, WordSearch::Vnni})
+        if (runs_here(path)) names.push_back(word_search_name(path));
+    return names;
+}
+
+std::vector<int> detail::assign_with(const Codebook& codebook, const DescriptorMatrix& descriptors,
+                                     const std::string& path) {
+    for (WordSearch p : {WordSearch::Portable, WordSearch::Vnni})
+        if (path == word_search_name(p)) {
+            if (!runs_here(p))
+                throw InputError("Codebook: this CPU cannot run the word search '" + path + "'.");
+            return codebook.assign_by(descriptors, static_cast<int>(p));
+        }
+    throw InputError("Codebook: no word search '" + path + "'.");
+}
+
+std::vector<int> Codebook::assign_by(const DescriptorMatrix& descriptors, int search) const {
     if (words_.rows() == 0) throw InputError("Codebook: assign() on an empty codebook.");
+    const auto path = static_cast<WordSearch>(search);
     const Eigen::Index n = descriptors.rows();
     std::vector<int> label(static_cast<size_t>(n), 0);
     std::vector<std::int16_t> block(4 * kDescriptorSize);
@@ -121,7 +246,7 @@ std::vector<int> Codebook::assign(const DescriptorMatrix& descriptors) const {
         for (int r = 0; r < rows && integral; ++r)
             for (int c = 0; c < kDescriptorSize; ++c) {
                 const float v = descriptors(r0 + r, c);
-                if (!(v >= 0.f && v <= 255.f && v == std::floor(v))) {
+                if (!(v >= 0.f && v <= 255.f && v == static_cast<float>(static_cast<int>(v)))) {
                     integral = false;
                     break;
                 }
@@ -132,7 +257,15 @@ std::vector<int> Codebook::assign(const DescriptorMatrix& descriptors) const {
                 std::copy(block.begin(), block.begin() + kDescriptorSize,
                           block.begin() + r * kDescriptorSize);
             int best[4];
-            nearest_of_four(block.data(), qwords_.data(), qnorms_.data(), size(), best);
+            switch (path) {
+#ifdef CANONFORM_BLOCKED_WORD_SEARCH
+                case WordSearch::Vnni:
+                    nearest_of_four_vnni(block.data(), qblocks_.data(), qnorms_.data(), size(), best);
+                    break;
+#endif
+                default:
+                    nearest_of_four(block.data(), qwords_.data(), qnorms_.data(), size(), best);
+            }
             for (int r = 0; r < rows; ++r) label[static_cast<size_t>(r0 + r)] = best[r];
         } else {
             for (int r = 0; r < rows; ++r)

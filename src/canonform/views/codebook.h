@@ -36,7 +36,9 @@
 // words in [0, 511] (a codebook of SIFT descriptors: means of such values), the distance is taken to
 // the words rounded to 1/64 (a change below 1/128 per value, about a thousandth of the distance
 // between a descriptor and its word), in 16-bit integers with exact integer sums: no rounding, so
-// the choice is the same whatever instructions compute it (8 lanes with AVX2, 4 with SSE2).
+// the choice is the same whatever instructions compute it: 8 lanes with AVX2, 4 with SSE2, and on
+// CPUs with AVX-512 VNNI sixteen words at a time, each pair of values multiplied and added in one
+// instruction (chosen at run time; codebook.cpp).
 // Other descriptors or words: exact squared distances in double, summed in a fixed order. One
 // thread: a view's descriptors take well under a millisecond (bench/bench_views.cpp).
 // The training code (train, train_on_rows, training_rows) is in its own library,
@@ -93,6 +95,12 @@ CodebookOptions::Method parse_codebook_method(const std::string& name);
 /// The name of a method ("kmeans", "lloyd", "random").
 std::string codebook_method_name(CodebookOptions::Method method);
 
+class Codebook;
+namespace detail {
+std::vector<int> assign_with(const Codebook& codebook, const DescriptorMatrix& descriptors,
+                             const std::string& path);
+}  // namespace detail
+
 /// A set of visual words (size() x 128).
 class Codebook {
 public:
@@ -135,12 +143,24 @@ public:
     const DescriptorMatrix& words() const { return words_; }
 
 private:
+    friend std::vector<int> detail::assign_with(const Codebook&, const DescriptorMatrix&, const std::string&);
+    std::vector<int> assign_by(const DescriptorMatrix& descriptors, int search) const;
     int nearest_exact(const float* x) const;
 
     DescriptorMatrix words_;
-    bool quantised_ = false;            // every word in [0, 511]: qwords_ and qnorms_ are set
-    std::vector<std::int16_t> qwords_;  // round(64 word), word-major
-    std::vector<std::int64_t> qnorms_;  // |qword|^2
+    bool quantised_ = false;             // every word in [0, 511]: qwords_ and qnorms_ are set
+    std::vector<std::int16_t> qwords_;   // round(64 word), word-major
+    std::vector<std::int64_t> qnorms_;   // |qword|^2
+    std::vector<std::int16_t> qblocks_;  // qwords_ in blocks of 16 words, transposed (codebook.cpp)
 };
+
+namespace detail {
+/// The word searches of assign() this CPU can run ("portable", and "avx512-vnni" where the CPU has
+/// AVX-512 VNNI; assign() takes the last). They give the same words: tests compare them.
+std::vector<std::string> word_search_paths();
+/// assign() with the named word search (InputError if unknown or not runnable here).
+std::vector<int> assign_with(const Codebook& codebook, const DescriptorMatrix& descriptors,
+                             const std::string& path);
+}  // namespace detail
 
 }  // namespace canonform::views
