@@ -9,6 +9,7 @@
 #include "canonform/procedural/procedural_meshes.h"
 #include "canonform/views/depth_render.h"
 #include "canonform/views/opencv_sift.h"
+#include "canonform/views/sift_pyramid.h"
 #include "canonform/views/view_directions.h"
 #include "test_util.h"
 
@@ -21,7 +22,9 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <cstring>
 #include <map>
+#include <random>
 #include <string>
 #include <thread>
 #include <vector>
@@ -460,6 +463,59 @@ TEST(Sift, DeterministicAndIndependentOfTheThreadCount) {
                 EXPECT_EQ(a.keypoints[k].octave, b.keypoints[k].octave);
             }
         }
+}
+
+// The extremum scan's row kernels (16 lanes with AVX-512 where the CPU has it) give the portable
+// ones' DoG values to the bit and the same candidates, in order: rows of every width from 2 to 70
+// (the masked last step), values drawn from a few levels so that ties, zeros of both signs and
+// values at the pre-test threshold are common. (On a CPU without AVX-512 both are the portable
+// kernels.)
+TEST(Sift, RowScanFindsThePortableCandidates) {
+    std::mt19937 rng(5);
+    const float levels[] = {0.f, -0.f, 0.25f, -0.25f, 0.5f, -0.5f, 1.f, -1.f, 0.75f};
+    std::uniform_int_distribution<int> pick(0, 8);
+    const float pre = 0.25f;
+    long candidates = 0;
+    for (int w = 2; w <= 70; ++w)
+        for (int trial = 0; trial < 20; ++trial) {
+            // Three DoG rows (above, this, below), each from two Gaussian rows.
+            std::vector<float> d[2][3], mx[2][3], mn[2][3];
+            for (int r = 0; r < 3; ++r) {
+                std::vector<float> b(static_cast<size_t>(w)), t(static_cast<size_t>(w));
+                for (int i = 0; i < w; ++i) {
+                    b[static_cast<size_t>(i)] = levels[pick(rng)];
+                    t[static_cast<size_t>(i)] = levels[pick(rng)];
+                }
+                for (int k = 0; k < 2; ++k) {
+                    d[k][r].assign(static_cast<size_t>(w), 9.f);
+                    mx[k][r].assign(static_cast<size_t>(w), 9.f);
+                    mn[k][r].assign(static_cast<size_t>(w), 9.f);
+                }
+                sift::dog_row(b.data(), t.data(), d[0][r].data(), mx[0][r].data(), mn[0][r].data(), w);
+                sift::dog_row_portable(b.data(), t.data(), d[1][r].data(), mx[1][r].data(), mn[1][r].data(),
+                                       w);
+                ASSERT_EQ(std::memcmp(d[0][r].data(), d[1][r].data(), sizeof(float) * size_t(w)), 0) << w;
+                EXPECT_EQ(mx[0][r][0], 9.f);  // [1, w - 1) only
+                for (int i = 1; i < w - 1; ++i) {
+                    ASSERT_EQ(mx[0][r][static_cast<size_t>(i)], mx[1][r][static_cast<size_t>(i)])
+                        << w << " " << i;
+                    ASSERT_EQ(mn[0][r][static_cast<size_t>(i)], mn[1][r][static_cast<size_t>(i)])
+                        << w << " " << i;
+                }
+                EXPECT_EQ(mx[0][r][static_cast<size_t>(w - 1)], 9.f);
+            }
+            std::vector<int> got(static_cast<size_t>(w) + 16), want(static_cast<size_t>(w) + 16);
+            const int n = sift::row_candidates(d[0][1].data(), mx[0][0].data(), mn[0][0].data(),
+                                               mx[0][2].data(), mn[0][2].data(), w, pre, got.data());
+            const int m =
+                sift::row_candidates_portable(d[1][1].data(), mx[1][0].data(), mn[1][0].data(),
+                                              mx[1][2].data(), mn[1][2].data(), w, pre, want.data());
+            ASSERT_EQ(n, m) << w;
+            for (int i = 0; i < n; ++i)
+                ASSERT_EQ(got[static_cast<size_t>(i)], want[static_cast<size_t>(i)]) << w;
+            candidates += n;
+        }
+    EXPECT_GT(candidates, 200);  // the rows had candidates to find
 }
 
 // Only what is inside the view counts, wherever the object lies in it: the features of an object

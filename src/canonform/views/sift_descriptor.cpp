@@ -49,7 +49,9 @@ void describe_window(const Plane& L, const Candidate& k, WindowScratch& scratch)
     const int p = sample_step(k.sigma);
     const size_t sx = static_cast<size_t>(align_up(x0, k.X, p) - x0),
                  sy = static_cast<size_t>(align_up(y0, k.Y, p) - y0), step = static_cast<size_t>(p);
-    sampled_weights(x0, k.X, k.fx, sx, nx + 16, step, inv, scratch.wx.data());
+    // (weights for the window's columns only; wx has 16 more floats, which a block of eight
+    // samples with p = 1 may read for lanes past the window: those lanes are left out)
+    sampled_weights(x0, k.X, k.fx, sx, nx, step, inv, scratch.wx.data());
     sampled_weights(y0, k.Y, k.fy, sy, ny, step, inv, scratch.wy.data());
 }
 
@@ -98,53 +100,54 @@ CANONFORM_CLONES void describe(const Plane& L, const Candidate& k, double angle,
             narrow(c, double(s) * dy + centre, lo, hi);
             narrow(-double(s), double(c) * dy + centre, lo, hi);
             const int xa = align_up(k.X + static_cast<int>(lo), k.X, p), xb = k.X + static_cast<int>(hi);
-            const v4f lane = v4f{0.f, 1.f, 2.f, 3.f} * splat4(float(p));
-            for (int x = xa; x <= xb; x += 4 * p) {
+            // Eight samples a step (x, x + p, ..., x + 7p), lanes past xb left out.
+            const v8f lane = v8f{0.f, 1.f, 2.f, 3.f, 4.f, 5.f, 6.f, 7.f} * splat8(float(p));
+            const v8i lanes = v8i{0, 1, 2, 3, 4, 5, 6, 7} * p;
+            const v8f one = splat8(1.f), zero = splat8(0.f);
+            for (int x = xa; x <= xb; x += 8 * p) {
                 const size_t i = static_cast<size_t>(x - x0);
-                const v4f dx = (splat4(static_cast<float>(x - k.X)) + lane) - splat4(k.fx);
-                const v4f col =
-                    splat4(c) * dx + splat4(s * dy) + splat4(centre);  // along the keypoint's direction
-                const v4f row =
-                    splat4(-s) * dx + splat4(c * dy) + splat4(centre);  // 90 degrees clockwise from it
-                const v4f gx = load4s(mid + x + 1, p) - load4s(mid + x - 1, p),
-                          gy = load4s(down + x, p) - load4s(up + x, p);
-                const v4f m = sqrt4(gx * gx + gy * gy);
-                const v4i in = (col > splat4(-1.f)) & (col < splat4(float(kGrid))) & (row > splat4(-1.f)) &
-                               (row < splat4(float(kGrid))) & (m > splat4(0.f)) &
-                               (v4i{0, 1, 2, 3} * splat4i(p) <= splat4i(xb - x));
-                if (!mask4(in)) continue;
-                v4f phi = splat4(a0) - approximate_angle_0_to_2pi_x4(
+                const int last = std::min(7, (xb - x) / p);
+                const v8f dx = (splat8(static_cast<float>(x - k.X)) + lane) - splat8(k.fx);
+                const v8f col =
+                    splat8(c) * dx + splat8(s * dy) + splat8(centre);  // along the keypoint's direction
+                const v8f row =
+                    splat8(-s) * dx + splat8(c * dy) + splat8(centre);  // 90 degrees clockwise from it
+                const v8f gx = load8s(mid + x + 1, p, last) - load8s(mid + x - 1, p, last),
+                          gy = load8s(down + x, p, last) - load8s(up + x, p, last);
+                const v8f m = sqrt8(gx * gx + gy * gy);
+                const v8i in = (col > splat8(-1.f)) & (col < splat8(float(kGrid))) & (row > splat8(-1.f)) &
+                               (row < splat8(float(kGrid))) & (m > zero) & (lanes <= splat8i(xb - x));
+                if (!mask8(in)) continue;
+                v8f phi = splat8(a0) - approximate_angle_0_to_2pi_lanes(
                                            gy, gx);  // counted anticlockwise on screen (OpenCV's order)
-                phi = select4(phi < splat4(0.f), phi + splat4(two_pi), phi);
-                v4f ob = phi * splat4(to_bin);
-                ob = select4(ob >= splat4(float(kAngles)), ob - splat4(float(kAngles)), ob);
+                phi = phi < zero ? phi + splat8(two_pi) : phi;
+                v8f ob = phi * splat8(to_bin);
+                ob = ob >= splat8(float(kAngles)) ? ob - splat8(float(kAngles)) : ob;
                 // Each lane's trilinear spread over bins r0, r0 + 1; c0, c0 + 1; o0, o1, formed for
-                // four lanes at once: wr = w (1 - fr) or w fr, wc = wr (1 - fc) or wr fc, then
+                // eight lanes at once: wr = w (1 - fr) or w fr, wc = wr (1 - fc) or wr fc, then
                 // wc (1 - fo) to o0 and wc fo to o1. The lanes inside the square are then added one
                 // after another in the samples' order (a bin's sum, so its bits, depends on it).
                 // Lanes outside are zeroed first (no out-of-range conversion to int).
-                const v4f one = splat4(1.f), zero = splat4(0.f);
-                const v4f rs = select4(in, row, zero), cs = select4(in, col, zero),
-                          os = select4(in, ob, zero);
-                const v4i r0 = floor4i(rs), c0 = floor4i(cs);
-                v4i o0 = __builtin_convertvector(os, v4i);  // os >= 0: truncation is floor
-                const v4f fr = rs - __builtin_convertvector(r0, v4f),
-                          fc = cs - __builtin_convertvector(c0, v4f),
-                          fo = os - __builtin_convertvector(o0, v4f);
-                o0 = o0 >= splat4i(kAngles) ? o0 - splat4i(kAngles) : o0;
-                const v4i o1 = o0 + 1 == splat4i(kAngles) ? splat4i(0) : o0 + 1;
-                const v4f weight = m * (load4s(scratch.wx.data() + i, p) * splat4(wyy));
-                const v4f wr0 = weight * (one - fr), wr1 = weight * fr;
-                const v4f wc[4] = {wr0 * (one - fc), wr0 * fc, wr1 * (one - fc), wr1 * fc};
-                const v4f go = one - fo;
-                const v4i base = ((r0 + 1) * splat4i(kSide) + (c0 + 1)) * splat4i(kAngles);
+                const v8f rs = in ? row : zero, cs = in ? col : zero, os = in ? ob : zero;
+                const v8i r0 = floor8i(rs), c0 = floor8i(cs);
+                v8i o0 = __builtin_convertvector(os, v8i);  // os >= 0: truncation is floor
+                const v8f fr = rs - __builtin_convertvector(r0, v8f),
+                          fc = cs - __builtin_convertvector(c0, v8f),
+                          fo = os - __builtin_convertvector(o0, v8f);
+                o0 = o0 >= splat8i(kAngles) ? o0 - splat8i(kAngles) : o0;
+                const v8i o1 = o0 + 1 == splat8i(kAngles) ? splat8i(0) : o0 + 1;
+                const v8f weight = m * (load8s(scratch.wx.data() + i, p, last) * splat8(wyy));
+                const v8f wr0 = weight * (one - fr), wr1 = weight * fr;
+                const v8f wc[4] = {wr0 * (one - fc), wr0 * fc, wr1 * (one - fc), wr1 * fc};
+                const v8f go = one - fo;
+                const v8i base = ((r0 + 1) * splat8i(kSide) + (c0 + 1)) * splat8i(kAngles);
                 constexpr int kStep[4] = {0, kAngles, kSide * kAngles, (kSide + 1) * kAngles};
-                v4f share0[4], share1[4];
+                v8f share0[4], share1[4];
                 for (int b = 0; b < 4; ++b) {
                     share0[b] = wc[b] * go;
                     share1[b] = wc[b] * fo;
                 }
-                for (int q = 0; q < 4; ++q) {
+                for (int q = 0; q < 8; ++q) {
                     if (!in[q]) continue;
                     float* h = hist + base[q];
                     const int bin0 = o0[q], bin1 = o1[q];

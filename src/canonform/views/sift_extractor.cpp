@@ -166,7 +166,7 @@ void Extractor::octave(int o, std::vector<Plane>& g, int label, float offset) {
         auto slot_of = [&](int yy) { return ((yy % 3) + 3) % 3; };
         fill(slot_of(region.y0 - 1), region.y0 - 1);
         fill(slot_of(region.y0), region.y0);
-        hits_.resize(static_cast<size_t>(w));
+        hits_.resize(static_cast<size_t>(w) + 16);  // (row_candidates may write 16 past)
         for (int y = region.y0; y < region.y1; ++y) {
             fill(slot_of(y + 1), y + 1);
             const float* d = ring_.data() + static_cast<size_t>(3 * slot_of(y)) * stride;
@@ -303,6 +303,49 @@ bool Extractor::refine(const std::vector<Plane>& g, int jmin, int jmax, int& x, 
     return false;
 }
 
+namespace {
+
+// The orientation histogram's votes of the sampled pixels of the window [x0, x1] x [y0, y1] within
+// the disk of squared radius r2 (the weights and squared offsets in `win`), eight samples at a time
+// (lanes past x1 left out), each sample's two votes added in the samples' order.
+CANONFORM_CLONES void orientation_votes(const Plane& L, const Candidate& c, int x0, int x1, int y0, int y1,
+                                        int p, float r2, const WindowScratch& win, float* hist) {
+    const float to_bin = static_cast<float>(kOrientationBins / (2 * kPi));
+    const v8i lanes = v8i{0, 1, 2, 3, 4, 5, 6, 7} * p;
+    alignas(32) float wv[8], bv[8];
+    for (int y = align_up(y0, c.Y, p); y <= y1; y += p) {
+        const float* up = L.row(y - 1);
+        const float* mid = L.row(y);
+        const float* down = L.row(y + 1);
+        const float wyy = win.wy[static_cast<size_t>(y - y0)], dyy = win.dy2[static_cast<size_t>(y - y0)];
+        for (int x = align_up(x0, c.X, p); x <= x1; x += 8 * p) {
+            // Eight samples at once: weight m * w, bin position.
+            const size_t i = static_cast<size_t>(x - x0);
+            const int last = std::min(7, (x1 - x) / p);
+            const v8f gx = load8s(mid + x + 1, p, last) - load8s(mid + x - 1, p, last),
+                      gy = load8s(down + x, p, last) - load8s(up + x, p, last);
+            const v8f m = sqrt8(gx * gx + gy * gy);
+            const v8i in = (load8s(win.dx2.data() + i, p, last) + splat8(dyy) <= splat8(r2)) &
+                           (m > splat8(0.f)) & (lanes <= splat8i(x1 - x));
+            if (!mask8(in)) continue;
+            const v8f wsel = m * (load8s(win.wx.data() + i, p, last) * splat8(wyy));
+            store8(wv, in ? wsel : splat8(0.f));
+            store8(bv, approximate_angle_0_to_2pi_lanes(gy, gx) * splat8(to_bin));
+            for (int q = 0; q < 8; ++q) {
+                if (!in[q]) continue;
+                const float w = wv[q], b = bv[q];
+                int b0 = static_cast<int>(b);  // b >= 0
+                const float f = b - static_cast<float>(b0);
+                if (b0 >= kOrientationBins) b0 -= kOrientationBins;
+                hist[b0] += (1.f - f) * w;
+                hist[b0 + 1 == kOrientationBins ? 0 : b0 + 1] += f * w;
+            }
+        }
+    }
+}
+
+}  // namespace
+
 // Lowe Sec. 5: the orientations (radians, [0, 2 pi)) of a keypoint from the histogram of gradient
 // directions in L around it. Offsets are taken from the sample (integer) and then the sub-pixel
 // part, so that the result does not depend on where the object lies in the view.
@@ -323,41 +366,13 @@ void Extractor::orientations(const Plane& L, const Candidate& c, std::vector<dou
     const int p = sample_step(c.sigma);
     const size_t sx = static_cast<size_t>(align_up(x0, c.X, p) - x0),
                  sy = static_cast<size_t>(align_up(y0, c.Y, p) - y0), step = static_cast<size_t>(p);
-    // (nx + 16: more for the last block of four samples)
-    sampled_weights(x0, c.X, c.fx, sx, nx + 16, step, inv, window_.wx.data(), window_.dx2.data());
+    // (weights for the window's columns only; wx and dx2 have 16 more floats, which a block of
+    // eight samples with p = 1 may read for lanes past x1: those lanes are left out)
+    sampled_weights(x0, c.X, c.fx, sx, nx, step, inv, window_.wx.data(), window_.dx2.data());
     sampled_weights(y0, c.Y, c.fy, sy, ny, step, inv, window_.wy.data(), window_.dy2.data());
     const float r2 = static_cast<float>(radius * radius);
     float hist[kOrientationBins] = {};
-    const float to_bin = static_cast<float>(kOrientationBins / (2 * kPi));
-    alignas(16) float wv[4], bv[4];
-    for (int y = align_up(y0, c.Y, p); y <= y1; y += p) {
-        const float* up = L.row(y - 1);
-        const float* mid = L.row(y);
-        const float* down = L.row(y + 1);
-        const float wyy = window_.wy[static_cast<size_t>(y - y0)],
-                    dyy = window_.dy2[static_cast<size_t>(y - y0)];
-        for (int x = align_up(x0, c.X, p); x <= x1; x += 4 * p) {
-            // Four samples at once (lanes past x1 are masked out): weight m * w, bin position.
-            const size_t i = static_cast<size_t>(x - x0);
-            const v4f gx = load4s(mid + x + 1, p) - load4s(mid + x - 1, p),
-                      gy = load4s(down + x, p) - load4s(up + x, p);
-            const v4f m = sqrt4(gx * gx + gy * gy);
-            const v4i in = (load4s(window_.dx2.data() + i, p) + splat4(dyy) <= splat4(r2)) &
-                           (m > splat4(0.f)) & (v4i{0, 1, 2, 3} * splat4i(p) <= splat4i(x1 - x));
-            if (!mask4(in)) continue;
-            store4(wv, select4(in, m * (load4s(window_.wx.data() + i, p) * splat4(wyy)), splat4(0.f)));
-            store4(bv, approximate_angle_0_to_2pi_x4(gy, gx) * splat4(to_bin));
-            for (int q = 0; q < 4; ++q) {
-                if (!in[q]) continue;
-                const float w = wv[q], b = bv[q];
-                int b0 = static_cast<int>(b);  // b >= 0
-                const float f = b - static_cast<float>(b0);
-                if (b0 >= kOrientationBins) b0 -= kOrientationBins;
-                hist[b0] += (1.f - f) * w;
-                hist[b0 + 1 == kOrientationBins ? 0 : b0 + 1] += f * w;
-            }
-        }
-    }
+    orientation_votes(L, c, x0, x1, y0, y1, p, r2, window_, hist);
     // Smoothed by a Gaussian of one bin (two passes of the circular [1 2 1] / 4).
     for (int pass = 0; pass < kOrientationSmoothing; ++pass) {
         float smooth[kOrientationBins];

@@ -123,6 +123,10 @@ CANONFORM_CLONES void to_gray_levels(const float* depth, float* image, size_t n)
     size_t i = 0;
     for (; i + 4 <= n; i += 4) {
         const v4f f = load4(depth + i);
+        if (!mask4(f != splat4(0.f))) {  // background (0 or -0, which the lines below also make +0)
+            store4(image + i, splat4(0.f));
+            continue;
+        }
         const v4i ok = f == f;  // not NaN
         const v4d v = __builtin_convertvector(select4(ok, f, splat4(0.f)), v4d);
         const v4d x = k255 * (v < zero ? zero : (one < v ? one : v));

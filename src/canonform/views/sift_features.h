@@ -111,7 +111,9 @@
 // (glibc picks FMA variants of exp, sin, cos, atan2, log and pow at run time). The blur runs 16
 // lanes at a time on CPUs with AVX-512, 8 on CPUs with AVX2 (clones chosen at run time) and 4
 // (SSE2) elsewhere: each lane does the same operations in the same order either way, so the choice
-// changes no bit (checked under qemu's CPU models, docs/cpu.md).
+// changes no bit (checked under qemu's CPU models, docs/cpu.md). The extremum scan's rows run 16
+// lanes at a time with AVX-512 (intrinsics, chosen at run time: comparisons, and maxima and minima
+// that only comparisons read); the orientation and descriptor windows 8 samples at a time.
 //
 // Sources (views/): sift_features.cpp (this header's functions and the backend registry),
 // sift_pyramid (step 1), sift_extractor (steps 2-4), sift_descriptor.cpp (step 5), sift_simd.h (the

@@ -6,6 +6,9 @@
 
 #include <cmath>
 #include <cstring>
+#if defined(__x86_64__)
+#include <immintrin.h>
+#endif
 
 namespace canonform::views {
 namespace sift {
@@ -289,9 +292,11 @@ void gaussian_octave(int o, const Rect& obj, const Plane& source, double input_b
 }
 
 // The extremum scan's two row kernels, 8 lanes at a time like the blur (comparisons and one
-// subtraction per lane: the same bits and the same candidates on every CPU).
+// subtraction per lane: the same bits and the same candidates on every CPU), or 16 with AVX-512
+// below.
 
-CANONFORM_CLONES void dog_row(const float* b, const float* t, float* d, float* mx, float* mn, int w) {
+CANONFORM_CLONES void dog_row_portable(const float* b, const float* t, float* d, float* mx, float* mn,
+                                       int w) {
     int i = 0;
     for (; i + 8 <= w; i += 8) store8(d + i, load8(t + i) - load8(b + i));
     for (; i < w; ++i) d[i] = t[i] - b[i];
@@ -306,8 +311,9 @@ CANONFORM_CLONES void dog_row(const float* b, const float* t, float* d, float* m
     }
 }
 
-CANONFORM_CLONES int row_candidates(const float* d, const float* upmax, const float* upmin,
-                                    const float* downmax, const float* downmin, int w, float pre, int* out) {
+CANONFORM_CLONES int row_candidates_portable(const float* d, const float* upmax, const float* upmin,
+                                             const float* downmax, const float* downmin, int w, float pre,
+                                             int* out) {
     int n = 0;
     int i = 1;
     const v8f vpre = splat8(pre), vneg = splat8(-pre), vzero = splat8(0.f);
@@ -328,6 +334,94 @@ CANONFORM_CLONES int row_candidates(const float* d, const float* upmax, const fl
         if (v != 0.f && ((v >= pre && v > nmax) || (v <= -pre && v < nmin))) out[n++] = i;
     }
     return n;
+}
+
+namespace {
+
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(__SANITIZE_ADDRESS__) && \
+    !defined(_WIN32)
+#define CANONFORM_SIFT_SCAN_AVX512 1
+// The same two kernels with AVX-512's comparisons into mask registers, 16 lanes a step and the
+// row's last lanes under a mask (masked loads do not read past the row). GCC's vector extension
+// turns a 16-lane comparison's result into a mask lane by lane, so these are written with the
+// CPU's intrinsics and chosen at run time (scan_avx512 below). The DoG values are the same
+// subtractions; the maxima and minima are the same values (only the sign of a zero may differ,
+// which no comparison below sees), so the candidates are the same.
+// (_mm512_max_ps and _mm512_min_ps through their masked forms: GCC 12 warns that the plain ones
+// read an undefined value.)
+__attribute__((target("avx512f"))) inline __m512 max16(__m512 a, __m512 b) {
+    return _mm512_mask_max_ps(a, 0xffff, a, b);
+}
+__attribute__((target("avx512f"))) inline __m512 min16(__m512 a, __m512 b) {
+    return _mm512_mask_min_ps(a, 0xffff, a, b);
+}
+
+__attribute__((target("avx512f"))) void dog_row_avx512(const float* b, const float* t, float* d, float* mx,
+                                                       float* mn, int w) {
+    for (int i = 0; i < w; i += 16) {
+        const __mmask16 k = w - i >= 16 ? __mmask16(0xffff) : __mmask16((1u << (w - i)) - 1);
+        _mm512_mask_storeu_ps(
+            d + i, k, _mm512_sub_ps(_mm512_maskz_loadu_ps(k, t + i), _mm512_maskz_loadu_ps(k, b + i)));
+    }
+    for (int i = 1; i < w - 1; i += 16) {
+        const __mmask16 k = w - 1 - i >= 16 ? __mmask16(0xffff) : __mmask16((1u << (w - 1 - i)) - 1);
+        const __m512 l = _mm512_maskz_loadu_ps(k, d + i - 1), c = _mm512_maskz_loadu_ps(k, d + i),
+                     r = _mm512_maskz_loadu_ps(k, d + i + 1);
+        _mm512_mask_storeu_ps(mx + i, k, max16(max16(l, c), r));
+        _mm512_mask_storeu_ps(mn + i, k, min16(min16(l, c), r));
+    }
+}
+
+__attribute__((target("avx512f"))) int row_candidates_avx512(const float* d, const float* upmax,
+                                                             const float* upmin, const float* downmax,
+                                                             const float* downmin, int w, float pre,
+                                                             int* out) {
+    int n = 0;
+    const __m512 vpre = _mm512_set1_ps(pre), vneg = _mm512_set1_ps(-pre), zero = _mm512_setzero_ps();
+    const __m512i lane = _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
+    for (int i = 1; i < w - 1; i += 16) {
+        const __mmask16 k = w - 1 - i >= 16 ? __mmask16(0xffff) : __mmask16((1u << (w - 1 - i)) - 1);
+        const __m512 v = _mm512_maskz_loadu_ps(k, d + i), l = _mm512_maskz_loadu_ps(k, d + i - 1),
+                     r = _mm512_maskz_loadu_ps(k, d + i + 1);
+        const __m512 nmax = max16(
+            max16(l, r), max16(_mm512_maskz_loadu_ps(k, upmax + i), _mm512_maskz_loadu_ps(k, downmax + i)));
+        const __m512 nmin = min16(
+            min16(l, r), min16(_mm512_maskz_loadu_ps(k, upmin + i), _mm512_maskz_loadu_ps(k, downmin + i)));
+        const __mmask16 above =
+            _mm512_mask_cmp_ps_mask(_mm512_cmp_ps_mask(v, vpre, _CMP_GE_OQ), v, nmax, _CMP_GT_OQ);
+        const __mmask16 below =
+            _mm512_mask_cmp_ps_mask(_mm512_cmp_ps_mask(v, vneg, _CMP_LE_OQ), v, nmin, _CMP_LT_OQ);
+        const __mmask16 is = _mm512_mask_cmp_ps_mask(k & (above | below), v, zero, _CMP_NEQ_UQ);
+        // The lanes' positions packed to the front and stored whole (no branch on where
+        // candidates fall: out has 16 spare ints).
+        const __m512i at = _mm512_add_epi32(_mm512_set1_epi32(i), lane);
+        _mm512_storeu_si512(out + n, _mm512_maskz_compress_epi32(is, at));
+        n += __builtin_popcount(is);
+    }
+    return n;
+}
+
+bool scan_avx512() {
+    static const bool yes = __builtin_cpu_supports("avx512f");
+    return yes;
+}
+#endif
+
+}  // namespace
+
+void dog_row(const float* b, const float* t, float* d, float* mx, float* mn, int w) {
+#ifdef CANONFORM_SIFT_SCAN_AVX512
+    if (scan_avx512()) return dog_row_avx512(b, t, d, mx, mn, w);
+#endif
+    dog_row_portable(b, t, d, mx, mn, w);
+}
+
+int row_candidates(const float* d, const float* upmax, const float* upmin, const float* downmax,
+                   const float* downmin, int w, float pre, int* out) {
+#ifdef CANONFORM_SIFT_SCAN_AVX512
+    if (scan_avx512()) return row_candidates_avx512(d, upmax, upmin, downmax, downmin, w, pre, out);
+#endif
+    return row_candidates_portable(d, upmax, upmin, downmax, downmin, w, pre, out);
 }
 
 }  // namespace sift

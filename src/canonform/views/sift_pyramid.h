@@ -97,14 +97,19 @@ void gaussian_octave(int o, const Rect& obj, const Plane& source, double input_b
                      Workspace& ws, std::vector<Plane>& g);
 
 // A DoG row d = t - b over [0, w), and the largest and the smallest of every three neighbours along
-// it, mx[i] and mn[i] for i in [1, w - 1).
+// it, mx[i] and mn[i] for i in [1, w - 1). With AVX-512 16 lanes a step, else dog_row_portable.
 void dog_row(const float* b, const float* t, float* d, float* mx, float* mn, int w);
+void dog_row_portable(const float* b, const float* t, float* d, float* mx, float* mn, int w);
 
 // The positions i in [1, w - 1), ascending, where the DoG row d has a candidate: |d[i]| >= pre,
 // d[i] != 0, and d[i] above (below) its 8 neighbours in the layer (the row's neighbours, and the
-// rows above and below by their three-neighbour maxima and minima). Returns their number.
+// rows above and below by their three-neighbour maxima and minima). Returns their number. `out`
+// holds w + 16 ints (a step may write 16 past its candidates).
 int row_candidates(const float* d, const float* upmax, const float* upmin, const float* downmax,
                    const float* downmin, int w, float pre, int* out);
+// row_candidates without AVX-512 (the same candidates: tests compare them).
+int row_candidates_portable(const float* d, const float* upmax, const float* upmin, const float* downmax,
+                            const float* downmin, int w, float pre, int* out);
 
 }  // namespace sift
 }  // namespace canonform::views

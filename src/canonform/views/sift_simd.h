@@ -27,6 +27,13 @@
 #pragma GCC diagnostic ignored "-Wpsabi"
 #endif
 
+// Helpers that take or return 8-float vectors are always inlined into their (cloned) callers.
+#if defined(__GNUC__)
+#define CANONFORM_SIMD_INLINE inline __attribute__((always_inline))
+#else
+#define CANONFORM_SIMD_INLINE inline
+#endif
+
 namespace canonform::views {
 namespace sift {
 
@@ -96,6 +103,9 @@ inline void store8(float* p, const v8f& v) {
 inline v8f splat8(float x) {
     return v8f{x, x, x, x, x, x, x, x};
 }
+inline v8i splat8i(int x) {
+    return v8i{x, x, x, x, x, x, x, x};
+}
 inline v16f load16(const float* p) {
     v16f v;
     std::memcpy(&v, p, sizeof v);
@@ -114,20 +124,48 @@ inline unsigned mask8(v8i m) {
     return mask4(lo) | (mask4(hi) << 4);
 }
 
-/// numerics::approximate_angle_0_to_2pi for four lanes whose (x, y) are not both 0: the same
-/// operations per lane, so the same bits.
-inline v4f approximate_angle_0_to_2pi_x4(v4f y, v4f x) {
+// base[0], base[p], ..., base[7p], lanes past `last` (the last lane wanted) reading lane last's
+// value instead (no read beyond it when p > 1; with p = 1, 8 consecutive floats).
+CANONFORM_SIMD_INLINE v8f load8s(const float* base, int p, int last) {
+    if (p == 1) return load8(base);
+    v8f v;
+    for (int l = 0; l < 8; ++l) v[l] = base[(l < last ? l : last) * p];
+    return v;
+}
+// floor(x) per lane as integers, for |x| < 2^31 (floor4i's rule).
+CANONFORM_SIMD_INLINE v8i floor8i(v8f x) {
+    const v8i t = __builtin_convertvector(x, v8i);
+    return t + (__builtin_convertvector(t, v8f) > x);
+}
+CANONFORM_SIMD_INLINE v8f sqrt8(v8f x) {
+    v4f lo, hi;
+    std::memcpy(&lo, &x, sizeof lo);
+    std::memcpy(&hi, reinterpret_cast<const char*>(&x) + sizeof lo, sizeof hi);
+    lo = sqrt4(lo);
+    hi = sqrt4(hi);
+    std::memcpy(&x, &lo, sizeof lo);
+    std::memcpy(reinterpret_cast<char*>(&x) + sizeof lo, &hi, sizeof hi);
+    return x;
+}
+
+/// numerics::approximate_angle_0_to_2pi for the lanes of V (v4f or v8f) whose (x, y) are not both
+/// 0: the same operations per lane, so the same bits.
+template <typename V>
+CANONFORM_SIMD_INLINE V approximate_angle_0_to_2pi_lanes(V y, V x) {
     using A = numerics::ApproximateAngle;
-    const v4f zero = splat4(0.f);
-    const v4f ax = select4(x < zero, -x, x), ay = select4(y < zero, -y, y);
-    const v4f big = max4(ax, ay), small = min4(ax, ay);
-    const v4f a = small / big, a2 = a * a;
-    v4f t = a * (splat4(A::c1) +
-                 a2 * (splat4(A::c3) + a2 * (splat4(A::c5) + a2 * (splat4(A::c7) + a2 * splat4(A::c9)))));
-    t = select4(ay > ax, splat4(A::half_pi) - t, t);
-    t = select4(x < zero, splat4(A::pi) - t, t);
-    t = select4(y < zero, splat4(A::two_pi) - t, t);
+    const V zero = V{} + 0.f;
+    const V ax = x < zero ? -x : x, ay = y < zero ? -y : y;
+    const V big = ax < ay ? ay : ax, small = ay < ax ? ay : ax;  // std::max's and std::min's choices
+    const V a = small / big, a2 = a * a;
+    V t = a * ((V{} + A::c1) +
+               a2 * ((V{} + A::c3) + a2 * ((V{} + A::c5) + a2 * ((V{} + A::c7) + a2 * (V{} + A::c9)))));
+    t = ay > ax ? (V{} + A::half_pi) - t : t;
+    t = x < zero ? (V{} + A::pi) - t : t;
+    t = y < zero ? (V{} + A::two_pi) - t : t;
     return t;
+}
+inline v4f approximate_angle_0_to_2pi_x4(v4f y, v4f x) {
+    return approximate_angle_0_to_2pi_lanes(y, x);
 }
 
 }  // namespace sift
