@@ -236,21 +236,22 @@ TEST(PortableMath, ApproximateAngleWithinItsBoundAndRange) {
     EXPECT_NEAR(cf::numerics::approximate_angle_0_to_2pi(-1.f, 0.f), 3 * M_PI / 2, 1e-6);
 }
 
-TEST(PortableMath, ApproximateAngleFourLanesEqualTheScalar) {
+TEST(PortableMath, ApproximateAngleEightLanesEqualTheScalar) {
+    // The SIFT windows' angles, eight samples at a time (views/sift_simd.h).
     std::mt19937_64 g(19);
     std::uniform_int_distribution<int> level(-255, 255);  // central differences of 8-bit views
     std::uniform_real_distribution<float> u(-1.f, 1.f);
-    for (int i = 0; i < 100000; ++i) {
-        float y[4], x[4];
-        for (int q = 0; q < 4; ++q) {
+    for (int i = 0; i < 50000; ++i) {
+        float y[8], x[8];
+        for (int q = 0; q < 8; ++q) {
             y[q] = i % 2 ? level(g) / 255.f : u(g);
             x[q] = i % 2 ? level(g) / 255.f : u(g);
             if (y[q] == 0.f && x[q] == 0.f) x[q] = 1.f / 255.f;  // (the lanes' precondition)
         }
         namespace s = cf::views::sift;
-        float a[4];
-        s::store4(a, s::approximate_angle_0_to_2pi_x4(s::load4(y), s::load4(x)));
-        for (int q = 0; q < 4; ++q) {
+        float a[8];
+        s::store8(a, s::approximate_angle_0_to_2pi_lanes(s::load8(y), s::load8(x)));
+        for (int q = 0; q < 8; ++q) {
             const float b = cf::numerics::approximate_angle_0_to_2pi(y[q], x[q]);
             ASSERT_EQ(std::memcmp(&a[q], &b, sizeof b), 0) << y[q] << " " << x[q];
         }

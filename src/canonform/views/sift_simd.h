@@ -54,13 +54,6 @@ inline void store4(float* p, v4f v) {
 inline v4f splat4(float x) {
     return v4f{x, x, x, x};
 }
-inline v4i splat4i(int x) {
-    return v4i{x, x, x, x};
-}
-// base[0], base[p], base[2p], base[3p].
-inline v4f load4s(const float* base, int p) {
-    return p == 1 ? load4(base) : v4f{base[0], base[p], base[2 * p], base[3 * p]};
-}
 // Bit q set when lane q of the mask is set.
 inline unsigned mask4(v4i m) {
 #if defined(__SSE__)
@@ -70,20 +63,9 @@ inline unsigned mask4(v4i m) {
 #endif
 }
 
-// floor(x) per lane as integers, for |x| < 2^31: the truncation, one less where it rounded up.
-inline v4i floor4i(v4f x) {
-    const v4i t = __builtin_convertvector(x, v4i);
-    return t + (__builtin_convertvector(t, v4f) > x);  // a true lane is -1
-}
 inline v4f select4(v4i mask, v4f a, v4f b) {
     return mask ? a : b;
 }
-inline v4f max4(v4f a, v4f b) {
-    return a < b ? b : a;
-}  // std::max's choice, per lane
-inline v4f min4(v4f a, v4f b) {
-    return b < a ? b : a;
-}  // std::min's choice, per lane
 inline v4f sqrt4(v4f x) {
 #if defined(__SSE__)
     return reinterpret_cast<v4f>(_mm_sqrt_ps(reinterpret_cast<__m128>(x)));  // IEEE sqrt, as std::sqrt
@@ -132,7 +114,7 @@ CANONFORM_SIMD_INLINE v8f load8s(const float* base, int p, int last) {
     for (int l = 0; l < 8; ++l) v[l] = base[(l < last ? l : last) * p];
     return v;
 }
-// floor(x) per lane as integers, for |x| < 2^31 (floor4i's rule).
+// floor(x) per lane as integers, for |x| < 2^31: the truncation, one less where it rounded up.
 CANONFORM_SIMD_INLINE v8i floor8i(v8f x) {
     const v8i t = __builtin_convertvector(x, v8i);
     return t + (__builtin_convertvector(t, v8f) > x);
@@ -163,9 +145,6 @@ CANONFORM_SIMD_INLINE V approximate_angle_0_to_2pi_lanes(V y, V x) {
     t = x < zero ? (V{} + A::pi) - t : t;
     t = y < zero ? (V{} + A::two_pi) - t : t;
     return t;
-}
-inline v4f approximate_angle_0_to_2pi_x4(v4f y, v4f x) {
-    return approximate_angle_0_to_2pi_lanes(y, x);
 }
 
 }  // namespace sift
