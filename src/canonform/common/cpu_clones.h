@@ -15,6 +15,9 @@
 
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(__SANITIZE_ADDRESS__) && \
     !defined(_WIN32)
+/// Where the clones are made, code written with one instruction set's intrinsics may also be built
+/// and chosen at run time (__builtin_cpu_supports); elsewhere only the portable code is.
+#define CANONFORM_CPU_DISPATCH 1
 /// AVX2 and the x86-64 baseline.
 #define CANONFORM_CLONES __attribute__((target_clones("avx2", "default")))
 #if __GNUC__ >= 11

@@ -10,7 +10,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
-#if defined(__x86_64__)
+#ifdef CANONFORM_CPU_DISPATCH
 #include <immintrin.h>
 #endif
 #include <iterator>
@@ -74,9 +74,7 @@ inline void take_block(const std::int32_t* dots, const std::int64_t* qn, int fir
     }
 }
 
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(__SANITIZE_ADDRESS__) && \
-    !defined(_WIN32)
-#define CANONFORM_BLOCKED_WORD_SEARCH 1
+#ifdef CANONFORM_CPU_DISPATCH
 // The blocked search reads the words transposed (Codebook::qblocks_): blocks of 16 words, and in
 // a block, for each pair of values (2 p, 2 p + 1), the 16 words' pairs side by side. One 64-byte
 // block row meets a descriptor's pair broadcast to every lane: AVX-512 VNNI's vpdpwssd multiplies
@@ -129,7 +127,7 @@ bool runs_here(WordSearch path) {
     switch (path) {
         case WordSearch::Portable:
             return true;
-#ifdef CANONFORM_BLOCKED_WORD_SEARCH
+#ifdef CANONFORM_CPU_DISPATCH
         case WordSearch::Vnni:
             return __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512bw") &&
                    __builtin_cpu_supports("avx512vnni");
@@ -183,7 +181,7 @@ Codebook Codebook::from_words(DescriptorMatrix words) {
         // (the blocked search, where the CPU runs it); the last block's missing words are 0 and
         // never taken.
         const size_t blocks = static_cast<size_t>((cb.words_.rows() + 15) / 16);
-        if (runs_here(WordSearch::Vnni)) cb.qblocks_.assign(blocks * 16 * kDescriptorSize, 0);
+        if (word_search() == WordSearch::Vnni) cb.qblocks_.assign(blocks * 16 * kDescriptorSize, 0);
         for (Eigen::Index r = 0; r < cb.words_.rows() && !cb.qblocks_.empty(); ++r)
             for (int c = 0; c < kDescriptorSize; ++c)
                 cb.qblocks_[static_cast<size_t>((r / 16) * 16 * kDescriptorSize + (c / 2) * 32 +
@@ -258,7 +256,7 @@ std::vector<int> Codebook::assign_by(const DescriptorMatrix& descriptors, int se
                           block.begin() + r * kDescriptorSize);
             int best[4];
             switch (path) {
-#ifdef CANONFORM_BLOCKED_WORD_SEARCH
+#ifdef CANONFORM_CPU_DISPATCH
                 case WordSearch::Vnni:
                     nearest_of_four_vnni(block.data(), qblocks_.data(), qnorms_.data(), size(), best);
                     break;

@@ -112,9 +112,8 @@ CANONFORM_CLONES void describe(const Plane& L, const Candidate& k, double angle,
                     splat8(c) * dx + splat8(s * dy) + splat8(centre);  // along the keypoint's direction
                 const v8f row =
                     splat8(-s) * dx + splat8(c * dy) + splat8(centre);  // 90 degrees clockwise from it
-                const v8f gx = load8s(mid + x + 1, p, last) - load8s(mid + x - 1, p, last),
-                          gy = load8s(down + x, p, last) - load8s(up + x, p, last);
-                const v8f m = sqrt8(gx * gx + gy * gy);
+                v8f gx, gy, m;
+                gradients8(up, mid, down, x, p, last, gx, gy, m);
                 const v8i in = (col > splat8(-1.f)) & (col < splat8(float(kGrid))) & (row > splat8(-1.f)) &
                                (row < splat8(float(kGrid))) & (m > zero) & (lanes <= splat8i(xb - x));
                 if (!mask8(in)) continue;

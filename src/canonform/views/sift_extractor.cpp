@@ -322,9 +322,8 @@ CANONFORM_CLONES void orientation_votes(const Plane& L, const Candidate& c, int 
             // Eight samples at once: weight m * w, bin position.
             const size_t i = static_cast<size_t>(x - x0);
             const int last = std::min(7, (x1 - x) / p);
-            const v8f gx = load8s(mid + x + 1, p, last) - load8s(mid + x - 1, p, last),
-                      gy = load8s(down + x, p, last) - load8s(up + x, p, last);
-            const v8f m = sqrt8(gx * gx + gy * gy);
+            v8f gx, gy, m;
+            gradients8(up, mid, down, x, p, last, gx, gy, m);
             const v8i in = (load8s(win.dx2.data() + i, p, last) + splat8(dyy) <= splat8(r2)) &
                            (m > splat8(0.f)) & (lanes <= splat8i(x1 - x));
             if (!mask8(in)) continue;

@@ -1,12 +1,13 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "canonform/views/sift_pyramid.h"
 
+#include "canonform/common/cpu_clones.h"
 #include "canonform/numerics/portable_math.h"
 #include "canonform/views/sift_simd.h"
 
 #include <cmath>
 #include <cstring>
-#if defined(__x86_64__)
+#ifdef CANONFORM_CPU_DISPATCH
 #include <immintrin.h>
 #endif
 
@@ -338,9 +339,7 @@ CANONFORM_CLONES int row_candidates_portable(const float* d, const float* upmax,
 
 namespace {
 
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(__SANITIZE_ADDRESS__) && \
-    !defined(_WIN32)
-#define CANONFORM_SIFT_SCAN_AVX512 1
+#ifdef CANONFORM_CPU_DISPATCH
 // The same two kernels with AVX-512's comparisons into mask registers, 16 lanes a step and the
 // row's last lanes under a mask (masked loads do not read past the row). GCC's vector extension
 // turns a 16-lane comparison's result into a mask lane by lane, so these are written with the
@@ -410,7 +409,7 @@ bool scan_avx512() {
 }  // namespace
 
 void dog_row(const float* b, const float* t, float* d, float* mx, float* mn, int w) {
-#ifdef CANONFORM_SIFT_SCAN_AVX512
+#ifdef CANONFORM_CPU_DISPATCH
     if (scan_avx512()) return dog_row_avx512(b, t, d, mx, mn, w);
 #endif
     dog_row_portable(b, t, d, mx, mn, w);
@@ -418,7 +417,7 @@ void dog_row(const float* b, const float* t, float* d, float* mx, float* mn, int
 
 int row_candidates(const float* d, const float* upmax, const float* upmin, const float* downmax,
                    const float* downmin, int w, float pre, int* out) {
-#ifdef CANONFORM_SIFT_SCAN_AVX512
+#ifdef CANONFORM_CPU_DISPATCH
     if (scan_avx512()) return row_candidates_avx512(d, upmax, upmin, downmax, downmin, w, pre, out);
 #endif
     return row_candidates_portable(d, upmax, upmin, downmax, downmin, w, pre, out);

@@ -130,6 +130,16 @@ CANONFORM_SIMD_INLINE v8f sqrt8(v8f x) {
     return x;
 }
 
+// The central-difference gradients (gx along the row, gy down) of the eight samples x, x + p, ...,
+// x + 7p of row `mid` (rows `up` and `down` around it; lanes past `last` as load8s reads them), and
+// their magnitudes.
+CANONFORM_SIMD_INLINE void gradients8(const float* up, const float* mid, const float* down, int x, int p,
+                                      int last, v8f& gx, v8f& gy, v8f& m) {
+    gx = load8s(mid + x + 1, p, last) - load8s(mid + x - 1, p, last);
+    gy = load8s(down + x, p, last) - load8s(up + x, p, last);
+    m = sqrt8(gx * gx + gy * gy);
+}
+
 /// numerics::approximate_angle_0_to_2pi for the lanes of V (v4f or v8f) whose (x, y) are not both
 /// 0: the same operations per lane, so the same bits.
 template <typename V>
